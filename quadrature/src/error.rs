@@ -1,0 +1,67 @@
+//! Errors of this crate.
+
+/// Why a quadrature rule could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum QuadratureError {
+    /// The rule asks for fewer points than it can have.
+    #[error("{rule} needs at least {min} point(s), got {points}")]
+    TooFewPoints {
+        /// The rule's name, e.g. "Gauss-Lobatto".
+        rule: &'static str,
+        /// The number of points asked for.
+        points: usize,
+        /// The least number this rule can have.
+        min: usize,
+    },
+    /// An end of the interval is NaN or infinite.
+    #[error("the interval [{a}, {b}] has a non-finite end; give finite a < b")]
+    NonFiniteInterval {
+        /// Left end.
+        a: f64,
+        /// Right end.
+        b: f64,
+    },
+    /// The interval is empty or reversed.
+    #[error("the interval [{a}, {b}] is empty or reversed; give a < b")]
+    EmptyInterval {
+        /// Left end.
+        a: f64,
+        /// Right end.
+        b: f64,
+    },
+    /// The Jacobi matrix handed to [`golub_welsch`](crate::golub_welsch) has inconsistent sizes.
+    #[error(
+        "a Jacobi matrix with {diagonal} diagonal entries needs {} off-diagonal entries, got {off_diagonal}",
+        diagonal.saturating_sub(1)
+    )]
+    JacobiShape {
+        /// Length of the diagonal.
+        diagonal: usize,
+        /// Length of the off-diagonal.
+        off_diagonal: usize,
+    },
+    /// An entry of the Jacobi matrix is NaN or infinite.
+    #[error("Jacobi matrix entry {index} of the {part} is not finite")]
+    NonFiniteJacobi {
+        /// "diagonal" or "off-diagonal".
+        part: &'static str,
+        /// Index of the offending entry.
+        index: usize,
+    },
+    /// The total mass `μ₀ = ∫ w(x) dx` of the weight function is not positive and finite.
+    #[error("the total mass of the weight function must be positive and finite, got {mass}")]
+    InvalidMass {
+        /// The mass given.
+        mass: f64,
+    },
+    /// The implicit QL iteration did not converge (it converges in practice; this guards
+    /// against pathological input such as entries spanning hundreds of orders of magnitude).
+    #[error("the tridiagonal eigenvalue iteration did not converge for eigenvalue {index} in {iterations} sweeps")]
+    EigenNotConverged {
+        /// Index of the eigenvalue being deflated.
+        index: usize,
+        /// Sweeps spent on it.
+        iterations: usize,
+    },
+}

@@ -1,0 +1,49 @@
+//! Gauss quadrature rules, accurate to a few ulps for thousands of points.
+//!
+//! # What it computes
+//! Rules `∫_a^b f(x) dx ≈ Σ_i w_i f(x_i)` of the Legendre family (weight function 1):
+//!
+//! | function | nodes | exact for degree |
+//! |---|---|---|
+//! | [`gauss_legendre`]`(m)` | roots of `P_m` | `2m − 1` |
+//! | [`gauss_lobatto`]`(m)` | `±1` and the roots of `P_{m−1}'` | `2m − 3` |
+//! | [`gauss_radau_left`]`(m)` / [`gauss_radau_right`]`(m)` | one end and the roots of `(P_{m−1} ± P_m)/(1 ± x)` | `2m − 2` |
+//!
+//! and, for any other weight function whose three-term recurrence you know, the raw
+//! [`golub_welsch`] algorithm (Gauss–Hermite, Gauss–Laguerre, Gauss–Jacobi, ...).
+//!
+//! # Conventions
+//! - Rules are built on the reference interval `[−1, 1]` and mapped to `[a, b]` by
+//!   [`Rule::on`]; nodes are **ascending**; weights include the factor `(b − a)/2`.
+//! - `m` is always the number of points.
+//!
+//! # How, and how accurate
+//! Golub–Welsch (eigenvalues of the Jacobi matrix by implicit QL, `O(m²)`) gives nodes to
+//! about `m ε`; Newton on the Legendre three-term recurrence polishes each to the nearest
+//! doubles; the weights come from closed forms evaluated once in double-double precision
+//! at the polished node, corrected to the true root. Against a committed 60-digit mpmath
+//! reference (`tests/data/generate_reference.py`), for `m` from 1 to 500: node errors at
+//! most `4ε` and relative weight errors at most `8ε` (pinned by the tests).
+//!
+//! # Example
+//! ```
+//! use lgsvi_quadrature::gauss_legendre;
+//!
+//! // ∫_0^π sin x dx = 2 with 10 Gauss points (error ~ 1e-20 in exact arithmetic).
+//! let rule = gauss_legendre(10)?.on(0.0, std::f64::consts::PI)?;
+//! let integral = rule.integrate(f64::sin);
+//! assert!((integral - 2.0).abs() < 4.0 * f64::EPSILON);
+//! # Ok::<(), lgsvi_quadrature::QuadratureError>(())
+//! ```
+#![deny(missing_docs)]
+
+mod error;
+mod golub_welsch;
+mod legendre;
+mod rule;
+mod rules;
+
+pub use error::QuadratureError;
+pub use golub_welsch::golub_welsch;
+pub use rule::{Rule, RuleKind};
+pub use rules::{gauss_legendre, gauss_lobatto, gauss_radau_left, gauss_radau_right};
