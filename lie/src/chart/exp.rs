@@ -1,0 +1,102 @@
+//! The exponential map as a chart.
+
+use super::So3Chart;
+use crate::scalar::constant;
+use crate::series::{
+    one_minus_cos_over_sq, one_minus_cos_over_sq_derivative, theta_minus_sin_over_cube,
+    theta_minus_sin_over_cube_derivative,
+};
+use crate::so3::exp::{
+    check_exp_domain, exp_matrix, log_and_half_turn, right_jacobian_inverse_unchecked,
+};
+use crate::so3::{hat, left_jacobian, right_jacobian};
+use crate::LieError;
+use nalgebra::{Matrix3, RealField, Vector3};
+use std::f64::consts::PI;
+
+/// The exponential map `Φ(ξ) = exp(ξ̂)`: `A = J_r`, `B = J_l`.
+///
+/// A local diffeomorphism for `|ω| < 2π` (so a step may rotate by almost a full turn:
+/// the integrator never needs the logarithm); `Φ⁻¹ = log` for rotation angles below `π`.
+/// On SE(3) it is the usual SE(3) exponential, `(exp ω, J_l(ω) v)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ExpChart;
+
+impl So3Chart for ExpChart {
+    fn chart_name(&self) -> &'static str {
+        "exp"
+    }
+
+    fn rotation_matrix<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
+        exp_matrix(w)
+    }
+
+    fn rotation_vector<T: RealField + Copy>(&self, r: &Matrix3<T>) -> Result<Vector3<T>, LieError> {
+        let (w, half_turn) = log_and_half_turn(r);
+        if half_turn {
+            return Err(LieError::OutsideChart {
+                chart: "exponential",
+                angle: PI,
+                limit: PI,
+                hint: "a rotation by exactly π has two logarithms; the chart is centred elsewhere",
+            });
+        }
+        Ok(w)
+    }
+
+    fn check_rotation_domain<T: RealField + Copy>(&self, w: &Vector3<T>) -> Result<(), LieError> {
+        check_exp_domain(w)
+    }
+
+    fn rotation_left_differential<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
+        right_jacobian(w)
+    }
+
+    fn rotation_left_differential_inverse<T: RealField + Copy>(
+        &self,
+        w: &Vector3<T>,
+    ) -> Matrix3<T> {
+        right_jacobian_inverse_unchecked(w)
+    }
+
+    fn rotation_right_differential<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
+        left_jacobian(w)
+    }
+
+    fn rotation_right_differential_inverse<T: RealField + Copy>(
+        &self,
+        w: &Vector3<T>,
+    ) -> Matrix3<T> {
+        right_jacobian_inverse_unchecked(&(-w))
+    }
+
+    fn translation_map<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
+        left_jacobian(w)
+    }
+
+    fn translation_map_inverse<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
+        right_jacobian_inverse_unchecked(&(-w))
+    }
+
+    /// `∂(J_l(ω) v)/∂ω` for `J_l = I + b ω̂ + c ω̂²`, `b, c` functions of `s = |ω|²`:
+    /// `−b v̂ + 2b'(ω×v)ωᵀ + c((ω·v)I + ωvᵀ − 2vωᵀ) + 2c'(ω×(ω×v))ωᵀ`.
+    fn translation_map_derivative<T: RealField + Copy>(
+        &self,
+        w: &Vector3<T>,
+        v: &Vector3<T>,
+    ) -> Matrix3<T> {
+        let s = w.norm_squared();
+        let (b, c) = (one_minus_cos_over_sq(s), theta_minus_sin_over_cube(s));
+        let (db, dc) = (
+            one_minus_cos_over_sq_derivative(s),
+            theta_minus_sin_over_cube_derivative(s),
+        );
+        let two = constant::<T>(2.0);
+        let w_cross_v = w.cross(v);
+        let w_cross_w_cross_v = w.cross(&w_cross_v);
+        -hat(v) * b
+            + w_cross_v * w.transpose() * (two * db)
+            + (Matrix3::identity() * w.dot(v) + w * v.transpose() - v * w.transpose() * two) * c
+            + w_cross_w_cross_v * w.transpose() * (two * dc)
+    }
+}

@@ -1,0 +1,63 @@
+//! Property tests over random rotations, motions and chart vectors (proptest; failures
+//! are kept in `tests/properties.proptest-regressions`).
+
+mod common;
+
+use common::EPS;
+use lgsvi_lie::{CayleyChart, Chart, ExpChart, LieGroup, UnscaledCayleyChart, SE3, SO3};
+use nalgebra::{Vector3, Vector6};
+use proptest::prelude::*;
+
+fn vec3(limit: f64) -> impl Strategy<Value = Vector3<f64>> {
+    prop::array::uniform3(-limit..limit).prop_map(Vector3::from)
+}
+
+proptest! {
+    /// exp stays on the group to rounding at every angle, and log inverts it below π.
+    #[test]
+    fn exp_is_orthogonal_and_log_inverts_it(w in vec3(10.0)) {
+        let r = SO3::exp(&w);
+        // Rodrigues: each entry sums three terms of size ≤ 1 (|sinc|, 2|b| ≤ 1): 16ε.
+        prop_assert!(r.orthogonality_error() <= 16.0 * EPS);
+        prop_assert!((r.matrix().determinant() - 1.0).abs() <= 16.0 * EPS);
+        if w.norm() < 3.0 {
+            // log's derivative is ≤ θ/(2 sin(θ/2)) ≤ 3/(2 sin 1.5) ≈ 1.5 here.
+            prop_assert!((r.log() - w).amax() <= 32.0 * EPS * (1.0 + w.norm()));
+        }
+        // The axis is fixed.
+        prop_assert!((r.act(&w) - w).amax() <= 16.0 * EPS * w.norm());
+    }
+
+    /// Every chart maps into SO(3) and its inverse recovers the vector (for exp, only
+    /// below π: beyond it log returns the other representative, 2π − |ω| the other way).
+    #[test]
+    fn charts_round_trip(w in vec3(2.5)) {
+        let exp_round_trip = if w.norm() < 3.0 {
+            let r: SO3 = ExpChart.to_group(&w);
+            Some((r, ExpChart.to_algebra(&r)))
+        } else {
+            None
+        };
+        for (r, back) in exp_round_trip.into_iter().chain([
+            { let r: SO3 = CayleyChart.to_group(&w); (r, CayleyChart.to_algebra(&r)) },
+            { let r: SO3 = UnscaledCayleyChart.to_group(&w); (r, UnscaledCayleyChart.to_algebra(&r)) },
+        ]) {
+            prop_assert!(r.orthogonality_error() <= 16.0 * EPS);
+            // Cayley inverses have derivative ≤ 1 + |ξ|²/4 ≤ 3 here.
+            prop_assert!((back.unwrap() - w).amax() <= 64.0 * EPS * (1.0 + w.norm_squared()));
+        }
+    }
+
+    /// SE(3): exp/log round trip and the group's action agrees with the matrix.
+    #[test]
+    fn se3_exp_log_and_action(w in vec3(2.5), v in vec3(5.0), p in vec3(5.0)) {
+        prop_assume!(w.norm() < 3.0, "log inverts exp below π only");
+        let xi = Vector6::new(w.x, w.y, w.z, v.x, v.y, v.z);
+        let g = SE3::exp(&xi);
+        // J_l⁻¹ has norm ≤ ~5 for |ω| ≤ 4.4; translations up to ~10.
+        prop_assert!((g.log() - xi).amax() <= 256.0 * EPS * (1.0 + xi.norm()));
+        let m = g.to_matrix();
+        let hom = m * nalgebra::Vector4::new(p.x, p.y, p.z, 1.0);
+        prop_assert!((g.act(&p) - hom.xyz()).amax() <= 16.0 * EPS * (1.0 + p.norm() + v.norm()));
+    }
+}
