@@ -1,9 +1,9 @@
 //! The Cayley transforms as charts.
 
 use super::So3Chart;
+use crate::error::LieError;
 use crate::scalar::{constant, real};
 use crate::so3::{hat, quaternion, rodrigues_form};
-use crate::LieError;
 use nalgebra::{Matrix3, RealField, Vector3};
 use std::f64::consts::PI;
 

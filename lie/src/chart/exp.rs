@@ -1,6 +1,7 @@
 //! The exponential map as a chart.
 
 use super::So3Chart;
+use crate::error::LieError;
 use crate::scalar::constant;
 use crate::series::{
     one_minus_cos_over_sq, one_minus_cos_over_sq_derivative, theta_minus_sin_over_cube,
@@ -10,7 +11,6 @@ use crate::so3::exp::{
     check_exp_domain, exp_matrix, log_and_half_turn, right_jacobian_inverse_unchecked,
 };
 use crate::so3::{hat, left_jacobian, right_jacobian};
-use crate::LieError;
 use nalgebra::{Matrix3, RealField, Vector3};
 use std::f64::consts::PI;
 

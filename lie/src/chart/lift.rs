@@ -1,9 +1,9 @@
 //! [`Chart`] for SO(3) and SE(3) from any [`So3Chart`].
 
 use super::{Chart, So3Chart};
+use crate::error::LieError;
 use crate::se3::{blocks, join, split, SE3};
 use crate::so3::{hat, SO3};
-use crate::LieError;
 use nalgebra::{Matrix3, Matrix6, RealField, Vector3, Vector6};
 
 impl<T: RealField + Copy, C: So3Chart> Chart<SO3<T>> for C {

@@ -26,8 +26,8 @@ mod lift;
 pub use cayley::{CayleyChart, UnscaledCayleyChart};
 pub use exp::ExpChart;
 
+use crate::error::LieError;
 use crate::group::LieGroup;
-use crate::LieError;
 use nalgebra::{Matrix3, RealField, Vector3};
 use std::fmt::Debug;
 use std::str::FromStr;

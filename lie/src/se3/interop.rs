@@ -60,8 +60,8 @@ impl<T: RealField + Copy> UlpsEq for SE3<T> {
 #[cfg(feature = "glam")]
 mod glam_interop {
     use super::SE3;
+    use crate::error::LieError;
     use crate::so3::SO3;
-    use crate::LieError;
     use glam::{DAffine3, DMat3};
     use nalgebra::Vector3;
 

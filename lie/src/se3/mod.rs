@@ -17,10 +17,9 @@
 
 mod interop;
 
-use crate::chart::{Chart, ExpChart};
+use crate::error::LieError;
 use crate::group::LieGroup;
 use crate::so3::{hat, vee, SO3};
-use crate::LieError;
 use nalgebra::{Matrix3, Matrix4, Matrix6, RealField, Vector3, Vector6};
 use std::ops::Mul;
 
@@ -85,9 +84,10 @@ impl<T: RealField + Copy> SE3<T> {
         &self.translation
     }
 
-    /// The exponential map: `exp(ω, v) = (exp ω, J_l(ω) v)`.
+    /// The exponential map: `exp(ω, v) = (exp ω, J_l(ω) v)` (the `ExpChart` on SE(3)).
     pub fn exp(xi: &Vector6<T>) -> Self {
-        ExpChart.to_group(xi)
+        let (w, v) = split(xi);
+        Self::new(SO3::exp(&w), crate::so3::left_jacobian(&w) * v)
     }
 
     /// The logarithm `(ω, J_l(ω)⁻¹ x)` with `ω = log R`, `|ω| ≤ π`. At a rotation angle of

@@ -1,12 +1,12 @@
 //! Exponential, logarithm and the Jacobians of SO(3).
 
 use super::{quaternion, rodrigues_form};
+use crate::error::LieError;
 use crate::scalar::real;
 use crate::series::{
     jr_inverse_coefficient, one_minus_cos_and_theta_minus_sin, sinc_and_one_minus_cos_over_sq,
     theta_over_sin,
 };
-use crate::LieError;
 use nalgebra::{Matrix3, RealField, Vector3};
 use std::f64::consts::TAU;
 

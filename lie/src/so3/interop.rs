@@ -2,7 +2,7 @@
 //! (feature `serde`), and the `approx` comparison traits.
 
 use super::{quaternion, SO3};
-use crate::LieError;
+use crate::error::LieError;
 use approx::{AbsDiffEq, RelativeEq, UlpsEq};
 use nalgebra::{Quaternion, RealField, Rotation3, UnitQuaternion, Vector3};
 
@@ -88,7 +88,7 @@ impl SO3<f64> {
 #[cfg(feature = "glam")]
 mod glam_interop {
     use super::SO3;
-    use crate::LieError;
+    use crate::error::LieError;
     use glam::{DMat3, DQuat, DVec3};
     use nalgebra::Matrix3;
 

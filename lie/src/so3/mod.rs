@@ -21,9 +21,9 @@ pub(crate) mod quaternion;
 
 pub use exp::{left_jacobian, left_jacobian_inverse, right_jacobian, right_jacobian_inverse};
 
+use crate::error::LieError;
 use crate::group::LieGroup;
 use crate::scalar::real;
-use crate::LieError;
 use nalgebra::{Matrix3, RealField, Unit, Vector3};
 use std::ops::Mul;
 
