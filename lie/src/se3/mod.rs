@@ -39,6 +39,11 @@ pub struct SE3<T: RealField + Copy = f64> {
 }
 
 impl<T: RealField + Copy> SE3<T> {
+    /// The identity motion (also [`LieGroup::identity`]).
+    pub fn identity() -> Self {
+        Self::new(SO3::identity(), Vector3::zeros())
+    }
+
     /// The motion with rotation `R` and translation `x`.
     pub fn new(rotation: SO3<T>, translation: Vector3<T>) -> Self {
         Self {
@@ -138,7 +143,7 @@ impl<T: RealField + Copy> LieGroup for SE3<T> {
     const NAME: &'static str = "SE(3)";
 
     fn identity() -> Self {
-        Self::new(SO3::identity(), Vector3::zeros())
+        SE3::identity()
     }
 
     fn compose(&self, other: &Self) -> Self {

@@ -91,6 +91,13 @@ pub struct SO3<T: RealField + Copy = f64> {
 }
 
 impl<T: RealField + Copy> SO3<T> {
+    /// The identity rotation (also [`LieGroup::identity`]).
+    pub fn identity() -> Self {
+        Self {
+            matrix: Matrix3::identity(),
+        }
+    }
+
     /// Wraps a matrix the caller guarantees to be a rotation (orthogonal, determinant
     /// +1, to rounding). Nothing is checked; for user data use [`SO3::try_from_matrix`].
     pub fn from_matrix_unchecked(matrix: Matrix3<T>) -> Self {
@@ -284,9 +291,7 @@ impl<T: RealField + Copy> LieGroup for SO3<T> {
     const NAME: &'static str = "SO(3)";
 
     fn identity() -> Self {
-        Self {
-            matrix: Matrix3::identity(),
-        }
+        SO3::identity()
     }
 
     fn compose(&self, other: &Self) -> Self {

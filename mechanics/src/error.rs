@@ -1,0 +1,93 @@
+//! Errors of this crate.
+
+use lgsvi_lie::LieError;
+use lgsvi_quadrature::QuadratureError;
+use lgsvi_spectral::SpectralError;
+
+/// Why a system, a setting or a step was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MechanicsError {
+    /// An inertia that no rigid body has.
+    #[error("non-physical inertia {moments:?}: {reason}")]
+    InvalidInertia {
+        /// The principal moments (or diagonal) given.
+        moments: [f64; 3],
+        /// What is wrong and what to change.
+        reason: String,
+    },
+    /// NaN or infinity in an input.
+    #[error("{what} is not finite: {value}")]
+    NonFinite {
+        /// Which input.
+        what: &'static str,
+        /// Its value, as written.
+        value: String,
+    },
+    /// A setting out of range.
+    #[error("invalid setting {name} = {value}: {reason}")]
+    InvalidSetting {
+        /// The setting's name.
+        name: &'static str,
+        /// Its value, as written.
+        value: String,
+        /// The allowed range.
+        reason: &'static str,
+    },
+    /// Newton's iteration did not converge.
+    #[error(
+        "step {step} (t = {time}): Newton did not converge in {iterations} iterations \
+         (residual {residual:e}); take a smaller step h, more nodes, or the exp chart"
+    )]
+    NewtonDiverged {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// Iterations spent.
+        iterations: usize,
+        /// The last residual norm.
+        residual: f64,
+    },
+    /// The Newton matrix is singular (or the iteration produced non-finite numbers).
+    #[error(
+        "step {step} (t = {time}): singular Newton system; take a smaller step h or the exp chart"
+    )]
+    SingularJacobian {
+        /// The step that failed.
+        step: usize,
+        /// Its start time.
+        time: f64,
+    },
+    /// The step's curve left the domain of the chart.
+    #[error("step {step} (t = {time}): {source}")]
+    OutsideChart {
+        /// The step that failed.
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// What the chart said.
+        source: LieError,
+    },
+    /// An invalid attitude or other geometric input.
+    #[error(transparent)]
+    Lie(#[from] LieError),
+    /// From the quadrature layer.
+    #[error(transparent)]
+    Quadrature(#[from] QuadratureError),
+    /// From the spectral layer.
+    #[error(transparent)]
+    Spectral(#[from] SpectralError),
+}
+
+/// A non-finite check with a helpful error.
+pub(crate) fn check_finite(what: &'static str, values: &[f64]) -> Result<(), MechanicsError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(MechanicsError::NonFinite {
+            what,
+            value: format!("{values:?}"),
+        })
+    }
+}

@@ -1,0 +1,534 @@
+//! One step: the Galerkin discrete action, its derivatives, and the Newton solve.
+//!
+//! On step `k` the curve is `g(t) = g_k Φ(ξ(t))`, `ξ(t) = Σ_i ξⁱ φ_i(t)` on `n`
+//! Chebyshev–Lobatto nodes of `[0, h]`, `ξ¹ = 0`. With Gauss points `c_j h` and weights
+//! `h b_j`, the action is `S = Σ_j h b_j ℓ̃(x_j, v_j)`, where `x_j = Σ_i φ_i(c_j h) ξⁱ`,
+//! `v_j = Σ_i φ_i'(c_j h) ξⁱ` and `ℓ̃(x, v) = ℓ(g_k Φ(x), A(x) v)`. Each Gauss point needs
+//! the gradient and Hessian of `ℓ̃` in its six arguments, taken exactly with dual numbers;
+//! for the exact momentum matching of a Lagrangian that depends on `R` also the
+//! derivatives in a configuration perturbation `ζ`, `ℓ(g_k Φ(x) exp(ζ), A(x) v)`, giving
+//! nine arguments.
+//!
+//! Unknowns `ξ², …, ξⁿ`; equations: `∂S/∂ξⁱ = 0` for `i = 2..n−1` and three matching
+//! equations,
+//! - exact: `A(ξⁿ)ᵀ Φ(ξⁿ)ᵀ w − ∂S/∂ξⁿ = 0`, `w = μ_k + Σ_j h b_j Φ(x_j) p_j` with
+//!   `p_j = ∂ℓ̃/∂ζ` (zero for a left-invariant Lagrangian), which is
+//!   `μ_k = Φ(ξⁿ) A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ − A(0)⁻ᵀ ∂_η S(g_k Φ(η) Φ(ξ(t)))` of `paper/README.md`;
+//! - paper: `A(0)ᵀ μ_k + ∂S/∂ξ¹ = 0`.
+//!
+//! Afterwards `g_{k+1} = g_k Φ(ξⁿ)` and `μ_{k+1} = A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ`.
+
+use crate::error::MechanicsError;
+use crate::lagrangian::Lagrangian;
+use crate::settings::{Matching, NewtonJacobian, StepSettings};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
+use faer::{Conj, Mat, Par};
+use lgsvi_lie::{ChartKind, So3Chart, SO3};
+use lgsvi_quadrature::gauss_legendre;
+use lgsvi_spectral::Barycentric;
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
+use num_dual::{Dual2SVec64, DualSVec64};
+
+/// Fixed data of a step: quadrature, basis matrices.
+#[derive(Debug, Clone)]
+pub(crate) struct Discretisation {
+    pub n: usize,
+    pub m: usize,
+    /// `h b_j`.
+    pub weights: Vec<f64>,
+    /// `φ_i(c_j h)`, row-major `m × n`.
+    pub values: Vec<f64>,
+    /// `φ_i'(c_j h)`, row-major `m × n`.
+    pub slopes: Vec<f64>,
+    /// The Lagrange basis on `[0, h]`, for dense output.
+    pub basis: Barycentric,
+}
+
+impl Discretisation {
+    pub fn new(settings: &StepSettings) -> Result<Self, MechanicsError> {
+        let (n, m, h) = (
+            settings.nodes(),
+            settings.quadrature_points(),
+            settings.step(),
+        );
+        let rule = gauss_legendre(m)?.on(0.0, h)?;
+        let basis = Barycentric::chebyshev_lobatto(n, 0.0, h)?;
+        let (b, d) = basis.evaluation_and_derivative_matrices(rule.nodes())?;
+        Ok(Self {
+            n,
+            m,
+            weights: rule.weights().to_vec(),
+            values: b.as_slice().to_vec(),
+            slopes: d.as_slice().to_vec(),
+            basis,
+        })
+    }
+
+    #[inline]
+    pub fn value(&self, j: usize, i: usize) -> f64 {
+        self.values[j * self.n + i]
+    }
+
+    #[inline]
+    pub fn slope(&self, j: usize, i: usize) -> f64 {
+        self.slopes[j * self.n + i]
+    }
+
+    /// The node times `t_i ∈ [0, h]`.
+    pub fn node_times(&self) -> &[f64] {
+        self.basis.nodes()
+    }
+}
+
+/// `ℓ(g Φ(x) exp(ζ), A(x) v)` for any scalar.
+fn ell_tilde<T: RealField + Copy, L: Lagrangian>(
+    system: &L,
+    chart: ChartKind,
+    base: &Matrix3<f64>,
+    x: &Vector3<T>,
+    v: &Vector3<T>,
+    zeta: Option<&Vector3<T>>,
+) -> T {
+    let base: Matrix3<T> = base.map(nalgebra::convert);
+    let mut r = base * chart.rotation_matrix(x);
+    if let Some(z) = zeta {
+        r *= *SO3::exp(z).matrix();
+    }
+    let omega = chart.rotation_left_differential(x) * v;
+    system.lagrangian(&r, &omega)
+}
+
+/// Gradient and Hessian of `ℓ̃` at one Gauss point: in `(x, v)` (`N = 6`) or
+/// `(x, v, ζ)` at `ζ = 0` (`N = 9`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PointDerivatives {
+    pub gradient: SVector<f64, 9>,
+    pub hessian: SMatrix<f64, 9, 9>,
+}
+
+fn point_derivatives<L: Lagrangian>(
+    system: &L,
+    chart: ChartKind,
+    base: &Matrix3<f64>,
+    x: &Vector3<f64>,
+    v: &Vector3<f64>,
+    with_configuration: bool,
+) -> PointDerivatives {
+    let mut gradient = SVector::<f64, 9>::zeros();
+    let mut hessian = SMatrix::<f64, 9, 9>::zeros();
+    if with_configuration {
+        let y =
+            SVector::<f64, 9>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z, 0.0, 0.0, 0.0]);
+        let (_, g, h) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<9>, 9>| {
+                let x = y.fixed_rows::<3>(0).into_owned();
+                let v = y.fixed_rows::<3>(3).into_owned();
+                let z = y.fixed_rows::<3>(6).into_owned();
+                ell_tilde(system, chart, base, &x, &v, Some(&z))
+            },
+            &y,
+        );
+        gradient.copy_from(&g);
+        hessian.copy_from(&h);
+    } else {
+        let y = SVector::<f64, 6>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z]);
+        let (_, g, h) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<6>, 6>| {
+                let x = y.fixed_rows::<3>(0).into_owned();
+                let v = y.fixed_rows::<3>(3).into_owned();
+                ell_tilde(system, chart, base, &x, &v, None)
+            },
+            &y,
+        );
+        gradient.fixed_rows_mut::<6>(0).copy_from(&g);
+        hessian.fixed_view_mut::<6, 6>(0, 0).copy_from(&h);
+    }
+    PointDerivatives { gradient, hessian }
+}
+
+/// `∂/∂y [A(y)ᵀ Φ(y)ᵀ w]` at `y`, by dual numbers.
+fn matching_map_jacobian(chart: ChartKind, y: &Vector3<f64>, w: &Vector3<f64>) -> Matrix3<f64> {
+    let (_, jac) = num_dual::jacobian(
+        |y: SVector<DualSVec64<3>, 3>| {
+            let w: Vector3<DualSVec64<3>> = w.map(nalgebra::convert);
+            let a = chart.rotation_left_differential(&y);
+            let r = chart.rotation_matrix(&y);
+            a.transpose() * (r.transpose() * w)
+        },
+        y,
+    );
+    jac
+}
+
+/// Preallocated buffers of the Newton iteration: nothing is allocated per step.
+pub(crate) struct Workspace {
+    /// Unknowns `ξ², …, ξⁿ` (with `ξ¹ = 0` at index 0): `n` vectors.
+    pub xi: Vec<Vector3<f64>>,
+    points: Vec<PointDerivatives>,
+    x: Vec<Vector3<f64>>,
+    v: Vec<Vector3<f64>>,
+    gradient: Vec<Vector3<f64>>,
+    gradient_scale: Vec<f64>,
+    residual: Vec<f64>,
+    trial: Vec<f64>,
+    jacobian: Mat<f64>,
+    rhs: Mat<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    stack: MemBuffer,
+}
+
+impl Workspace {
+    pub fn new(d: &Discretisation) -> Self {
+        let unknowns = 3 * (d.n - 1);
+        let scratch = factor::lu_in_place_scratch::<usize, f64>(
+            unknowns,
+            unknowns,
+            Par::Seq,
+            Default::default(),
+        )
+        .or(solve::solve_in_place_scratch::<usize, f64>(
+            unknowns,
+            1,
+            Par::Seq,
+        ));
+        Self {
+            xi: vec![Vector3::zeros(); d.n],
+            points: vec![
+                PointDerivatives {
+                    gradient: SVector::zeros(),
+                    hessian: SMatrix::zeros()
+                };
+                d.m
+            ],
+            x: vec![Vector3::zeros(); d.m],
+            v: vec![Vector3::zeros(); d.m],
+            gradient: vec![Vector3::zeros(); d.n],
+            gradient_scale: vec![0.0; d.n],
+            residual: vec![0.0; unknowns],
+            trial: vec![0.0; unknowns],
+            jacobian: Mat::zeros(unknowns, unknowns),
+            rhs: Mat::zeros(unknowns, 1),
+            perm: vec![0; unknowns],
+            perm_inv: vec![0; unknowns],
+            stack: MemBuffer::new(scratch),
+        }
+    }
+}
+
+/// What a converged step returns.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct StepOutcome {
+    pub attitude: Matrix3<f64>,
+    pub momentum: Vector3<f64>,
+    pub iterations: usize,
+}
+
+/// The solver of one step, for a system, a chart and fixed settings.
+pub(crate) struct Stepper<'a, L: Lagrangian> {
+    pub system: &'a L,
+    pub settings: &'a StepSettings,
+    pub d: &'a Discretisation,
+}
+
+impl<L: Lagrangian> Stepper<'_, L> {
+    fn chart(&self) -> ChartKind {
+        self.settings.chart()
+    }
+
+    fn needs_configuration(&self) -> bool {
+        self.settings.matching() == Matching::Exact && !self.system.is_left_invariant()
+    }
+
+    /// Evaluates the points, gradients and (if asked) the Newton matrix at the current
+    /// unknowns; returns `(‖F‖∞, scale)` with the residual written to `work.residual`.
+    fn assemble(
+        &self,
+        base: &Matrix3<f64>,
+        mu: &Vector3<f64>,
+        work: &mut Workspace,
+        with_jacobian: bool,
+    ) -> (f64, f64) {
+        let d = self.d;
+        let (n, m) = (d.n, d.m);
+        let chart = self.chart();
+        let with_configuration = self.needs_configuration();
+        for j in 0..m {
+            let mut x = Vector3::zeros();
+            let mut v = Vector3::zeros();
+            for i in 1..n {
+                x += work.xi[i] * d.value(j, i);
+                v += work.xi[i] * d.slope(j, i);
+            }
+            work.x[j] = x;
+            work.v[j] = v;
+            work.points[j] =
+                point_derivatives(self.system, chart, base, &x, &v, with_configuration);
+        }
+        // ∂S/∂ξⁱ and the scale of its terms.
+        for i in 0..n {
+            let mut g = Vector3::zeros();
+            let mut scale = 0.0f64;
+            for j in 0..m {
+                let p = &work.points[j];
+                let gx = p.gradient.fixed_rows::<3>(0);
+                let gv = p.gradient.fixed_rows::<3>(3);
+                let term = gx * d.value(j, i) + gv * d.slope(j, i);
+                g += term * d.weights[j];
+                scale = scale.max(
+                    d.weights[j]
+                        * (gx.amax() * d.value(j, i).abs() + gv.amax() * d.slope(j, i).abs()),
+                );
+            }
+            work.gradient[i] = g;
+            work.gradient_scale[i] = scale;
+        }
+        let xi_n = work.xi[n - 1];
+        // w = μ_k + Σ_j h b_j Φ(x_j) p_j (exact matching).
+        let mut w = *mu;
+        if with_configuration {
+            for j in 0..m {
+                let p: Vector3<f64> = work.points[j].gradient.fixed_rows::<3>(6).into_owned();
+                w += chart.rotation_matrix(&work.x[j]) * p * d.weights[j];
+            }
+        }
+        let (a_n, r_n) = (
+            chart.rotation_left_differential(&xi_n),
+            chart.rotation_matrix(&xi_n),
+        );
+        let transport = a_n.transpose() * r_n.transpose();
+        // Residual blocks: internal stages i = 2..n−1 (rows 3(i−2)..), then matching.
+        let rows = 3 * (n - 1);
+        let mut scale = mu.amax();
+        for i in 1..n - 1 {
+            for c in 0..3 {
+                work.residual[3 * (i - 1) + c] = work.gradient[i][c];
+            }
+            scale = scale.max(work.gradient_scale[i]);
+        }
+        let matching = match self.settings.matching() {
+            Matching::Exact => {
+                scale = scale
+                    .max(work.gradient_scale[n - 1])
+                    .max((transport * w).amax());
+                transport * w - work.gradient[n - 1]
+            }
+            Matching::Paper => {
+                let a0 = chart.rotation_left_differential(&Vector3::zeros());
+                scale = scale
+                    .max(work.gradient_scale[0])
+                    .max((a0.transpose() * mu).amax());
+                a0.transpose() * mu + work.gradient[0]
+            }
+        };
+        for c in 0..3 {
+            work.residual[rows - 3 + c] = matching[c];
+        }
+        let norm = work.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+        if with_jacobian {
+            self.fill_jacobian(work, &transport, &w, &xi_n);
+        }
+        (norm, scale)
+    }
+
+    /// The exact Newton matrix from the stored point Hessians.
+    fn fill_jacobian(
+        &self,
+        work: &mut Workspace,
+        transport: &Matrix3<f64>,
+        w: &Vector3<f64>,
+        xi_n: &Vector3<f64>,
+    ) {
+        let d = self.d;
+        let (n, m) = (d.n, d.m);
+        let chart = self.chart();
+        let with_configuration = self.needs_configuration();
+        let hessian_block = |i: usize, k: usize| -> Matrix3<f64> {
+            let mut block = Matrix3::zeros();
+            for j in 0..m {
+                let h = &work.points[j].hessian;
+                let (bi, di, bk, dk) = (d.value(j, i), d.slope(j, i), d.value(j, k), d.slope(j, k));
+                let hxx: Matrix3<f64> = h.fixed_view::<3, 3>(0, 0).into_owned();
+                let hxv: Matrix3<f64> = h.fixed_view::<3, 3>(0, 3).into_owned();
+                let hvx: Matrix3<f64> = h.fixed_view::<3, 3>(3, 0).into_owned();
+                let hvv: Matrix3<f64> = h.fixed_view::<3, 3>(3, 3).into_owned();
+                block += (hxx * (bi * bk) + hxv * (bi * dk) + hvx * (di * bk) + hvv * (di * dk))
+                    * d.weights[j];
+            }
+            block
+        };
+        let jac = &mut work.jacobian;
+        for i in 1..n - 1 {
+            for k in 1..n {
+                let block = hessian_block(i, k);
+                for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
+                    jac[(3 * (i - 1) + r, 3 * (k - 1) + c)] = block[(r, c)];
+                }
+            }
+        }
+        let last = 3 * (n - 2);
+        match self.settings.matching() {
+            Matching::Exact => {
+                let map_jacobian = matching_map_jacobian(chart, xi_n, w);
+                for k in 1..n {
+                    let mut block = -hessian_block(n - 1, k);
+                    if k == n - 1 {
+                        block += map_jacobian;
+                    }
+                    if with_configuration {
+                        // ∂w/∂ξᵏ = Σ_j h b_j [∂q/∂x B_jk + ∂q/∂v D_jk],
+                        // ∂q/∂x = Φ(x)(H_ζx − p̂ A(x)), ∂q/∂v = Φ(x) H_ζv.
+                        let mut dw = Matrix3::zeros();
+                        for j in 0..m {
+                            let pt = &work.points[j];
+                            let x = &work.x[j];
+                            let phi = chart.rotation_matrix(x);
+                            let p: Vector3<f64> = pt.gradient.fixed_rows::<3>(6).into_owned();
+                            let h_zx: Matrix3<f64> =
+                                pt.hessian.fixed_view::<3, 3>(6, 0).into_owned();
+                            let h_zv: Matrix3<f64> =
+                                pt.hessian.fixed_view::<3, 3>(6, 3).into_owned();
+                            let dq_dx = phi
+                                * (h_zx
+                                    - lgsvi_lie::so3::hat(&p)
+                                        * chart.rotation_left_differential(x));
+                            let dq_dv = phi * h_zv;
+                            dw += (dq_dx * d.value(j, k) + dq_dv * d.slope(j, k)) * d.weights[j];
+                        }
+                        block += transport * dw;
+                    }
+                    for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
+                        jac[(last + r, 3 * (k - 1) + c)] = block[(r, c)];
+                    }
+                }
+            }
+            Matching::Paper => {
+                for k in 1..n {
+                    let block = hessian_block(0, k);
+                    for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
+                        jac[(last + r, 3 * (k - 1) + c)] = block[(r, c)];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Forward-difference Newton matrix (the paper's solver), column by column.
+    fn fill_jacobian_by_differences(
+        &self,
+        base: &Matrix3<f64>,
+        mu: &Vector3<f64>,
+        work: &mut Workspace,
+    ) {
+        let n = self.d.n;
+        let unknowns = 3 * (n - 1);
+        work.trial.copy_from_slice(&work.residual);
+        for col in 0..unknowns {
+            let (i, c) = (1 + col / 3, col % 3);
+            let saved = work.xi[i][c];
+            let step = f64::EPSILON.sqrt() * saved.abs().max(1.0);
+            work.xi[i][c] = saved + step;
+            self.assemble(base, mu, work, false);
+            for row in 0..unknowns {
+                work.jacobian[(row, col)] = (work.residual[row] - work.trial[row]) / step;
+            }
+            work.xi[i][c] = saved;
+        }
+        work.residual.copy_from_slice(&work.trial);
+    }
+
+    /// Checks every node against the chart's domain.
+    fn check_domain(&self, work: &Workspace, step: usize, time: f64) -> Result<(), MechanicsError> {
+        for xi in &work.xi {
+            self.chart()
+                .check_rotation_domain(xi)
+                .map_err(|source| MechanicsError::OutsideChart { step, time, source })?;
+        }
+        Ok(())
+    }
+
+    /// Newton on the step's equations from the guess in `work.xi`.
+    pub fn solve(
+        &self,
+        base: &Matrix3<f64>,
+        mu: &Vector3<f64>,
+        work: &mut Workspace,
+        step: usize,
+        time: f64,
+    ) -> Result<StepOutcome, MechanicsError> {
+        let n = self.d.n;
+        let unknowns = 3 * (n - 1);
+        let exact = self.settings.jacobian() == NewtonJacobian::Exact;
+        let max_iterations = self.settings.max_newton_iterations();
+        let mut previous = f64::INFINITY;
+        let mut iterations = 0;
+        loop {
+            self.check_domain(work, step, time)?;
+            let (residual, scale) = self.assemble(base, mu, work, exact);
+            if !residual.is_finite() {
+                return Err(MechanicsError::SingularJacobian { step, time });
+            }
+            // Converged: the residual is a few ulps of its largest terms, or — once below
+            // √ε of them — it has stopped halving (the rounding floor of the sums, which
+            // for m·n terms can sit a little above a few ulps). Newton converges
+            // quadratically, so the last accepted step is always taken at the floor.
+            let scale = scale.max(f64::MIN_POSITIVE);
+            let tight = 4.0 * f64::EPSILON * scale;
+            let loose = f64::EPSILON.sqrt() * scale;
+            let stagnated = iterations > 0 && residual > 0.5 * previous && residual <= loose;
+            if residual <= tight || stagnated {
+                let xi_n = work.xi[n - 1];
+                let chart = self.chart();
+                let momentum = chart.rotation_left_differential_inverse(&xi_n).transpose()
+                    * work.gradient[n - 1];
+                let attitude = base * chart.rotation_matrix(&xi_n);
+                return Ok(StepOutcome {
+                    attitude,
+                    momentum,
+                    iterations,
+                });
+            }
+            if iterations >= max_iterations {
+                return Err(MechanicsError::NewtonDiverged {
+                    step,
+                    time,
+                    iterations,
+                    residual,
+                });
+            }
+            if !exact {
+                self.fill_jacobian_by_differences(base, mu, work);
+            }
+            for (row, r) in work.residual.iter().enumerate() {
+                work.rhs[(row, 0)] = -r;
+            }
+            let (_, perm) = factor::lu_in_place(
+                work.jacobian.as_mut(),
+                &mut work.perm,
+                &mut work.perm_inv,
+                Par::Seq,
+                MemStack::new(&mut work.stack),
+                Default::default(),
+            );
+            solve::solve_in_place_with_conj(
+                work.jacobian.as_ref(),
+                work.jacobian.as_ref(),
+                perm,
+                Conj::No,
+                work.rhs.as_mut(),
+                Par::Seq,
+                MemStack::new(&mut work.stack),
+            );
+            for col in 0..unknowns {
+                let delta = work.rhs[(col, 0)];
+                if !delta.is_finite() {
+                    return Err(MechanicsError::SingularJacobian { step, time });
+                }
+                work.xi[1 + col / 3][col % 3] += delta;
+            }
+            previous = residual;
+            iterations += 1;
+        }
+    }
+}

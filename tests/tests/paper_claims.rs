@@ -1,0 +1,250 @@
+//! The paper's claims and the integrator's guarantees, against the independent
+//! high-precision references (`tests/data/rigid_body_refs.json`: a 63–70-digit Taylor
+//! integrator, cross-checked against the exact elliptic-function solution and
+//! Gragg–Bulirsch–Stoer). Run with `--nocapture` for the measured numbers.
+
+mod common;
+
+/// Errors as short scientific numbers.
+struct Sci<'a>(&'a [f64]);
+impl std::fmt::Display for Sci<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parts: Vec<String> = self.0.iter().map(|e| format!("{e:.2e}")).collect();
+        write!(f, "[{}]", parts.join(", "))
+    }
+}
+
+use common::{case, energy, max_errors, run};
+use lgsvi_lie::ChartKind;
+use lgsvi_mechanics::{Matching, StepSettings};
+
+/// Case A (the paper's rigid body), exp chart, exact matching, h = 0.5, n = 10, T = 10.
+/// The bound 1e-12 is the issue's: about 20 steps of per-step rounding ~3e-14 (the
+/// conditioning of a degree-9 Galerkin system), against a problem sensitivity of only ~11
+/// at t = 10.
+#[test]
+fn case_a_matches_the_reference_to_1e12() {
+    let a = case("A");
+    let (trajectory, _, _) = run(&a, StepSettings::new(0.5, 10).unwrap(), 20, 1).unwrap();
+    let (er, ew) = max_errors(&a, &trajectory, 10.0);
+    println!("case A, h 0.5, n 10: max ‖R − R_ref‖₂ {er:.2e}, ‖Ω − Ω_ref‖ {ew:.2e}");
+    assert!(er <= 1e-12 && ew <= 1e-12, "{er:e} {ew:e}");
+}
+
+/// Cases B, B_mg1, C_mg1 (3D pendulum) at h = 0.25, n = 10, T = 10, and the chaotic C up
+/// to t = 10 (sensitivity 76 there): the same 1e-12 bounds.
+#[test]
+fn pendulum_cases_match_the_reference_to_1e12() {
+    for name in ["B", "B_mg1", "C_mg1", "C"] {
+        let c = case(name);
+        let (trajectory, _, _) = run(&c, StepSettings::new(0.25, 10).unwrap(), 40, 2).unwrap();
+        let (er, ew) = max_errors(&c, &trajectory, 10.0);
+        println!("case {name}, h 0.25, n 10: max ‖R − R_ref‖₂ {er:.2e}, ‖Ω − Ω_ref‖ {ew:.2e}");
+        assert!(er <= 1e-12 && ew <= 1e-12, "{name}: {er:e} {ew:e}");
+    }
+}
+
+/// Least-squares slope of ln(error) against x.
+fn slope(xs: &[f64], errors: &[f64]) -> f64 {
+    let k = xs.len() as f64;
+    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / k, ys.iter().sum::<f64>() / k);
+    let num: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    num / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>()
+}
+
+/// n-refinement at h = 0.5 (case A): geometric decay until the rounding floor. The fitted
+/// factor gained per node is printed; the bounds hold it well above algebraic decay
+/// (the paper's README reports about ×30 per node for Cayley and ×100–200 for exp).
+#[test]
+fn n_refinement_is_geometric() {
+    let a = case("A");
+    for (chart, ns, min_factor) in [
+        (ChartKind::Exp, vec![3usize, 4, 5, 6, 7], 50.0),
+        (ChartKind::CayleyUnscaled, vec![4usize, 6, 8, 10], 15.0),
+    ] {
+        let errors: Vec<f64> = ns
+            .iter()
+            .map(|&n| {
+                let s = StepSettings::new(0.5, n).unwrap().with_chart(chart);
+                let (t, _, _) = run(&a, s, 20, 20).unwrap();
+                max_errors(&a, &t, 10.0).0
+            })
+            .collect();
+        let xs: Vec<f64> = ns.iter().map(|&n| n as f64).collect();
+        let factor = (-slope(&xs, &errors)).exp();
+        println!(
+            "n-refinement, {chart}: n {ns:?} errors {}, factor per node {factor:.1}",
+            Sci(&errors)
+        );
+        assert!(factor >= min_factor, "{chart}: {factor}");
+        assert!(errors.windows(2).all(|w| w[1] < w[0]));
+    }
+    // Both reach the floor: exp by n = 8, the unscaled Cayley by n = 12.
+    for (chart, n) in [(ChartKind::Exp, 8usize), (ChartKind::CayleyUnscaled, 12)] {
+        let (t, _, _) = run(
+            &a,
+            StepSettings::new(0.5, n).unwrap().with_chart(chart),
+            20,
+            1,
+        )
+        .unwrap();
+        let (er, _) = max_errors(&a, &t, 10.0);
+        println!("{chart} n {n}: {er:.2e}");
+        assert!(er <= 1e-12, "{chart} n {n}: {er:e}");
+    }
+}
+
+/// h-refinement (cases A and B, exp chart, exact matching): order 2(n − 1) at the nodes,
+/// fitted over steps where the error stays far above rounding, within ±0.3.
+#[test]
+fn h_refinement_orders_are_twice_the_degree() {
+    let ranges: [(usize, &[f64]); 4] = [
+        (2, &[0.125, 0.0625, 0.03125]),
+        (3, &[0.125, 0.0625, 0.03125]),
+        (4, &[0.125, 0.0625]),
+        (5, &[0.25, 0.125]),
+    ];
+    for name in ["A", "B"] {
+        let c = case(name);
+        for (n, hs) in ranges {
+            let errors: Vec<f64> = hs
+                .iter()
+                .map(|&h| {
+                    let steps = (10.0 / h).round() as usize;
+                    let (t, _, _) =
+                        run(&c, StepSettings::new(h, n).unwrap(), steps, steps).unwrap();
+                    max_errors(&c, &t, 10.0).0
+                })
+                .collect();
+            let xs: Vec<f64> = hs.iter().map(|h| h.ln()).collect();
+            let order = slope(&xs, &errors);
+            println!(
+                "case {name}, n {n}: h {hs:?} errors {} order {order:.2} (expected {})",
+                Sci(&errors),
+                2 * (n - 1)
+            );
+            assert!(
+                (order - 2.0 * (n - 1) as f64).abs() <= 0.3,
+                "case {name} n {n}: order {order}"
+            );
+        }
+    }
+}
+
+/// 2000 steps of case A (h = 0.5, n = 8), both charts: with exact matching the map is
+/// exactly variational, so Rμ and |μ|² are conserved to rounding and the energy error is
+/// bounded; the paper's matching drifts, and this test pins that difference.
+#[test]
+fn long_run_conserves_with_exact_matching_and_drifts_with_the_papers() {
+    let a = case("A");
+    let e_ref = a.states[0].energy;
+    let pi_ref = a.states[0].pi;
+    let casimir_ref = pi_ref.norm_squared();
+    let measure = |chart: ChartKind, matching: Matching| {
+        let s = StepSettings::new(0.5, 8)
+            .unwrap()
+            .with_chart(chart)
+            .with_matching(matching);
+        let (t, _, _) = run(&a, s, 2000, 1).unwrap();
+        let pi_drift = t
+            .states
+            .iter()
+            .map(|s| (s.spatial_momentum() - pi_ref).norm())
+            .fold(0.0, f64::max)
+            / pi_ref.norm();
+        let casimir_drift = t
+            .states
+            .iter()
+            .map(|s| (s.casimir() - casimir_ref).abs())
+            .fold(0.0, f64::max)
+            / casimir_ref;
+        let de: Vec<f64> = t
+            .states
+            .iter()
+            .map(|s| (energy(&a, s) - e_ref).abs() / e_ref)
+            .collect();
+        let tenth = de.len() / 10;
+        let first = de[..tenth].iter().cloned().fold(0.0, f64::max);
+        let last = de[de.len() - tenth..].iter().cloned().fold(0.0, f64::max);
+        let orth = t
+            .states
+            .iter()
+            .map(|s| s.attitude.orthogonality_error())
+            .fold(0.0, f64::max);
+        (pi_drift, casimir_drift, first, last, orth)
+    };
+    for chart in [ChartKind::Exp, ChartKind::CayleyUnscaled] {
+        let (pi, cas, first, last, orth) = measure(chart, Matching::Exact);
+        println!(
+            "exact matching, {chart}: Rμ drift {pi:.1e}, |μ|² drift {cas:.1e}, energy error first 10% {first:.1e} last 10% {last:.1e}, ‖RᵀR − I‖ {orth:.1e}"
+        );
+        assert!(pi <= 1e-12 && cas <= 1e-12, "{chart}: {pi:e} {cas:e}");
+        assert!(first.max(last) <= 1e-11, "{chart}: {first:e} {last:e}");
+        // Not growing. A linear drift makes the last tenth's worst error ~10× the first
+        // tenth's (the paper's matching below: 10.0×); a random walk of rounding errors
+        // grows like √t, ≤ √10 ≈ 3.2× on average. 5× separates the two (the additive
+        // 1e-13 covers a first tenth that happens to sit below the rounding level).
+        assert!(last <= 5.0 * first + 1e-13, "{chart}: {first:e} → {last:e}");
+        assert!(orth <= 1e-13, "{chart}: {orth:e}");
+    }
+    let (pi, _, first, last, _) = measure(ChartKind::CayleyUnscaled, Matching::Paper);
+    println!("paper matching, cayley-unscaled: Rμ drift {pi:.1e}, energy error first 10% {first:.1e} last 10% {last:.1e}");
+    // The drift is linear in time: orders of magnitude above the exact variant's rounding,
+    // and the energy error grows by more than the 5× that separates drift from rounding.
+    assert!(pi >= 1e-9, "paper matching did not drift: {pi:e}");
+    assert!(
+        last >= 5.0 * first,
+        "paper matching energy error did not grow: {first:e} → {last:e}"
+    );
+}
+
+/// Case B with a very large step (h = 1.5, n = 8, 200 steps): the energy error stays
+/// bounded and the vertical spatial momentum e₃·Rμ (Noether for rotations about gravity)
+/// is conserved to rounding.
+#[test]
+fn heavy_top_with_a_large_step() {
+    let b = case("B");
+    let e_ref = b.states[0].energy;
+    let pi3 = b.states[0].pi.z;
+    let (t, _, _) = run(&b, StepSettings::new(1.5, 8).unwrap(), 200, 1).unwrap();
+    let de: Vec<f64> = t
+        .states
+        .iter()
+        .map(|s| (energy(&b, s) - e_ref).abs() / e_ref.abs())
+        .collect();
+    let tenth = de.len() / 10;
+    let first = de[..tenth].iter().cloned().fold(0.0, f64::max);
+    let last = de[de.len() - tenth..].iter().cloned().fold(0.0, f64::max);
+    let pi3_drift = t
+        .states
+        .iter()
+        .map(|s| (s.spatial_momentum().z - pi3).abs())
+        .fold(0.0, f64::max)
+        / pi3.abs();
+    println!("case B, h 1.5, n 8: energy error first 10% {first:.1e} last 10% {last:.1e}, e₃·Rμ drift {pi3_drift:.1e}");
+    assert!(pi3_drift <= 1e-12, "{pi3_drift:e}");
+    // Bounded: no more than the 5× that separates a linear drift from rounding noise.
+    assert!(
+        last <= 5.0 * first + 1e-12,
+        "energy error grows: {first:e} → {last:e}"
+    );
+}
+
+/// Newton iterations per step, pinned so that a silent loss of convergence fails the
+/// build: case A, h = 0.5, exp chart. Measured 4.15–4.3 on average and at most 5 or 6 (the
+/// last iteration lands at the rounding floor, where whether the stopping test fires one
+/// iteration earlier or later depends on the last bits); the issue expects 4 to 6.
+#[test]
+fn newton_iterations_are_pinned() {
+    let a = case("A");
+    for n in [8usize, 10, 12] {
+        let (_, total, max) = run(&a, StepSettings::new(0.5, n).unwrap(), 20, 20).unwrap();
+        let mean = total as f64 / 20.0;
+        println!("Newton, case A, h 0.5, n {n}: mean {mean:.2}, max {max}");
+        assert!(
+            (3.0..=4.5).contains(&mean) && max <= 6,
+            "n {n}: mean {mean}, max {max}"
+        );
+    }
+}
