@@ -51,6 +51,8 @@ pub use integrator::{
     body_momentum, body_velocity, GalerkinCurve, Integrator, State, Statistics, Trajectory,
 };
 pub use lagrangian::{HeavyTop, Lagrangian, Potential, RigidBody, RigidBodyInPotential};
+/// The geometry layer, re-exported so that users of this crate need no second import.
+pub use lgsvi_lie as lie;
 pub use settings::{
     Matching, NewtonJacobian, StepSettings, DEFAULT_EXTRA_QUADRATURE_POINTS,
     DEFAULT_MAX_NEWTON_ITERATIONS,

@@ -44,6 +44,16 @@ fn pendulum_cases_match_the_reference_to_1e12() {
     }
 }
 
+/// The worst values in the first and in the last tenth of a series.
+fn tenths(values: &[f64]) -> (f64, f64) {
+    let tenth = values.len() / 10;
+    let worst = |part: &[f64]| part.iter().cloned().fold(0.0, f64::max);
+    (
+        worst(&values[..tenth]),
+        worst(&values[values.len() - tenth..]),
+    )
+}
+
 /// Least-squares slope of ln(error) against x.
 fn slope(xs: &[f64], errors: &[f64]) -> f64 {
     let k = xs.len() as f64;
@@ -164,9 +174,7 @@ fn long_run_conserves_with_exact_matching_and_drifts_with_the_papers() {
             .iter()
             .map(|s| (energy(&a, s) - e_ref).abs() / e_ref)
             .collect();
-        let tenth = de.len() / 10;
-        let first = de[..tenth].iter().cloned().fold(0.0, f64::max);
-        let last = de[de.len() - tenth..].iter().cloned().fold(0.0, f64::max);
+        let (first, last) = tenths(&de);
         let orth = t
             .states
             .iter()
@@ -213,9 +221,7 @@ fn heavy_top_with_a_large_step() {
         .iter()
         .map(|s| (energy(&b, s) - e_ref).abs() / e_ref.abs())
         .collect();
-    let tenth = de.len() / 10;
-    let first = de[..tenth].iter().cloned().fold(0.0, f64::max);
-    let last = de[de.len() - tenth..].iter().cloned().fold(0.0, f64::max);
+    let (first, last) = tenths(&de);
     let pi3_drift = t
         .states
         .iter()

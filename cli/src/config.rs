@@ -1,0 +1,268 @@
+//! The `simulate` configuration: TOML file, then command-line flags over it, then the
+//! embedded defaults (the paper's parameters for each system).
+
+use clap::{Args, ValueEnum};
+use lgsvi_mechanics::lie::{ChartKind, SO3};
+use lgsvi_mechanics::{Matching, NewtonJacobian};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A built-in system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SystemKind {
+    /// The free rigid body, `ℓ = ½ΩᵀJΩ`.
+    RigidBody,
+    /// The heavy top / 3D pendulum, `ℓ = ½ΩᵀJΩ + m g e₃ᵀRρ`.
+    HeavyTop,
+}
+
+/// The chart, for the command line and config files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChartArg {
+    /// The exponential map (default).
+    Exp,
+    /// The standard Cayley transform.
+    Cayley,
+    /// The paper's unscaled Cayley transform.
+    CayleyUnscaled,
+}
+
+impl From<ChartArg> for ChartKind {
+    fn from(c: ChartArg) -> Self {
+        match c {
+            ChartArg::Exp => ChartKind::Exp,
+            ChartArg::Cayley => ChartKind::Cayley,
+            ChartArg::CayleyUnscaled => ChartKind::CayleyUnscaled,
+        }
+    }
+}
+
+/// The momentum matching.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MatchingArg {
+    /// The exact derivative of the discrete Lagrangian (default; conserves momenta).
+    Exact,
+    /// The paper's recipe (drifts; for reproducing the paper).
+    Paper,
+}
+
+impl From<MatchingArg> for Matching {
+    fn from(m: MatchingArg) -> Self {
+        match m {
+            MatchingArg::Exact => Matching::Exact,
+            MatchingArg::Paper => Matching::Paper,
+        }
+    }
+}
+
+/// The Newton matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum JacobianArg {
+    /// Exact, by automatic differentiation (default).
+    Exact,
+    /// Forward differences (the paper's solver).
+    FiniteDifference,
+}
+
+impl From<JacobianArg> for NewtonJacobian {
+    fn from(j: JacobianArg) -> Self {
+        match j {
+            JacobianArg::Exact => NewtonJacobian::Exact,
+            JacobianArg::FiniteDifference => NewtonJacobian::FiniteDifference,
+        }
+    }
+}
+
+/// Output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Format {
+    /// One JSON document (default).
+    Json,
+    /// One row per recorded state, with a header.
+    Csv,
+}
+
+/// Parses `a,b,c` into `N` finite numbers.
+fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!(
+            "expected {N} comma-separated numbers, got {} in {text:?}",
+            parts.len()
+        ));
+    }
+    let mut out = [0.0; N];
+    for (slot, part) in out.iter_mut().zip(&parts) {
+        let value: f64 = part
+            .parse()
+            .map_err(|_| format!("{part:?} is not a number"))?;
+        if !value.is_finite() {
+            return Err(format!("{part:?} is not finite"));
+        }
+        *slot = value;
+    }
+    Ok(out)
+}
+
+fn three(text: &str) -> Result<[f64; 3], String> {
+    numbers::<3>(text)
+}
+fn four(text: &str) -> Result<[f64; 4], String> {
+    numbers::<4>(text)
+}
+fn nine(text: &str) -> Result<[f64; 9], String> {
+    numbers::<9>(text)
+}
+
+/// The options of `lgsvi simulate`: every one may also come from `--config FILE`
+/// (same names, kebab-case keys, numbers and arrays as TOML values); flags win.
+#[derive(Debug, Clone, Default, Args, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+pub struct SimulateOptions {
+    /// Built-in system [default: rigid-body].
+    #[arg(long, value_enum)]
+    pub system: Option<SystemKind>,
+    /// Standard principal moments of inertia J = diag(a, b, c) [default: the paper's, per system].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, conflicts_with = "inertia_d", value_name = "A,B,C")]
+    pub inertia: Option<[f64; 3]>,
+    /// The paper's nonstandard inertia J_d = diag(a, b, c), J = tr(J_d) I − J_d.
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "A,B,C")]
+    pub inertia_d: Option<[f64; 3]>,
+    /// Initial body angular velocity Ω(0) [default: the paper's, per system].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub omega0: Option<[f64; 3]>,
+    /// Initial attitude R(0) = world_from_body, 9 numbers row-major [default: identity].
+    #[arg(long, value_parser = nine, allow_hyphen_values = true, conflicts_with = "quaternion0", value_name = "R11,...,R33")]
+    pub attitude0: Option<[f64; 9]>,
+    /// Initial attitude as a unit quaternion (w, x, y, z), Hamilton convention.
+    #[arg(long, value_parser = four, allow_hyphen_values = true, value_name = "W,X,Y,Z")]
+    pub quaternion0: Option<[f64; 4]>,
+    /// Heavy top: mass m [default: 1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub mass: Option<f64>,
+    /// Heavy top: gravitational acceleration g [default: 9.81].
+    #[arg(long, allow_hyphen_values = true)]
+    pub gravity: Option<f64>,
+    /// Heavy top: centre of mass ρ in the body frame [default: 0,0,1].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub com: Option<[f64; 3]>,
+    /// Step h [default: 0.5].
+    #[arg(long, allow_hyphen_values = true)]
+    pub h: Option<f64>,
+    /// Chebyshev–Lobatto nodes n ≥ 2 (polynomial degree n − 1) [default: 10].
+    #[arg(long)]
+    pub nodes: Option<usize>,
+    /// Gauss points m [default: n + 2].
+    #[arg(long)]
+    pub quad: Option<usize>,
+    /// Natural chart [default: exp].
+    #[arg(long, value_enum)]
+    pub chart: Option<ChartArg>,
+    /// Momentum matching [default: exact].
+    #[arg(long, value_enum)]
+    pub matching: Option<MatchingArg>,
+    /// Newton matrix [default: exact].
+    #[arg(long, value_enum)]
+    pub jacobian: Option<JacobianArg>,
+    /// Final time T [default: 10].
+    #[arg(long, allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    /// Keep every K-th step (and always the first and last) [default: 1].
+    #[arg(long)]
+    pub every: Option<usize>,
+    /// Output format [default: json].
+    #[arg(long, value_enum)]
+    pub format: Option<Format>,
+    /// Output file [default: standard output].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// A TOML file with any of these options (flags given on the command line win).
+    #[arg(long)]
+    #[serde(skip)]
+    pub config: Option<PathBuf>,
+}
+
+macro_rules! overlay {
+    ($base:ident, $top:ident, $($field:ident),*) => {
+        $( if $top.$field.is_some() { $base.$field = $top.$field.clone(); } )*
+    };
+}
+
+impl SimulateOptions {
+    /// The file's options with these flags laid over them.
+    pub fn merged_with_config(self) -> Result<Self, String> {
+        let Some(path) = self.config.clone() else {
+            return Ok(self);
+        };
+        let mut base = read_config(&path)?;
+        let top = self;
+        overlay!(
+            base,
+            top,
+            system,
+            inertia,
+            inertia_d,
+            omega0,
+            attitude0,
+            quaternion0,
+            mass,
+            gravity,
+            com,
+            h,
+            nodes,
+            quad,
+            chart,
+            matching,
+            jacobian,
+            t_end,
+            every,
+            format,
+            out
+        );
+        if top.inertia.is_some() {
+            base.inertia_d = None;
+        }
+        if top.inertia_d.is_some() {
+            base.inertia = None;
+        }
+        if top.attitude0.is_some() {
+            base.quaternion0 = None;
+        }
+        if top.quaternion0.is_some() {
+            base.attitude0 = None;
+        }
+        base.config = Some(path);
+        Ok(base)
+    }
+
+    /// The system, defaulting to the rigid body.
+    pub fn system(&self) -> SystemKind {
+        self.system.unwrap_or(SystemKind::RigidBody)
+    }
+
+    /// The initial attitude.
+    pub fn attitude(&self) -> Result<SO3, String> {
+        match (self.attitude0, self.quaternion0) {
+            (Some(_), Some(_)) => Err("give --attitude0 or --quaternion0, not both".into()),
+            (Some(r), None) => SO3::try_from_row_major(r).map_err(|e| format!("--attitude0: {e}")),
+            (None, Some(q)) => {
+                SO3::try_from_quaternion_wxyz(q).map_err(|e| format!("--quaternion0: {e}"))
+            }
+            (None, None) => Ok(SO3::identity()),
+        }
+    }
+}
+
+fn read_config(path: &Path) -> Result<SimulateOptions, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read config {}: {e}", path.display()))?;
+    toml::from_str(&text).map_err(|e| {
+        let message = e.message().replace('\n', " ");
+        format!("config {}: {message}", path.display())
+    })
+}

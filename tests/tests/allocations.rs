@@ -1,0 +1,81 @@
+//! No allocation inside the step loop after set-up: a counting global allocator watches
+//! `Integrator::step` (its own test binary, so no other test allocates concurrently).
+
+use lgsvi_lie::{ChartKind, SO3};
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Matching, RigidBody, StepSettings};
+use nalgebra::Vector3;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn count<F: FnMut()>(mut f: F) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    f();
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn stepping_does_not_allocate() {
+    // The counter works: one vector is one allocation.
+    assert_eq!(count(|| drop(std::hint::black_box(vec![1u8; 64]))), 1);
+    let inertia = Inertia::from_paper_jd([1.3, 2.1, 1.2]).unwrap();
+    for chart in [ChartKind::Exp, ChartKind::CayleyUnscaled] {
+        for matching in [Matching::Exact, Matching::Paper] {
+            let settings = StepSettings::new(0.5, 8)
+                .unwrap()
+                .with_chart(chart)
+                .with_matching(matching);
+            let mut body = Integrator::new(
+                RigidBody::new(inertia),
+                settings,
+                SO3::identity(),
+                Vector3::new(-2.0, 1.9, -1.0),
+            )
+            .unwrap();
+            body.step().unwrap();
+            let n = count(|| {
+                for _ in 0..20 {
+                    body.step().unwrap();
+                }
+            });
+            assert_eq!(
+                n, 0,
+                "rigid body, {chart}, {matching:?}: {n} allocations in 20 steps"
+            );
+            let top = HeavyTop::paper(Inertia::from_paper_jd([1.0, 2.8, 2.0]).unwrap()).unwrap();
+            let mut pendulum =
+                Integrator::new(top, settings, SO3::identity(), Vector3::new(0.5, -0.5, 0.4))
+                    .unwrap();
+            pendulum.step().unwrap();
+            let n = count(|| {
+                for _ in 0..20 {
+                    pendulum.step().unwrap();
+                }
+            });
+            assert_eq!(
+                n, 0,
+                "heavy top, {chart}, {matching:?}: {n} allocations in 20 steps"
+            );
+        }
+    }
+}
