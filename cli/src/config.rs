@@ -181,6 +181,10 @@ pub struct SimulateOptions {
     /// Output file [default: standard output].
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// No progress bar (one is shown on a terminal for runs of 1000 steps or more).
+    #[arg(long)]
+    #[serde(default)]
+    pub quiet: bool,
     /// A TOML file with any of these options (flags given on the command line win).
     #[arg(long)]
     #[serde(skip)]
@@ -236,6 +240,7 @@ impl SimulateOptions {
         if top.quaternion0.is_some() {
             base.attitude0 = None;
         }
+        base.quiet |= top.quiet;
         base.config = Some(path);
         Ok(base)
     }

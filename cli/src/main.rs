@@ -80,11 +80,27 @@ fn integrate<L: Lagrangian>(
     if every == 0 {
         return Err("invalid --every 0: keep every K-th step with K ≥ 1".into());
     }
+    let steps = ((t_end / integrator.settings().step()) - 1e-9)
+        .ceil()
+        .max(0.0) as usize;
+    let progress = progress_bar(steps, options.quiet);
+    let mut trajectory = Trajectory {
+        states: vec![*integrator.state()],
+        newton_iterations: vec![0],
+    };
     let start = Instant::now();
-    let trajectory = integrator
-        .run_until(t_end, every)
-        .map_err(|e| e.to_string())?;
+    for k in 1..=steps {
+        let iterations = integrator.step().map_err(|e| e.to_string())?;
+        if k % every == 0 || k == steps {
+            trajectory.states.push(*integrator.state());
+            trajectory.newton_iterations.push(iterations);
+        }
+        if k % 64 == 0 {
+            progress.set_position(k as u64);
+        }
+    }
     let wall_time_s = start.elapsed().as_secs_f64();
+    progress.finish_and_clear();
     let energies = trajectory
         .states
         .iter()
@@ -100,6 +116,26 @@ fn integrate<L: Lagrangian>(
         max_newton_iterations: stats.max_newton_iterations,
         description,
     })
+}
+
+/// Runs of at least this many steps show a progress bar (on a terminal, unless `--quiet`).
+const PROGRESS_FROM_STEPS: usize = 1000;
+
+/// A progress bar on standard error, hidden for short runs, `--quiet`, or when standard
+/// error is not a terminal (so files and pipes never receive control characters).
+fn progress_bar(steps: usize, quiet: bool) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if quiet || steps < PROGRESS_FROM_STEPS || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(steps as u64);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} steps, {eta} left")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message("integrating");
+    bar
 }
 
 /// Resolves the options (config, flags, defaults) and runs.
