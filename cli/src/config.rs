@@ -151,6 +151,9 @@ pub struct SimulateOptions {
     /// Heavy top: centre of mass ρ in the body frame [default: 0,0,1].
     #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub com: Option<[f64; 3]>,
+    /// Heavy top: the direction gravity pulls in, world frame [default: 0,0,1, the paper's e₃].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub gravity_direction: Option<[f64; 3]>,
     /// Step h [default: 0.5].
     #[arg(long, allow_hyphen_values = true)]
     pub h: Option<f64>,
@@ -217,6 +220,7 @@ impl SimulateOptions {
             mass,
             gravity,
             com,
+            gravity_direction,
             h,
             nodes,
             quad,

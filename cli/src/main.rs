@@ -194,12 +194,13 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> 
             let mass = options.mass.unwrap_or(1.0);
             let gravity = options.gravity.unwrap_or(9.81);
             let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
-            let top = HeavyTop::new(inertia, mass, gravity, com, Vector3::z())
-                .map_err(|e| e.to_string())?;
+            let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
+            let top =
+                HeavyTop::new(inertia, mass, gravity, com, direction).map_err(|e| e.to_string())?;
             let description = serde_json::json!({
                 "system": "heavy-top", "inertia_J": options.inertia.unwrap_or(inertia.principal_moments()),
                 "inertia_Jd": options.inertia_d.or(options.inertia.is_none().then_some(d.inertia_d)).unwrap_or(inertia.paper_jd()),
-                "mass": mass, "gravity": gravity, "com": com.as_slice(), "gravity_direction": [0.0, 0.0, 1.0],
+                "mass": mass, "gravity": gravity, "com": com.as_slice(), "gravity_direction": top.gravity_direction().as_slice(),
                 "settings": settings_json,
             });
             integrate(top, settings, &options, description)?

@@ -141,6 +141,20 @@ fn bad_input_is_one_line_naming_the_value() {
         ),
         (vec!["simulate", "--chart", "quaternion"], "quaternion"),
         (vec!["simulate", "--every", "0", "--t-end", "1"], "every"),
+        (
+            vec![
+                "simulate",
+                "--system",
+                "heavy-top",
+                "--gravity-direction",
+                "0,0,0",
+            ],
+            "non-zero",
+        ),
+        (
+            vec!["simulate", "--system", "heavy-top", "--mass", "-1"],
+            "mass",
+        ),
     ] {
         let (code, out, err) = lgsvi(&args);
         assert_ne!(code, 0, "{args:?} succeeded: {out}");

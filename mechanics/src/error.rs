@@ -49,6 +49,15 @@ pub enum MechanicsError {
         /// The last residual norm.
         residual: f64,
     },
+    /// `Ω` could not be recovered from `μ` (the Lagrangian is not convex in `Ω` there).
+    #[error(
+        "cannot recover the angular velocity from the momentum (residual {residual:e}): \
+         the Lagrangian must be strictly convex in Ω"
+    )]
+    InverseLegendre {
+        /// The last residual `|∂ℓ/∂Ω − μ|`.
+        residual: f64,
+    },
     /// The Newton matrix is singular (or the iteration produced non-finite numbers).
     #[error(
         "step {step} (t = {time}): singular Newton system; take a smaller step h or the exp chart"

@@ -28,8 +28,8 @@ pub fn body_momentum<L: Lagrangian>(
 /// with the exact Hessian `∂²ℓ/∂Ω²` from `guess`.
 ///
 /// # Errors
-/// [`MechanicsError::NewtonDiverged`] if the inverse Legendre transform does not converge
-/// (a Lagrangian not convex in `Ω`).
+/// [`MechanicsError::InverseLegendre`] if Newton does not converge (a Lagrangian not
+/// strictly convex in `Ω`).
 pub fn body_velocity<L: Lagrangian>(
     system: &L,
     attitude: &Matrix3<f64>,
@@ -40,6 +40,7 @@ pub fn body_velocity<L: Lagrangian>(
         return Ok(omega);
     }
     let mut omega = *guess;
+    let mut residual_norm = f64::INFINITY;
     for iteration in 0..50 {
         let (_, gradient, hessian) = num_dual::hessian(
             |w: SVector<Dual2SVec64<3>, 3>| {
@@ -49,22 +50,23 @@ pub fn body_velocity<L: Lagrangian>(
             &omega,
         );
         let residual = gradient - momentum;
-        if residual.amax() <= 16.0 * f64::EPSILON * momentum.amax().max(1.0) {
+        residual_norm = residual.amax();
+        if residual_norm <= 16.0 * f64::EPSILON * momentum.amax().max(1.0) {
             return Ok(omega);
         }
         let Some(delta) = hessian.lu().solve(&residual) else {
             break;
         };
         omega -= delta;
+        if !omega.iter().all(|w| w.is_finite()) {
+            break;
+        }
         if iteration > 0 && delta.amax() <= 4.0 * f64::EPSILON * omega.amax() {
             return Ok(omega);
         }
     }
-    Err(MechanicsError::NewtonDiverged {
-        step: 0,
-        time: f64::NAN,
-        iterations: 50,
-        residual: f64::NAN,
+    Err(MechanicsError::InverseLegendre {
+        residual: residual_norm,
     })
 }
 
