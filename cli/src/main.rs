@@ -80,25 +80,16 @@ fn integrate<L: Lagrangian>(
     if every == 0 {
         return Err("invalid --every 0: keep every K-th step with K ≥ 1".into());
     }
-    let steps = ((t_end / integrator.settings().step()) - 1e-9)
-        .ceil()
-        .max(0.0) as usize;
+    let steps = integrator.steps_until(t_end).map_err(|e| e.to_string())?;
     let progress = progress_bar(steps, options.quiet);
-    let mut trajectory = Trajectory {
-        states: vec![*integrator.state()],
-        newton_iterations: vec![0],
-    };
     let start = Instant::now();
-    for k in 1..=steps {
-        let iterations = integrator.step().map_err(|e| e.to_string())?;
-        if k % every == 0 || k == steps {
-            trajectory.states.push(*integrator.state());
-            trajectory.newton_iterations.push(iterations);
-        }
-        if k % 64 == 0 {
-            progress.set_position(k as u64);
-        }
-    }
+    let trajectory = integrator
+        .run_with_progress(steps, every, |k| {
+            if k % 64 == 0 {
+                progress.set_position(k as u64);
+            }
+        })
+        .map_err(|e| e.to_string())?;
     let wall_time_s = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
     let energies = trajectory

@@ -371,6 +371,19 @@ impl<L: Lagrangian> Integrator<L> {
     /// As [`Integrator::step`]; the states recorded so far are lost with the error, the
     /// integrator keeps the last good state.
     pub fn run(&mut self, steps: usize, every: usize) -> Result<Trajectory, MechanicsError> {
+        self.run_with_progress(steps, every, |_| {})
+    }
+
+    /// As [`Integrator::run`], calling `progress(k)` after step `k` (for a progress bar).
+    ///
+    /// # Errors
+    /// As [`Integrator::run`].
+    pub fn run_with_progress(
+        &mut self,
+        steps: usize,
+        every: usize,
+        mut progress: impl FnMut(usize),
+    ) -> Result<Trajectory, MechanicsError> {
         let every = every.max(1);
         let mut trajectory = Trajectory {
             states: vec![self.state],
@@ -382,8 +395,28 @@ impl<L: Lagrangian> Integrator<L> {
                 trajectory.states.push(self.state);
                 trajectory.newton_iterations.push(iterations);
             }
+            progress(k);
         }
         Ok(trajectory)
+    }
+
+    /// The number of steps from the current time to reach `t_end` (the last one may
+    /// overshoot by less than `h`: the method has a fixed step).
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for a non-finite or negative `t_end`.
+    pub fn steps_until(&self, t_end: f64) -> Result<usize, MechanicsError> {
+        if !(t_end.is_finite() && t_end >= 0.0) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "t-end",
+                value: t_end.to_string(),
+                reason: "must be finite and non-negative",
+            });
+        }
+        let remaining = (t_end - self.state.time).max(0.0);
+        // A relative slack of 1e-9 steps keeps t_end = k·h from taking a (k+1)-th step
+        // because of rounding in the division.
+        Ok((remaining / self.settings.step() - 1e-9).ceil().max(0.0) as usize)
     }
 
     /// Steps until `t_end` (the last step may overshoot by less than `h`: the method has
@@ -393,15 +426,7 @@ impl<L: Lagrangian> Integrator<L> {
     /// As [`Integrator::run`]; [`MechanicsError::InvalidSetting`] for a non-finite or
     /// negative `t_end`.
     pub fn run_until(&mut self, t_end: f64, every: usize) -> Result<Trajectory, MechanicsError> {
-        if !(t_end.is_finite() && t_end >= 0.0) {
-            return Err(MechanicsError::InvalidSetting {
-                name: "t-end",
-                value: t_end.to_string(),
-                reason: "must be finite and non-negative",
-            });
-        }
-        let remaining = (t_end - self.state.time).max(0.0);
-        let steps = (remaining / self.settings.step() - 1e-9).ceil().max(0.0) as usize;
+        let steps = self.steps_until(t_end)?;
         self.run(steps, every)
     }
 }
