@@ -98,7 +98,7 @@ pub trait Chart<G: LieGroup> {
 /// (say, a higher-order Cayley map); the crate's law tests show what it must satisfy.
 ///
 /// The `*_inverse` differentials here do not check the domain: [`Chart`] calls
-/// [`So3Chart::check_domain`] first.
+/// [`So3Chart::check_rotation_domain`] first.
 pub trait So3Chart: Copy + Debug {
     /// Name, for messages.
     fn chart_name(&self) -> &'static str;
