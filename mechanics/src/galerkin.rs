@@ -166,6 +166,11 @@ pub(crate) struct Workspace {
     /// Unknowns `ξ², …, ξⁿ` (with `ξ¹ = 0` at index 0): `n` vectors.
     pub xi: Vec<Vector3<f64>>,
     points: Vec<PointDerivatives>,
+    /// Exact matching of an `R`-dependent Lagrangian: `∂q_j/∂x`, `∂q_j/∂v` per point,
+    /// `q_j = Φ(x_j) p_j` (computed once per assembly, used by every column of the
+    /// matching rows).
+    dq_dx: Vec<Matrix3<f64>>,
+    dq_dv: Vec<Matrix3<f64>>,
     x: Vec<Vector3<f64>>,
     v: Vec<Vector3<f64>>,
     gradient: Vec<Vector3<f64>>,
@@ -202,6 +207,8 @@ impl Workspace {
                 };
                 d.m
             ],
+            dq_dx: vec![Matrix3::zeros(); d.m],
+            dq_dv: vec![Matrix3::zeros(); d.m],
             x: vec![Vector3::zeros(); d.m],
             v: vec![Vector3::zeros(); d.m],
             gradient: vec![Vector3::zeros(); d.n],
@@ -289,8 +296,19 @@ impl<L: Lagrangian> Stepper<'_, L> {
         let mut w = *mu;
         if with_configuration {
             for j in 0..m {
-                let p: Vector3<f64> = work.points[j].gradient.fixed_rows::<3>(6).into_owned();
-                w += chart.rotation_matrix(&work.x[j]) * p * d.weights[j];
+                let pt = &work.points[j];
+                let x = &work.x[j];
+                let phi = chart.rotation_matrix(x);
+                let p: Vector3<f64> = pt.gradient.fixed_rows::<3>(6).into_owned();
+                w += phi * p * d.weights[j];
+                if with_jacobian {
+                    // ∂q/∂x = Φ(x)(H_ζx − p̂ A(x)), ∂q/∂v = Φ(x) H_ζv.
+                    let h_zx: Matrix3<f64> = pt.hessian.fixed_view::<3, 3>(6, 0).into_owned();
+                    let h_zv: Matrix3<f64> = pt.hessian.fixed_view::<3, 3>(6, 3).into_owned();
+                    work.dq_dx[j] = phi
+                        * (h_zx - lgsvi_lie::so3::hat(&p) * chart.rotation_left_differential(x));
+                    work.dq_dv[j] = phi * h_zv;
+                }
             }
         }
         let (a_n, r_n) = (
@@ -377,24 +395,11 @@ impl<L: Lagrangian> Stepper<'_, L> {
                         block += map_jacobian;
                     }
                     if with_configuration {
-                        // ∂w/∂ξᵏ = Σ_j h b_j [∂q/∂x B_jk + ∂q/∂v D_jk],
-                        // ∂q/∂x = Φ(x)(H_ζx − p̂ A(x)), ∂q/∂v = Φ(x) H_ζv.
+                        // ∂w/∂ξᵏ = Σ_j h b_j [∂q/∂x B_jk + ∂q/∂v D_jk].
                         let mut dw = Matrix3::zeros();
                         for j in 0..m {
-                            let pt = &work.points[j];
-                            let x = &work.x[j];
-                            let phi = chart.rotation_matrix(x);
-                            let p: Vector3<f64> = pt.gradient.fixed_rows::<3>(6).into_owned();
-                            let h_zx: Matrix3<f64> =
-                                pt.hessian.fixed_view::<3, 3>(6, 0).into_owned();
-                            let h_zv: Matrix3<f64> =
-                                pt.hessian.fixed_view::<3, 3>(6, 3).into_owned();
-                            let dq_dx = phi
-                                * (h_zx
-                                    - lgsvi_lie::so3::hat(&p)
-                                        * chart.rotation_left_differential(x));
-                            let dq_dv = phi * h_zv;
-                            dw += (dq_dx * d.value(j, k) + dq_dv * d.slope(j, k)) * d.weights[j];
+                            dw += (work.dq_dx[j] * d.value(j, k) + work.dq_dv[j] * d.slope(j, k))
+                                * d.weights[j];
                         }
                         block += transport * dw;
                     }
