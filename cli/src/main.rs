@@ -172,11 +172,18 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> 
         "jacobian": match settings.jacobian() { lgsvi_mechanics::NewtonJacobian::Exact => "exact", _ => "finite-difference" },
         "t_end": options.t_end.unwrap_or(10.0), "every": options.every.unwrap_or(1),
     });
+    // The inertia as the user gave it (J or J_d), the other form derived from it, so the
+    // description echoes the input without the rounding of a round trip.
+    let inertia_j = options.inertia.unwrap_or(inertia.principal_moments());
+    let inertia_jd = options
+        .inertia_d
+        .or(options.inertia.is_none().then_some(d.inertia_d))
+        .unwrap_or(inertia.paper_jd());
     let run = match system {
         SystemKind::RigidBody => {
             let description = serde_json::json!({
-                "system": "rigid-body", "inertia_J": options.inertia.unwrap_or(inertia.principal_moments()),
-                "inertia_Jd": options.inertia_d.or(options.inertia.is_none().then_some(d.inertia_d)).unwrap_or(inertia.paper_jd()),
+                "system": "rigid-body", "inertia_J": inertia_j,
+                "inertia_Jd": inertia_jd,
                 "settings": settings_json,
             });
             integrate(RigidBody::new(inertia), settings, &options, description)?
@@ -189,8 +196,8 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> 
             let top =
                 HeavyTop::new(inertia, mass, gravity, com, direction).map_err(|e| e.to_string())?;
             let description = serde_json::json!({
-                "system": "heavy-top", "inertia_J": options.inertia.unwrap_or(inertia.principal_moments()),
-                "inertia_Jd": options.inertia_d.or(options.inertia.is_none().then_some(d.inertia_d)).unwrap_or(inertia.paper_jd()),
+                "system": "heavy-top", "inertia_J": inertia_j,
+                "inertia_Jd": inertia_jd,
                 "mass": mass, "gravity": gravity, "com": com.as_slice(), "gravity_direction": top.gravity_direction().as_slice(),
                 "settings": settings_json,
             });

@@ -161,6 +161,15 @@ fn matching_map_jacobian(chart: ChartKind, y: &Vector3<f64>, w: &Vector3<f64>) -
     jac
 }
 
+/// Writes a 3×3 block into the Newton matrix with its top-left entry at `(row, col)`.
+fn put_block(jac: &mut Mat<f64>, row: usize, col: usize, block: &Matrix3<f64>) {
+    for r in 0..3 {
+        for c in 0..3 {
+            jac[(row + r, col + c)] = block[(r, c)];
+        }
+    }
+}
+
 /// Preallocated buffers of the Newton iteration: nothing is allocated per step.
 pub(crate) struct Workspace {
     /// Unknowns `ξ², …, ξⁿ` (with `ξ¹ = 0` at index 0): `n` vectors.
@@ -380,9 +389,7 @@ impl<L: Lagrangian> Stepper<'_, L> {
         for i in 1..n - 1 {
             for k in 1..n {
                 let block = hessian_block(i, k);
-                for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
-                    jac[(3 * (i - 1) + r, 3 * (k - 1) + c)] = block[(r, c)];
-                }
+                put_block(jac, 3 * (i - 1), 3 * (k - 1), &block);
             }
         }
         let last = 3 * (n - 2);
@@ -403,17 +410,13 @@ impl<L: Lagrangian> Stepper<'_, L> {
                         }
                         block += transport * dw;
                     }
-                    for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
-                        jac[(last + r, 3 * (k - 1) + c)] = block[(r, c)];
-                    }
+                    put_block(jac, last, 3 * (k - 1), &block);
                 }
             }
             Matching::Paper => {
                 for k in 1..n {
                     let block = hessian_block(0, k);
-                    for (r, c) in (0..3).flat_map(|r| (0..3).map(move |c| (r, c))) {
-                        jac[(last + r, 3 * (k - 1) + c)] = block[(r, c)];
-                    }
+                    put_block(jac, last, 3 * (k - 1), &block);
                 }
             }
         }

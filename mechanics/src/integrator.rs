@@ -196,10 +196,11 @@ pub struct Integrator<L: Lagrangian> {
     work: Workspace,
     state: State,
     step_index: usize,
+    /// The velocity at the start of the last step taken; `None` before the first step
+    /// (then there is no previous Galerkin curve either).
     previous_velocity: Option<Vector3<f64>>,
     last_nodes: Vec<Vector3<f64>>,
     last_base: SO3,
-    have_curve: bool,
     statistics: Statistics,
 }
 
@@ -236,7 +237,6 @@ impl<L: Lagrangian> Integrator<L> {
             previous_velocity: None,
             last_nodes: vec![Vector3::zeros(); n],
             last_base: attitude,
-            have_curve: false,
             statistics: Statistics::default(),
         })
     }
@@ -263,7 +263,7 @@ impl<L: Lagrangian> Integrator<L> {
 
     /// The Galerkin curve of the last step taken (dense output), if any.
     pub fn last_curve(&self) -> Option<GalerkinCurve> {
-        self.have_curve.then(|| GalerkinCurve {
+        self.previous_velocity.is_some().then(|| GalerkinCurve {
             base: self.last_base,
             nodes: self.last_nodes.clone(),
             basis: self.discretisation.basis.clone(),
@@ -283,7 +283,7 @@ impl<L: Lagrangian> Integrator<L> {
         let omega = self.state.velocity;
         let times = self.discretisation.node_times();
         match self.previous_velocity {
-            Some(previous) if self.have_curve && !constant_velocity => {
+            Some(previous) if !constant_velocity => {
                 let change = a0_inv * (omega - previous);
                 for (i, t) in times.iter().enumerate() {
                     self.work.xi[i] = self.last_nodes[i] + change * *t;
@@ -314,7 +314,7 @@ impl<L: Lagrangian> Integrator<L> {
             Ok(outcome) => outcome,
             // A poor guess (the velocity changed a lot over the last step): retry once from
             // constant velocity before giving up.
-            Err(_) if self.have_curve => {
+            Err(_) if self.previous_velocity.is_some() => {
                 self.predict(true);
                 self.solve(&base)?
             }
@@ -330,7 +330,6 @@ impl<L: Lagrangian> Integrator<L> {
         check_finite("momentum after the step", outcome.momentum.as_slice())?;
         self.last_base = self.state.attitude;
         self.last_nodes.copy_from_slice(&self.work.xi);
-        self.have_curve = true;
         self.previous_velocity = Some(self.state.velocity);
         self.step_index += 1;
         self.state = State {
