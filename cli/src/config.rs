@@ -188,6 +188,11 @@ pub struct SimulateOptions {
     #[arg(long)]
     #[serde(default)]
     pub quiet: bool,
+    /// Print the exact solution (free rigid body only: Jacobi elliptic functions) at the
+    /// times the integrator would record, in the same format, instead of integrating.
+    #[arg(long)]
+    #[serde(default)]
+    pub exact: bool,
     /// A TOML file with any of these options (flags given on the command line win).
     #[arg(long)]
     #[serde(skip)]
@@ -245,6 +250,7 @@ impl SimulateOptions {
             base.attitude0 = None;
         }
         base.quiet |= top.quiet;
+        base.exact |= top.exact;
         base.config = Some(path);
         Ok(base)
     }
@@ -268,10 +274,31 @@ impl SimulateOptions {
 }
 
 fn read_config(path: &Path) -> Result<SimulateOptions, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read config {}: {e}", path.display()))?;
-    toml::from_str(&text).map_err(|e| {
+    let (mut table, _) = read_config_table(path)?;
+    table.remove("converge");
+    SimulateOptions::deserialize(table).map_err(|e| {
         let message = e.message().replace('\n', " ");
         format!("config {}: {message}", path.display())
     })
+}
+
+/// The config file as a table, and its `[converge]` table (read by `lgsvi converge`).
+pub fn read_config_table(path: &Path) -> Result<(toml::Table, Option<toml::Table>), String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read config {}: {e}", path.display()))?;
+    let table: toml::Table = toml::from_str(&text).map_err(|e| {
+        let message = e.message().replace('\n', " ");
+        format!("config {}: {message}", path.display())
+    })?;
+    let converge = match table.get("converge") {
+        None => None,
+        Some(toml::Value::Table(t)) => Some(t.clone()),
+        Some(_) => {
+            return Err(format!(
+                "config {}: `converge` must be a table",
+                path.display()
+            ))
+        }
+    };
+    Ok((table, converge))
 }

@@ -6,13 +6,15 @@
 
 mod config;
 mod output;
+mod plot;
+mod problem;
+mod reproduce;
+mod study;
 
 use clap::{Parser, Subcommand};
-use config::{SimulateOptions, SystemKind};
-use lgsvi_mechanics::{
-    HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings, Trajectory,
-};
-use nalgebra::Vector3;
+use config::SimulateOptions;
+use lgsvi_mechanics::Trajectory;
+use problem::Problem;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -31,27 +33,12 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Run one trajectory and write it as JSON or CSV.
+    /// Run one trajectory (or print the exact one, `--exact`) and write it as JSON or CSV.
     Simulate(SimulateOptions),
-}
-
-/// The paper's parameters per system (`paper/README.md`): case A and case B.
-struct Defaults {
-    inertia_d: [f64; 3],
-    omega0: [f64; 3],
-}
-
-fn defaults(system: SystemKind) -> Defaults {
-    match system {
-        SystemKind::RigidBody => Defaults {
-            inertia_d: [1.3, 2.1, 1.2],
-            omega0: [-2.0, 1.9, -1.0],
-        },
-        SystemKind::HeavyTop => Defaults {
-            inertia_d: [1.0, 2.8, 2.0],
-            omega0: [0.5, -0.5, 0.4],
-        },
-    }
+    /// n- and h-refinement studies: errors, fitted rates, a table and CSV/JSON.
+    Converge(study::ConvergeOptions),
+    /// Regenerate the paper's nine figures, their data and a report (the default command).
+    Reproduce(reproduce::ReproduceOptions),
 }
 
 /// A finished run: the trajectory, the integration's wall time, and a description.
@@ -65,26 +52,15 @@ pub struct Run {
     pub description: serde_json::Value,
 }
 
-fn integrate<L: Lagrangian>(
-    system: L,
-    settings: StepSettings,
-    options: &SimulateOptions,
-    description: serde_json::Value,
-) -> Result<Run, String> {
-    let omega0 = Vector3::from(options.omega0.expect("filled by defaults"));
-    let attitude = options.attitude()?;
-    let mut integrator =
-        Integrator::new(system, settings, attitude, omega0).map_err(|e| e.to_string())?;
-    let t_end = options.t_end.unwrap_or(10.0);
-    let every = options.every.unwrap_or(1);
-    if every == 0 {
-        return Err("invalid --every 0: keep every K-th step with K ≥ 1".into());
-    }
-    let steps = integrator.steps_until(t_end).map_err(|e| e.to_string())?;
-    let progress = progress_bar(steps, options.quiet);
+fn integrate(problem: &Problem) -> Result<Run, String> {
+    let mut integrator = problem.integrator(problem.settings)?;
+    let steps = integrator
+        .steps_until(problem.t_end)
+        .map_err(|e| e.to_string())?;
+    let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let start = Instant::now();
     let trajectory = integrator
-        .run_with_progress(steps, every, |k| {
+        .run_with_progress(steps, problem.every, |k| {
             if k % 64 == 0 {
                 progress.set_position(k as u64);
             }
@@ -98,6 +74,10 @@ fn integrate<L: Lagrangian>(
         .map(|s| s.energy(integrator.system()))
         .collect();
     let stats = integrator.statistics();
+    let mut description = problem.description.clone();
+    description["settings"] =
+        Problem::settings_json(&problem.settings, problem.t_end, problem.every);
+    description["solution"] = "integrator".into();
     Ok(Run {
         trajectory,
         energies,
@@ -109,100 +89,71 @@ fn integrate<L: Lagrangian>(
     })
 }
 
-/// Runs of at least this many steps show a progress bar (on a terminal, unless `--quiet`).
-const PROGRESS_FROM_STEPS: usize = 1000;
+/// The exact free-body solution at the times the integrator would record.
+fn exact_run(problem: &Problem) -> Result<Run, String> {
+    let body = problem.exact()?;
+    let h = problem.settings.step();
+    let steps = problem
+        .integrator(problem.settings)?
+        .steps_until(problem.t_end)
+        .map_err(|e| e.to_string())?;
+    let start = Instant::now();
+    let mut trajectory = Trajectory::default();
+    for k in (0..=steps).filter(|k| k % problem.every == 0 || *k == steps) {
+        trajectory
+            .states
+            .push(body.state(k as f64 * h).map_err(|e| e.to_string())?);
+        trajectory.newton_iterations.push(0);
+    }
+    let wall_time_s = start.elapsed().as_secs_f64();
+    let energies = trajectory
+        .states
+        .iter()
+        .map(|s| s.energy(&problem.system))
+        .collect();
+    let mut description = problem.description.clone();
+    description["settings"] =
+        Problem::settings_json(&problem.settings, problem.t_end, problem.every);
+    description["solution"] = "exact (Jacobi elliptic functions)".into();
+    description["regime"] = format!("{:?}", body.regime()).into();
+    Ok(Run {
+        trajectory,
+        energies,
+        wall_time_s,
+        steps: 0,
+        newton_iterations: 0,
+        max_newton_iterations: 0,
+        description,
+    })
+}
 
-/// A progress bar on standard error, hidden for short runs, `--quiet`, or when standard
+/// A progress bar on standard error, hidden for `--quiet`, for short jobs, or when standard
 /// error is not a terminal (so files and pipes never receive control characters).
-fn progress_bar(steps: usize, quiet: bool) -> indicatif::ProgressBar {
+pub fn progress_bar(len: u64, message: &str, unit: &str, quiet: bool) -> indicatif::ProgressBar {
     use std::io::IsTerminal;
-    if quiet || steps < PROGRESS_FROM_STEPS || !std::io::stderr().is_terminal() {
+    let short = unit == "steps" && len < PROGRESS_FROM_STEPS;
+    if quiet || short || !std::io::stderr().is_terminal() {
         return indicatif::ProgressBar::hidden();
     }
-    let bar = indicatif::ProgressBar::new(steps as u64);
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} steps, {eta} left")
-    {
+    let bar = indicatif::ProgressBar::new(len);
+    let template = format!("{{msg:28}} [{{bar:40}}] {{pos}}/{{len}} {unit}, {{eta}} left");
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
         bar.set_style(style.progress_chars("=> "));
     }
-    bar.set_message("integrating");
+    bar.set_message(message.to_string());
     bar
 }
 
+/// Runs of at least this many steps show a progress bar (on a terminal, unless `--quiet`).
+const PROGRESS_FROM_STEPS: u64 = 1000;
+
 /// Resolves the options (config, flags, defaults) and runs.
 fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> {
-    let mut options = options.merged_with_config()?;
-    let system = options.system();
-    let d = defaults(system);
-    if options.omega0.is_none() {
-        options.omega0 = Some(d.omega0);
-    }
-    let inertia = match (options.inertia, options.inertia_d) {
-        (Some(j), None) => {
-            Inertia::from_principal_moments(j).map_err(|e| format!("--inertia: {e}"))?
-        }
-        (None, Some(jd)) => Inertia::from_paper_jd(jd).map_err(|e| format!("--inertia-d: {e}"))?,
-        (None, None) => Inertia::from_paper_jd(d.inertia_d).map_err(|e| e.to_string())?,
-        (Some(_), Some(_)) => return Err("give --inertia or --inertia-d, not both".into()),
-    };
-    let h = options.h.unwrap_or(0.5);
-    let nodes = options.nodes.unwrap_or(10);
-    let mut settings = StepSettings::new(h, nodes).map_err(|e| e.to_string())?;
-    if let Some(m) = options.quad {
-        settings = settings
-            .with_quadrature_points(m)
-            .map_err(|e| e.to_string())?;
-    }
-    let chart = options.chart.map(Into::into).unwrap_or_default();
-    settings = settings
-        .with_chart(chart)
-        .with_matching(options.matching.map(Into::into).unwrap_or_default())
-        .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default());
-    if let Some(t) = options.t_end {
-        if !(t.is_finite() && t >= 0.0) {
-            return Err(format!(
-                "invalid --t-end {t}: must be finite and non-negative"
-            ));
-        }
-    }
-    let settings_json = serde_json::json!({
-        "h": settings.step(), "nodes": settings.nodes(), "degree": settings.degree(),
-        "quadrature_points": settings.quadrature_points(), "chart": settings.chart().to_string(),
-        "matching": format!("{:?}", settings.matching()).to_lowercase(),
-        "jacobian": match settings.jacobian() { lgsvi_mechanics::NewtonJacobian::Exact => "exact", _ => "finite-difference" },
-        "t_end": options.t_end.unwrap_or(10.0), "every": options.every.unwrap_or(1),
-    });
-    // The inertia as the user gave it (J or J_d), the other form derived from it, so the
-    // description echoes the input without the rounding of a round trip.
-    let inertia_j = options.inertia.unwrap_or(inertia.principal_moments());
-    let inertia_jd = options
-        .inertia_d
-        .or(options.inertia.is_none().then_some(d.inertia_d))
-        .unwrap_or(inertia.paper_jd());
-    let run = match system {
-        SystemKind::RigidBody => {
-            let description = serde_json::json!({
-                "system": "rigid-body", "inertia_J": inertia_j,
-                "inertia_Jd": inertia_jd,
-                "settings": settings_json,
-            });
-            integrate(RigidBody::new(inertia), settings, &options, description)?
-        }
-        SystemKind::HeavyTop => {
-            let mass = options.mass.unwrap_or(1.0);
-            let gravity = options.gravity.unwrap_or(9.81);
-            let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
-            let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
-            let top =
-                HeavyTop::new(inertia, mass, gravity, com, direction).map_err(|e| e.to_string())?;
-            let description = serde_json::json!({
-                "system": "heavy-top", "inertia_J": inertia_j,
-                "inertia_Jd": inertia_jd,
-                "mass": mass, "gravity": gravity, "com": com.as_slice(), "gravity_direction": top.gravity_direction().as_slice(),
-                "settings": settings_json,
-            });
-            integrate(top, settings, &options, description)?
-        }
+    let (problem, options) = Problem::resolve(options)?;
+    let run = if options.exact {
+        exact_run(&problem)?
+    } else {
+        integrate(&problem)?
     };
     Ok((run, options))
 }
@@ -253,7 +204,9 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Some(Command::Simulate(options)) => run_simulate(options),
-        None => output::main_job(simulate(SimulateOptions::default())),
+        Some(Command::Converge(options)) => study::run_converge(options),
+        Some(Command::Reproduce(options)) => reproduce::run(options),
+        None => reproduce::run(reproduce::ReproduceOptions::default()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -14,24 +14,221 @@ fn lgsvi(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+fn lgsvi_in(dir: &std::path::Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_lgsvi"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("lgsvi-cli-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `lgsvi` alone is the main job: `lgsvi reproduce` into `./lgsvi-reproduce`.
 #[test]
-fn main_job_runs_the_papers_rigid_body() {
-    let (code, out, _) = lgsvi(&[]);
-    assert_eq!(code, 0);
-    assert!(out.contains("‖R(10) − R_exact(10)‖_F"), "{out}");
-    // The reported error against the reference is below 1e-12 (the integrator's tests pin it).
-    let line = out.lines().find(|l| l.contains("R_exact")).unwrap();
-    let value: f64 = line
-        .split('=')
-        .nth(1)
+fn main_job_reproduces_the_nine_figures() {
+    let dir = temp_dir("reproduce");
+    let (code, out, err) = lgsvi_in(&dir, &[]);
+    assert_eq!(code, 0, "{err}");
+    let folder = dir.join("lgsvi-reproduce");
+    let names = [
+        "fig1_rigid_body_n_refinement",
+        "fig2_rigid_body_h_refinement",
+        "fig3_rigid_body_energy",
+        "fig4_rigid_body_momentum_sphere",
+        "fig5_pendulum_n_refinement",
+        "fig6_pendulum_h_refinement",
+        "fig7_pendulum_energy",
+        "fig8_unstable_pendulum_dynamics",
+        "fig9_unstable_pendulum_energy",
+    ];
+    for name in names {
+        for ext in ["svg", "png", "csv"] {
+            let path = folder.join(format!("{name}.{ext}"));
+            let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+            assert!(size > 1000, "{} missing or nearly empty", path.display());
+        }
+        let png = std::fs::read(folder.join(format!("{name}.png"))).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        assert!(out.contains(name), "the summary lists {name}");
+    }
+    let report = std::fs::read_to_string(folder.join("REPORT.md")).unwrap();
+    assert!(report.contains("## The paper's claims and what lgsvi measured"));
+    for k in 1..=9 {
+        assert!(
+            report.contains(&format!("Figure {k}")) || report.contains(&format!("Figures {k}")),
+            "figure {k} in the report"
+        );
+    }
+    // The exp chart's geometric factor per node on the rigid body (claim 1) is large: the
+    // mechanics tests measure ×144; the report must show at least ×50.
+    let line = report.lines().find(|l| l.starts_with("| 1 |")).unwrap();
+    let exp_factor: f64 = line
+        .rsplit('×')
+        .next()
         .unwrap()
-        .trim()
         .split(' ')
         .next()
         .unwrap()
         .parse()
         .unwrap();
-    assert!(value < 1e-12, "{line}");
+    assert!(exp_factor > 50.0, "{line}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `simulate --exact` prints the exact free-body solution in the same JSON, at the times the
+/// integrator records, and it agrees with the integrator.
+#[test]
+fn simulate_exact_matches_the_integrator() {
+    let (code, exact, err) = lgsvi(&["simulate", "--exact", "--t-end", "10", "--every", "4"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, run, err) = lgsvi(&["simulate", "--t-end", "10", "--every", "4"]);
+    assert_eq!(code, 0, "{err}");
+    let e: serde_json::Value = serde_json::from_str(&exact).unwrap();
+    let r: serde_json::Value = serde_json::from_str(&run).unwrap();
+    assert_eq!(e["times"], r["times"]);
+    for field in [
+        "R",
+        "omega",
+        "momentum",
+        "energy",
+        "casimir",
+        "spatial_momentum",
+        "stats",
+    ] {
+        assert!(!e[field].is_null(), "{field}");
+    }
+    assert_eq!(
+        e["description"]["solution"],
+        "exact (Jacobi elliptic functions)"
+    );
+    let last = |v: &serde_json::Value| -> Vec<f64> {
+        v["R"]
+            .as_array()
+            .unwrap()
+            .last()
+            .unwrap()
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let diff: f64 = last(&e)
+        .iter()
+        .zip(last(&r))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    // Case A, h = 0.5, n = 10: the integrator is within 3e-13 of the exact solution at t = 10.
+    assert!(diff < 1e-12, "{diff:e}");
+    let (code, _, err) = lgsvi(&["simulate", "--exact", "--system", "heavy-top"]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("free rigid body only") && err.lines().count() == 1,
+        "{err}"
+    );
+}
+
+#[test]
+fn converge_prints_rates_and_writes_data() {
+    let dir = temp_dir("converge");
+    let json = dir.join("study.json");
+    let (code, out, err) = lgsvi(&[
+        "converge",
+        "--chart",
+        "exp",
+        "--study",
+        "nodes",
+        "--nodes-range",
+        "3..9",
+        "--t-end",
+        "5",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("n-refinement: exp chart") && out.contains("per node"),
+        "{out}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let rows = v["study"]["nodes_refinement"].as_array().unwrap();
+    assert_eq!(rows.len(), 7);
+    let factor = v["study"]["geometric_factors"][0][3].as_f64().unwrap();
+    assert!(
+        factor > 50.0,
+        "exp chart, rigid body: ×144 per node expected, got ×{factor}"
+    );
+    // h-refinement of the heavy top, against a high-accuracy run (stated), as CSV.
+    let csv = dir.join("study.csv");
+    let (code, out, err) = lgsvi(&[
+        "converge",
+        "--system",
+        "heavy-top",
+        "--study",
+        "step",
+        "--steps",
+        "0.5,0.25,0.125",
+        "--step-nodes",
+        "3",
+        "--t-end",
+        "5",
+        "--format",
+        "csv",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("high-accuracy run") && out.contains("order"),
+        "{out}"
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 4, "{text}");
+    // A [converge] table in a config file; an unknown key there is named.
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        "system = \"rigid-body\"\n[converge]\nstudy = \"nodes\"\nnodes-range = [4, 5]\n",
+    )
+    .unwrap();
+    let (code, out, err) = lgsvi(&[
+        "converge",
+        "--config",
+        config.to_str().unwrap(),
+        "--t-end",
+        "2",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.starts_with("    4 ") || l.starts_with("    5 "))
+            .count(),
+        2,
+        "{out}"
+    );
+    std::fs::write(&config, "[converge]\nnodes-rnage = [4, 5]\n").unwrap();
+    let (code, _, err) = lgsvi(&["converge", "--config", config.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("nodes-rnage") && err.lines().count() == 1,
+        "{err}"
+    );
+    let (code, _, err) = lgsvi(&["converge", "--nodes-range", "9..3"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("9..3"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -174,6 +174,8 @@ fn put_block(jac: &mut Mat<f64>, row: usize, col: usize, block: &Matrix3<f64>) {
 pub(crate) struct Workspace {
     /// Unknowns `ξ², …, ξⁿ` (with `ξ¹ = 0` at index 0): `n` vectors.
     pub xi: Vec<Vector3<f64>>,
+    /// The last accepted iterate, for the line search.
+    xi_accepted: Vec<Vector3<f64>>,
     points: Vec<PointDerivatives>,
     /// Exact matching of an `R`-dependent Lagrangian: `∂q_j/∂x`, `∂q_j/∂v` per point,
     /// `q_j = Φ(x_j) p_j` (computed once per assembly, used by every column of the
@@ -209,6 +211,7 @@ impl Workspace {
         ));
         Self {
             xi: vec![Vector3::zeros(); d.n],
+            xi_accepted: vec![Vector3::zeros(); d.n],
             points: vec![
                 PointDerivatives {
                     gradient: SVector::zeros(),
@@ -471,9 +474,35 @@ impl<L: Lagrangian> Stepper<'_, L> {
         let max_iterations = self.settings.max_newton_iterations();
         let mut previous = f64::INFINITY;
         let mut iterations = 0;
+        // Backtracking: a Newton step that does not lower the residual is halved (from the
+        // last accepted iterate) up to `MAX_HALVINGS` times. Far from the solution (long
+        // steps, the heavy top with the exact matching) the full step can overshoot;
+        // near it the full step is always taken, so convergence stays quadratic.
+        const MAX_HALVINGS: u32 = 8;
+        let mut damping = 1.0f64;
         loop {
-            self.check_domain(work, step, time)?;
-            let (residual, scale) = self.assemble(base, mu, work, exact);
+            let in_domain = self.check_domain(work, step, time);
+            let assembled = in_domain
+                .as_ref()
+                .ok()
+                .map(|_| self.assemble(base, mu, work, exact));
+            let worse = match assembled {
+                // NaN counts as worse.
+                Some((r, _)) => r.is_nan() || r >= previous,
+                None => true,
+            };
+            if iterations > 0 && worse && damping > 0.5f64.powi(MAX_HALVINGS as i32) {
+                damping *= 0.5;
+                for i in 1..n {
+                    for c in 0..3 {
+                        work.xi[i][c] =
+                            work.xi_accepted[i][c] + damping * work.rhs[(3 * (i - 1) + c, 0)];
+                    }
+                }
+                continue;
+            }
+            in_domain?;
+            let (residual, scale) = assembled.unwrap_or((f64::NAN, 0.0));
             if !residual.is_finite() {
                 return Err(MechanicsError::SingularJacobian { step, time });
             }
@@ -528,6 +557,8 @@ impl<L: Lagrangian> Stepper<'_, L> {
                 Par::Seq,
                 MemStack::new(&mut work.stack),
             );
+            work.xi_accepted.copy_from_slice(&work.xi);
+            damping = 1.0;
             for col in 0..unknowns {
                 let delta = work.rhs[(col, 0)];
                 if !delta.is_finite() {

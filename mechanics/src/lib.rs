@@ -16,6 +16,11 @@
 //! `ℓ(R_k Φ(x), A(x) v)` come from dual numbers (num-dual), so a system is defined by
 //! writing `ℓ` once ([`Lagrangian`]), never its derivatives.
 //!
+//! # Validation
+//! [`exact::FreeRigidBodyExact`] is the exact motion of the free rigid body (Jacobi
+//! elliptic functions for `Ω(t)`, the precession angle in closed form for `R(t)`), in every
+//! regime; the project measures every free-body error against it.
+//!
 //! # Conventions
 //! `R = world_from_body`, `Ṙ = RΩ̂`, `μ = ∂ℓ/∂Ω` (body momentum), spatial momentum `Rμ`.
 //! Inertia: the standard `J` or the paper's `J_d` ([`Inertia`]). `n` is the number of
@@ -39,6 +44,7 @@
 #![deny(missing_docs)]
 
 mod error;
+pub mod exact;
 mod galerkin;
 mod inertia;
 mod integrator;

@@ -1,0 +1,193 @@
+//! A problem resolved from options: the system, its initial state and the integrator's
+//! settings, with the paper's parameters as defaults.
+
+use crate::config::{SimulateOptions, SystemKind};
+use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::lie::SO3;
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
+use nalgebra::{Matrix3, RealField, Vector3};
+
+/// The paper's parameters per system (`paper/README.md`): case A and case B.
+pub struct Defaults {
+    pub inertia_d: [f64; 3],
+    pub omega0: [f64; 3],
+}
+
+pub fn defaults(system: SystemKind) -> Defaults {
+    match system {
+        SystemKind::RigidBody => Defaults {
+            inertia_d: [1.3, 2.1, 1.2],
+            omega0: [-2.0, 1.9, -1.0],
+        },
+        SystemKind::HeavyTop => Defaults {
+            inertia_d: [1.0, 2.8, 2.0],
+            omega0: [0.5, -0.5, 0.4],
+        },
+    }
+}
+
+/// A built-in system: one type, so that studies need not be generic.
+#[derive(Debug, Clone, Copy)]
+pub enum System {
+    Free(RigidBody),
+    Top(HeavyTop),
+}
+
+impl Lagrangian for System {
+    fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
+        match self {
+            System::Free(s) => s.lagrangian(r, w),
+            System::Top(s) => s.lagrangian(r, w),
+        }
+    }
+    fn is_left_invariant(&self) -> bool {
+        match self {
+            System::Free(s) => s.is_left_invariant(),
+            System::Top(s) => s.is_left_invariant(),
+        }
+    }
+    fn velocity_from_momentum(&self, r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
+        match self {
+            System::Free(s) => s.velocity_from_momentum(r, mu),
+            System::Top(s) => s.velocity_from_momentum(r, mu),
+        }
+    }
+}
+
+/// Everything a run needs.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub system: System,
+    pub inertia: Inertia,
+    pub attitude0: SO3,
+    pub omega0: Vector3<f64>,
+    pub settings: StepSettings,
+    pub t_end: f64,
+    pub every: usize,
+    pub quiet: bool,
+    /// The inputs as given, for the output's `description`.
+    pub description: serde_json::Value,
+}
+
+impl Problem {
+    /// Resolves config file, flags and defaults.
+    pub fn resolve(options: SimulateOptions) -> Result<(Problem, SimulateOptions), String> {
+        let mut options = options.merged_with_config()?;
+        let kind = options.system();
+        let d = defaults(kind);
+        if options.omega0.is_none() {
+            options.omega0 = Some(d.omega0);
+        }
+        let inertia = match (options.inertia, options.inertia_d) {
+            (Some(j), None) => {
+                Inertia::from_principal_moments(j).map_err(|e| format!("--inertia: {e}"))?
+            }
+            (None, Some(jd)) => {
+                Inertia::from_paper_jd(jd).map_err(|e| format!("--inertia-d: {e}"))?
+            }
+            (None, None) => Inertia::from_paper_jd(d.inertia_d).map_err(|e| e.to_string())?,
+            (Some(_), Some(_)) => return Err("give --inertia or --inertia-d, not both".into()),
+        };
+        let h = options.h.unwrap_or(0.5);
+        let nodes = options.nodes.unwrap_or(10);
+        let mut settings = StepSettings::new(h, nodes).map_err(|e| e.to_string())?;
+        if let Some(m) = options.quad {
+            settings = settings
+                .with_quadrature_points(m)
+                .map_err(|e| e.to_string())?;
+        }
+        settings = settings
+            .with_chart(options.chart.map(Into::into).unwrap_or_default())
+            .with_matching(options.matching.map(Into::into).unwrap_or_default())
+            .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default());
+        let t_end = options.t_end.unwrap_or(10.0);
+        if !(t_end.is_finite() && t_end >= 0.0) {
+            return Err(format!(
+                "invalid --t-end {t_end}: must be finite and non-negative"
+            ));
+        }
+        let every = options.every.unwrap_or(1);
+        if every == 0 {
+            return Err("invalid --every 0: keep every K-th step with K ≥ 1".into());
+        }
+        // The inertia as the user gave it (J or J_d), the other form derived from it, so the
+        // description echoes the input without the rounding of a round trip.
+        let inertia_j = options.inertia.unwrap_or(inertia.principal_moments());
+        let inertia_jd = options
+            .inertia_d
+            .or(options.inertia.is_none().then_some(d.inertia_d))
+            .unwrap_or(inertia.paper_jd());
+        let mut description = serde_json::json!({
+            "inertia_J": inertia_j,
+            "inertia_Jd": inertia_jd,
+            "omega0": options.omega0,
+        });
+        let system = match kind {
+            SystemKind::RigidBody => {
+                description["system"] = "rigid-body".into();
+                System::Free(RigidBody::new(inertia))
+            }
+            SystemKind::HeavyTop => {
+                let mass = options.mass.unwrap_or(1.0);
+                let gravity = options.gravity.unwrap_or(9.81);
+                let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
+                let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
+                let top = HeavyTop::new(inertia, mass, gravity, com, direction)
+                    .map_err(|e| e.to_string())?;
+                description["system"] = "heavy-top".into();
+                description["mass"] = mass.into();
+                description["gravity"] = gravity.into();
+                description["com"] = com.as_slice().into();
+                description["gravity_direction"] = top.gravity_direction().as_slice().into();
+                System::Top(top)
+            }
+        };
+        let problem = Problem {
+            system,
+            inertia,
+            attitude0: options.attitude()?,
+            omega0: Vector3::from(options.omega0.unwrap_or(d.omega0)),
+            settings,
+            t_end,
+            every,
+            quiet: options.quiet,
+            description,
+        };
+        Ok((problem, options))
+    }
+
+    /// The settings as JSON.
+    pub fn settings_json(settings: &StepSettings, t_end: f64, every: usize) -> serde_json::Value {
+        serde_json::json!({
+            "h": settings.step(), "nodes": settings.nodes(), "degree": settings.degree(),
+            "quadrature_points": settings.quadrature_points(), "chart": settings.chart().to_string(),
+            "matching": format!("{:?}", settings.matching()).to_lowercase(),
+            "jacobian": match settings.jacobian() { lgsvi_mechanics::NewtonJacobian::Exact => "exact", _ => "finite-difference" },
+            "t_end": t_end, "every": every,
+        })
+    }
+
+    /// An integrator for this problem with other settings.
+    pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<System>, String> {
+        Integrator::new(self.system, settings, self.attitude0, self.omega0)
+            .map_err(|e| e.to_string())
+    }
+
+    /// Whether the system is a free body (a heavy top without weight counts).
+    pub fn is_free(&self) -> bool {
+        self.system.is_left_invariant()
+    }
+
+    /// The exact solution, for a free body.
+    pub fn exact(&self) -> Result<FreeRigidBodyExact, String> {
+        if !self.is_free() {
+            return Err(
+                "the exact solution is known for the free rigid body only (system rigid-body, \
+                 or a heavy top with m g = 0)"
+                    .into(),
+            );
+        }
+        FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0)
+            .map_err(|e| e.to_string())
+    }
+}
