@@ -503,7 +503,8 @@ fn energy_figure(
             "momentum_drift",
             "step_angle",
         ] {
-            let _ = write!(csv, ",{q} [{m}]");
+            // Column names without commas: "chart / matching".
+            let _ = write!(csv, ",{q} [{}]", m.replace(", ", " / "));
         }
     }
     csv.push('\n');
@@ -997,6 +998,7 @@ fn unstable_figures(
     )?;
     let mut csv = String::from("t");
     for (m, _) in &runs {
+        let m = m.replace(", ", " / ");
         let _ = write!(csv, ",step_angle_rad [{m}],energy_error [{m}]");
     }
     csv.push('\n');

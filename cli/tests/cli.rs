@@ -58,6 +58,13 @@ fn main_job_reproduces_the_nine_figures() {
             let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
             assert!(size > 1000, "{} missing or nearly empty", path.display());
         }
+        // Every CSV row has as many fields as the header names.
+        let csv = std::fs::read_to_string(folder.join(format!("{name}.csv"))).unwrap();
+        let columns = csv.lines().next().unwrap().split(',').count();
+        assert!(
+            csv.lines().all(|l| l.split(',').count() == columns),
+            "{name}.csv: ragged rows"
+        );
         let png = std::fs::read(folder.join(format!("{name}.png"))).unwrap();
         assert_eq!(&png[1..4], b"PNG");
         assert!(out.contains(name), "the summary lists {name}");
