@@ -4,6 +4,7 @@
 //! short report); `lgsvi simulate` runs one trajectory from flags and/or a TOML config and
 //! writes JSON or CSV. Errors are one line on standard error and a non-zero exit.
 
+mod bench;
 mod config;
 mod output;
 mod plot;
@@ -37,6 +38,8 @@ enum Command {
     Simulate(SimulateOptions),
     /// n- and h-refinement studies: errors, fitted rates, a table and CSV/JSON.
     Converge(study::ConvergeOptions),
+    /// Work-precision against DOP853, LGVI and splitting baselines (table, JSON, plots).
+    Bench(bench::BenchOptions),
     /// Regenerate the paper's nine figures, their data and a report (the default command).
     Reproduce(reproduce::ReproduceOptions),
 }
@@ -206,6 +209,7 @@ fn main() -> ExitCode {
         Some(Command::Simulate(options)) => run_simulate(options),
         Some(Command::Converge(options)) => study::run_converge(options),
         Some(Command::Reproduce(options)) => reproduce::run(options),
+        Some(Command::Bench(options)) => bench::run(options),
         None => reproduce::run(reproduce::ReproduceOptions::default()),
     };
     match result {

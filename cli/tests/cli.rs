@@ -391,3 +391,54 @@ fn the_example_configs_run() {
         assert_eq!(v["times"].as_array().unwrap().len(), 3, "{name}");
     }
 }
+
+/// `lgsvi bench` writes its table, data and plots, and reports every target (met or not).
+#[test]
+fn bench_writes_table_data_and_plots() {
+    let dir = temp_dir("bench");
+    let out_dir = dir.join("b");
+    let (code, out, err) = lgsvi(&[
+        "bench",
+        "--repeats",
+        "1",
+        "--quiet",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.starts_with("| A,") || l.starts_with("| B,"))
+            .count(),
+        4,
+        "{out}"
+    );
+    let points: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("bench.json")).unwrap())
+            .unwrap();
+    let points = points.as_array().unwrap();
+    assert_eq!(points.len(), 2 * 2 * (11 + 24 + 46));
+    // Every baseline converges on its own sweep: each method's best error is small.
+    for method in [
+        "lgsvi",
+        "DOP853 (quaternion)",
+        "DOP853 (matrix)",
+        "LGVI2-Yoshida4",
+        "splitting-Yoshida4",
+    ] {
+        let best = points
+            .iter()
+            .filter(|p| p["method"].as_str().unwrap().starts_with(method) && p["t_end"] == 10.0)
+            .filter_map(|p| p["error"].as_f64())
+            .fold(f64::INFINITY, f64::min);
+        assert!(best < 1e-8, "{method}: {best:e}");
+    }
+    for case in ["A", "B"] {
+        for t in ["10", "100"] {
+            for ext in ["svg", "png"] {
+                assert!(out_dir.join(format!("bench_{case}_T{t}.{ext}")).exists());
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

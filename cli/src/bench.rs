@@ -1,0 +1,420 @@
+//! `lgsvi bench`: work-precision of lgsvi against what users would pick instead
+//! (DOP853 on quaternions and on matrices, the Lie group variational integrator of Lee,
+//! Leok and McClamroch, a rotation splitting, and their Yoshida compositions), measured
+//! side by side in one process, repeated, medians.
+
+use crate::plot::{self, Figure, Series, Style};
+use clap::Args;
+use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
+use lgsvi_mechanics::lie::{ChartKind, SO3};
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, RigidBody, StepSettings};
+use nalgebra::{Matrix3, Vector3};
+use serde::Serialize;
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `lgsvi bench`.
+#[derive(Debug, Clone, Default, Args)]
+pub struct BenchOptions {
+    /// Output folder for the table, JSON and plots [default: lgsvi-bench].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Timed repetitions of every run; the median is reported [default: 5].
+    #[arg(long)]
+    pub repeats: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The shared 40-digit references (`tests/data/rigid_body_refs.json`): R at t = 10, 100.
+const REFERENCES: [(&str, f64, [&str; 9]); 4] = [
+    // case A, t = 10
+    (
+        "A",
+        10.0,
+        [
+            "0.8534045038405297267554563353149854020303",
+            "0.09905439807889165377399755899373542450557",
+            "-0.5117508955008557171706381585401296622364",
+            "0.3594623659014689573128084092117701879665",
+            "0.5991396485395784918026581249544844637211",
+            "0.7154149069235200160966427291778726879988",
+            "0.3774752446521728268345854191840292643264",
+            "-0.7944934913321183563696949746896901972665",
+            "0.4757021462067240283038804347114401318482",
+        ],
+    ),
+    // case A, t = 100
+    (
+        "A",
+        100.0,
+        [
+            "0.4686029654612910224799569757398042320081",
+            "-0.2886740457671440059604489554235615033663",
+            "-0.8349123044136509435770638492181426680933",
+            "-0.2338919035397810788196310358573106912369",
+            "0.8708341838642675350080762367951607662715",
+            "-0.4323683634032360929905522927652105423992",
+            "0.8518836999376275401859107519648427277639",
+            "0.3978883254304955509798227009272666451298",
+            "0.3405569589168517212627233606776916796444",
+        ],
+    ),
+    // case B, t = 10
+    (
+        "B",
+        10.0,
+        [
+            "-0.7690950437391953862106351538273872380207",
+            "0.6103407570752173134866745159265827248423",
+            "-0.1896759709311005547748555743457205579450",
+            "-0.6391088945528690902452446258038338718970",
+            "-0.7370697478568959328972508760092383400374",
+            "0.2196998126935512693119451613507884840263",
+            "-0.005712670060032687984161691071383440813146",
+            "0.2901936371580576544435942724167886223083",
+            "0.9569508965217404434252790205204635669934",
+        ],
+    ),
+    // case B, t = 100
+    (
+        "B",
+        100.0,
+        [
+            "0.3655218947249101153778073139952930597306",
+            "-0.9296193587248050271937488525781731472626",
+            "0.04692112915088461651292341906575529429454",
+            "0.9301316292708837168532610084759237486253",
+            "0.3667078653729034758463438805168521893021",
+            "0.01950624780781360773863081621204719122114",
+            "-0.03533973269003403261623813232450143533169",
+            "0.03651286564665621076300162263088337694582",
+            "0.9987081224940879455691908359103960170492",
+        ],
+    ),
+];
+
+fn reference(case: &str, t: f64) -> Matrix3<f64> {
+    let (_, _, r) = REFERENCES
+        .iter()
+        .find(|(c, tt, _)| *c == case && *tt == t)
+        .expect("a stored reference");
+    Matrix3::from_row_slice(&r.map(|x| x.parse::<f64>().unwrap_or(f64::NAN)))
+}
+
+/// One point of a work-precision curve.
+#[derive(Debug, Clone, Serialize)]
+pub struct Point {
+    pub case: String,
+    pub t_end: f64,
+    pub method: String,
+    /// The knob: `n` for lgsvi, the step for fixed-step methods, the tolerance for DOP853.
+    pub knob: String,
+    /// `‖R(T) − R_ref(T)‖_F` against the shared 40-digit reference.
+    pub error: f64,
+    /// Median wall time of the whole run (construction included), seconds.
+    pub time_s: f64,
+    pub failure: Option<String>,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Times `run` `repeats` times; returns the last result and the median time.
+fn timed<T>(repeats: usize, mut run: impl FnMut() -> T) -> (T, f64) {
+    let mut times = Vec::with_capacity(repeats);
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let out = run();
+        times.push(start.elapsed().as_secs_f64());
+        last = Some(out);
+    }
+    (last.expect("at least one run"), median(times))
+}
+
+struct Case {
+    name: &'static str,
+    model: Model,
+    start: State,
+}
+
+fn cases() -> Vec<Case> {
+    // J = tr(J_d) I − J_d written out: (3.3, 2.5, 3.4) and (4.8, 3.0, 3.8).
+    let a = Model::free([3.3, 2.5, 3.4]);
+    let b = Model {
+        inertia: [4.8, 3.0, 3.8],
+        mg: 9.81,
+        rho: Vector3::z(),
+    };
+    let start = |m: &Model, w: [f64; 3]| State {
+        attitude: Matrix3::identity(),
+        momentum: Vector3::from(m.inertia).component_mul(&Vector3::from(w)),
+    };
+    vec![
+        Case {
+            name: "A",
+            model: a,
+            start: start(&a, [-2.0, 1.9, -1.0]),
+        },
+        Case {
+            name: "B",
+            model: b,
+            start: start(&b, [0.5, -0.5, 0.4]),
+        },
+    ]
+}
+
+fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>, String> {
+    let settings = StepSettings::new(h, n)
+        .map_err(|e| e.to_string())?
+        .with_chart(ChartKind::Exp);
+    let inertia = Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?;
+    let w0 = case.model.velocity(&case.start.momentum);
+    let r0 = SO3::identity();
+    let steps = (t_end / h).round() as usize;
+    if case.model.mg == 0.0 {
+        let mut it = Integrator::new(RigidBody::new(inertia), settings, r0, w0)
+            .map_err(|e| e.to_string())?;
+        it.run(steps, steps).map_err(|e| e.to_string())?;
+        Ok(*it.state().attitude.matrix())
+    } else {
+        let top = HeavyTop::new(inertia, 1.0, case.model.mg, Vector3::z(), Vector3::z())
+            .map_err(|e| e.to_string())?;
+        let mut it = Integrator::new(top, settings, r0, w0).map_err(|e| e.to_string())?;
+        it.run(steps, steps).map_err(|e| e.to_string())?;
+        Ok(*it.state().attitude.matrix())
+    }
+}
+
+/// The whole work-precision sweep.
+pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
+    let mut points = Vec::new();
+    for case in cases() {
+        for t_end in [10.0, 100.0] {
+            let r_ref = reference(case.name, t_end);
+            let mut push =
+                |method: &str, knob: String, result: Result<Matrix3<f64>, String>, time_s: f64| {
+                    let (error, failure) = match result {
+                        Ok(r) => ((r - r_ref).norm(), None),
+                        Err(e) => (f64::NAN, Some(e)),
+                    };
+                    points.push(Point {
+                        case: case.name.into(),
+                        t_end,
+                        method: method.into(),
+                        knob,
+                        error,
+                        time_s,
+                        failure,
+                    });
+                };
+            for n in 4..=14 {
+                let (r, t) = timed(repeats, || lgsvi_run(&case, t_end, 0.5, n));
+                push("lgsvi (exp, h = 0.5)", format!("n = {n}"), r, t);
+                tick();
+            }
+            for kind in [Dop853State::Quaternion, Dop853State::Matrix] {
+                for k in 3..=14 {
+                    let tol = 10f64.powi(-k);
+                    let (r, t) = timed(repeats, || {
+                        dop853(&case.model, &case.start, t_end, tol, kind)
+                            .map(|(s, _)| s.attitude)
+                            .map_err(|e| e.to_string())
+                    });
+                    let name = match kind {
+                        Dop853State::Quaternion => "DOP853 (quaternion)",
+                        Dop853State::Matrix => "DOP853 (matrix)",
+                    };
+                    push(name, format!("tol = 1e-{k}"), r, t);
+                    tick();
+                }
+            }
+            let fixed: [(&str, &dyn OneStep, usize, u32); 4] = [
+                ("LGVI2", &Lgvi2, 20, 12),
+                ("splitting", &Splitting, 20, 12),
+                ("LGVI2-Yoshida4", &Yoshida4(Lgvi2), 10, 11),
+                ("splitting-Yoshida4", &Yoshida4(Splitting), 10, 11),
+            ];
+            for (name, method, first, count) in fixed {
+                for k in 0..count {
+                    let steps = (first << k) * (t_end / 10.0) as usize;
+                    let h = t_end / steps as f64;
+                    let (r, t) = timed(repeats, || {
+                        let mut s = case.start;
+                        method
+                            .run(&case.model, &mut s, h, steps)
+                            .map(|_| s.attitude)
+                            .map_err(|e| e.to_string())
+                    });
+                    push(name, format!("h = {h:.3e}"), r, t);
+                    tick();
+                }
+            }
+        }
+    }
+    points
+}
+
+/// The fastest run of `method` (prefix) at or below `error` for a case and horizon.
+fn fastest<'a>(
+    points: &'a [Point],
+    case: &str,
+    t_end: f64,
+    method: &str,
+    error: f64,
+) -> Option<&'a Point> {
+    points
+        .iter()
+        .filter(|p| {
+            p.case == case && p.t_end == t_end && p.method.starts_with(method) && p.error <= error
+        })
+        .min_by(|a, b| a.time_s.total_cmp(&b.time_s))
+}
+
+fn best_error(points: &[Point], case: &str, t_end: f64, method: &str) -> f64 {
+    points
+        .iter()
+        .filter(|p| {
+            p.case == case
+                && p.t_end == t_end
+                && p.method.starts_with(method)
+                && p.error.is_finite()
+        })
+        .map(|p| p.error)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The targets, measured.
+pub fn targets(points: &[Point]) -> String {
+    let mut s = String::new();
+    let ms = |p: Option<&Point>| {
+        p.map(|p| format!("{:.3} ms ({})", 1e3 * p.time_s, p.knob))
+            .unwrap_or_else(|| "not reached".into())
+    };
+    let _ = writeln!(s, "| target | measured | met |");
+    let _ = writeln!(s, "|---|---|---|");
+    let l = fastest(points, "A", 10.0, "lgsvi", 1e-12);
+    let d = fastest(points, "A", 10.0, "DOP853 (quaternion)", 1e-12);
+    let met = matches!((l, d), (Some(l), Some(d)) if l.time_s <= d.time_s);
+    let _ = writeln!(s, "| A, T = 10, error ≤ 1e-12: lgsvi time ≤ DOP853 (quaternion) time | lgsvi {}, DOP853 {} | {} |", ms(l), ms(d), if met { "yes" } else { "no" });
+    for case in ["A", "B"] {
+        let l = fastest(points, case, 10.0, "lgsvi", 1e-10);
+        let y1 = fastest(points, case, 10.0, "LGVI2-Yoshida4", 1e-10);
+        let y2 = fastest(points, case, 10.0, "splitting-Yoshida4", 1e-10);
+        let best = [y1, y2]
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.time_s.total_cmp(&b.time_s));
+        let ratio = match (l, best) {
+            (Some(l), Some(b)) => format!("{:.1}×", b.time_s / l.time_s),
+            _ => "–".into(),
+        };
+        let met = matches!((l, best), (Some(l), Some(b)) if b.time_s >= 30.0 * l.time_s);
+        let _ = writeln!(s, "| {case}, T = 10, error ≤ 1e-10: lgsvi ≥ 30× faster than the best Yoshida-4 | lgsvi {}, LGVI2-Yoshida4 {}, splitting-Yoshida4 {}: {ratio} | {} |", ms(l), ms(y1), ms(y2), if met { "yes" } else { "no" });
+    }
+    let l = best_error(points, "A", 100.0, "lgsvi");
+    let d = best_error(points, "A", 100.0, "DOP853");
+    let _ = writeln!(
+        s,
+        "| A, T = 100: lgsvi reaches ≤ 1e-12 | lgsvi best {l:.1e}, DOP853 best {d:.1e} | {} |",
+        if l <= 1e-12 { "yes" } else { "no" }
+    );
+    s
+}
+
+/// `lgsvi bench`.
+pub fn run(options: BenchOptions) -> Result<(), String> {
+    let dir = options
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("lgsvi-bench"));
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let repeats = options.repeats.unwrap_or(5);
+    if repeats == 0 {
+        return Err("invalid --repeats 0: need at least one run".into());
+    }
+    let total = 2 * 2 * (11 + 24 + 46);
+    let progress = crate::progress_bar(total, "bench", "runs", options.quiet);
+    let points = sweep(repeats, || progress.inc(1));
+    progress.finish_and_clear();
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "# lgsvi bench — work-precision (median of {repeats} runs, one process)\n"
+    );
+    let _ = writeln!(table, "Errors ‖R(T) − R_ref(T)‖_F against the shared 40-digit references; times include construction.\n");
+    let _ = writeln!(table, "## Targets\n\n{}", targets(&points));
+    for case in ["A", "B"] {
+        for t_end in [10.0, 100.0] {
+            let _ = writeln!(table, "## Case {case}, T = {t_end}\n\n| method | knob | error | time (ms) |\n|---|---|---|---|");
+            let mut series: Vec<Series> = Vec::new();
+            for p in points.iter().filter(|p| p.case == case && p.t_end == t_end) {
+                let _ = writeln!(
+                    table,
+                    "| {} | {} | {} | {:.3} |",
+                    p.method,
+                    p.knob,
+                    if p.error.is_finite() {
+                        format!("{:.2e}", p.error)
+                    } else {
+                        "failed".into()
+                    },
+                    1e3 * p.time_s
+                );
+                if let Some(s) = series.iter_mut().find(|s| s.label == p.method) {
+                    s.points.push((p.time_s, p.error));
+                } else {
+                    let color = series.len();
+                    series.push(Series {
+                        label: p.method.clone(),
+                        points: vec![(p.time_s, p.error)],
+                        style: Style::LineMarkers,
+                        color,
+                    });
+                }
+            }
+            let _ = writeln!(table);
+            let name = format!("bench_{case}_T{t_end}");
+            plot::save(
+                &Figure {
+                    title: format!(
+                        "Work-precision, case {case} ({}), T = {t_end}",
+                        if case == "A" {
+                            "free rigid body"
+                        } else {
+                            "3D pendulum"
+                        }
+                    ),
+                    x_label: "wall time (s), median".into(),
+                    y_label: "error in R at T (Frobenius norm)".into(),
+                    x_log: true,
+                    y_log: true,
+                    series,
+                    hlines: vec![],
+                    legend_left: false,
+                },
+                &dir.join(&name),
+            )?;
+        }
+    }
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    write("BENCH.md", &table)?;
+    let json = serde_json::to_string_pretty(&points).map_err(|e| e.to_string())?;
+    write("bench.json", &json)?;
+    println!("{}", targets(&points));
+    println!(
+        "table: {}, data: {}, plots: {}/bench_*.svg|png",
+        dir.join("BENCH.md").display(),
+        dir.join("bench.json").display(),
+        dir.display()
+    );
+    Ok(())
+}
