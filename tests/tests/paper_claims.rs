@@ -238,19 +238,35 @@ fn heavy_top_with_a_large_step() {
 }
 
 /// Newton iterations per step, pinned so that a silent loss of convergence fails the
-/// build: case A, h = 0.5, exp chart. Measured 4.15–4.3 on average and at most 5 or 6 (the
-/// last iteration lands at the rounding floor, where whether the stopping test fires one
-/// iteration earlier or later depends on the last bits); the issue expects 4 to 6.
+/// build: case A, h = 0.5, exp chart. Newton is simplified (the LU factorisation is reused
+/// while the residual contracts ×10 per iteration), so a step takes more, cheaper
+/// iterations and few factorisations. Measured below (printed); the bounds leave one
+/// iteration and half a factorisation per step of slack.
 #[test]
 fn newton_iterations_are_pinned() {
+    use lgsvi_mechanics::{Inertia, Integrator, RigidBody};
     let a = case("A");
     for n in [8usize, 10, 12] {
-        let (_, total, max) = run(&a, StepSettings::new(0.5, n).unwrap(), 20, 20).unwrap();
-        let mean = total as f64 / 20.0;
-        println!("Newton, case A, h 0.5, n {n}: mean {mean:.2}, max {max}");
+        let inertia = Inertia::from_paper_jd(a.jd).unwrap();
+        let mut it = Integrator::new(
+            RigidBody::new(inertia),
+            StepSettings::new(0.5, n).unwrap(),
+            lgsvi_lie::SO3::identity(),
+            a.omega0,
+        )
+        .unwrap();
+        it.run(20, 20).unwrap();
+        let s = *it.statistics();
+        let mean = s.newton_iterations as f64 / 20.0;
+        let lu = s.jacobian_factorizations as f64 / 20.0;
+        println!(
+            "Newton, case A, h 0.5, n {n}: mean {mean:.2}, max {}, factorisations per step {lu:.2}",
+            s.max_newton_iterations
+        );
         assert!(
-            (3.0..=4.5).contains(&mean) && max <= 6,
-            "n {n}: mean {mean}, max {max}"
+            (4.0..=8.5).contains(&mean) && s.max_newton_iterations <= 12 && lu <= 2.6,
+            "n {n}: mean {mean}, max {}, factorisations {lu}",
+            s.max_newton_iterations
         );
     }
 }
