@@ -69,6 +69,39 @@ impl ode_solvers::System<f64, SVector<f64, 12>> for MatrixState {
     }
 }
 
+/// DOP853 with sparse output from `y0` over `[0, t_end]`: the final state and the number
+/// of right-hand-side evaluations.
+fn solve<const N: usize, S: ode_solvers::System<f64, SVector<f64, N>>>(
+    system: S,
+    y0: SVector<f64, N>,
+    t_end: f64,
+    tol: f64,
+) -> Result<(SVector<f64, N>, u32), BaselineError> {
+    // Hairer's defaults (safety 0.9, β = 0, step factors in [1/3, 6]), no step cap.
+    let mut solver = Dop853::from_param(
+        system,
+        0.0,
+        t_end,
+        t_end,
+        y0,
+        tol,
+        tol,
+        0.9,
+        0.0,
+        0.333,
+        6.0,
+        t_end,
+        0.0,
+        u32::MAX / 16,
+        1000,
+        OutputType::Sparse,
+    );
+    let stats = solver
+        .integrate()
+        .map_err(|e| BaselineError::Dop853(e.to_string()))?;
+    Ok((solver.y_out().last().copied().unwrap_or(y0), stats.num_eval))
+}
+
 /// DOP853 from `state` over `[0, t_end]` with relative and absolute tolerance `tol`;
 /// returns the final state (attitude as stored: for the matrix state it is not
 /// re-orthogonalised) and the number of right-hand-side evaluations.
@@ -83,43 +116,15 @@ pub fn dop853(
     kind: Dop853State,
 ) -> Result<(State, u32), BaselineError> {
     let w0 = model.velocity(&state.momentum);
-    let max_steps = u32::MAX / 16;
+    let j = Vector3::from(model.inertia);
     match kind {
         Dop853State::Quaternion => {
             let q = UnitQuaternion::from_matrix(&state.attitude);
             let y0 = SVector::<f64, 7>::from_row_slice(&[q.w, q.i, q.j, q.k, w0.x, w0.y, w0.z]);
-            let mut solver = Dop853::from_param(
-                Quaternion(*model),
-                0.0,
-                t_end,
-                t_end,
-                y0,
-                tol,
-                tol,
-                0.9,
-                0.0,
-                0.333,
-                6.0,
-                t_end,
-                0.0,
-                max_steps,
-                1000,
-                OutputType::Sparse,
-            );
-            let stats = solver
-                .integrate()
-                .map_err(|e| BaselineError::Dop853(e.to_string()))?;
-            let y = solver.y_out().last().copied().unwrap_or(y0);
-            let r = quaternion_matrix(&y.as_slice()[..4]);
-            let w = Vector3::new(y[4], y[5], y[6]);
-            let momentum = Vector3::from(model.inertia).component_mul(&w);
-            Ok((
-                State {
-                    attitude: r,
-                    momentum,
-                },
-                stats.num_eval,
-            ))
+            let (y, evals) = solve(Quaternion(*model), y0, t_end, tol)?;
+            let attitude = quaternion_matrix(&y.as_slice()[..4]);
+            let momentum = j.component_mul(&Vector3::new(y[4], y[5], y[6]));
+            Ok((State { attitude, momentum }, evals))
         }
         Dop853State::Matrix => {
             let mut init = [0.0; 12];
@@ -130,38 +135,10 @@ pub fn dop853(
             }
             init[9..].copy_from_slice(w0.as_slice());
             let y0 = SVector::<f64, 12>::from_row_slice(&init);
-            let mut solver = Dop853::from_param(
-                MatrixState(*model),
-                0.0,
-                t_end,
-                t_end,
-                y0,
-                tol,
-                tol,
-                0.9,
-                0.0,
-                0.333,
-                6.0,
-                t_end,
-                0.0,
-                max_steps,
-                1000,
-                OutputType::Sparse,
-            );
-            let stats = solver
-                .integrate()
-                .map_err(|e| BaselineError::Dop853(e.to_string()))?;
-            let y = solver.y_out().last().copied().unwrap_or(y0);
-            let r = Matrix3::from_row_slice(&y.as_slice()[..9]);
-            let w = Vector3::new(y[9], y[10], y[11]);
-            let momentum = Vector3::from(model.inertia).component_mul(&w);
-            Ok((
-                State {
-                    attitude: r,
-                    momentum,
-                },
-                stats.num_eval,
-            ))
+            let (y, evals) = solve(MatrixState(*model), y0, t_end, tol)?;
+            let attitude = Matrix3::from_row_slice(&y.as_slice()[..9]);
+            let momentum = j.component_mul(&Vector3::new(y[9], y[10], y[11]));
+            Ok((State { attitude, momentum }, evals))
         }
     }
 }

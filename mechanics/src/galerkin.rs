@@ -107,6 +107,19 @@ pub(crate) struct PointDerivatives {
     pub hessian: SMatrix<f64, 9, 9>,
 }
 
+/// `ℓ̃` of the stacked variables `(x, v, ζ)` (9) or `(x, v)` (6), for the dual-number drivers.
+fn ell_stacked<T: RealField + Copy, L: Lagrangian, const N: usize>(
+    system: &L,
+    chart: ChartKind,
+    base: &Matrix3<f64>,
+    y: &SVector<T, N>,
+) -> T {
+    let x = Vector3::new(y[0], y[1], y[2]);
+    let v = Vector3::new(y[3], y[4], y[5]);
+    let z = (N == 9).then(|| Vector3::new(y[6], y[7], y[8]));
+    ell_tilde(system, chart, base, &x, &v, z.as_ref())
+}
+
 fn point_derivatives<L: Lagrangian>(
     system: &L,
     chart: ChartKind,
@@ -125,23 +138,14 @@ fn point_derivatives<L: Lagrangian>(
                 x.x, x.y, x.z, v.x, v.y, v.z, 0.0, 0.0, 0.0,
             ]);
             let (_, g) = num_dual::gradient(
-                |y: SVector<DualSVec64<9>, 9>| {
-                    let x = y.fixed_rows::<3>(0).into_owned();
-                    let v = y.fixed_rows::<3>(3).into_owned();
-                    let z = y.fixed_rows::<3>(6).into_owned();
-                    ell_tilde(system, chart, base, &x, &v, Some(&z))
-                },
+                |y: SVector<DualSVec64<9>, 9>| ell_stacked(system, chart, base, &y),
                 &y,
             );
             gradient.copy_from(&g);
         } else {
             let y = SVector::<f64, 6>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z]);
             let (_, g) = num_dual::gradient(
-                |y: SVector<DualSVec64<6>, 6>| {
-                    let x = y.fixed_rows::<3>(0).into_owned();
-                    let v = y.fixed_rows::<3>(3).into_owned();
-                    ell_tilde(system, chart, base, &x, &v, None)
-                },
+                |y: SVector<DualSVec64<6>, 6>| ell_stacked(system, chart, base, &y),
                 &y,
             );
             gradient.fixed_rows_mut::<6>(0).copy_from(&g);
@@ -152,12 +156,7 @@ fn point_derivatives<L: Lagrangian>(
         let y =
             SVector::<f64, 9>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z, 0.0, 0.0, 0.0]);
         let (_, g, h) = num_dual::hessian(
-            |y: SVector<Dual2SVec64<9>, 9>| {
-                let x = y.fixed_rows::<3>(0).into_owned();
-                let v = y.fixed_rows::<3>(3).into_owned();
-                let z = y.fixed_rows::<3>(6).into_owned();
-                ell_tilde(system, chart, base, &x, &v, Some(&z))
-            },
+            |y: SVector<Dual2SVec64<9>, 9>| ell_stacked(system, chart, base, &y),
             &y,
         );
         gradient.copy_from(&g);
@@ -165,11 +164,7 @@ fn point_derivatives<L: Lagrangian>(
     } else {
         let y = SVector::<f64, 6>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z]);
         let (_, g, h) = num_dual::hessian(
-            |y: SVector<Dual2SVec64<6>, 6>| {
-                let x = y.fixed_rows::<3>(0).into_owned();
-                let v = y.fixed_rows::<3>(3).into_owned();
-                ell_tilde(system, chart, base, &x, &v, None)
-            },
+            |y: SVector<Dual2SVec64<6>, 6>| ell_stacked(system, chart, base, &y),
             &y,
         );
         gradient.fixed_rows_mut::<6>(0).copy_from(&g);
