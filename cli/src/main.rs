@@ -52,7 +52,6 @@ pub struct Run {
     pub steps: usize,
     pub newton_iterations: usize,
     pub max_newton_iterations: usize,
-    pub jacobian_factorizations: usize,
     pub description: serde_json::Value,
 }
 
@@ -89,7 +88,6 @@ fn integrate(problem: &Problem) -> Result<Run, String> {
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
         max_newton_iterations: stats.max_newton_iterations,
-        jacobian_factorizations: stats.jacobian_factorizations,
         description,
     })
 }
@@ -128,7 +126,6 @@ fn exact_run(problem: &Problem) -> Result<Run, String> {
         steps: 0,
         newton_iterations: 0,
         max_newton_iterations: 0,
-        jacobian_factorizations: 0,
         description,
     })
 }

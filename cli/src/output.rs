@@ -20,7 +20,6 @@ pub fn json(run: &Run) -> String {
             "steps": run.steps,
             "newton_iterations": run.newton_iterations,
             "max_newton_iterations": run.max_newton_iterations,
-            "jacobian_factorizations": run.jacobian_factorizations,
             "wall_time_s": run.wall_time_s,
         },
     });

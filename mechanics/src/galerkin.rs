@@ -127,31 +127,9 @@ fn point_derivatives<L: Lagrangian>(
     x: &Vector3<f64>,
     v: &Vector3<f64>,
     with_configuration: bool,
-    with_hessian: bool,
 ) -> PointDerivatives {
     let mut gradient = SVector::<f64, 9>::zeros();
     let mut hessian = SMatrix::<f64, 9, 9>::zeros();
-    if !with_hessian {
-        // The residual alone: first-order duals, several times cheaper than the Hessian.
-        if with_configuration {
-            let y = SVector::<f64, 9>::from_column_slice(&[
-                x.x, x.y, x.z, v.x, v.y, v.z, 0.0, 0.0, 0.0,
-            ]);
-            let (_, g) = num_dual::gradient(
-                |y: SVector<DualSVec64<9>, 9>| ell_stacked(system, chart, base, &y),
-                &y,
-            );
-            gradient.copy_from(&g);
-        } else {
-            let y = SVector::<f64, 6>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z]);
-            let (_, g) = num_dual::gradient(
-                |y: SVector<DualSVec64<6>, 6>| ell_stacked(system, chart, base, &y),
-                &y,
-            );
-            gradient.fixed_rows_mut::<6>(0).copy_from(&g);
-        }
-        return PointDerivatives { gradient, hessian };
-    }
     if with_configuration {
         let y =
             SVector::<f64, 9>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z, 0.0, 0.0, 0.0]);
@@ -202,9 +180,6 @@ pub(crate) struct Workspace {
     pub xi: Vec<Vector3<f64>>,
     /// The last accepted iterate, for the line search.
     xi_accepted: Vec<Vector3<f64>>,
-    /// Whether `jacobian` holds an LU factorisation (with `perm`) that may be reused,
-    /// within a step and by the next one.
-    pub lu_valid: bool,
     points: Vec<PointDerivatives>,
     /// Exact matching of an `R`-dependent Lagrangian: `∂q_j/∂x`, `∂q_j/∂v` per point,
     /// `q_j = Φ(x_j) p_j` (computed once per assembly, used by every column of the
@@ -241,7 +216,6 @@ impl Workspace {
         Self {
             xi: vec![Vector3::zeros(); d.n],
             xi_accepted: vec![Vector3::zeros(); d.n],
-            lu_valid: false,
             points: vec![
                 PointDerivatives {
                     gradient: SVector::zeros(),
@@ -272,7 +246,6 @@ pub(crate) struct StepOutcome {
     pub attitude: Matrix3<f64>,
     pub momentum: Vector3<f64>,
     pub iterations: usize,
-    pub factorizations: usize,
 }
 
 /// The solver of one step, for a system, a chart and fixed settings.
@@ -313,15 +286,8 @@ impl<L: Lagrangian> Stepper<'_, L> {
             }
             work.x[j] = x;
             work.v[j] = v;
-            work.points[j] = point_derivatives(
-                self.system,
-                chart,
-                base,
-                &x,
-                &v,
-                with_configuration,
-                with_jacobian,
-            );
+            work.points[j] =
+                point_derivatives(self.system, chart, base, &x, &v, with_configuration);
         }
         // ∂S/∂ξⁱ and the scale of its terms.
         for i in 0..n {
@@ -512,73 +478,46 @@ impl<L: Lagrangian> Stepper<'_, L> {
         let max_iterations = self.settings.max_newton_iterations();
         let mut previous = f64::INFINITY;
         let mut iterations = 0;
-        // Simplified Newton: the LU factorisation of the Newton matrix is kept and reused
-        // (within the step, and by the next step) while the residual contracts at least
-        // ×10 per iteration (measured: ×0.25 needs twice the iterations, ×0.02 refreshes too often); otherwise it is refreshed at the current iterate. Between
-        // refreshes an iteration needs only the residual (first-order duals).
-        //
-        // Backtracking: a step taken with a fresh matrix that does not lower the residual
-        // is halved (from the last accepted iterate) up to `MAX_HALVINGS` times; a step
-        // taken with a reused matrix that does not lower it is undone and the matrix
-        // refreshed. Near the solution the full step is always taken.
+        // Backtracking: a Newton step that does not lower the residual is halved (from the
+        // last accepted iterate) up to `MAX_HALVINGS` times. Far from the solution (long
+        // steps, the heavy top with the exact matching) the full step can overshoot;
+        // near it the full step is always taken, so convergence stays quadratic.
         const MAX_HALVINGS: u32 = 8;
-        const CONTRACTION: f64 = 0.1;
         let mut damping = 1.0f64;
-        // The last step was taken with a matrix factored at the iterate it started from.
-        let mut fresh = false;
-        // Re-evaluating the accepted iterate after undoing a step: no comparison.
-        let mut reevaluate = false;
-        let mut factorizations = 0;
         loop {
             let in_domain = self.check_domain(work, step, time);
-            let want_jacobian = exact && !work.lu_valid;
             let assembled = in_domain
                 .as_ref()
                 .ok()
-                .map(|_| self.assemble(base, mu, work, want_jacobian));
-            // NaN counts as worse.
+                .map(|_| self.assemble(base, mu, work, exact));
             let worse = match assembled {
+                // NaN counts as worse.
                 Some((r, _)) => r.is_nan() || r >= previous,
                 None => true,
             };
-            if iterations > 0 && worse && !reevaluate {
-                if !fresh {
-                    work.xi.copy_from_slice(&work.xi_accepted);
-                    work.lu_valid = false;
-                    reevaluate = true;
-                    continue;
-                }
-                if damping > 0.5f64.powi(MAX_HALVINGS as i32) {
-                    damping *= 0.5;
-                    for i in 1..n {
-                        for c in 0..3 {
-                            work.xi[i][c] =
-                                work.xi_accepted[i][c] + damping * work.rhs[(3 * (i - 1) + c, 0)];
-                        }
+            if iterations > 0 && worse && damping > 0.5f64.powi(MAX_HALVINGS as i32) {
+                damping *= 0.5;
+                for i in 1..n {
+                    for c in 0..3 {
+                        work.xi[i][c] =
+                            work.xi_accepted[i][c] + damping * work.rhs[(3 * (i - 1) + c, 0)];
                     }
-                    continue;
                 }
+                continue;
             }
-            if let Err(e) = in_domain {
-                work.lu_valid = false;
-                return Err(e);
-            }
+            in_domain?;
             let (residual, scale) = assembled.unwrap_or((f64::NAN, 0.0));
             if !residual.is_finite() {
-                work.lu_valid = false;
                 return Err(MechanicsError::SingularJacobian { step, time });
             }
             // Converged: the residual is a few ulps of its largest terms, or — once below
-            // √ε of them — it has stopped halving under a fresh matrix (the rounding floor
-            // of the sums, which for m·n terms can sit a little above a few ulps).
+            // √ε of them — it has stopped halving (the rounding floor of the sums, which
+            // for m·n terms can sit a little above a few ulps). Newton converges
+            // quadratically, so the last accepted step is always taken at the floor.
             let scale = scale.max(f64::MIN_POSITIVE);
             let tight = 4.0 * f64::EPSILON * scale;
             let loose = f64::EPSILON.sqrt() * scale;
-            // Stagnation is judged under a fresh matrix only: stopping a linearly
-            // contracting iteration early leaves a bias that accumulates as an energy drift
-            // (measured: 10× over 2000 steps when stale iterates within 16 ulps were accepted).
-            let stagnated =
-                iterations > 0 && fresh && residual > 0.5 * previous && residual <= loose;
+            let stagnated = iterations > 0 && residual > 0.5 * previous && residual <= loose;
             if residual <= tight || stagnated {
                 let xi_n = work.xi[n - 1];
                 let chart = self.chart();
@@ -589,11 +528,9 @@ impl<L: Lagrangian> Stepper<'_, L> {
                     attitude,
                     momentum,
                     iterations,
-                    factorizations,
                 });
             }
             if iterations >= max_iterations {
-                work.lu_valid = false;
                 return Err(MechanicsError::NewtonDiverged {
                     step,
                     time,
@@ -601,38 +538,20 @@ impl<L: Lagrangian> Stepper<'_, L> {
                     residual,
                 });
             }
-            // Refresh the matrix unless the reused one contracts well.
-            // (A matrix kept from the previous step is tried once before it is judged.)
-            let contracting = reevaluate || iterations == 0 || residual <= CONTRACTION * previous;
-            if work.lu_valid && !contracting && !want_jacobian {
-                work.lu_valid = false;
-                if exact {
-                    self.assemble(base, mu, work, true);
-                }
-            }
-            reevaluate = false;
-            if !work.lu_valid {
-                if !exact {
-                    self.fill_jacobian_by_differences(base, mu, work);
-                }
-                factor::lu_in_place(
-                    work.jacobian.as_mut(),
-                    &mut work.perm,
-                    &mut work.perm_inv,
-                    Par::Seq,
-                    MemStack::new(&mut work.stack),
-                    Default::default(),
-                );
-                work.lu_valid = true;
-                fresh = true;
-                factorizations += 1;
-            } else {
-                fresh = false;
+            if !exact {
+                self.fill_jacobian_by_differences(base, mu, work);
             }
             for (row, r) in work.residual.iter().enumerate() {
                 work.rhs[(row, 0)] = -r;
             }
-            let perm = faer::perm::PermRef::new_checked(&work.perm, &work.perm_inv, unknowns);
+            let (_, perm) = factor::lu_in_place(
+                work.jacobian.as_mut(),
+                &mut work.perm,
+                &mut work.perm_inv,
+                Par::Seq,
+                MemStack::new(&mut work.stack),
+                Default::default(),
+            );
             solve::solve_in_place_with_conj(
                 work.jacobian.as_ref(),
                 work.jacobian.as_ref(),
@@ -647,7 +566,6 @@ impl<L: Lagrangian> Stepper<'_, L> {
             for col in 0..unknowns {
                 let delta = work.rhs[(col, 0)];
                 if !delta.is_finite() {
-                    work.lu_valid = false;
                     return Err(MechanicsError::SingularJacobian { step, time });
                 }
                 work.xi[1 + col / 3][col % 3] += delta;
@@ -688,7 +606,7 @@ mod tests {
         let system = top();
         for chart in ChartKind::ALL {
             let (x, v) = (Vector3::new(0.3, -0.1, 0.25), Vector3::new(1.1, 0.4, -0.6));
-            let p = point_derivatives(&system, chart, &base(), &x, &v, true, true);
+            let p = point_derivatives(&system, chart, &base(), &x, &v, true);
             let f = |y: &SVector<f64, 9>| {
                 let x = y.fixed_rows::<3>(0).into_owned();
                 let v = y.fixed_rows::<3>(3).into_owned();
@@ -700,14 +618,6 @@ mod tests {
             ]);
             let h = 1e-4;
             let scale = p.hessian.amax().max(p.gradient.amax());
-            // The residual-only path (first-order duals) gives the same gradient.
-            for with_configuration in [true, false] {
-                let g1 =
-                    point_derivatives(&system, chart, &base(), &x, &v, with_configuration, false);
-                let g2 =
-                    point_derivatives(&system, chart, &base(), &x, &v, with_configuration, true);
-                assert!((g1.gradient - g2.gradient).amax() <= 4.0 * f64::EPSILON * scale);
-            }
             for a in 0..9 {
                 let e = SVector::<f64, 9>::from_fn(|i, _| if i == a { h } else { 0.0 });
                 let fd = (f(&(y0 + e)) - f(&(y0 - e))) / (2.0 * h);
@@ -722,7 +632,6 @@ mod tests {
                     &(x + e.fixed_rows::<3>(0)),
                     &(v + e.fixed_rows::<3>(3)),
                     true,
-                    false,
                 );
                 // The ζ-columns need the function itself (the point is always at ζ = 0).
                 for b in 0..6 {
@@ -734,7 +643,6 @@ mod tests {
                             &(x - e.fixed_rows::<3>(0)),
                             &(v - e.fixed_rows::<3>(3)),
                             true,
-                            false,
                         );
                         let fd2 = (gp.gradient[b] - gm.gradient[b]) / (2.0 * h);
                         assert!(

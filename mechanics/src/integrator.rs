@@ -111,10 +111,6 @@ pub struct Statistics {
     pub newton_iterations: usize,
     /// The most Newton iterations one step took.
     pub max_newton_iterations: usize,
-    /// LU factorisations of the Newton matrix, summed over the steps. Newton is
-    /// simplified: a factorisation is reused (within a step and by the next) while the
-    /// residual contracts ×10 per iteration, so most iterations need only the residual.
-    pub jacobian_factorizations: usize,
 }
 
 /// A step's Galerkin curve: `g(t) = g_k Φ(ξ(t))`, `t ∈ [0, h]` from the step's start.
@@ -345,7 +341,6 @@ impl<L: Lagrangian> Integrator<L> {
         let stats = &mut self.statistics;
         stats.steps += 1;
         stats.newton_iterations += outcome.iterations;
-        stats.jacobian_factorizations += outcome.factorizations;
         stats.max_newton_iterations = stats.max_newton_iterations.max(outcome.iterations);
         Ok(outcome.iterations)
     }

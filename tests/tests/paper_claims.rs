@@ -238,35 +238,19 @@ fn heavy_top_with_a_large_step() {
 }
 
 /// Newton iterations per step, pinned so that a silent loss of convergence fails the
-/// build: case A, h = 0.5, exp chart. Newton is simplified (the LU factorisation is reused
-/// while the residual contracts ×10 per iteration), so a step takes more, cheaper
-/// iterations and few factorisations. Measured below (printed); the bounds leave one
-/// iteration and half a factorisation per step of slack.
+/// build: case A, h = 0.5, exp chart. Measured 4.15–4.3 on average and at most 5 or 6 (the
+/// last iteration lands at the rounding floor, where whether the stopping test fires one
+/// iteration earlier or later depends on the last bits); the issue expects 4 to 6.
 #[test]
 fn newton_iterations_are_pinned() {
-    use lgsvi_mechanics::{Inertia, Integrator, RigidBody};
     let a = case("A");
     for n in [8usize, 10, 12] {
-        let inertia = Inertia::from_paper_jd(a.jd).unwrap();
-        let mut it = Integrator::new(
-            RigidBody::new(inertia),
-            StepSettings::new(0.5, n).unwrap(),
-            lgsvi_lie::SO3::identity(),
-            a.omega0,
-        )
-        .unwrap();
-        it.run(20, 20).unwrap();
-        let s = *it.statistics();
-        let mean = s.newton_iterations as f64 / 20.0;
-        let lu = s.jacobian_factorizations as f64 / 20.0;
-        println!(
-            "Newton, case A, h 0.5, n {n}: mean {mean:.2}, max {}, factorisations per step {lu:.2}",
-            s.max_newton_iterations
-        );
+        let (_, total, max) = run(&a, StepSettings::new(0.5, n).unwrap(), 20, 20).unwrap();
+        let mean = total as f64 / 20.0;
+        println!("Newton, case A, h 0.5, n {n}: mean {mean:.2}, max {max}");
         assert!(
-            (4.0..=8.5).contains(&mean) && s.max_newton_iterations <= 12 && lu <= 2.6,
-            "n {n}: mean {mean}, max {}, factorisations {lu}",
-            s.max_newton_iterations
+            (3.0..=4.5).contains(&mean) && max <= 6,
+            "n {n}: mean {mean}, max {max}"
         );
     }
 }
@@ -312,4 +296,35 @@ fn galerkin_curves_between_the_nodes() {
         println!("Galerkin curve at step midpoints, case A, h 1, n {n}: max error {worst:.2e}");
         assert!(worst <= bound, "n {n}: {worst:e}");
     }
+}
+
+/// Figure 3's setting over 10⁴ steps (unscaled Cayley, exact matching, n = 12, h = 0.5):
+/// the energy error oscillates without trend. The largest error over the second half is
+/// within 1.5× that over the first (measured 0.99). This guards the nonlinear solve: a
+/// simplified Newton that stopped linearly converging iterations at the residual tolerance
+/// measured 1.83 here (a drift, 4e-13 → 5e-12), although the 2000-step test above passed.
+#[test]
+fn energy_error_has_no_trend_over_ten_thousand_steps() {
+    let a = case("A");
+    let settings = StepSettings::new(0.5, 12)
+        .unwrap()
+        .with_chart(ChartKind::CayleyUnscaled);
+    let (t, _, _) = run(&a, settings, 10_000, 10).unwrap();
+    let e0 = energy(&a, &t.states[0]);
+    let errors: Vec<f64> = t
+        .states
+        .iter()
+        .map(|s| (energy(&a, s) - e0).abs() / e0)
+        .collect();
+    let half = errors.len() / 2;
+    let first = errors[..half].iter().cloned().fold(0.0, f64::max);
+    let second = errors[half..].iter().cloned().fold(0.0, f64::max);
+    println!(
+        "10⁴ steps: energy error first half {first:.1e}, second half {second:.1e}, ratio {:.2}",
+        second / first
+    );
+    assert!(
+        second <= 1.5 * first && second <= 1e-11,
+        "{first:e} → {second:e}"
+    );
 }
