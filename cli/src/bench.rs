@@ -4,6 +4,7 @@
 //! side by side in one process, repeated, medians.
 
 use crate::plot::{self, Figure, Series, Style};
+use crate::problem::System;
 use clap::Args;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
 use lgsvi_mechanics::lie::{ChartKind, SO3};
@@ -174,21 +175,20 @@ fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>, 
         .map_err(|e| e.to_string())?
         .with_chart(ChartKind::Exp);
     let inertia = Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?;
-    let w0 = case.model.velocity(&case.start.momentum);
-    let r0 = SO3::identity();
-    let steps = (t_end / h).round() as usize;
-    if case.model.mg == 0.0 {
-        let mut it = Integrator::new(RigidBody::new(inertia), settings, r0, w0)
-            .map_err(|e| e.to_string())?;
-        it.run(steps, steps).map_err(|e| e.to_string())?;
-        Ok(*it.state().attitude.matrix())
+    let system = if case.model.mg == 0.0 {
+        System::Free(RigidBody::new(inertia))
     } else {
-        let top = HeavyTop::new(inertia, 1.0, case.model.mg, Vector3::z(), Vector3::z())
-            .map_err(|e| e.to_string())?;
-        let mut it = Integrator::new(top, settings, r0, w0).map_err(|e| e.to_string())?;
-        it.run(steps, steps).map_err(|e| e.to_string())?;
-        Ok(*it.state().attitude.matrix())
-    }
+        System::Top(
+            HeavyTop::new(inertia, 1.0, case.model.mg, Vector3::z(), Vector3::z())
+                .map_err(|e| e.to_string())?,
+        )
+    };
+    let w0 = case.model.velocity(&case.start.momentum);
+    let mut it =
+        Integrator::new(system, settings, SO3::identity(), w0).map_err(|e| e.to_string())?;
+    let steps = (t_end / h).round() as usize;
+    it.run(steps, steps).map_err(|e| e.to_string())?;
+    Ok(*it.state().attitude.matrix())
 }
 
 /// The whole work-precision sweep.

@@ -3,15 +3,7 @@
 use std::process::Command;
 
 fn lgsvi(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lgsvi"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    lgsvi_in(&std::env::current_dir().expect("a working directory"), args)
 }
 
 fn lgsvi_in(dir: &std::path::Path, args: &[&str]) -> (i32, String, String) {
