@@ -58,8 +58,8 @@ mod series;
 pub mod so3;
 
 pub use chart::{
-    CayleyChart, Chart, ChartKind, ExpChart, NaturalChart, ParseChartError, So3Chart,
-    UnscaledCayleyChart,
+    CayleyChart, Chart, ChartKind, ExpChart, NaturalChart, ParseChartError, RodriguesCoefficients,
+    So3Chart, UnscaledCayleyChart,
 };
 pub use error::LieError;
 pub use group::LieGroup;

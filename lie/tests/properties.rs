@@ -4,7 +4,9 @@
 mod common;
 
 use common::EPS;
-use lgsvi_lie::{CayleyChart, Chart, ExpChart, LieGroup, UnscaledCayleyChart, SE3, SO3};
+use lgsvi_lie::{
+    CayleyChart, Chart, ChartKind, ExpChart, LieGroup, So3Chart, UnscaledCayleyChart, SE3, SO3,
+};
 use nalgebra::{Vector3, Vector6};
 use proptest::prelude::*;
 
@@ -45,6 +47,24 @@ proptest! {
             prop_assert!(r.orthogonality_error() <= 16.0 * EPS);
             // Cayley inverses have derivative ≤ 1 + |ξ|²/4 ≤ 3 here.
             prop_assert!((back.unwrap() - w).amax() <= 64.0 * EPS * (1.0 + w.norm_squared()));
+        }
+    }
+
+    /// The Rodrigues coefficients rebuild `Φ` and `A` of every chart. Both sides evaluate
+    /// the same coefficient functions, so they agree to a few ulps of the entries (each a
+    /// sum of three terms of size ≤ |e| + |a||ω| + |b||ω|², at most ~4 for `|ω| < 6`).
+    /// The coefficients' independent check is the mechanics layer's test of the Newton
+    /// matrix built from them against dual numbers.
+    #[test]
+    fn rodrigues_coefficients_rebuild_the_chart_maps(w in vec3(3.5)) {
+        for chart in ChartKind::ALL {
+            let s = w.norm_squared();
+            let phi = chart.rotation_matrix_coefficients(s).unwrap().matrix(&w);
+            let a = chart.rotation_left_differential_coefficients(s).unwrap().matrix(&w);
+            prop_assert!((phi - chart.rotation_matrix(&w)).amax() <= 16.0 * EPS * (1.0 + s));
+            prop_assert!(
+                (a - chart.rotation_left_differential(&w)).amax() <= 16.0 * EPS * (1.0 + s)
+            );
         }
     }
 

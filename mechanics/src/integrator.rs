@@ -278,6 +278,10 @@ impl<L: Lagrangian> Integrator<L> {
     /// `constant_velocity`, always `ξⁱ = Φ⁻¹(exp(t_i Ω_k))`: first order, but robust when
     /// the velocity changes a lot within a step (the fallback when Newton fails).
     fn predict(&mut self, constant_velocity: bool) {
+        if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
+            self.work.xi[0] = Vector3::zeros();
+            return;
+        }
         let chart = self.settings.chart();
         let a0_inv = chart.rotation_left_differential_inverse(&Vector3::zeros());
         let omega = self.state.velocity;
@@ -299,6 +303,27 @@ impl<L: Lagrangian> Integrator<L> {
             }
         }
         self.work.xi[0] = Vector3::zeros();
+    }
+
+    /// The previous step's Galerkin curve continued over the next step, in the new
+    /// step's chart: `ξⁱ = Φ⁻¹(Φ(ξⁿ_prev)⁻¹ Φ(ξ_prev(h + t_i)))`. False (and nothing
+    /// written) where a node leaves `Φ⁻¹`'s domain.
+    fn extrapolate(&mut self) -> bool {
+        let chart = self.settings.chart();
+        let n = self.discretisation.n;
+        let end = chart.rotation_matrix(&self.last_nodes[n - 1]).transpose();
+        for i in 1..n {
+            let row = &self.discretisation.extrapolation[i * n..(i + 1) * n];
+            let continued = row
+                .iter()
+                .zip(&self.last_nodes)
+                .fold(Vector3::zeros(), |acc, (e, xi)| acc + xi * *e);
+            match chart.rotation_vector(&(end * chart.rotation_matrix(&continued))) {
+                Ok(xi) if xi.iter().all(|x| x.is_finite()) => self.work.xi[i] = xi,
+                _ => return false,
+            }
+        }
+        true
     }
 
     /// Advances one step; returns the Newton iterations it took.

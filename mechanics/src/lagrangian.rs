@@ -2,13 +2,83 @@
 
 use crate::error::{check_finite, MechanicsError};
 use crate::inertia::Inertia;
-use nalgebra::{Matrix3, RealField, Vector3};
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
+use num_dual::Dual2SVec64;
+
+/// First and second derivatives of `ℓ(R, Ω)` at one point, with `R`'s nine entries taken
+/// as independent variables (flattened row-major: index `3a + b` is `R_ab`).
+///
+/// The integrator assembles its exact Newton matrices from these and the chart's own
+/// derivatives. [`Lagrangian::derivatives`] computes them by dual numbers; the built-in
+/// systems give them in closed form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LagrangianDerivatives {
+    /// `∂ℓ/∂R_ab`.
+    pub attitude_gradient: Matrix3<f64>,
+    /// `∂ℓ/∂Ω`, the body momentum `μ`.
+    pub velocity_gradient: Vector3<f64>,
+    /// `∂²ℓ/∂Ω²`.
+    pub velocity_hessian: Matrix3<f64>,
+    /// `∂²ℓ/∂R_ab ∂R_cd` at `(3a + b, 3c + d)`; `None` when it is zero.
+    pub attitude_hessian: Option<SMatrix<f64, 9, 9>>,
+    /// `∂²ℓ/∂R_ab ∂Ω_c` at `(3a + b, c)`; `None` when it is zero.
+    pub mixed_hessian: Option<SMatrix<f64, 9, 3>>,
+}
+
+impl LagrangianDerivatives {
+    /// The derivatives by dual numbers (second order, in the 3 entries of `Ω`, or in the 12
+    /// of `(R, Ω)` unless `attitude_free`).
+    pub fn by_dual_numbers<L: Lagrangian + ?Sized>(
+        system: &L,
+        world_from_body: &Matrix3<f64>,
+        omega: &Vector3<f64>,
+        attitude_free: bool,
+    ) -> Self {
+        if attitude_free {
+            let r: Matrix3<Dual2SVec64<3>> = world_from_body.map(nalgebra::convert);
+            let (_, gradient, hessian) = num_dual::hessian(
+                |w: SVector<Dual2SVec64<3>, 3>| system.lagrangian(&r, &w),
+                omega,
+            );
+            return Self {
+                attitude_gradient: Matrix3::zeros(),
+                velocity_gradient: gradient,
+                velocity_hessian: hessian,
+                attitude_hessian: None,
+                mixed_hessian: None,
+            };
+        }
+        let mut y = SVector::<f64, 12>::zeros();
+        for a in 0..3 {
+            for b in 0..3 {
+                y[3 * a + b] = world_from_body[(a, b)];
+            }
+            y[9 + a] = omega[a];
+        }
+        let (_, gradient, hessian) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<12>, 12>| {
+                let r = Matrix3::from_fn(|a, b| y[3 * a + b]);
+                let w = Vector3::new(y[9], y[10], y[11]);
+                system.lagrangian(&r, &w)
+            },
+            &y,
+        );
+        Self {
+            attitude_gradient: Matrix3::from_fn(|a, b| gradient[3 * a + b]),
+            velocity_gradient: gradient.fixed_rows::<3>(9).into_owned(),
+            velocity_hessian: hessian.fixed_view::<3, 3>(9, 9).into_owned(),
+            attitude_hessian: Some(hessian.fixed_view::<9, 9>(0, 0).into_owned()),
+            mixed_hessian: Some(hessian.fixed_view::<9, 3>(0, 9).into_owned()),
+        }
+    }
+}
 
 /// A reduced Lagrangian `ℓ(R, Ω)` with `R = world_from_body` and body angular velocity
 /// `Ω` (`Ṙ = RΩ̂`).
 ///
 /// Write `ℓ` once, generically over the scalar: the integrator differentiates it exactly
-/// (gradients and Hessians by dual numbers), so no derivative is ever derived by hand.
+/// (gradients and Hessians by dual numbers, [`Lagrangian::derivatives`]), so no derivative
+/// is ever derived by hand; override that method with a closed form only for speed.
 /// Body momentum is `μ = ∂ℓ/∂Ω`, energy `⟨μ, Ω⟩ − ℓ`.
 ///
 /// ```
@@ -48,6 +118,38 @@ pub trait Lagrangian {
     ) -> Option<Vector3<f64>> {
         let _ = (world_from_body, momentum);
         None
+    }
+
+    /// First and second derivatives of `ℓ` at `(R, Ω)`, which the Newton matrices are
+    /// built from. The default takes them by dual numbers (exact); override it only to go
+    /// faster, with a closed form (the built-in systems do).
+    fn derivatives(
+        &self,
+        world_from_body: &Matrix3<f64>,
+        omega: &Vector3<f64>,
+    ) -> LagrangianDerivatives {
+        LagrangianDerivatives::by_dual_numbers(
+            self,
+            world_from_body,
+            omega,
+            self.is_left_invariant(),
+        )
+    }
+}
+
+/// Closed-form derivatives of `½ΩᵀJΩ + ⟨G, R⟩` (a potential linear in `R`).
+fn quadratic_kinetic_derivatives(
+    inertia: &Inertia,
+    omega: &Vector3<f64>,
+    attitude_gradient: Matrix3<f64>,
+) -> LagrangianDerivatives {
+    let moments = Vector3::from(inertia.principal_moments());
+    LagrangianDerivatives {
+        attitude_gradient,
+        velocity_gradient: moments.component_mul(omega),
+        velocity_hessian: Matrix3::from_diagonal(&moments),
+        attitude_hessian: None,
+        mixed_hessian: None,
     }
 }
 
@@ -89,6 +191,9 @@ fn kinetic<T: RealField + Copy>(inertia: &Inertia, w: &Vector3<T>) -> T {
 impl Lagrangian for RigidBody {
     fn lagrangian<T: RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
         kinetic(&self.inertia, w)
+    }
+    fn derivatives(&self, _r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
+        quadratic_kinetic_derivatives(&self.inertia, w, Matrix3::zeros())
     }
     fn is_left_invariant(&self) -> bool {
         true
@@ -205,6 +310,12 @@ impl Lagrangian for HeavyTop {
         let mg: T = nalgebra::convert(self.mass * self.gravity);
         kinetic(&self.inertia, w) + mg * d.dot(&(r * rho))
     }
+    /// `∂ℓ/∂R = m g d ρᵀ`; the Hessians in `R` vanish.
+    fn derivatives(&self, _r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
+        let gradient =
+            self.gravity_direction * self.center_of_mass.transpose() * (self.mass * self.gravity);
+        quadratic_kinetic_derivatives(&self.inertia, w, gradient)
+    }
     fn is_left_invariant(&self) -> bool {
         self.mass * self.gravity == 0.0
     }
@@ -248,6 +359,30 @@ impl<V: Potential> RigidBodyInPotential<V> {
 impl<V: Potential> Lagrangian for RigidBodyInPotential<V> {
     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
         kinetic(&self.inertia, w) - self.potential.potential(r)
+    }
+    /// The kinetic part in closed form, `V`'s by dual numbers in `R`'s nine entries.
+    fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
+        let mut y = SVector::<f64, 9>::zeros();
+        for a in 0..3 {
+            for b in 0..3 {
+                y[3 * a + b] = r[(a, b)];
+            }
+        }
+        let (_, gradient, hessian) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<9>, 9>| {
+                -self
+                    .potential
+                    .potential(&Matrix3::from_fn(|a, b| y[3 * a + b]))
+            },
+            &y,
+        );
+        let mut d = quadratic_kinetic_derivatives(
+            &self.inertia,
+            w,
+            Matrix3::from_fn(|a, b| gradient[3 * a + b]),
+        );
+        d.attitude_hessian = Some(hessian);
+        d
     }
     fn velocity_from_momentum(&self, _r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
         Some(self.inertia.velocity(mu))

@@ -13,8 +13,13 @@
 //! ([`Matching::Paper`]) for reproducing its figures; it drifts.
 //!
 //! Newton uses the exact Jacobian: every Gauss point's gradient and Hessian of
-//! `ℓ(R_k Φ(x), A(x) v)` come from dual numbers (num-dual), so a system is defined by
-//! writing `ℓ` once ([`Lagrangian`]), never its derivatives.
+//! `ℓ(R_k Φ(x), A(x) v)` come by the chain rule from the chart's derivatives (closed
+//! forms from its Rodrigues coefficients) and `ℓ`'s own first and second derivatives in
+//! `(R, Ω)`, which [`Lagrangian::derivatives`] takes by dual numbers (num-dual) unless the
+//! system gives them in closed form (the built-in ones do). So a system is defined by
+//! writing `ℓ` once ([`Lagrangian`]), never its derivatives. The predictor continues the
+//! last step's Galerkin curve; a Newton step taken from a residual below 1e-8 of the
+//! equations' terms is accepted once the residual reaches its rounding floor.
 //!
 //! # Validation
 //! [`exact::FreeRigidBodyExact`] is the exact motion of the free rigid body (Jacobi
@@ -48,6 +53,7 @@ pub mod exact;
 mod galerkin;
 mod inertia;
 mod integrator;
+mod jet;
 mod lagrangian;
 mod settings;
 
@@ -56,7 +62,9 @@ pub use inertia::Inertia;
 pub use integrator::{
     body_momentum, body_velocity, GalerkinCurve, Integrator, State, Statistics, Trajectory,
 };
-pub use lagrangian::{HeavyTop, Lagrangian, Potential, RigidBody, RigidBodyInPotential};
+pub use lagrangian::{
+    HeavyTop, Lagrangian, LagrangianDerivatives, Potential, RigidBody, RigidBodyInPotential,
+};
 /// The geometry layer, re-exported so that users of this crate need no second import.
 pub use lgsvi_lie as lie;
 pub use settings::{

@@ -237,10 +237,12 @@ fn heavy_top_with_a_large_step() {
     );
 }
 
-/// Newton iterations per step, pinned so that a silent loss of convergence fails the
-/// build: case A, h = 0.5, exp chart. Measured 4.15–4.3 on average and at most 5 or 6 (the
-/// last iteration lands at the rounding floor, where whether the stopping test fires one
-/// iteration earlier or later depends on the last bits); the issue expects 4 to 6.
+/// Newton iterations (Newton steps, each with a fresh exact Jacobian) per step, pinned so
+/// that a silent loss of convergence or of the predictor fails the build: case A, h = 0.5,
+/// exp chart. The predictor continues the last step's curve (relative residual ~2e-3 at
+/// n = 8, ~6e-5 from n = 10 on), and a step taken from below 1e-8 is accepted at the
+/// rounding floor: measured mean 3.05 (n = 8) and 2.1 (n = 10, 12), at most 4 (the first
+/// step, from constant velocity).
 #[test]
 fn newton_iterations_are_pinned() {
     let a = case("A");
@@ -249,7 +251,7 @@ fn newton_iterations_are_pinned() {
         let mean = total as f64 / 20.0;
         println!("Newton, case A, h 0.5, n {n}: mean {mean:.2}, max {max}");
         assert!(
-            (3.0..=4.5).contains(&mean) && max <= 6,
+            (1.5..=3.5).contains(&mean) && max <= 5,
             "n {n}: mean {mean}, max {max}"
         );
     }
@@ -300,9 +302,13 @@ fn galerkin_curves_between_the_nodes() {
 
 /// Figure 3's setting over 10⁴ steps (unscaled Cayley, exact matching, n = 12, h = 0.5):
 /// the energy error oscillates without trend. The largest error over the second half is
-/// within 1.5× that over the first (measured 0.99). This guards the nonlinear solve: a
-/// simplified Newton that stopped linearly converging iterations at the residual tolerance
-/// measured 1.83 here (a drift, 4e-13 → 5e-12), although the 2000-step test above passed.
+/// within 1.5× that over the first. This guards the nonlinear solve: a simplified Newton
+/// that stopped linearly converging iterations at the residual tolerance measured 1.83
+/// here (a drift, 4e-13 → 5e-12), although the 2000-step test above passed. Solvers that
+/// reach the fixed point and differ only in rounding (Jacobian assembly, predictor, the
+/// iteration that confirms the rounding floor, dual-number or chain-rule derivatives)
+/// measured ratios 0.99–1.49 and levels 4e-13–2.4e-12 (rounding accumulated over 10⁴
+/// steps); the shipped solver 1.04 at 1.5e-12.
 #[test]
 fn energy_error_has_no_trend_over_ten_thousand_steps() {
     let a = case("A");

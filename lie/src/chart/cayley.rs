@@ -1,6 +1,6 @@
 //! The Cayley transforms as charts.
 
-use super::So3Chart;
+use super::{RodriguesCoefficients, So3Chart};
 use crate::error::LieError;
 use crate::scalar::{constant, real};
 use crate::so3::{hat, quaternion, rodrigues_form};
@@ -67,6 +67,32 @@ impl So3Chart for CayleyChart {
     fn rotation_left_differential<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
         let half = constant::<T>(0.5);
         (Matrix3::identity() - hat(w) * half) / (T::one() + w.norm_squared() * constant(0.25))
+    }
+
+    /// `Φ = I + (4/(4 + s)) ξ̂ + (2/(4 + s)) ξ̂²`.
+    fn rotation_matrix_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let scale = constant::<T>(4.0) / (constant::<T>(4.0) + s);
+        Some(RodriguesCoefficients {
+            identity: T::one(),
+            hat: scale,
+            hat_squared: scale * constant::<T>(0.5),
+        })
+    }
+
+    /// `A = (I − ξ̂/2)/(1 + s/4)`.
+    fn rotation_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let scale = T::one() / (T::one() + s * constant::<T>(0.25));
+        Some(RodriguesCoefficients {
+            identity: scale,
+            hat: scale * constant::<T>(-0.5),
+            hat_squared: T::zero(),
+        })
     }
 
     fn rotation_left_differential_inverse<T: RealField + Copy>(
@@ -142,6 +168,32 @@ impl So3Chart for UnscaledCayleyChart {
 
     fn rotation_left_differential<T: RealField + Copy>(&self, q: &Vector3<T>) -> Matrix3<T> {
         (Matrix3::identity() + hat(q)) * (constant::<T>(-2.0) / (T::one() + q.norm_squared()))
+    }
+
+    /// `Φ = I − (2/(1 + s)) q̂ + (2/(1 + s)) q̂²`.
+    fn rotation_matrix_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let scale = constant::<T>(2.0) / (T::one() + s);
+        Some(RodriguesCoefficients {
+            identity: T::one(),
+            hat: -scale,
+            hat_squared: scale,
+        })
+    }
+
+    /// `A = −2(I + q̂)/(1 + s)`.
+    fn rotation_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let scale = constant::<T>(-2.0) / (T::one() + s);
+        Some(RodriguesCoefficients {
+            identity: scale,
+            hat: scale,
+            hat_squared: T::zero(),
+        })
     }
 
     fn rotation_left_differential_inverse<T: RealField + Copy>(

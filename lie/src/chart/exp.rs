@@ -1,10 +1,11 @@
 //! The exponential map as a chart.
 
-use super::So3Chart;
+use super::{RodriguesCoefficients, So3Chart};
 use crate::error::LieError;
 use crate::scalar::constant;
 use crate::series::{
-    one_minus_cos_over_sq, one_minus_cos_over_sq_derivative, theta_minus_sin_over_cube,
+    one_minus_cos_and_theta_minus_sin, one_minus_cos_over_sq, one_minus_cos_over_sq_derivative,
+    sinc_and_one_minus_cos_over_sq, theta_minus_sin_over_cube,
     theta_minus_sin_over_cube_derivative,
 };
 use crate::so3::exp::{
@@ -50,6 +51,32 @@ impl So3Chart for ExpChart {
 
     fn rotation_left_differential<T: RealField + Copy>(&self, w: &Vector3<T>) -> Matrix3<T> {
         right_jacobian(w)
+    }
+
+    /// `exp(ω̂) = I + (sin θ/θ) ω̂ + ((1 − cos θ)/θ²) ω̂²`.
+    fn rotation_matrix_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let (a, b) = sinc_and_one_minus_cos_over_sq(s);
+        Some(RodriguesCoefficients {
+            identity: T::one(),
+            hat: a,
+            hat_squared: b,
+        })
+    }
+
+    /// `J_r(ω) = I − ((1 − cos θ)/θ²) ω̂ + ((θ − sin θ)/θ³) ω̂²`.
+    fn rotation_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let (b, c) = one_minus_cos_and_theta_minus_sin(s);
+        Some(RodriguesCoefficients {
+            identity: T::one(),
+            hat: -b,
+            hat_squared: c,
+        })
     }
 
     fn rotation_left_differential_inverse<T: RealField + Copy>(

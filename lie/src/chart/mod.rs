@@ -136,6 +136,59 @@ pub trait So3Chart: Copy + Debug {
         w: &Vector3<T>,
         v: &Vector3<T>,
     ) -> Matrix3<T>;
+    /// `Φ(ω)` in Rodrigues form `e(s) I + a(s) ω̂ + b(s) ω̂²`, `s = |ω|²`, if the chart
+    /// has one (`None`, the default, if not). Generic in the scalar, so a dual number in
+    /// `s` gives the coefficients' derivatives: callers build exact derivatives of `Φ` in
+    /// `ω` from them (the mechanics layer's Newton matrices do).
+    fn rotation_matrix_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let _ = s;
+        None
+    }
+    /// `A(ω)` in Rodrigues form, as [`So3Chart::rotation_matrix_coefficients`].
+    fn rotation_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let _ = s;
+        None
+    }
+}
+
+/// The coefficients of a 3×3 map written `e(s) I + a(s) ω̂ + b(s) ω̂²` with `s = |ω|²`:
+/// every map of this crate's charts has that form (see
+/// [`So3Chart::rotation_matrix_coefficients`]).
+///
+/// ```
+/// use lgsvi_lie::{ExpChart, So3Chart};
+/// use nalgebra::Vector3;
+/// let w = Vector3::new(0.3, -0.2, 0.9);
+/// let form = ExpChart.rotation_matrix_coefficients(w.norm_squared()).unwrap();
+/// assert!((form.matrix(&w) - ExpChart.rotation_matrix(&w)).norm() < 1e-15);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RodriguesCoefficients<T> {
+    /// `e(s)`, the coefficient of `I`.
+    pub identity: T,
+    /// `a(s)`, the coefficient of `ω̂`.
+    pub hat: T,
+    /// `b(s)`, the coefficient of `ω̂²`.
+    pub hat_squared: T,
+}
+
+impl<T: RealField + Copy> RodriguesCoefficients<T> {
+    /// `e I + a ω̂ + b ω̂²` at `ω` (with `s = |ω|²` the caller's; the diagonal is formed
+    /// as `e − b(ω_j² + ω_k²)`, without cancellation).
+    pub fn matrix(&self, w: &Vector3<T>) -> Matrix3<T> {
+        let mut m = crate::so3::rodrigues_form(w, self.hat, self.hat_squared);
+        let shift = self.identity - T::one();
+        for i in 0..3 {
+            m[(i, i)] += shift;
+        }
+        m
+    }
 }
 
 /// The natural chart at a base point `g`: `ξ ↦ g Φ(ξ)`, `h ↦ Φ⁻¹(g⁻¹ h)`.
@@ -297,5 +350,17 @@ impl So3Chart for ChartKind {
         v: &Vector3<T>,
     ) -> Matrix3<T> {
         dispatch!(self, c => c.translation_map_derivative(w, v))
+    }
+    fn rotation_matrix_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        dispatch!(self, c => c.rotation_matrix_coefficients(s))
+    }
+    fn rotation_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        dispatch!(self, c => c.rotation_left_differential_coefficients(s))
     }
 }
