@@ -24,6 +24,16 @@ pub struct BenchOptions {
     /// Timed repetitions of every run; the median is reported [default: 5].
     #[arg(long)]
     pub repeats: Option<usize>,
+    /// Run only the long run instead of the sweep: lgsvi (case A, h = 0.5, n = 8) beside
+    /// DOP853 over the same horizon, invariants over time.
+    #[arg(long)]
+    pub long_run: bool,
+    /// Steps of the long run [default: 1000000].
+    #[arg(long, value_name = "N")]
+    pub long_run_steps: Option<usize>,
+    /// Initial conditions per case in the parallel-ensemble measurement [default: 64].
+    #[arg(long, value_name = "N")]
+    pub ensemble_members: Option<usize>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -174,21 +184,110 @@ fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>, 
     let settings = StepSettings::new(h, n)
         .map_err(|e| e.to_string())?
         .with_chart(ChartKind::Exp);
-    let inertia = Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?;
-    let system = if case.model.mg == 0.0 {
-        System::Free(RigidBody::new(inertia))
-    } else {
-        System::Top(
-            HeavyTop::new(inertia, 1.0, case.model.mg, Vector3::z(), Vector3::z())
-                .map_err(|e| e.to_string())?,
-        )
-    };
+    let system = lgsvi_system(case)?;
     let w0 = case.model.velocity(&case.start.momentum);
     let mut it =
         Integrator::new(system, settings, SO3::identity(), w0).map_err(|e| e.to_string())?;
     let steps = (t_end / h).round() as usize;
     it.run(steps, steps).map_err(|e| e.to_string())?;
     Ok(*it.state().attitude.matrix())
+}
+
+/// lgsvi's sweeps: nodes at a fixed step, for two steps (a longer step amortises the
+/// nodes that any step needs).
+const LGSVI_SWEEPS: [(f64, std::ops::RangeInclusive<usize>); 2] = [(0.5, 4..=14), (1.0, 6..=20)];
+
+/// Runs per case and horizon: lgsvi, DOP853 (two states × 12 tolerances), fixed-step
+/// methods (12 + 12 + 11 + 11 steps).
+fn runs_per_case() -> usize {
+    LGSVI_SWEEPS
+        .iter()
+        .map(|(_, n)| n.clone().count())
+        .sum::<usize>()
+        + 24
+        + 46
+}
+
+/// The parallel ensemble: `members` initial conditions around case A's and B's, each
+/// integrated to T = 10 (h = 0.5, n = 8, exp chart) by
+/// [`lgsvi_mechanics::ensemble::run_ensemble`], on one thread and on every thread of the
+/// machine; medians of `repeats` runs.
+#[derive(Debug, Clone, Serialize)]
+pub struct EnsembleResult {
+    /// Initial conditions per case.
+    pub members: usize,
+    /// Threads of the parallel run (rayon's default: the machine's cores).
+    pub threads: usize,
+    /// Wall time on one thread, both cases (s).
+    pub one_thread_s: f64,
+    /// Wall time on `threads` threads (s).
+    pub parallel_s: f64,
+    /// `one_thread_s / parallel_s`.
+    pub speedup: f64,
+    /// Members that failed (none expected).
+    pub failures: usize,
+}
+
+/// Measures [`EnsembleResult`].
+pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult, String> {
+    use lgsvi_mechanics::ensemble::{run_ensemble, InitialCondition};
+    let settings = StepSettings::new(0.5, 8)
+        .map_err(|e| e.to_string())?
+        .with_chart(ChartKind::Exp);
+    let mut work = Vec::new();
+    for case in cases() {
+        let system = lgsvi_system(&case)?;
+        let w0 = case.model.velocity(&case.start.momentum);
+        let initial: Vec<InitialCondition> = (0..members)
+            .map(|k| {
+                let phase = k as f64 / members as f64 * std::f64::consts::TAU;
+                InitialCondition {
+                    attitude: SO3::exp(&(Vector3::new(phase.cos(), phase.sin(), 0.3) * 0.2)),
+                    velocity: w0 * (0.9 + 0.2 * k as f64 / members as f64),
+                }
+            })
+            .collect();
+        work.push((system, initial));
+    }
+    let run_all = || {
+        work.iter()
+            .map(|(system, initial)| {
+                run_ensemble(system, &settings, initial, 20)
+                    .iter()
+                    .filter(|r| r.is_err())
+                    .count()
+            })
+            .sum::<usize>()
+    };
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| e.to_string())
+    };
+    let threads = rayon::current_num_threads();
+    let (failures, one_thread_s) = pool(1)?.install(|| timed(repeats, run_all));
+    let (_, parallel_s) = pool(threads)?.install(|| timed(repeats, run_all));
+    Ok(EnsembleResult {
+        members,
+        threads,
+        one_thread_s,
+        parallel_s,
+        speedup: one_thread_s / parallel_s,
+        failures,
+    })
+}
+
+fn lgsvi_system(case: &Case) -> Result<System, String> {
+    let inertia = Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?;
+    Ok(if case.model.mg == 0.0 {
+        System::Free(RigidBody::new(inertia))
+    } else {
+        System::Top(
+            HeavyTop::new(inertia, 1.0, case.model.mg, Vector3::z(), Vector3::z())
+                .map_err(|e| e.to_string())?,
+        )
+    })
 }
 
 /// The whole work-precision sweep.
@@ -213,10 +312,12 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                         failure,
                     });
                 };
-            for n in 4..=14 {
-                let (r, t) = timed(repeats, || lgsvi_run(&case, t_end, 0.5, n));
-                push("lgsvi (exp, h = 0.5)", format!("n = {n}"), r, t);
-                tick();
+            for (h, nodes) in LGSVI_SWEEPS {
+                for n in nodes {
+                    let (r, t) = timed(repeats, || lgsvi_run(&case, t_end, h, n));
+                    push(&format!("lgsvi (exp, h = {h})"), format!("n = {n}"), r, t);
+                    tick();
+                }
             }
             for kind in [Dop853State::Quaternion, Dop853State::Matrix] {
                 for k in 3..=14 {
@@ -329,16 +430,27 @@ pub fn targets(points: &[Point]) -> String {
 
 /// `lgsvi bench`.
 pub fn run(options: BenchOptions) -> Result<(), String> {
+    let repeats = options.repeats.unwrap_or(5);
+    if repeats == 0 {
+        return Err("invalid --repeats 0: need at least one run".into());
+    }
+    let steps = options.long_run_steps.unwrap_or(1_000_000);
+    if steps < 2 {
+        return Err(format!("invalid --long-run-steps {steps}: need at least 2"));
+    }
+    let members = options.ensemble_members.unwrap_or(64);
+    if members == 0 {
+        return Err("invalid --ensemble-members 0: need at least one initial condition".into());
+    }
     let dir = options
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("lgsvi-bench"));
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let repeats = options.repeats.unwrap_or(5);
-    if repeats == 0 {
-        return Err("invalid --repeats 0: need at least one run".into());
+    if options.long_run {
+        return run_long(&dir, steps, options.quiet);
     }
-    let total = 2 * 2 * (11 + 24 + 46);
+    let total = 2 * 2 * runs_per_case() as u64;
     let progress = crate::progress_bar(total, "bench", "runs", options.quiet);
     let points = sweep(repeats, || progress.inc(1));
     progress.finish_and_clear();
@@ -349,6 +461,17 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
     );
     let _ = writeln!(table, "Errors ‖R(T) − R_ref(T)‖_F against the shared 40-digit references; times include construction.\n");
     let _ = writeln!(table, "## Targets\n\n{}", targets(&points));
+    let ensemble = ensemble(members, repeats)?;
+    let ensemble_line = format!(
+        "Ensemble ({} initial conditions per case, A and B, T = 10, h = 0.5, n = 8): {:.1} ms on 1 thread, {:.1} ms on {} threads: speed-up {:.2} (target ≥ 1.8 on 2 cores; {} failures).",
+        ensemble.members,
+        1e3 * ensemble.one_thread_s,
+        1e3 * ensemble.parallel_s,
+        ensemble.threads,
+        ensemble.speedup,
+        ensemble.failures
+    );
+    let _ = writeln!(table, "## Parallel ensemble\n\n{ensemble_line}\n");
     for case in ["A", "B"] {
         for t_end in [10.0, 100.0] {
             let _ = writeln!(table, "## Case {case}, T = {t_end}\n\n| method | knob | error | time (ms) |\n|---|---|---|---|");
@@ -407,13 +530,180 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
     write("BENCH.md", &table)?;
-    let json = serde_json::to_string_pretty(&points).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(&serde_json::json!({
+        "points": points,
+        "ensemble": ensemble,
+    }))
+    .map_err(|e| e.to_string())?;
     write("bench.json", &json)?;
     println!("{}", targets(&points));
+    println!("{ensemble_line}");
     println!(
         "table: {}, data: {}, plots: {}/bench_*.svg|png",
         dir.join("BENCH.md").display(),
         dir.join("bench.json").display(),
+        dir.display()
+    );
+    Ok(())
+}
+
+/// One sample of the long run: relative energy error, Casimir drift `||μ|² − |μ₀|²|/|μ₀|²`,
+/// spatial momentum drift `|Rμ − R₀μ₀|/|μ₀|` and `‖RᵀR − I‖_F`.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Invariants {
+    /// Time.
+    pub t: f64,
+    /// `|E − E₀|/E₀`.
+    pub energy: f64,
+    /// `||μ|² − |μ₀|²|/|μ₀|²`.
+    pub casimir: f64,
+    /// `|Rμ − R₀μ₀|/|μ₀|`.
+    pub spatial_momentum: f64,
+    /// `‖RᵀR − I‖_F`.
+    pub orthogonality: f64,
+}
+
+fn invariants(t: f64, start: &State, model: &Model, state: &State) -> Invariants {
+    let (e0, m0) = (model.energy(start), start.momentum.norm());
+    Invariants {
+        t,
+        energy: ((model.energy(state) - e0) / e0).abs(),
+        casimir: ((state.momentum.norm_squared() - m0 * m0) / (m0 * m0)).abs(),
+        spatial_momentum: (state.attitude * state.momentum - start.attitude * start.momentum)
+            .norm()
+            / m0,
+        orthogonality: (state.attitude.transpose() * state.attitude - Matrix3::identity()).norm(),
+    }
+}
+
+/// The long run: lgsvi (case A, h = 0.5, n = 8, exp chart) for `steps` steps beside
+/// DOP853 on the matrix state (tolerance 1e-13, restarted at each of the `samples`
+/// sample times: sparse output) over the same horizon; both timed. Returns the samples
+/// and the wall times `(lgsvi, DOP853)`.
+pub fn long_run(
+    steps: usize,
+    samples: usize,
+    mut tick: impl FnMut(u64),
+) -> Result<(Vec<Invariants>, Vec<Invariants>, f64, f64), String> {
+    let case = cases().remove(0);
+    let h = 0.5;
+    let every = (steps / samples.max(1)).max(1);
+    let settings = StepSettings::new(h, 8)
+        .map_err(|e| e.to_string())?
+        .with_chart(ChartKind::Exp);
+    let w0 = case.model.velocity(&case.start.momentum);
+    let mut integrator = Integrator::new(lgsvi_system(&case)?, settings, SO3::identity(), w0)
+        .map_err(|e| e.to_string())?;
+    let as_state = |s: &lgsvi_mechanics::State| State {
+        attitude: *s.attitude.matrix(),
+        momentum: s.momentum,
+    };
+    let mut lgsvi = vec![invariants(0.0, &case.start, &case.model, &case.start)];
+    let clock = Instant::now();
+    for k in 1..=steps {
+        integrator.step().map_err(|e| e.to_string())?;
+        if k % every == 0 || k == steps {
+            let s = as_state(integrator.state());
+            lgsvi.push(invariants(k as f64 * h, &case.start, &case.model, &s));
+            tick(every as u64);
+        }
+    }
+    // The clock includes the sampling: a few µs per sample, against ~0.1 s between samples.
+    let lgsvi_time = clock.elapsed().as_secs_f64();
+    let mut dop = vec![invariants(0.0, &case.start, &case.model, &case.start)];
+    let mut state = case.start;
+    let segment = every as f64 * h;
+    let clock = Instant::now();
+    let mut t = 0.0;
+    while t < steps as f64 * h - 1e-9 {
+        let span = segment.min(steps as f64 * h - t);
+        state = dop853(&case.model, &state, span, 1e-13, Dop853State::Matrix)
+            .map_err(|e| e.to_string())?
+            .0;
+        t += span;
+        dop.push(invariants(t, &case.start, &case.model, &state));
+    }
+    let dop_time = clock.elapsed().as_secs_f64();
+    Ok((lgsvi, dop, lgsvi_time, dop_time))
+}
+
+/// `lgsvi bench --long-run`: runs [`long_run`] and writes `LONG_RUN.md`, `long_run.json`
+/// and the plots `long_run_{energy,casimir,spatial_momentum,orthogonality}.svg|png`.
+fn run_long(dir: &std::path::Path, steps: usize, quiet: bool) -> Result<(), String> {
+    let progress = crate::progress_bar(steps as u64, "long run (lgsvi)", "steps", quiet);
+    let (lgsvi, dop, lgsvi_time, dop_time) = long_run(steps, 500, |k| progress.inc(k))?;
+    progress.finish_and_clear();
+    let max = |v: &[Invariants], f: fn(&Invariants) -> f64| v.iter().map(f).fold(0.0, f64::max);
+    let half = |v: &[Invariants], f: fn(&Invariants) -> f64| {
+        let mid = v.len() / 2;
+        (max(&v[..mid], f), max(&v[mid..], f))
+    };
+    type Get = fn(&Invariants) -> f64;
+    let quantities: [(&str, &str, Get); 4] = [
+        ("energy", "relative energy error |E − E₀|/E₀", |i| {
+            i.energy
+        }),
+        (
+            "casimir",
+            "Casimir drift ||μ|² − |μ₀|²|/|μ₀|²",
+            |i| i.casimir,
+        ),
+        (
+            "spatial_momentum",
+            "spatial momentum drift |Rμ − R₀μ₀|/|μ₀|",
+            |i| i.spatial_momentum,
+        ),
+        ("orthogonality", "‖RᵀR − I‖_F", |i| i.orthogonality),
+    ];
+    let t_end = steps as f64 * 0.5;
+    let mut md = format!(
+        "# lgsvi bench --long-run\n\nCase A (free rigid body), T = {t_end}: lgsvi {steps} steps (h = 0.5, n = 8, exp chart, exact matching) in {lgsvi_time:.1} s; DOP853 on (R, Ω) at tolerance 1e-13 over the same horizon (restarted at the {} sample times) in {dop_time:.1} s.\n\n| quantity | lgsvi max, first half | lgsvi max, second half | DOP853 max, first half | DOP853 max, second half |\n|---|---|---|---|---|\n",
+        lgsvi.len() - 1
+    );
+    for (name, label, f) in quantities {
+        let (l1, l2) = half(&lgsvi, f);
+        let (d1, d2) = half(&dop, f);
+        let cell = label.replace('|', "\\|");
+        let _ = writeln!(md, "| {cell} | {l1:.2e} | {l2:.2e} | {d1:.2e} | {d2:.2e} |");
+        let series = |label: &str, v: &[Invariants], color: usize| Series {
+            label: label.into(),
+            points: v.iter().skip(1).map(|i| (i.t, f(i))).collect(),
+            style: Style::Line,
+            color,
+        };
+        plot::save(
+            &Figure {
+                title: format!("Long run, case A: {label}"),
+                x_label: "time t".into(),
+                y_label: label.into(),
+                x_log: false,
+                y_log: true,
+                series: vec![
+                    series("lgsvi (h = 0.5, n = 8)", &lgsvi, 0),
+                    series("DOP853, (R, Ω), tol 1e-13", &dop, 1),
+                ],
+                hlines: vec![],
+                legend_left: true,
+            },
+            &dir.join(format!("long_run_{name}")),
+        )?;
+    }
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    write("LONG_RUN.md", &md)?;
+    let json = serde_json::to_string_pretty(&serde_json::json!({
+        "steps": steps, "lgsvi_time_s": lgsvi_time, "dop853_time_s": dop_time,
+        "lgsvi": lgsvi, "dop853": dop,
+    }))
+    .map_err(|e| e.to_string())?;
+    write("long_run.json", &json)?;
+    print!("{md}");
+    println!(
+        "report: {}, data: {}, plots: {}/long_run_*.svg|png",
+        dir.join("LONG_RUN.md").display(),
+        dir.join("long_run.json").display(),
         dir.display()
     );
     Ok(())

@@ -4,7 +4,9 @@
 use crate::config::{SimulateOptions, SystemKind};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
+use lgsvi_mechanics::{
+    HeavyTop, Inertia, Integrator, Lagrangian, LagrangianDerivatives, RigidBody, StepSettings,
+};
 use nalgebra::{Matrix3, RealField, Vector3};
 
 /// The paper's parameters per system (`paper/README.md`): case A and case B.
@@ -50,6 +52,13 @@ impl Lagrangian for System {
         match self {
             System::Free(s) => s.velocity_from_momentum(r, mu),
             System::Top(s) => s.velocity_from_momentum(r, mu),
+        }
+    }
+    // Forwarded: the built-ins' closed forms are ~10× faster than the default dual numbers.
+    fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
+        match self {
+            System::Free(s) => s.derivatives(r, w),
+            System::Top(s) => s.derivatives(r, w),
         }
     }
 }

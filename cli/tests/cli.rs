@@ -394,6 +394,8 @@ fn bench_writes_table_data_and_plots() {
         "--repeats",
         "1",
         "--quiet",
+        "--ensemble-members",
+        "4",
         "--out",
         out_dir.to_str().unwrap(),
     ]);
@@ -405,11 +407,17 @@ fn bench_writes_table_data_and_plots() {
         4,
         "{out}"
     );
-    let points: serde_json::Value =
+    assert!(out.contains("Ensemble (4 initial conditions"), "{out}");
+    let data: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("bench.json")).unwrap())
             .unwrap();
-    let points = points.as_array().unwrap();
-    assert_eq!(points.len(), 2 * 2 * (11 + 24 + 46));
+    let ensemble = &data["ensemble"];
+    assert_eq!(ensemble["members"], 4);
+    assert_eq!(ensemble["failures"], 0);
+    assert!(ensemble["speedup"].as_f64().unwrap() > 0.0);
+    let points = data["points"].as_array().unwrap();
+    // lgsvi at h = 0.5 (n = 4..14) and h = 1 (n = 6..20), DOP853 2 × 12, fixed-step 46.
+    assert_eq!(points.len(), 2 * 2 * (11 + 15 + 24 + 46));
     // Every baseline converges on its own sweep: each method's best error is small.
     for method in [
         "lgsvi",
@@ -432,5 +440,46 @@ fn bench_writes_table_data_and_plots() {
             }
         }
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `lgsvi bench --long-run` (shortened) writes its report, data and four plots, and lgsvi
+/// keeps the rotation orthogonal to rounding where DOP853 on (R, Ω) does not try to.
+#[test]
+fn bench_long_run_writes_report_data_and_plots() {
+    let dir = temp_dir("long-run");
+    let (code, out, err) = lgsvi(&[
+        "bench",
+        "--long-run",
+        "--long-run-steps",
+        "2000",
+        "--quiet",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("lgsvi 2000 steps"), "{out}");
+    let data: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("long_run.json")).unwrap()).unwrap();
+    let samples = data["lgsvi"].as_array().unwrap();
+    assert_eq!(samples.len(), 501);
+    // 1000 steps: orthogonality stays at rounding (each step multiplies by an exactly
+    // computed rotation: ~ε per step, random walk: ≪ 1e-13).
+    let worst = samples
+        .iter()
+        .map(|s| s["orthogonality"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-13, "{worst:e}");
+    for name in ["energy", "casimir", "spatial_momentum", "orthogonality"] {
+        for ext in ["svg", "png"] {
+            assert!(
+                dir.join(format!("long_run_{name}.{ext}")).exists(),
+                "{name}.{ext}"
+            );
+        }
+    }
+    let (code, _, err) = lgsvi(&["bench", "--long-run", "--long-run-steps", "1"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--long-run-steps"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

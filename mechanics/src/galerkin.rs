@@ -330,6 +330,26 @@ impl<L: Lagrangian> Stepper<'_, L> {
         self.settings.matching() == Matching::Exact && !self.system.is_left_invariant()
     }
 
+    /// The residual at the unknowns in `work.xi` relative to the equations' largest terms
+    /// (infinite outside the chart's domain or where not finite): how good a predictor is.
+    pub fn relative_residual(
+        &self,
+        base: &Matrix3<f64>,
+        mu: &Vector3<f64>,
+        work: &mut Workspace,
+    ) -> f64 {
+        if self.check_domain(work, 0, 0.0).is_err() {
+            return f64::INFINITY;
+        }
+        let (residual, scale) = self.assemble(base, mu, work, false);
+        let relative = residual / scale.max(f64::MIN_POSITIVE);
+        if relative.is_finite() {
+            relative
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Evaluates the points (with their Hessians if `with_jacobian`, for a following
     /// [`Stepper::fill_jacobian`]) and the residual at the current unknowns; returns
     /// `(‖F‖∞, scale)` with the residual written to `work.residual`.

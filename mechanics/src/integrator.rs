@@ -8,6 +8,10 @@ use lgsvi_lie::{ChartKind, So3Chart, SO3};
 use nalgebra::{Matrix3, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
 
+/// A continued curve whose residual is below this fraction of the equations' terms is
+/// taken without trying the velocity-corrected predictor (Newton then needs ~2 steps).
+const PREDICTOR_GOOD_ENOUGH: f64 = 1e-3;
+
 /// `μ = ∂ℓ/∂Ω(R, Ω)` (the Legendre transform), by dual numbers.
 pub fn body_momentum<L: Lagrangian>(
     system: &L,
@@ -200,6 +204,8 @@ pub struct Integrator<L: Lagrangian> {
     /// (then there is no previous Galerkin curve either).
     previous_velocity: Option<Vector3<f64>>,
     last_nodes: Vec<Vector3<f64>>,
+    /// Scratch for the predictor's comparison.
+    extrapolated: Vec<Vector3<f64>>,
     last_base: SO3,
     statistics: Statistics,
 }
@@ -236,6 +242,7 @@ impl<L: Lagrangian> Integrator<L> {
             step_index: 0,
             previous_velocity: None,
             last_nodes: vec![Vector3::zeros(); n],
+            extrapolated: vec![Vector3::zeros(); n],
             last_base: attitude,
             statistics: Statistics::default(),
         })
@@ -272,16 +279,46 @@ impl<L: Lagrangian> Integrator<L> {
         })
     }
 
-    /// The predictor: constant body velocity on the first step; afterwards the previous
-    /// step's chart coordinates, corrected by the change of velocity,
-    /// `ξⁱ ← ξⁱ_prev + A(0)⁻¹ t_i (Ω_k − Ω_{k−1})` (second order in `h`). With
-    /// `constant_velocity`, always `ξⁱ = Φ⁻¹(exp(t_i Ω_k))`: first order, but robust when
-    /// the velocity changes a lot within a step (the fallback when Newton fails).
+    /// The predictor. After the first step: the last step's Galerkin curve continued
+    /// ([`Integrator::extrapolate`]); if its relative residual exceeds
+    /// [`PREDICTOR_GOOD_ENOUGH`] (long steps), the better of it and the previous step's
+    /// chart coordinates corrected by the change of velocity,
+    /// `ξⁱ ← ξⁱ_prev + A(0)⁻¹ t_i (Ω_k − Ω_{k−1})` (second order in `h`). On the first
+    /// step, or with `constant_velocity`, `ξⁱ = Φ⁻¹(exp(t_i Ω_k))`: first order, but robust
+    /// when the velocity changes a lot within a step (the fallback when Newton fails).
     fn predict(&mut self, constant_velocity: bool) {
         if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
             self.work.xi[0] = Vector3::zeros();
+            // On long steps the continuation can be worse than the velocity correction
+            // below: when its residual is not small, keep the better of the two.
+            let base = *self.state.attitude.matrix();
+            let stepper = Stepper {
+                system: &self.system,
+                settings: &self.settings,
+                d: &self.discretisation,
+            };
+            let continued = stepper.relative_residual(&base, &self.state.momentum, &mut self.work);
+            if continued <= PREDICTOR_GOOD_ENOUGH {
+                return;
+            }
+            self.extrapolated.copy_from_slice(&self.work.xi);
+            self.predict_from_velocity(false);
+            let stepper = Stepper {
+                system: &self.system,
+                settings: &self.settings,
+                d: &self.discretisation,
+            };
+            let corrected = stepper.relative_residual(&base, &self.state.momentum, &mut self.work);
+            if continued <= corrected {
+                self.work.xi.copy_from_slice(&self.extrapolated);
+            }
             return;
         }
+        self.predict_from_velocity(constant_velocity);
+    }
+
+    /// The velocity-corrected (or, with `constant_velocity`, constant-velocity) predictor.
+    fn predict_from_velocity(&mut self, constant_velocity: bool) {
         let chart = self.settings.chart();
         let a0_inv = chart.rotation_left_differential_inverse(&Vector3::zeros());
         let omega = self.state.velocity;

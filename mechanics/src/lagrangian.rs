@@ -122,7 +122,9 @@ pub trait Lagrangian {
 
     /// First and second derivatives of `ℓ` at `(R, Ω)`, which the Newton matrices are
     /// built from. The default takes them by dual numbers (exact); override it only to go
-    /// faster, with a closed form (the built-in systems do).
+    /// faster, with a closed form (the built-in systems do). A type that wraps other
+    /// Lagrangians (an enum of systems, say) should forward this method too: the default
+    /// is exact but about ten times slower per step than the built-ins' closed forms.
     fn derivatives(
         &self,
         world_from_body: &Matrix3<f64>,

@@ -48,6 +48,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod ensemble;
 mod error;
 pub mod exact;
 mod galerkin;
