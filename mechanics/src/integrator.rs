@@ -291,24 +291,13 @@ impl<L: Lagrangian> Integrator<L> {
             self.work.xi[0] = Vector3::zeros();
             // On long steps the continuation can be worse than the velocity correction
             // below: when its residual is not small, keep the better of the two.
-            let base = *self.state.attitude.matrix();
-            let stepper = Stepper {
-                system: &self.system,
-                settings: &self.settings,
-                d: &self.discretisation,
-            };
-            let continued = stepper.relative_residual(&base, &self.state.momentum, &mut self.work);
+            let continued = self.predictor_residual();
             if continued <= PREDICTOR_GOOD_ENOUGH {
                 return;
             }
             self.extrapolated.copy_from_slice(&self.work.xi);
             self.predict_from_velocity(false);
-            let stepper = Stepper {
-                system: &self.system,
-                settings: &self.settings,
-                d: &self.discretisation,
-            };
-            let corrected = stepper.relative_residual(&base, &self.state.momentum, &mut self.work);
+            let corrected = self.predictor_residual();
             if continued <= corrected {
                 self.work.xi.copy_from_slice(&self.extrapolated);
             }
@@ -416,17 +405,27 @@ impl<L: Lagrangian> Integrator<L> {
         &mut self,
         base: &Matrix3<f64>,
     ) -> Result<crate::galerkin::StepOutcome, MechanicsError> {
-        let stepper = Stepper {
-            system: &self.system,
-            settings: &self.settings,
-            d: &self.discretisation,
-        };
-        stepper.solve(
-            base,
-            &self.state.momentum,
+        let (mu, step, time) = (self.state.momentum, self.step_index, self.state.time);
+        let (stepper, work) = self.stepper();
+        stepper.solve(base, &mu, work, step, time)
+    }
+
+    /// The relative residual of the guess in the workspace, from the current state.
+    fn predictor_residual(&mut self) -> f64 {
+        let (base, mu) = (*self.state.attitude.matrix(), self.state.momentum);
+        let (stepper, work) = self.stepper();
+        stepper.relative_residual(&base, &mu, work)
+    }
+
+    /// The step solver over this integrator's system and settings, beside its workspace.
+    fn stepper(&mut self) -> (Stepper<'_, L>, &mut Workspace) {
+        (
+            Stepper {
+                system: &self.system,
+                settings: &self.settings,
+                d: &self.discretisation,
+            },
             &mut self.work,
-            self.step_index,
-            self.state.time,
         )
     }
 
