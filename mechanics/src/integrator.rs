@@ -287,6 +287,7 @@ impl<L: Lagrangian> Integrator<L> {
     /// step, or with `constant_velocity`, `ξⁱ = Φ⁻¹(exp(t_i Ω_k))`: first order, but robust
     /// when the velocity changes a lot within a step (the fallback when Newton fails).
     fn predict(&mut self, constant_velocity: bool) {
+        self.work.guess_changed();
         if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
             self.work.xi[0] = Vector3::zeros();
             // On long steps the continuation can be worse than the velocity correction
@@ -300,6 +301,7 @@ impl<L: Lagrangian> Integrator<L> {
             let corrected = self.predictor_residual();
             if continued <= corrected {
                 self.work.xi.copy_from_slice(&self.extrapolated);
+                self.work.guess_changed();
             }
             return;
         }
@@ -308,6 +310,7 @@ impl<L: Lagrangian> Integrator<L> {
 
     /// The velocity-corrected (or, with `constant_velocity`, constant-velocity) predictor.
     fn predict_from_velocity(&mut self, constant_velocity: bool) {
+        self.work.guess_changed();
         let chart = self.settings.chart();
         let a0_inv = chart.rotation_left_differential_inverse(&Vector3::zeros());
         let omega = self.state.velocity;

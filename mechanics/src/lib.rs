@@ -6,7 +6,9 @@
 //! Chebyshev–Lobatto nodes of `[0, h]` (`ξ¹ = 0`), that makes the discrete action
 //! `S = Σ_j h b_j ℓ(R(c_j h), Ω(c_j h))` (`m` Gauss points) stationary with respect to the
 //! interior nodes, and matches the incoming body momentum. Then `R_{k+1} = R_k Φ(ξⁿ)` and
-//! `μ_{k+1} = A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ`. The momentum matching is by default the **exact** derivative
+//! `μ_{k+1} = A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ` (taken in the form the matching equation makes it
+//! equal to, `Φ(ξⁿ)ᵀ(μ_k + Σ_j h b_j Φ(x_j) p_j)` with `p_j` the configuration forces at the
+//! Gauss points, zero for a free body: `R_{k+1} μ_{k+1}` then carries no Newton residual). The momentum matching is by default the **exact** derivative
 //! of the discrete Lagrangian, so the map is exactly variational: spatial angular momentum
 //! `Rμ` of a free body (and its vertical component for the heavy top) is conserved to
 //! rounding and the energy error stays bounded. The paper's own recipe is available
@@ -19,7 +21,8 @@
 //! system gives them in closed form (the built-in ones do). So a system is defined by
 //! writing `ℓ` once ([`Lagrangian`]), never its derivatives. The predictor continues the
 //! last step's Galerkin curve; a Newton step taken from a residual below 1e-8 of the
-//! equations' terms is accepted once the residual reaches its rounding floor.
+//! equations' terms is accepted once the residual reaches its rounding floor, the correction
+//! at the floor reuses the factored Jacobian (a chord step) and is never backtracked.
 //!
 //! # Validation
 //! [`exact::FreeRigidBodyExact`] is the exact motion of the free rigid body (Jacobi

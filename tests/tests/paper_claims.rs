@@ -187,7 +187,11 @@ fn long_run_conserves_with_exact_matching_and_drifts_with_the_papers() {
         println!(
             "exact matching, {chart}: Rμ drift {pi:.1e}, |μ|² drift {cas:.1e}, energy error first 10% {first:.1e} last 10% {last:.1e}, ‖RᵀR − I‖ {orth:.1e}"
         );
-        assert!(pi <= 1e-12 && cas <= 1e-12, "{chart}: {pi:e} {cas:e}");
+        // Rounding: the momentum update is Φ(ξⁿ)ᵀμ_k, so each step moves Rμ and |μ|² by
+        // the rounding of a few 3×3 products (~2e-16), a random walk of ~√2000 · 2e-16 ≈
+        // 1e-14 (measured 5e-15–1.4e-14); 1e-13 leaves a factor 7. Taking the update as
+        // A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ instead adds the matching residual every step and fails it.
+        assert!(pi <= 1e-13 && cas <= 1e-13, "{chart}: {pi:e} {cas:e}");
         assert!(first.max(last) <= 1e-11, "{chart}: {first:e} {last:e}");
         // Not growing. A linear drift makes the last tenth's worst error ~10× the first
         // tenth's (the paper's matching below: 10.0×); a random walk of rounding errors
@@ -229,7 +233,9 @@ fn heavy_top_with_a_large_step() {
         .fold(0.0, f64::max)
         / pi3.abs();
     println!("case B, h 1.5, n 8: energy error first 10% {first:.1e} last 10% {last:.1e}, e₃·Rμ drift {pi3_drift:.1e}");
-    assert!(pi3_drift <= 1e-12, "{pi3_drift:e}");
+    // The update Φ(ξⁿ)ᵀ(μ_k + impulse) keeps e₃·Rμ to the rounding of a few products per
+    // step: ~√200 · 2e-16 ≈ 3e-15 (measured 1.0e-15).
+    assert!(pi3_drift <= 1e-13, "{pi3_drift:e}");
     // Bounded: no more than the 5× that separates a linear drift from rounding noise.
     assert!(
         last <= 5.0 * first + 1e-12,
@@ -300,37 +306,41 @@ fn galerkin_curves_between_the_nodes() {
     }
 }
 
-/// Figure 3's setting over 10⁴ steps (unscaled Cayley, exact matching, n = 12, h = 0.5):
-/// the energy error oscillates without trend. The largest error over the second half is
-/// within 1.5× that over the first. This guards the nonlinear solve: a simplified Newton
-/// that stopped linearly converging iterations at the residual tolerance measured 1.83
-/// here (a drift, 4e-13 → 5e-12), although the 2000-step test above passed. Solvers that
-/// reach the fixed point and differ only in rounding (Jacobian assembly, predictor, the
-/// iteration that confirms the rounding floor, dual-number or chain-rule derivatives)
-/// measured ratios 0.99–1.49 and levels 4e-13–2.4e-12 (rounding accumulated over 10⁴
-/// steps); the shipped solver 1.04 at 1.5e-12.
+/// The energy error stays at the level of accumulated rounding over 10⁴ steps of Figure 3's
+/// setting (unscaled Cayley, exact matching, n = 12, h = 0.5) and 2·10⁴ steps of the long
+/// run's (exp, n = 8, h = 0.5). Each step perturbs the energy by the rounding of the solve
+/// (a few 1e-16 relative), so a random walk reaches ~√(2·10⁴) · 3e-16 ≈ 4e-14; the bound
+/// 1e-13 leaves a factor 2.5. Every systematic error in the solve seen so far fails it:
+/// a simplified Newton stopped at the residual tolerance (4e-13 → 5e-12 in the first
+/// setting), the momentum update taken as `A⁻ᵀ ∂S/∂ξⁿ`, which carries the matching
+/// residual (5.3e-13, first setting), and backtracking at the rounding floor, which keeps
+/// the previous iterate's quadratic remainder (3.1e-13, second setting). The ratio of
+/// the halves is printed but not bounded: at this level it is noise (1.0–2.5 between
+/// rounding-only variants). Measured 2.7e-14 and 3.1e-14.
 #[test]
 fn energy_error_has_no_trend_over_ten_thousand_steps() {
     let a = case("A");
-    let settings = StepSettings::new(0.5, 12)
-        .unwrap()
-        .with_chart(ChartKind::CayleyUnscaled);
-    let (t, _, _) = run(&a, settings, 10_000, 10).unwrap();
-    let e0 = energy(&a, &t.states[0]);
-    let errors: Vec<f64> = t
-        .states
-        .iter()
-        .map(|s| (energy(&a, s) - e0).abs() / e0)
-        .collect();
-    let half = errors.len() / 2;
-    let first = errors[..half].iter().cloned().fold(0.0, f64::max);
-    let second = errors[half..].iter().cloned().fold(0.0, f64::max);
-    println!(
-        "10⁴ steps: energy error first half {first:.1e}, second half {second:.1e}, ratio {:.2}",
-        second / first
-    );
-    assert!(
-        second <= 1.5 * first && second <= 1e-11,
-        "{first:e} → {second:e}"
-    );
+    let settings = [
+        (ChartKind::CayleyUnscaled, 12, 10_000),
+        (ChartKind::Exp, 8, 20_000),
+    ];
+    for (chart, n, steps) in settings {
+        let settings = StepSettings::new(0.5, n).unwrap().with_chart(chart);
+        let (t, _, _) = run(&a, settings, steps, 10).unwrap();
+        let e0 = energy(&a, &t.states[0]);
+        let errors: Vec<f64> = t
+            .states
+            .iter()
+            .map(|s| (energy(&a, s) - e0).abs() / e0)
+            .collect();
+        let half = errors.len() / 2;
+        let first = errors[..half].iter().cloned().fold(0.0, f64::max);
+        let second = errors[half..].iter().cloned().fold(0.0, f64::max);
+        println!(
+            "{chart}, n {n}, {steps} steps: energy error first half {first:.1e}, second half \
+             {second:.1e}, ratio {:.2}",
+            second / first
+        );
+        assert!(second <= 1e-13, "{chart} n {n}: {first:e} → {second:e}");
+    }
 }
