@@ -647,10 +647,9 @@ impl<L: Lagrangian> Stepper<'_, L> {
                 .as_ref()
                 .ok()
                 .map(|_| saved.unwrap_or_else(|| self.assemble(base, mu, work, with_hessians)));
-            let from_quadratic_regime = previous <= QUADRATIC_REGIME * previous_scale;
             let worse = match assembled {
                 // NaN counts as worse; near the solution the full step stands.
-                Some((r, _)) => r.is_nan() || (r >= previous && !from_quadratic_regime),
+                Some((r, _)) => r.is_nan() || (r >= previous && !expect_converged),
                 None => true,
             };
             if iterations > 0 && worse && damping > 0.5f64.powi(MAX_HALVINGS as i32) {

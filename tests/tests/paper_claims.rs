@@ -243,7 +243,8 @@ fn heavy_top_with_a_large_step() {
     );
 }
 
-/// Newton iterations (Newton steps, each with a fresh exact Jacobian) per step, pinned so
+/// Newton iterations (steps with a fresh exact Jacobian, plus at most one chord step at the
+/// rounding floor, which reuses the last one) per step, pinned so
 /// that a silent loss of convergence or of the predictor fails the build: case A, h = 0.5,
 /// exp chart. The predictor continues the last step's curve (relative residual ~2e-3 at
 /// n = 8, ~6e-5 from n = 10 on), and a step taken from below 1e-8 is accepted at the
