@@ -50,6 +50,27 @@ proptest! {
         }
     }
 
+    /// Beyond a half turn the exp chart's inverse on the branch near a guess recovers the
+    /// vector: for `|ω|` in (0.1, 6), `rotation_vector_near(exp ω, ω + δ)` with a guess
+    /// off by `|δ| < 0.05` returns `ω`, where the principal logarithm returns
+    /// `(|ω| − 2π) ω/|ω|` past `π`. The other branch is `2π − 2|ω|`-far at worst (≥ 0.57
+    /// here), so a 0.05 guess cannot pick it. Tolerance: past `π` the result is the
+    /// principal logarithm (angle `2π − |ω|` ≥ 0.28) stretched to length `|ω|`, which
+    /// scales the rounding of its axis (≲ 2ε/angle) by ≤ 6: ≤ 45ε, inside 64ε(1 + |ω|).
+    #[test]
+    fn exp_inverse_follows_the_branch_of_a_guess(w in vec3(3.5), d in vec3(0.028)) {
+        prop_assume!(w.norm() > 0.1 && w.norm() < 6.0);
+        let r = ExpChart.rotation_matrix(&w);
+        let back = ExpChart.rotation_vector_near(&r, &(w + d)).unwrap();
+        prop_assert!((back - w).amax() <= 64.0 * EPS * (1.0 + w.norm()), "{back} vs {w}");
+        // The default (any other chart) is the plain inverse.
+        let c = CayleyChart.rotation_matrix(&w);
+        prop_assert_eq!(
+            CayleyChart.rotation_vector_near(&c, &(w + d)).unwrap(),
+            CayleyChart.rotation_vector(&c).unwrap()
+        );
+    }
+
     /// The Rodrigues coefficients rebuild `Φ` and `A` of every chart. Both sides evaluate
     /// the same coefficient functions, so they agree to a few ulps of the entries (each a
     /// sum of three terms of size ≤ |e| + |a||ω| + |b||ω|², at most ~4 for `|ω| < 6`).

@@ -115,6 +115,9 @@ pub struct Statistics {
     pub newton_iterations: usize,
     /// The most Newton iterations one step took.
     pub max_newton_iterations: usize,
+    /// Newton matrices assembled and factored, summed over the steps: the iterations
+    /// beyond these were chord steps, which reuse the step's last factored matrix.
+    pub factorizations: usize,
 }
 
 /// A step's Galerkin curve: `g(t) = g_k Φ(ξ(t))`, `t ∈ [0, h]` from the step's start.
@@ -279,22 +282,31 @@ impl<L: Lagrangian> Integrator<L> {
         })
     }
 
-    /// The predictor. After the first step: the last step's Galerkin curve continued
-    /// ([`Integrator::extrapolate`]); if its relative residual exceeds
+    /// The predictor. When the system gives `Ω(μ)` in closed form (the built-in ones do):
+    /// the system's own flow over the step by a few Runge–Kutta substeps
+    /// ([`Integrator::predict_by_flow`]; measured relative residual 3e-6 at `h = 0.5`
+    /// and 2e-5 at `h = 1` on the paper's rigid body, against 3e-4 and 0.1 for the
+    /// continued curve). Otherwise, after the first step: the last step's Galerkin curve
+    /// continued ([`Integrator::extrapolate`]); if its relative residual exceeds
     /// [`PREDICTOR_GOOD_ENOUGH`] (long steps), the better of it and the previous step's
     /// chart coordinates corrected by the change of velocity,
     /// `ξⁱ ← ξⁱ_prev + A(0)⁻¹ t_i (Ω_k − Ω_{k−1})` (second order in `h`). On the first
     /// step, or with `constant_velocity`, `ξⁱ = Φ⁻¹(exp(t_i Ω_k))`: first order, but robust
     /// when the velocity changes a lot within a step (the fallback when Newton fails).
-    fn predict(&mut self, constant_velocity: bool) {
+    ///
+    /// Returns whether the guess is the constant-velocity one (nothing left to retry).
+    fn predict(&mut self, constant_velocity: bool) -> bool {
         self.work.guess_changed();
+        if !constant_velocity && self.predict_by_flow() {
+            return false;
+        }
         if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
             self.work.xi[0] = Vector3::zeros();
             // On long steps the continuation can be worse than the velocity correction
             // below: when its residual is not small, keep the better of the two.
             let continued = self.predictor_residual();
             if continued <= PREDICTOR_GOOD_ENOUGH {
-                return;
+                return false;
             }
             self.extrapolated.copy_from_slice(&self.work.xi);
             self.predict_from_velocity(false);
@@ -303,9 +315,30 @@ impl<L: Lagrangian> Integrator<L> {
                 self.work.xi.copy_from_slice(&self.extrapolated);
                 self.work.guess_changed();
             }
-            return;
+            return false;
         }
         self.predict_from_velocity(constant_velocity);
+        constant_velocity || self.previous_velocity.is_none()
+    }
+
+    /// The system's own flow over the step (classical RK4 in the chart, see
+    /// [`crate::flow`]), when the system gives `Ω(μ)` in closed form. False (the guess
+    /// then comes from the other predictors) where it does not, or where the flow leaves
+    /// the chart's domain.
+    fn predict_by_flow(&mut self) -> bool {
+        let base = *self.state.attitude.matrix();
+        let done = crate::flow::flow_guess(
+            &self.system,
+            self.settings.chart(),
+            &base,
+            &self.state.momentum,
+            &self.state.velocity,
+            self.settings.step(),
+            self.discretisation.node_times(),
+            &mut self.work.xi,
+        );
+        self.work.xi[0] = Vector3::zeros();
+        done
     }
 
     /// The velocity-corrected (or, with `constant_velocity`, constant-velocity) predictor.
@@ -324,10 +357,13 @@ impl<L: Lagrangian> Integrator<L> {
             }
             _ => {
                 for (i, t) in times.iter().enumerate() {
+                    // On the branch of the linear guess: past a half turn per step, the
+                    // principal logarithm would jump to the other side of the exp chart.
+                    let linear = a0_inv * (omega * *t);
                     let rotation = SO3::exp(&(omega * *t));
                     self.work.xi[i] = chart
-                        .rotation_vector(rotation.matrix())
-                        .unwrap_or_else(|_| a0_inv * (omega * *t));
+                        .rotation_vector_near(rotation.matrix(), &linear)
+                        .unwrap_or(linear);
                 }
             }
         }
@@ -335,11 +371,12 @@ impl<L: Lagrangian> Integrator<L> {
     }
 
     /// The previous step's Galerkin curve continued over the next step, in the new
-    /// step's chart: `ξⁱ = Φ⁻¹(Φ(ξⁿ_prev)⁻¹ Φ(ξ_prev(h + t_i)))`. False (and nothing
-    /// written) where a node leaves `Φ⁻¹`'s domain.
+    /// step's chart: `ξⁱ = Φ⁻¹(Φ(ξⁿ_prev)⁻¹ Φ(ξ_prev(h + t_i)))`. False where a node
+    /// leaves `Φ⁻¹`'s domain (the guess is then partly written: the caller replaces it).
     fn extrapolate(&mut self) -> bool {
         let chart = self.settings.chart();
         let n = self.discretisation.n;
+        self.work.xi[0] = Vector3::zeros();
         let end = chart.rotation_matrix(&self.last_nodes[n - 1]).transpose();
         for i in 1..n {
             let row = &self.discretisation.extrapolation[i * n..(i + 1) * n];
@@ -347,7 +384,10 @@ impl<L: Lagrangian> Integrator<L> {
                 .iter()
                 .zip(&self.last_nodes)
                 .fold(Vector3::zeros(), |acc, (e, xi)| acc + xi * *e);
-            match chart.rotation_vector(&(end * chart.rotation_matrix(&continued))) {
+            // Each node on the branch of the one before (ξ¹ = 0): the continued curve may
+            // rotate past a half turn relative to the step's start.
+            let near = self.work.xi[i - 1];
+            match chart.rotation_vector_near(&(end * chart.rotation_matrix(&continued)), &near) {
                 Ok(xi) if xi.iter().all(|x| x.is_finite()) => self.work.xi[i] = xi,
                 _ => return false,
             }
@@ -361,14 +401,14 @@ impl<L: Lagrangian> Integrator<L> {
     /// [`MechanicsError::NewtonDiverged`], [`MechanicsError::SingularJacobian`] or
     /// [`MechanicsError::OutsideChart`], naming the step; the state is left unchanged.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
-        self.predict(false);
+        let constant_velocity = self.predict(false);
         let base = *self.state.attitude.matrix();
         let first = self.solve(&base);
         let outcome = match first {
             Ok(outcome) => outcome,
-            // A poor guess (the velocity changed a lot over the last step): retry once from
-            // constant velocity before giving up.
-            Err(_) if self.previous_velocity.is_some() => {
+            // A poor guess (the velocity changed a lot over the last step, or the flow
+            // guess led Newton astray): retry once from constant velocity before giving up.
+            Err(_) if !constant_velocity => {
                 self.predict(true);
                 self.solve(&base)?
             }
@@ -400,6 +440,7 @@ impl<L: Lagrangian> Integrator<L> {
         let stats = &mut self.statistics;
         stats.steps += 1;
         stats.newton_iterations += outcome.iterations;
+        stats.factorizations += outcome.factorizations;
         stats.max_newton_iterations = stats.max_newton_iterations.max(outcome.iterations);
         Ok(outcome.iterations)
     }

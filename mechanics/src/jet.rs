@@ -21,7 +21,7 @@ use crate::lagrangian::Lagrangian;
 use lgsvi_lie::so3::hat;
 use lgsvi_lie::{ChartKind, RodriguesCoefficients, So3Chart};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
-use num_dual::Dual2_64;
+use num_dual::{Dual2_64, Dual64};
 
 /// A 3×3 matrix function `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` of `x ∈ ℝ³` with its first
 /// partial derivatives; second derivatives are only ever needed contracted with a
@@ -85,6 +85,21 @@ impl MatrixJet {
         }
     }
 
+    /// As [`MatrixJet::from_rodrigues`] from coefficients at a first-order dual number
+    /// (the second derivatives set to zero): enough for the value and first derivatives,
+    /// which is all a gradient needs, at about two thirds of the cost.
+    pub fn from_rodrigues_first_order(c: &RodriguesCoefficients<Dual64>, x: &Vector3<f64>) -> Self {
+        let lift = |d: Dual64| Dual2_64::new(d.re, d.eps, 0.0);
+        Self::from_rodrigues(
+            &RodriguesCoefficients {
+                identity: lift(c.identity),
+                hat: lift(c.hat),
+                hat_squared: lift(c.hat_squared),
+            },
+            x,
+        )
+    }
+
     /// `[⟨G, ∂_k∂_l M⟩]_kl`, from the formula in the module's documentation with
     /// `⟨G, I⟩ = tr G`, `⟨G, ŷ⟩ = γ·y` (`γ` the axial vector of `G − Gᵀ`),
     /// `⟨G, x̂²⟩ = xᵀGx − s tr G`, `⟨G, D_k⟩ = ((G + Gᵀ)x − 2 tr G x)_k` and
@@ -139,14 +154,29 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
     with_configuration: bool,
     with_hessian: bool,
 ) -> Option<PointDerivatives> {
-    let s = Dual2_64::new(x.norm_squared(), 1.0, 0.0);
-    let a = MatrixJet::from_rodrigues(&chart.rotation_left_differential_coefficients(s)?, x);
+    // The coefficients' second derivatives in s enter only the Hessian: for a gradient,
+    // a first-order dual number does.
+    let s = x.norm_squared();
+    let (s2, s1) = (Dual2_64::new(s, 1.0, 0.0), Dual64::new(s, 1.0));
+    let a = if with_hessian {
+        MatrixJet::from_rodrigues(&chart.rotation_left_differential_coefficients(s2)?, x)
+    } else {
+        MatrixJet::from_rodrigues_first_order(
+            &chart.rotation_left_differential_coefficients(s1)?,
+            x,
+        )
+    };
     let attitude_free = system.is_left_invariant();
     let phi = if attitude_free {
         None
-    } else {
+    } else if with_hessian {
         Some(MatrixJet::from_rodrigues(
-            &chart.rotation_matrix_coefficients(s)?,
+            &chart.rotation_matrix_coefficients(s2)?,
+            x,
+        ))
+    } else {
+        Some(MatrixJet::from_rodrigues_first_order(
+            &chart.rotation_matrix_coefficients(s1)?,
             x,
         ))
     };

@@ -19,10 +19,15 @@
 //! forms from its Rodrigues coefficients) and `ℓ`'s own first and second derivatives in
 //! `(R, Ω)`, which [`Lagrangian::derivatives`] takes by dual numbers (num-dual) unless the
 //! system gives them in closed form (the built-in ones do). So a system is defined by
-//! writing `ℓ` once ([`Lagrangian`]), never its derivatives. The predictor continues the
-//! last step's Galerkin curve; a Newton step taken from a residual below 1e-8 of the
-//! equations' terms is accepted once the residual reaches its rounding floor, the correction
-//! at the floor reuses the factored Jacobian (a chord step) and is never backtracked.
+//! writing `ℓ` once ([`Lagrangian`]), never its derivatives. The predictor integrates the
+//! system's own equations of motion over the step (a few classical Runge–Kutta substeps
+//! in the chart, when the system gives `Ω(μ)` in closed form; otherwise it continues the
+//! last step's Galerkin curve), so that one Newton matrix per step is the rule: once it
+//! is factored at a residual below 1e-4 of the equations' terms it is kept for chord
+//! steps until their predicted remainder is below 1e-20, far below rounding (a remainder
+//! at the floor would have a fixed sign along a trajectory and drift). Steps from the
+//! quadratic regime are never backtracked. On the exp chart a step may rotate the body
+//! past a half turn (up to about 5 rad per step on the paper's rigid body).
 //!
 //! # Validation
 //! [`exact::FreeRigidBodyExact`] is the exact motion of the free rigid body (Jacobi
@@ -54,6 +59,7 @@
 pub mod ensemble;
 mod error;
 pub mod exact;
+mod flow;
 mod galerkin;
 mod inertia;
 mod integrator;

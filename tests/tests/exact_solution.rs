@@ -71,7 +71,7 @@ fn the_cli_reference_setting_is_accurate_on_the_pendulum() {
             .unwrap()
             .with_chart(ChartKind::Exp)
             .with_matching(Matching::Exact);
-        let (trajectory, _, _) = common::run(&case, settings, 40, 2).unwrap();
+        let (trajectory, _) = common::run(&case, settings, 40, 2).unwrap();
         let (er, ew) = common::max_errors(&case, &trajectory, 10.0);
         println!("{name}: reference setting, max ‖R − R_ref‖₂ {er:.1e}, |Ω − Ω_ref| {ew:.1e}");
         // Rounding only: the step's residual floor here is ~1e-14 of its largest terms

@@ -17,8 +17,9 @@ use std::f64::consts::PI;
 
 /// The exponential map `Φ(ξ) = exp(ξ̂)`: `A = J_r`, `B = J_l`.
 ///
-/// A local diffeomorphism for `|ω| < 2π` (so a step may rotate by almost a full turn:
-/// the integrator never needs the logarithm); `Φ⁻¹ = log` for rotation angles below `π`.
+/// A local diffeomorphism for `|ω| < 2π`, so a step may rotate by more than a half turn;
+/// `Φ⁻¹ = log` for rotation angles below `π`, and
+/// [`So3Chart::rotation_vector_near`] picks the branch beyond it.
 /// On SE(3) it is the usual SE(3) exponential, `(exp ω, J_l(ω) v)`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct ExpChart;
@@ -43,6 +44,30 @@ impl So3Chart for ExpChart {
             });
         }
         Ok(w)
+    }
+
+    /// The principal logarithm `θa` (`θ ≤ π`) or the other branch inside the domain,
+    /// `(θ − 2π)a`, whichever is nearer `near`; at a half turn, `±πa`.
+    fn rotation_vector_near<T: RealField + Copy>(
+        &self,
+        r: &Matrix3<T>,
+        near: &Vector3<T>,
+    ) -> Result<Vector3<T>, LieError> {
+        let (w, _) = log_and_half_turn(r);
+        let angle = w.norm();
+        // Below this angle the axis is rounding noise and the other branch, of angle
+        // 2π − θ, sits at the edge of the domain: the principal branch is the only one.
+        if angle <= constant(1e-6) {
+            return Ok(w);
+        }
+        let other = w * (T::one() - T::two_pi() / angle);
+        Ok(
+            if (other - near).norm_squared() < (w - near).norm_squared() {
+                other
+            } else {
+                w
+            },
+        )
     }
 
     fn check_rotation_domain<T: RealField + Copy>(&self, w: &Vector3<T>) -> Result<(), LieError> {

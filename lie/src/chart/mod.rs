@@ -109,6 +109,34 @@ pub trait So3Chart: Copy + Debug {
     /// # Errors
     /// [`LieError::OutsideChart`] outside the chart's image.
     fn rotation_vector<T: RealField + Copy>(&self, r: &Matrix3<T>) -> Result<Vector3<T>, LieError>;
+    /// `Φ⁻¹(R)` on the branch nearest `near`, for charts whose domain covers some rotations
+    /// more than once: [`ExpChart`]'s domain `|ω| < 2π` holds both `θa` and `(θ − 2π)a`
+    /// for a rotation by `θ` about `a`, and [`So3Chart::rotation_vector`] returns the
+    /// first (`θ ≤ π`). Following a curve whose rotation grows past `π` (a long step),
+    /// pass the previous point as `near` to stay on its branch. The default, for charts
+    /// that cover each rotation once, is [`So3Chart::rotation_vector`].
+    ///
+    /// ```
+    /// use lgsvi_lie::{ExpChart, So3Chart};
+    /// use nalgebra::Vector3;
+    /// // A rotation by 4 rad about z: the principal logarithm is −(2π − 4) ẑ.
+    /// let w = Vector3::new(0.0, 0.0, 4.0);
+    /// let r = ExpChart.rotation_matrix(&w);
+    /// assert!((ExpChart.rotation_vector(&r)?.z + (std::f64::consts::TAU - 4.0)).abs() < 1e-12);
+    /// assert!((ExpChart.rotation_vector_near(&r, &Vector3::new(0.0, 0.0, 3.5))? - w).norm() < 1e-12);
+    /// # Ok::<(), lgsvi_lie::LieError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`So3Chart::rotation_vector`].
+    fn rotation_vector_near<T: RealField + Copy>(
+        &self,
+        r: &Matrix3<T>,
+        near: &Vector3<T>,
+    ) -> Result<Vector3<T>, LieError> {
+        let _ = near;
+        self.rotation_vector(r)
+    }
     /// Finite and inside the region where `Φ` is a local diffeomorphism.
     ///
     /// # Errors
@@ -316,6 +344,13 @@ impl So3Chart for ChartKind {
     }
     fn rotation_vector<T: RealField + Copy>(&self, r: &Matrix3<T>) -> Result<Vector3<T>, LieError> {
         dispatch!(self, c => c.rotation_vector(r))
+    }
+    fn rotation_vector_near<T: RealField + Copy>(
+        &self,
+        r: &Matrix3<T>,
+        near: &Vector3<T>,
+    ) -> Result<Vector3<T>, LieError> {
+        dispatch!(self, c => c.rotation_vector_near(r, near))
     }
     fn check_rotation_domain<T: RealField + Copy>(&self, w: &Vector3<T>) -> Result<(), LieError> {
         dispatch!(self, c => c.check_rotation_domain(w))

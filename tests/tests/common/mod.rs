@@ -5,7 +5,7 @@
 
 use lgsvi_lie::SO3;
 use lgsvi_mechanics::{
-    HeavyTop, Inertia, Integrator, MechanicsError, RigidBody, StepSettings, Trajectory,
+    HeavyTop, Inertia, Integrator, MechanicsError, RigidBody, Statistics, StepSettings, Trajectory,
 };
 use nalgebra::{Matrix3, Vector3};
 
@@ -77,21 +77,19 @@ pub fn run(
     settings: StepSettings,
     steps: usize,
     every: usize,
-) -> Result<(Trajectory, usize, usize), MechanicsError> {
+) -> Result<(Trajectory, Statistics), MechanicsError> {
     let inertia = Inertia::from_paper_jd(case.jd)?;
     let r0 = SO3::try_from_matrix(case.r0)?;
     if case.free {
         let mut it = Integrator::new(RigidBody::new(inertia), settings, r0, case.omega0)?;
         let t = it.run(steps, every)?;
-        let s = it.statistics();
-        Ok((t, s.newton_iterations, s.max_newton_iterations))
+        Ok((t, *it.statistics()))
     } else {
         // m g is stored; m = 1 and g = m g reproduce it exactly.
         let top = HeavyTop::new(inertia, 1.0, case.mg, Vector3::z(), Vector3::z())?;
         let mut it = Integrator::new(top, settings, r0, case.omega0)?;
         let t = it.run(steps, every)?;
-        let s = it.statistics();
-        Ok((t, s.newton_iterations, s.max_newton_iterations))
+        Ok((t, *it.statistics()))
     }
 }
 
