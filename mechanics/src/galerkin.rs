@@ -944,7 +944,17 @@ mod tests {
                         false,
                     )
                     .unwrap();
-                    assert_eq!(gradient_only.gradient, fast.gradient);
+                    // The gradient-only path takes the coefficients' first derivatives
+                    // from a first-order dual number instead of a second-order one: the
+                    // same formulas, evaluated in another order, so a few ulps apart.
+                    let size = fast.gradient.amax().max(1.0);
+                    assert!(
+                        (gradient_only.gradient - fast.gradient).amax()
+                            <= 8.0 * f64::EPSILON * size,
+                        "{chart}: {} vs {}",
+                        gradient_only.gradient,
+                        fast.gradient
+                    );
                     let slow = point_derivatives_by_dual_numbers(
                         system,
                         chart,
