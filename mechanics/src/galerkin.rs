@@ -636,10 +636,9 @@ impl<L: Lagrangian> Stepper<'_, L> {
         // near it the full step is always taken, so convergence stays quadratic.
         const MAX_HALVINGS: u32 = 8;
         let mut damping = 1.0f64;
-        // Whether `work.jacobian` holds this solve's factored Newton matrix, and the relative
-        // residual of the iterate it was factored at.
-        let mut factored = false;
-        let mut factored_at = f64::INFINITY;
+        // The relative residual of the iterate at which `work.jacobian` was factored in this
+        // solve, if it was.
+        let mut factored_at: Option<f64> = None;
         // After a chord step whose predicted remainder is above CHORD_REMAINDER: that
         // prediction (the residual at the rounding floor can no longer show it); else 0.
         let mut pending = 0.0f64;
@@ -652,7 +651,7 @@ impl<L: Lagrangian> Stepper<'_, L> {
             let expect_converged = iterations > 0 && previous <= QUADRATIC_REGIME * previous_scale;
             // With a matrix factored below CHORD_EXPECTED, the next step is a chord step:
             // assemble without Hessians.
-            let expect_chord = factored && factored_at <= CHORD_EXPECTED;
+            let expect_chord = factored_at.is_some_and(|r_f| r_f <= CHORD_EXPECTED);
             // A halved trial point only needs its residual: the Hessians follow if it is
             // accepted and another step is needed.
             let with_hessians = exact && !expect_converged && !expect_chord && damping == 1.0;
@@ -737,14 +736,14 @@ impl<L: Lagrangian> Stepper<'_, L> {
             let slow = last_was_chord
                 && !at_floor
                 && relative > 0.1 * previous / previous_scale.max(f64::MIN_POSITIVE);
-            let chord = exact
-                && factored
-                && !slow
-                && (factored_at <= CHORD_EXPECTED || error * factored_at <= CHORD_REMAINDER);
-            last_was_chord = chord;
+            // The kept matrix's residual, when this step is a chord step with it.
+            let chord = factored_at.filter(|&r_f| {
+                exact && !slow && (r_f <= CHORD_EXPECTED || error * r_f <= CHORD_REMAINDER)
+            });
+            last_was_chord = chord.is_some();
             pending = 0.0;
-            if chord {
-                let remainder = error * factored_at;
+            if let Some(r_f) = chord {
+                let remainder = error * r_f;
                 if remainder > CHORD_REMAINDER {
                     pending = remainder;
                 }
@@ -765,8 +764,7 @@ impl<L: Lagrangian> Stepper<'_, L> {
                     MemStack::new(&mut work.stack),
                     Default::default(),
                 );
-                factored = true;
-                factored_at = relative;
+                factored_at = Some(relative);
                 factorizations += 1;
             }
             for (row, r) in work.residual.iter().enumerate() {
