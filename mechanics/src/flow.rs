@@ -9,6 +9,7 @@
 //! motion cost a few evaluations of `ℓ`'s gradient.
 
 use crate::lagrangian::Lagrangian;
+use lgsvi_lie::so3::vee;
 use lgsvi_lie::{ChartKind, So3Chart};
 use nalgebra::{Matrix3, Vector3};
 
@@ -19,7 +20,7 @@ const SUBSTEP_ANGLE: f64 = 0.25;
 
 /// At most this many substeps per step (a guess, not the solution: beyond it the
 /// continued Galerkin curve is used instead).
-pub(crate) const MAX_SUBSTEPS: usize = 64;
+const MAX_SUBSTEPS: usize = 64;
 
 /// `(ξ̇, μ̇)` at `(ξ, μ)`: `ξ̇ = A(ξ)⁻¹ Ω` and `μ̇ = μ × Ω + p`, with `Ω` from the
 /// system's closed-form inverse Legendre transform and `p` the left-trivialised
@@ -45,11 +46,7 @@ fn rate<L: Lagrangian>(
     let mut mu_dot = mu.cross(&omega);
     if !left_invariant {
         let m = r.transpose() * system.derivatives(&r, &omega).attitude_gradient;
-        mu_dot += Vector3::new(
-            m[(2, 1)] - m[(1, 2)],
-            m[(0, 2)] - m[(2, 0)],
-            m[(1, 0)] - m[(0, 1)],
-        );
+        mu_dot += vee(&(m - m.transpose()));
     }
     (xi_dot.iter().chain(mu_dot.iter()).all(|x| x.is_finite())).then_some((xi_dot, mu_dot))
 }

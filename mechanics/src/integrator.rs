@@ -301,7 +301,6 @@ impl<L: Lagrangian> Integrator<L> {
             return false;
         }
         if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
-            self.work.xi[0] = Vector3::zeros();
             // On long steps the continuation can be worse than the velocity correction
             // below: when its residual is not small, keep the better of the two.
             let continued = self.predictor_residual();
