@@ -95,6 +95,20 @@ pub fn golub_welsch(
     Ok(pairs.into_iter().unzip())
 }
 
+/// `√(f² + g²)`: directly where neither square can overflow or lose the result to
+/// underflow, else by `hypot`. The direct form is within an ulp or two of `hypot`, and the
+/// nodes are polished afterwards anyway; `hypot` was a fifth of the time of building an
+/// integrator's rules at `n = 10` (measured with `perf`).
+#[inline]
+fn pythag(f: f64, g: f64) -> f64 {
+    let big = f.abs().max(g.abs());
+    if big > 1e-150 && big < 1e150 {
+        (f * f + g * g).sqrt()
+    } else {
+        f.hypot(g)
+    }
+}
+
 /// Implicit QL with Wilkinson shifts on the symmetric tridiagonal matrix `(d, e)`,
 /// applying every Givens rotation to the row vector `z` only. On return `d` holds the
 /// eigenvalues (unsorted) and `z[j]` the first component of the `j`-th eigenvector.
@@ -124,14 +138,14 @@ fn implicit_ql(d: &mut [f64], e: &mut [f64], z: &mut [f64]) -> Result<(), Quadra
             }
             // Wilkinson shift from the leading 2×2 block.
             let mut g = (d[l + 1] - d[l]) / (2.0 * e[l]);
-            let mut r = g.hypot(1.0);
+            let mut r = pythag(g, 1.0);
             g = d[m] - d[l] + e[l] / (g + r.copysign(g));
             let (mut s, mut c, mut p) = (1.0f64, 1.0f64, 0.0f64);
             let mut underflow = false;
             for i in (l..m).rev() {
                 let f = s * e[i];
                 let b = c * e[i];
-                r = f.hypot(g);
+                r = pythag(f, g);
                 e[i + 1] = r;
                 if r == 0.0 {
                     // Recover from underflow: deflate and restart the sweep.
