@@ -83,14 +83,15 @@ impl Discretisation {
         let coarse = Barycentric::chebyshev_lobatto(n.min(EXTRAPOLATION_NODES), 0.0, h)?;
         let resample = basis.evaluation_matrix(coarse.nodes())?;
         let continue_coarse = coarse.evaluation_matrix(&continued)?;
-        let extrapolation = (0..n * n)
-            .map(|index| {
-                let (i, p) = (index / n, index % n);
-                (0..coarse.num_nodes())
-                    .map(|q| continue_coarse.row(i)[q] * resample.row(q)[p])
-                    .sum()
-            })
-            .collect();
+        // extrapolation = continue_coarse · resample, row by row.
+        let mut extrapolation = vec![0.0; n * n];
+        for (i, row) in extrapolation.chunks_exact_mut(n).enumerate() {
+            for (q, &c) in continue_coarse.row(i).iter().enumerate() {
+                for (e, r) in row.iter_mut().zip(resample.row(q)) {
+                    *e += c * r;
+                }
+            }
+        }
         Ok(Self {
             n,
             m,
@@ -101,6 +102,18 @@ impl Discretisation {
             basis,
             weighted_basis,
         })
+    }
+
+    /// `φ_i(c_j h)` for every `i`.
+    #[inline]
+    pub fn values_at(&self, j: usize) -> &[f64] {
+        &self.values[j * self.n..(j + 1) * self.n]
+    }
+
+    /// `φ_i'(c_j h)` for every `i`.
+    #[inline]
+    pub fn slopes_at(&self, j: usize) -> &[f64] {
+        &self.slopes[j * self.n..(j + 1) * self.n]
     }
 
     #[inline]
@@ -150,9 +163,11 @@ fn ell_stacked<T: RealField + Copy, L: Lagrangian, const N: usize>(
     ell_tilde(system, chart, base, &x, &v, z.as_ref())
 }
 
-/// Gradient and (if `with_hessian`) Hessian of `ℓ̃` at one Gauss point: by the chain rule
-/// from the chart's Rodrigues form and the system's [`Lagrangian::derivatives`] (every
-/// built-in chart has one), else by dual numbers through the whole of `ℓ̃`.
+/// Writes the gradient and (if `with_hessian`) Hessian of `ℓ̃` at one Gauss point into
+/// `out`: by the chain rule from the chart's Rodrigues form and the system's
+/// [`Lagrangian::derivatives`] (every built-in chart has one), else by dual numbers
+/// through the whole of `ℓ̃`.
+#[allow(clippy::too_many_arguments)]
 fn point_derivatives<L: Lagrangian>(
     system: &L,
     chart: ChartKind,
@@ -161,11 +176,20 @@ fn point_derivatives<L: Lagrangian>(
     v: &Vector3<f64>,
     with_configuration: bool,
     with_hessian: bool,
-) -> PointDerivatives {
-    jet::point_derivatives(system, chart, base, x, v, with_configuration, with_hessian)
-        .unwrap_or_else(|| {
-            point_derivatives_by_dual_numbers(system, chart, base, x, v, with_configuration)
-        })
+    out: &mut PointDerivatives,
+) {
+    if !jet::point_derivatives(
+        system,
+        chart,
+        base,
+        x,
+        v,
+        with_configuration,
+        with_hessian,
+        out,
+    ) {
+        *out = point_derivatives_by_dual_numbers(system, chart, base, x, v, with_configuration);
+    }
 }
 
 /// `ℓ̃`'s gradient and Hessian by a 6- or 9-variable second-order dual number: the
@@ -408,13 +432,14 @@ impl<L: Lagrangian> Stepper<'_, L> {
         for j in 0..m {
             let mut x = Vector3::zeros();
             let mut v = Vector3::zeros();
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
             for i in 1..n {
-                x += work.xi[i] * d.value(j, i);
-                v += work.xi[i] * d.slope(j, i);
+                x += work.xi[i] * values[i];
+                v += work.xi[i] * slopes[i];
             }
             work.x[j] = x;
             work.v[j] = v;
-            work.points[j] = point_derivatives(
+            point_derivatives(
                 self.system,
                 chart,
                 base,
@@ -422,25 +447,26 @@ impl<L: Lagrangian> Stepper<'_, L> {
                 &v,
                 with_configuration,
                 with_jacobian,
+                &mut work.points[j],
             );
         }
-        // ∂S/∂ξⁱ and the scale of its terms.
-        for i in 0..n {
-            let mut g = Vector3::zeros();
-            let mut scale = 0.0f64;
-            for j in 0..m {
-                let p = &work.points[j];
-                let gx = p.gradient.fixed_rows::<3>(0);
-                let gv = p.gradient.fixed_rows::<3>(3);
-                let term = gx * d.value(j, i) + gv * d.slope(j, i);
-                g += term * d.weights[j];
-                scale = scale.max(
-                    d.weights[j]
-                        * (gx.amax() * d.value(j, i).abs() + gv.amax() * d.slope(j, i).abs()),
-                );
+        // ∂S/∂ξⁱ and the scale of its terms, accumulated point by point (the same sums,
+        // in the same order, as node by node).
+        work.gradient.fill(Vector3::zeros());
+        work.gradient_scale.fill(0.0);
+        for j in 0..m {
+            let p = &work.points[j];
+            let gx: Vector3<f64> = p.gradient.fixed_rows::<3>(0).into_owned();
+            let gv: Vector3<f64> = p.gradient.fixed_rows::<3>(3).into_owned();
+            let (size_x, size_v) = (gx.amax(), gv.amax());
+            let weight = d.weights[j];
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            for i in 0..n {
+                let term = gx * values[i] + gv * slopes[i];
+                work.gradient[i] += term * weight;
+                work.gradient_scale[i] = work.gradient_scale[i]
+                    .max(weight * (size_x * values[i].abs() + size_v * slopes[i].abs()));
             }
-            work.gradient[i] = g;
-            work.gradient_scale[i] = scale;
         }
         let xi_n = work.xi[n - 1];
         // w = μ_k + Σ_j h b_j Φ(x_j) p_j (exact matching).
@@ -512,16 +538,17 @@ impl<L: Lagrangian> Stepper<'_, L> {
         let chart = self.chart();
         let with_configuration = self.needs_configuration();
         let (transport, w, xi_n) = (work.transport, work.w, work.xi[n - 1]);
-        for j in 0..m {
-            let h = &work.points[j].hessian;
+        // Column by column as slices (column-major): no per-entry bounds checks.
+        let points = &work.points;
+        for (r, z) in work.hessian_times_basis.iter_mut().enumerate() {
             for k in 1..n {
-                let (bk, dk) = (d.value(j, k), d.slope(j, k));
-                for r in 0..3 {
-                    let z = &mut work.hessian_times_basis[r];
-                    for c in 0..3 {
-                        let col = 3 * (k - 1) + c;
-                        z[(2 * j, col)] = bk * h[(r, c)] + dk * h[(r, 3 + c)];
-                        z[(2 * j + 1, col)] = bk * h[(3 + r, c)] + dk * h[(3 + r, 3 + c)];
+                for c in 0..3 {
+                    let column = z.col_as_slice_mut(3 * (k - 1) + c);
+                    for (j, pair) in column.chunks_exact_mut(2).enumerate() {
+                        let h = &points[j].hessian;
+                        let (bk, dk) = (d.value(j, k), d.slope(j, k));
+                        pair[0] = bk * h[(r, c)] + dk * h[(r, 3 + c)];
+                        pair[1] = bk * h[(3 + r, c)] + dk * h[(3 + r, 3 + c)];
                     }
                 }
             }
@@ -542,10 +569,12 @@ impl<L: Lagrangian> Stepper<'_, L> {
         };
         let jac = &mut work.jacobian;
         let unknowns = 3 * (n - 1);
-        for i in 1..n - 1 {
-            for r in 0..3 {
-                for col in 0..unknowns {
-                    jac[(3 * (i - 1) + r, col)] = action_hessian[r][(i, col)];
+        for col in 0..unknowns {
+            let target = jac.col_as_slice_mut(col);
+            for (r, source) in action_hessian.iter().enumerate() {
+                let source = source.col_as_slice(col);
+                for i in 1..n - 1 {
+                    target[3 * (i - 1) + r] = source[i];
                 }
             }
         }
@@ -767,8 +796,8 @@ impl<L: Lagrangian> Stepper<'_, L> {
                 factored_at = Some(relative);
                 factorizations += 1;
             }
-            for (row, r) in work.residual.iter().enumerate() {
-                work.rhs[(row, 0)] = -r;
+            for (rhs, r) in work.rhs.col_as_slice_mut(0).iter_mut().zip(&work.residual) {
+                *rhs = -r;
             }
             let perm = faer::perm::PermRef::new_checked(&work.perm, &work.perm_inv, unknowns);
             solve::solve_in_place_with_conj(
@@ -782,12 +811,12 @@ impl<L: Lagrangian> Stepper<'_, L> {
             );
             work.xi_accepted.copy_from_slice(&work.xi);
             damping = 1.0;
-            for col in 0..unknowns {
-                let delta = work.rhs[(col, 0)];
-                if !delta.is_finite() {
-                    return Err(MechanicsError::SingularJacobian { step, time });
-                }
-                work.xi[1 + col / 3][col % 3] += delta;
+            let deltas = work.rhs.col_as_slice(0);
+            if !deltas.iter().all(|x| x.is_finite()) {
+                return Err(MechanicsError::SingularJacobian { step, time });
+            }
+            for (xi, delta) in work.xi[1..].iter_mut().zip(deltas.chunks_exact(3)) {
+                *xi += Vector3::new(delta[0], delta[1], delta[2]);
             }
             previous = residual;
             previous_scale = scale;
@@ -817,6 +846,58 @@ mod tests {
         *SO3::exp(&Vector3::new(0.4, -0.7, 0.2)).matrix()
     }
 
+    /// The point derivatives as a value (Hessian zero unless `with_hessian`).
+    fn derivatives_at<L: Lagrangian>(
+        system: &L,
+        chart: ChartKind,
+        x: &Vector3<f64>,
+        v: &Vector3<f64>,
+        with_configuration: bool,
+        with_hessian: bool,
+    ) -> PointDerivatives {
+        let mut out = PointDerivatives {
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        };
+        point_derivatives(
+            system,
+            chart,
+            &base(),
+            x,
+            v,
+            with_configuration,
+            with_hessian,
+            &mut out,
+        );
+        out
+    }
+
+    /// The chain-rule path alone ([`jet::point_derivatives`]), as a value.
+    fn chain_rule_at<L: Lagrangian>(
+        system: &L,
+        chart: ChartKind,
+        x: &Vector3<f64>,
+        v: &Vector3<f64>,
+        with_configuration: bool,
+        with_hessian: bool,
+    ) -> PointDerivatives {
+        let mut out = PointDerivatives {
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        };
+        assert!(jet::point_derivatives(
+            system,
+            chart,
+            &base(),
+            x,
+            v,
+            with_configuration,
+            with_hessian,
+            &mut out,
+        ));
+        out
+    }
+
     /// The per-point gradient and Hessian from dual numbers against central differences of
     /// the same function in f64. Step 1e-4 for the gradient (truncation ~h²·|f'''| ≈ 1e-8·10,
     /// rounding ε|f|/h ≈ 1e-11) and 1e-4 on the gradient for the Hessian: bound 1e-6
@@ -826,7 +907,7 @@ mod tests {
         let system = top();
         for chart in ChartKind::ALL {
             let (x, v) = (Vector3::new(0.3, -0.1, 0.25), Vector3::new(1.1, 0.4, -0.6));
-            let p = point_derivatives(&system, chart, &base(), &x, &v, true, true);
+            let p = derivatives_at(&system, chart, &x, &v, true, true);
             let f = |y: &SVector<f64, 9>| {
                 let x = y.fixed_rows::<3>(0).into_owned();
                 let v = y.fixed_rows::<3>(3).into_owned();
@@ -845,10 +926,9 @@ mod tests {
                     (fd - p.gradient[a]).abs() <= 1e-6 * scale,
                     "{chart} gradient {a}"
                 );
-                let gp = point_derivatives(
+                let gp = derivatives_at(
                     &system,
                     chart,
-                    &base(),
                     &(x + e.fixed_rows::<3>(0)),
                     &(v + e.fixed_rows::<3>(3)),
                     true,
@@ -857,10 +937,9 @@ mod tests {
                 // The ζ-columns need the function itself (the point is always at ζ = 0).
                 for b in 0..6 {
                     if a < 6 {
-                        let gm = point_derivatives(
+                        let gm = derivatives_at(
                             &system,
                             chart,
-                            &base(),
                             &(x - e.fixed_rows::<3>(0)),
                             &(v - e.fixed_rows::<3>(3)),
                             true,
@@ -922,26 +1001,9 @@ mod tests {
         fn compare<L: Lagrangian>(system: &L, name: &str, x: &Vector3<f64>, v: &Vector3<f64>) {
             for chart in ChartKind::ALL {
                 for with_configuration in [false, true] {
-                    let fast = jet::point_derivatives(
-                        system,
-                        chart,
-                        &base(),
-                        x,
-                        v,
-                        with_configuration,
-                        true,
-                    )
-                    .unwrap();
-                    let gradient_only = jet::point_derivatives(
-                        system,
-                        chart,
-                        &base(),
-                        x,
-                        v,
-                        with_configuration,
-                        false,
-                    )
-                    .unwrap();
+                    let fast = chain_rule_at(system, chart, x, v, with_configuration, true);
+                    let gradient_only =
+                        chain_rule_at(system, chart, x, v, with_configuration, false);
                     // The gradient-only path takes the coefficients' first derivatives
                     // from a first-order dual number instead of a second-order one: the
                     // same formulas, evaluated in another order, so a few ulps apart.

@@ -23,18 +23,29 @@ use lgsvi_lie::{ChartKind, RodriguesCoefficients, So3Chart};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
 
-/// A 3×3 matrix function `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` of `x ∈ ℝ³` with its first
-/// partial derivatives; second derivatives are only ever needed contracted with a
-/// matrix, `⟨G, ∂_k∂_l M⟩`, which [`MatrixJet::second_contracted`] forms directly.
+/// A 3×3 matrix function `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` of `x ∈ ℝ³` with the
+/// derivatives of its coefficients in `s`: its first partial derivatives `∂_k M` as
+/// matrices ([`MatrixJet::first`]) or, cheaper, contracted with a vector
+/// ([`MatrixJet::first_times`], [`MatrixJet::first_transposed_times`]); second
+/// derivatives are only ever needed contracted with a matrix, `⟨G, ∂_k∂_l M⟩`, which
+/// [`MatrixJet::second_contracted`] forms directly.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct MatrixJet {
     pub value: Matrix3<f64>,
-    pub first: [Matrix3<f64>; 3],
     x: Vector3<f64>,
     /// `(e, a, b)`, their first and their second derivatives in `s`.
     c0: [f64; 3],
     c1: [f64; 3],
     c2: [f64; 3],
+}
+
+/// `γ` with `⟨G, ŷ⟩ = γ·y` for every `y`: the axial vector of `G − Gᵀ`.
+fn axial(g: &Matrix3<f64>) -> Vector3<f64> {
+    Vector3::new(
+        g[(2, 1)] - g[(1, 2)],
+        g[(0, 2)] - g[(2, 0)],
+        g[(1, 0)] - g[(0, 1)],
+    )
 }
 
 /// `ê_k`.
@@ -53,35 +64,12 @@ impl MatrixJet {
             hat: c.hat.re,
             hat_squared: c.hat_squared.re,
         };
-        let c0 = [re.identity, re.hat, re.hat_squared];
-        let c1 = [c.identity.v1, c.hat.v1, c.hat_squared.v1];
-        let c2 = [c.identity.v2, c.hat.v2, c.hat_squared.v2];
-        let [_, a, b] = c0;
-        let [e1, a1, b1] = c1;
-        let value = re.matrix(x);
-        let xh = hat(x);
-        let xh2 = x * x.transpose() - Matrix3::from_diagonal_element(x.norm_squared());
-        let mut first = [Matrix3::zeros(); 3];
-        for (k, f) in first.iter_mut().enumerate() {
-            let xk = x[k];
-            // D_k = ∂_k x̂² = e_k xᵀ + x e_kᵀ − 2x_k I.
-            let mut dk = Matrix3::from_diagonal_element(-2.0 * xk);
-            for i in 0..3 {
-                dk[(k, i)] += x[i];
-                dk[(i, k)] += x[i];
-            }
-            *f = xh * (2.0 * a1 * xk) + unit_hat(k) * a + xh2 * (2.0 * b1 * xk) + dk * b;
-            for i in 0..3 {
-                f[(i, i)] += 2.0 * e1 * xk;
-            }
-        }
         Self {
-            value,
-            first,
+            value: re.matrix(x),
             x: *x,
-            c0,
-            c1,
-            c2,
+            c0: [re.identity, re.hat, re.hat_squared],
+            c1: [c.identity.v1, c.hat.v1, c.hat_squared.v1],
+            c2: [c.identity.v2, c.hat.v2, c.hat_squared.v2],
         }
     }
 
@@ -100,6 +88,78 @@ impl MatrixJet {
         )
     }
 
+    /// `∂_k M = 2e′x_k I + 2a′x_k x̂ + a ê_k + 2b′x_k x̂² + b D_k` for `k = 0, 1, 2`.
+    pub fn first(&self) -> [Matrix3<f64>; 3] {
+        let x = &self.x;
+        let [_, a, b] = self.c0;
+        let [e1, a1, b1] = self.c1;
+        let xh = hat(x);
+        let xh2 = x * x.transpose() - Matrix3::from_diagonal_element(x.norm_squared());
+        std::array::from_fn(|k| {
+            let xk = x[k];
+            // D_k = ∂_k x̂² = e_k xᵀ + x e_kᵀ − 2x_k I.
+            let mut dk = Matrix3::from_diagonal_element(-2.0 * xk);
+            for i in 0..3 {
+                dk[(k, i)] += x[i];
+                dk[(i, k)] += x[i];
+            }
+            let mut f = xh * (2.0 * a1 * xk) + unit_hat(k) * a + xh2 * (2.0 * b1 * xk) + dk * b;
+            for i in 0..3 {
+                f[(i, i)] += 2.0 * e1 * xk;
+            }
+            f
+        })
+    }
+
+    /// The matrix with columns `∂_k M v`: `u xᵀ − a v̂ + b (x·v) I + b x vᵀ` with
+    /// `u = 2e′v + 2a′ x×v + 2b′ x̂²v − 2b v` (the formula for `∂_k M` applied to `v`,
+    /// `D_k v = e_k (x·v) + x v_k − 2x_k v`), without forming the three matrices.
+    pub fn first_times(&self, v: &Vector3<f64>) -> Matrix3<f64> {
+        let x = &self.x;
+        let [_, a, b] = self.c0;
+        let [e1, a1, b1] = self.c1;
+        let xv = x.dot(v);
+        // x̂²v = x (x·v) − |x|² v.
+        let xh2v = x * xv - v * x.norm_squared();
+        let u = v * (2.0 * e1 - 2.0 * b) + x.cross(v) * (2.0 * a1) + xh2v * (2.0 * b1);
+        let mut out = u * x.transpose() - hat(v) * a + x * v.transpose() * b;
+        for i in 0..3 {
+            out[(i, i)] += b * xv;
+        }
+        out
+    }
+
+    /// The matrix with rows `((∂_k M)ᵀ g)ᵀ`, i.e. entries `gᵀ ∂_k M e_b`:
+    /// `x tᵀ − a ĝ + b (x·g) I + b g xᵀ` with `t = 2e′g − 2a′ x×g + 2b′ x̂²g − 2b g`
+    /// (`(∂_k M)ᵀ` flips the sign of the skew terms; `x̂²` and `D_k` are symmetric).
+    pub fn first_transposed_times(&self, g: &Vector3<f64>) -> Matrix3<f64> {
+        let x = &self.x;
+        let [_, a, b] = self.c0;
+        let [e1, a1, b1] = self.c1;
+        let xg = x.dot(g);
+        let xh2g = x * xg - g * x.norm_squared();
+        let t = g * (2.0 * e1 - 2.0 * b) - x.cross(g) * (2.0 * a1) + xh2g * (2.0 * b1);
+        let mut out = x * t.transpose() - hat(g) * a + g * x.transpose() * b;
+        for i in 0..3 {
+            out[(i, i)] += b * xg;
+        }
+        out
+    }
+
+    /// `[⟨G, ∂_k M⟩]_k = x (2e′ tr G + 2a′ γ·x + 2b′ (xᵀGx − s tr G)) + a γ
+    /// + b ((G + Gᵀ)x − 2 tr G x)`, from the contractions listed at
+    /// [`MatrixJet::second_contracted`], without forming the three matrices.
+    pub fn first_contracted(&self, g: &Matrix3<f64>) -> Vector3<f64> {
+        let x = &self.x;
+        let [_, a, b] = self.c0;
+        let [e1, a1, b1] = self.c1;
+        let t = g.trace();
+        let gamma = axial(g);
+        let q = x.dot(&(g * x)) - x.norm_squared() * t;
+        let u = (g + g.transpose()) * x - x * (2.0 * t);
+        x * (2.0 * (e1 * t + a1 * gamma.dot(x) + b1 * q)) + gamma * a + u * b
+    }
+
     /// `[⟨G, ∂_k∂_l M⟩]_kl`, from the formula in the module's documentation with
     /// `⟨G, I⟩ = tr G`, `⟨G, ŷ⟩ = γ·y` (`γ` the axial vector of `G − Gᵀ`),
     /// `⟨G, x̂²⟩ = xᵀGx − s tr G`, `⟨G, D_k⟩ = ((G + Gᵀ)x − 2 tr G x)_k` and
@@ -110,11 +170,7 @@ impl MatrixJet {
         let [e1, a1, b1] = self.c1;
         let [e2, a2, b2] = self.c2;
         let t = g.trace();
-        let gamma = Vector3::new(
-            g[(2, 1)] - g[(1, 2)],
-            g[(0, 2)] - g[(2, 0)],
-            g[(1, 0)] - g[(0, 1)],
-        );
+        let gamma = axial(g);
         let sym = g + g.transpose();
         let gx = gamma.dot(x);
         let q = x.dot(&(g * x)) - x.norm_squared() * t;
@@ -143,8 +199,11 @@ fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
     SVector::<f64, 9>::from_fn(|i, _| m[(i / 3, i % 3)])
 }
 
-/// `ℓ̃`'s derivatives by the chain rule (the Hessian left zero unless `with_hessian`), or
-/// `None` if the chart has no Rodrigues form.
+/// Writes `ℓ̃`'s derivatives by the chain rule into `out` (its Hessian only if
+/// `with_hessian`, else left as it was); false (`out` untouched) if the chart has no
+/// Rodrigues form. In place: the 90 floats are written once, not returned and copied
+/// (the copies were 10% of a step, measured).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn point_derivatives<L: Lagrangian>(
     system: &L,
     chart: ChartKind,
@@ -153,53 +212,57 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
     v: &Vector3<f64>,
     with_configuration: bool,
     with_hessian: bool,
-) -> Option<PointDerivatives> {
+    out: &mut PointDerivatives,
+) -> bool {
     // The coefficients' second derivatives in s enter only the Hessian: for a gradient,
     // a first-order dual number does.
     let s = x.norm_squared();
     let (s2, s1) = (Dual2_64::new(s, 1.0, 0.0), Dual64::new(s, 1.0));
     let a = if with_hessian {
-        MatrixJet::from_rodrigues(&chart.rotation_left_differential_coefficients(s2)?, x)
+        let Some(c) = chart.rotation_left_differential_coefficients(s2) else {
+            return false;
+        };
+        MatrixJet::from_rodrigues(&c, x)
     } else {
-        MatrixJet::from_rodrigues_first_order(
-            &chart.rotation_left_differential_coefficients(s1)?,
-            x,
-        )
+        let Some(c) = chart.rotation_left_differential_coefficients(s1) else {
+            return false;
+        };
+        MatrixJet::from_rodrigues_first_order(&c, x)
     };
     let attitude_free = system.is_left_invariant();
     let phi = if attitude_free {
         None
     } else if with_hessian {
-        Some(MatrixJet::from_rodrigues(
-            &chart.rotation_matrix_coefficients(s2)?,
-            x,
-        ))
+        let Some(c) = chart.rotation_matrix_coefficients(s2) else {
+            return false;
+        };
+        Some(MatrixJet::from_rodrigues(&c, x))
     } else {
-        Some(MatrixJet::from_rodrigues_first_order(
-            &chart.rotation_matrix_coefficients(s1)?,
-            x,
-        ))
+        let Some(c) = chart.rotation_matrix_coefficients(s1) else {
+            return false;
+        };
+        Some(MatrixJet::from_rodrigues_first_order(&c, x))
     };
-    let r = base
-        * phi
-            .as_ref()
-            .map_or_else(|| chart.rotation_matrix(x), |p| p.value);
+    // A left-invariant ℓ does not depend on R (the trait's contract): any attitude will
+    // do, and the base saves evaluating Φ(x).
+    let r = phi.as_ref().map_or(*base, |p| base * p.value);
     let omega = a.value * v;
     let l = system.derivatives(&r, &omega);
     let g = l.velocity_gradient;
 
     // Ω = A(x) v: ∂Ω/∂x = [∂_k A v]_k, ∂Ω/∂v = A.
-    let dw_dx = Matrix3::from_columns(&[a.first[0] * v, a.first[1] * v, a.first[2] * v]);
-    let mut gradient = SVector::<f64, 9>::zeros();
+    let dw_dx = a.first_times(v);
+    let PointDerivatives { gradient, hessian } = out;
+    gradient.fill(0.0);
     gradient
         .fixed_rows_mut::<3>(0)
         .copy_from(&(dw_dx.transpose() * g));
     gradient
         .fixed_rows_mut::<3>(3)
         .copy_from(&(a.value.transpose() * g));
-    let mut hessian = SMatrix::<f64, 9, 9>::zeros();
     let mut jw = SMatrix::<f64, 3, 9>::zeros();
     if with_hessian {
+        hessian.fill(0.0);
         jw.fixed_view_mut::<3, 3>(0, 0).copy_from(&dw_dx);
         jw.fixed_view_mut::<3, 3>(0, 3).copy_from(&a.value);
         let top = jw.fixed_columns::<6>(0);
@@ -208,35 +271,38 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
             .copy_from(&(top.transpose() * l.velocity_hessian * top));
         // gᵀ ∂_k∂_l A v = ⟨g vᵀ, ∂_k∂_l A⟩.
         let second = a.second_contracted(&(g * v.transpose()));
+        // gᵀ ∂_k A e_b: ∂²(gᵀA v)/∂x_k∂v_b.
+        let cross = a.first_transposed_times(&g);
         for k in 0..3 {
             for m in 0..3 {
                 hessian[(k, m)] += second[(k, m)];
             }
-            let cross = a.first[k].transpose() * g;
             for b in 0..3 {
-                hessian[(k, 3 + b)] += cross[b];
-                hessian[(3 + b, k)] += cross[b];
+                hessian[(k, 3 + b)] += cross[(k, b)];
+                hessian[(3 + b, k)] += cross[(k, b)];
             }
         }
     }
 
     let Some(p) = phi else {
-        return Some(PointDerivatives { gradient, hessian });
+        return true;
     };
     // ⟨G, B M⟩ = ⟨BᵀG, M⟩ and ⟨G, R S⟩ = ⟨RᵀG, S⟩.
     let g_base = base.transpose() * l.attitude_gradient;
     let g_r = r.transpose() * l.attitude_gradient;
-    let e_hat = [unit_hat(0), unit_hat(1), unit_hat(2)];
+    let first = p.first_contracted(&g_base);
     for k in 0..3 {
-        gradient[k] += g_base.dot(&p.first[k]);
+        gradient[k] += first[k];
     }
     if with_configuration {
+        // ⟨G, ê_c⟩ = γ_c, the axial vector of G − Gᵀ.
+        let gamma = axial(&g_r);
         for c in 0..3 {
-            gradient[6 + c] = g_r.dot(&e_hat[c]);
+            gradient[6 + c] = gamma[c];
         }
     }
     if !with_hessian {
-        return Some(PointDerivatives { gradient, hessian });
+        return true;
     }
     let second = p.second_contracted(&g_base);
     for k in 0..3 {
@@ -245,23 +311,27 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
         }
     }
     if with_configuration {
+        let trace = g_r.trace();
         for c in 0..3 {
+            // ⟨G, ∂_kΦ ê_c⟩ = ⟨G ê_cᵀ, ∂_kΦ⟩.
+            let mixed = p.first_contracted(&(g_base * unit_hat(c).transpose()));
             for k in 0..3 {
-                let t = g_base.dot(&(p.first[k] * e_hat[c]));
-                hessian[(k, 6 + c)] += t;
-                hessian[(6 + c, k)] += t;
+                hessian[(k, 6 + c)] += mixed[k];
+                hessian[(6 + c, k)] += mixed[k];
             }
+            // ½⟨G, ê_c ê_d + ê_d ê_c⟩ with ê_c ê_d = e_d e_cᵀ − δ_cd I.
             for d in 0..3 {
-                let sym = (e_hat[c] * e_hat[d] + e_hat[d] * e_hat[c]) * 0.5;
-                hessian[(6 + c, 6 + d)] += g_r.dot(&sym);
+                let delta = if c == d { trace } else { 0.0 };
+                hessian[(6 + c, 6 + d)] += 0.5 * (g_r[(d, c)] + g_r[(c, d)]) - delta;
             }
         }
     }
     if l.attitude_hessian.is_some() || l.mixed_hessian.is_some() {
         // ∂R/∂u for u = (x, v, ζ), flattened: columns x (B ∂_kΦ) and ζ (R ê_c).
+        let e_hat = [unit_hat(0), unit_hat(1), unit_hat(2)];
         let mut jr = SMatrix::<f64, 9, 9>::zeros();
-        for k in 0..3 {
-            jr.set_column(k, &flatten(&(base * p.first[k])));
+        for (k, first) in p.first().iter().enumerate() {
+            jr.set_column(k, &flatten(&(base * first)));
         }
         if with_configuration {
             for (c, e) in e_hat.iter().enumerate() {
@@ -269,12 +339,12 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
             }
         }
         if let Some(h_rr) = l.attitude_hessian {
-            hessian += jr.transpose() * h_rr * jr;
+            *hessian += jr.transpose() * h_rr * jr;
         }
         if let Some(h_rw) = l.mixed_hessian {
             let t = jr.transpose() * h_rw * jw;
-            hessian += t + t.transpose();
+            *hessian += t + t.transpose();
         }
     }
-    Some(PointDerivatives { gradient, hessian })
+    true
 }
