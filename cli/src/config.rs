@@ -160,7 +160,7 @@ pub struct SimulateOptions {
     /// Chebyshev–Lobatto nodes n ≥ 2 (polynomial degree n − 1) [default: 10].
     #[arg(long)]
     pub nodes: Option<usize>,
-    /// Gauss points m [default: n + 2].
+    /// Gauss points m [default: n].
     #[arg(long)]
     pub quad: Option<usize>,
     /// Natural chart [default: exp].

@@ -37,7 +37,7 @@
 //! # Conventions
 //! `R = world_from_body`, `Ṙ = RΩ̂`, `μ = ∂ℓ/∂Ω` (body momentum), spatial momentum `Rμ`.
 //! Inertia: the standard `J` or the paper's `J_d` ([`Inertia`]). `n` is the number of
-//! nodes (degree `n − 1`), `m` the number of Gauss points (default `n + 2`), `h` the step.
+//! nodes (degree `n − 1`), `m` the number of Gauss points (default `n`), `h` the step.
 //!
 //! # Example
 //! ```

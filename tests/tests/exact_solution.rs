@@ -75,11 +75,11 @@ fn the_cli_reference_setting_is_accurate_on_the_pendulum() {
         let (er, ew) = common::max_errors(&case, &trajectory, 10.0);
         println!("{name}: reference setting, max ‖R − R_ref‖₂ {er:.1e}, |Ω − Ω_ref| {ew:.1e}");
         // Rounding only: the step's residual floor here is ~1e-14 of its largest terms
-        // (m = 22 Gauss points, basis derivatives ~ n²/h), so each step's solution carries
+        // (m = 20 Gauss points, basis derivatives ~ n²/h), so each step's solution carries
         // a ~1e-14 error that the sensitivity (≲ 10 at t = 10 for B) carries over 40 steps
         // as a random walk: ≈ √40·10·1e-14 ≈ 6e-13. Solver variants that differ only in
         // rounding (Jacobian assembly order, predictor, the iteration that confirms the
-        // floor) measured 4.5e-14 to 7.4e-13; the bound is 1e-12.
+        // floor, the number of Gauss points) measured 1.6e-15 to 7.4e-13; the bound is 1e-12.
         assert!(er < 1e-12 && ew < 1e-12, "{name}: {er:e} {ew:e}");
     }
 }

@@ -44,8 +44,9 @@ fn a_body_in_a_user_potential_conserves_its_symmetry() {
         .map(|s| (s.energy(it.system()) - e0).abs())
         .fold(0.0, f64::max);
     println!("dipole: e₃·Rμ drift {pi_z:.1e}, energy error {de:.1e} over 400 steps");
-    // Noether to rounding (400 steps of a few ulps of |μ| ~ 2: 1.1e-13 measured); the
-    // energy error is bounded and at n = 8, h = 0.25 near rounding too (1.7e-13 measured).
+    // Noether to rounding (400 steps of a few ulps of |μ| ~ 2: 2.9e-15 measured, 1.1e-13
+    // with earlier solver variants); the energy error is bounded and at n = 8, h = 0.25
+    // near rounding too (6.0e-15 measured, 1.7e-13 earlier).
     assert!(pi_z <= 1e-12, "{pi_z:e}");
     assert!(de <= 1e-11 * e0.abs().max(1.0), "{de:e}");
 }
@@ -120,10 +121,10 @@ fn finite_difference_newton_reaches_the_same_solution() {
             b.statistics().newton_iterations
         );
         // Both stop at the rounding floor of the same equations, so the solutions agree to
-        // the conditioning of the step (1.6e-14 measured for exp). A forward-difference
+        // the conditioning of the step (1.0e-15 measured for exp). A forward-difference
         // Jacobian with step √ε is accurate to ~1e-8 here, enough for Newton to converge
-        // in about as many iterations (measured 42 against 43): its cost is the 3(n − 1)
-        // extra residual evaluations per iteration, not the iteration count.
+        // in as few iterations (measured, exp: 30 exact, mostly chord steps, against 20):
+        // its cost is the 3(n − 1) extra residual evaluations per iteration.
         assert!(diff <= 1e-10, "{diff:e}");
     }
 }
