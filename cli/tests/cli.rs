@@ -417,8 +417,12 @@ fn bench_writes_table_data_and_plots() {
     assert!(ensemble["speedup"].as_f64().unwrap() > 0.0);
     let points = data["points"].as_array().unwrap();
     // lgsvi at h = 0.5 (n = 4..14), h = 1 (n = 6..20), h = 1.25 and 2 (n = 8..20),
-    // DOP853 2 × 12, fixed-step 46.
-    assert_eq!(points.len(), 2 * 2 * (11 + 15 + 13 + 13 + 24 + 46));
+    // DOP853 2 × 12, fixed-step 12 + 12 (one per octave) + 41 + 41 (Yoshida-4, four per
+    // octave).
+    assert_eq!(
+        points.len(),
+        2 * 2 * (11 + 15 + 13 + 13 + 24 + 12 + 12 + 41 + 41)
+    );
     // Every baseline converges on its own sweep: each method's best error is small.
     for method in [
         "lgsvi",
