@@ -43,7 +43,9 @@ pub struct Figure {
     pub legend_left: bool,
 }
 
-const PALETTE: [RGBColor; 8] = [
+/// Twelve distinguishable colours (Tableau's ten, then olive and black): the bench's
+/// work-precision plots draw ten series, which eight colours made repeat.
+const PALETTE: [RGBColor; 12] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -52,6 +54,10 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(128, 128, 0),
+    RGBColor(0, 0, 0),
 ];
 
 fn color(i: usize) -> RGBColor {
