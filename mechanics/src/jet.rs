@@ -115,9 +115,22 @@ impl MatrixJet {
     /// `u = 2e′v + 2a′ x×v + 2b′ x̂²v − 2b v` (the formula for `∂_k M` applied to `v`,
     /// `D_k v = e_k (x·v) + x v_k − 2x_k v`), without forming the three matrices.
     pub fn first_times(&self, v: &Vector3<f64>) -> Matrix3<f64> {
+        self.first_applied(v, 1.0)
+    }
+
+    /// The matrix with rows `((∂_k M)ᵀ g)ᵀ`, i.e. entries `gᵀ ∂_k M e_b`: `(∂_k M)ᵀ` is
+    /// `∂_k M` with its skew terms (`a`, `a′`) negated (`x̂²` and `D_k` are symmetric), so
+    /// this is [`MatrixJet::first_times`] of `g` with those signs flipped, transposed.
+    pub fn first_transposed_times(&self, g: &Vector3<f64>) -> Matrix3<f64> {
+        self.first_applied(g, -1.0).transpose()
+    }
+
+    /// Columns `∂_k M' v` for `M' = e I + σ a x̂ + b x̂²` (`σ = ±1`).
+    fn first_applied(&self, v: &Vector3<f64>, skew_sign: f64) -> Matrix3<f64> {
         let x = &self.x;
         let [_, a, b] = self.c0;
         let [e1, a1, b1] = self.c1;
+        let (a, a1) = (skew_sign * a, skew_sign * a1);
         let xv = x.dot(v);
         // x̂²v = x (x·v) − |x|² v.
         let xh2v = x * xv - v * x.norm_squared();
@@ -125,23 +138,6 @@ impl MatrixJet {
         let mut out = u * x.transpose() - hat(v) * a + x * v.transpose() * b;
         for i in 0..3 {
             out[(i, i)] += b * xv;
-        }
-        out
-    }
-
-    /// The matrix with rows `((∂_k M)ᵀ g)ᵀ`, i.e. entries `gᵀ ∂_k M e_b`:
-    /// `x tᵀ − a ĝ + b (x·g) I + b g xᵀ` with `t = 2e′g − 2a′ x×g + 2b′ x̂²g − 2b g`
-    /// (`(∂_k M)ᵀ` flips the sign of the skew terms; `x̂²` and `D_k` are symmetric).
-    pub fn first_transposed_times(&self, g: &Vector3<f64>) -> Matrix3<f64> {
-        let x = &self.x;
-        let [_, a, b] = self.c0;
-        let [e1, a1, b1] = self.c1;
-        let xg = x.dot(g);
-        let xh2g = x * xg - g * x.norm_squared();
-        let t = g * (2.0 * e1 - 2.0 * b) - x.cross(g) * (2.0 * a1) + xh2g * (2.0 * b1);
-        let mut out = x * t.transpose() - hat(g) * a + g * x.transpose() * b;
-        for i in 0..3 {
-            out[(i, i)] += b * xg;
         }
         out
     }
@@ -192,6 +188,15 @@ impl MatrixJet {
 pub(crate) struct PointDerivatives {
     pub gradient: SVector<f64, 9>,
     pub hessian: SMatrix<f64, 9, 9>,
+}
+
+impl PointDerivatives {
+    pub fn zeros() -> Self {
+        Self {
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        }
+    }
 }
 
 /// `R`'s entries flattened row-major, as [`crate::LagrangianDerivatives`] indexes them.
