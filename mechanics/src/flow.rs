@@ -72,11 +72,13 @@ fn configuration_force<L: Lagrangian>(
 }
 
 /// The flow's angular frequency at the step's start, for the substep size: `|Ω|` (the
-/// rotation itself) plus, for an attitude-dependent `ℓ`, `√|ΔΩ|` with
+/// rotation itself) plus, for an attitude-dependent `ℓ`, `2√|ΔΩ|` with
 /// `ΔΩ = Ω(μ + p) − Ω(μ)` the change of velocity the configuration force makes in unit
-/// time (a pendulum's `√(mgl/J)` at a right angle). Measured on the paper's heavy top at
-/// `h = 2`: sized by `|Ω|` alone, the guess's relative residual was 1e-3 and every step
-/// needed a second Newton matrix.
+/// time (`√|ΔΩ|` is a pendulum's `√(mgl/J)` at a right angle). Measured on the paper's
+/// heavy top at `h = 2`: sized by `|Ω|` alone, the guess's relative residual was 1e-3 and
+/// every step needed a second Newton matrix; with `√|ΔΩ|` added once, 1.3e-4 to 2e-4, just
+/// above the solver's chord threshold (1e-4); added twice, 2e-5 to 5e-5 and one Newton
+/// matrix per step after the first (where the top starts upright and `p = 0`).
 fn frequency<L: Lagrangian>(
     system: &L,
     base: &Matrix3<f64>,
