@@ -868,30 +868,6 @@ mod tests {
         *SO3::exp(&Vector3::new(0.4, -0.7, 0.2)).matrix()
     }
 
-    /// The point derivatives as a value (Hessian zero unless `with_hessian`).
-    fn derivatives_at<L: Lagrangian>(
-        system: &L,
-        chart: ChartKind,
-        x: &Vector3<f64>,
-        v: &Vector3<f64>,
-        with_configuration: bool,
-        with_hessian: bool,
-    ) -> PointDerivatives {
-        let mut out = PointDerivatives::zeros();
-        let b = base();
-        point_derivatives(
-            system,
-            chart,
-            &b,
-            x,
-            v,
-            with_configuration,
-            with_hessian,
-            &mut out,
-        );
-        out
-    }
-
     /// The chain-rule path alone ([`jet::point_derivatives`]), as a value.
     fn chain_rule_at<L: Lagrangian>(
         system: &L,
@@ -926,7 +902,7 @@ mod tests {
         let system = top();
         for chart in ChartKind::ALL {
             let (x, v) = (Vector3::new(0.3, -0.1, 0.25), Vector3::new(1.1, 0.4, -0.6));
-            let p = derivatives_at(&system, chart, &x, &v, true, true);
+            let p = chain_rule_at(&system, chart, &x, &v, true, true);
             let f = |y: &SVector<f64, 9>| {
                 let x = y.fixed_rows::<3>(0).into_owned();
                 let v = y.fixed_rows::<3>(3).into_owned();
@@ -945,7 +921,7 @@ mod tests {
                     (fd - p.gradient[a]).abs() <= 1e-6 * scale,
                     "{chart} gradient {a}"
                 );
-                let gp = derivatives_at(
+                let gp = chain_rule_at(
                     &system,
                     chart,
                     &(x + e.fixed_rows::<3>(0)),
@@ -956,7 +932,7 @@ mod tests {
                 // The ζ-columns need the function itself (the point is always at ζ = 0).
                 for b in 0..6 {
                     if a < 6 {
-                        let gm = derivatives_at(
+                        let gm = chain_rule_at(
                             &system,
                             chart,
                             &(x - e.fixed_rows::<3>(0)),

@@ -18,7 +18,7 @@
 //! hundred floating-point operations per Gauss point.
 
 use crate::lagrangian::Lagrangian;
-use lgsvi_lie::so3::hat;
+use lgsvi_lie::so3::{hat, vee};
 use lgsvi_lie::{ChartKind, RodriguesCoefficients, So3Chart};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
@@ -41,11 +41,7 @@ pub(crate) struct MatrixJet {
 
 /// `γ` with `⟨G, ŷ⟩ = γ·y` for every `y`: the axial vector of `G − Gᵀ`.
 fn axial(g: &Matrix3<f64>) -> Vector3<f64> {
-    Vector3::new(
-        g[(2, 1)] - g[(1, 2)],
-        g[(0, 2)] - g[(2, 0)],
-        g[(1, 0)] - g[(0, 1)],
-    )
+    vee(&(g - g.transpose()))
 }
 
 /// `ê_k`.
