@@ -8,7 +8,7 @@ use crate::problem::System;
 use clap::Args;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
 use lgsvi_mechanics::lie::{ChartKind, SO3};
-use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, RigidBody, StepSettings};
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 use std::fmt::Write;
@@ -180,11 +180,26 @@ fn cases() -> Vec<Case> {
     ]
 }
 
+/// One timed lgsvi run, on the concrete system type as a library user writes it: through
+/// the command line's [`System`] enum every call of the Lagrangian's methods takes a
+/// `match` (measured, case A at h = 1, n = 10: 114 µs per run against 108 µs).
 fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>, String> {
+    match lgsvi_system(case)? {
+        System::Free(body) => lgsvi_run_with(body, case, t_end, h, n),
+        System::Top(top) => lgsvi_run_with(top, case, t_end, h, n),
+    }
+}
+
+fn lgsvi_run_with<L: Lagrangian>(
+    system: L,
+    case: &Case,
+    t_end: f64,
+    h: f64,
+    n: usize,
+) -> Result<Matrix3<f64>, String> {
     let settings = StepSettings::new(h, n)
         .map_err(|e| e.to_string())?
         .with_chart(ChartKind::Exp);
-    let system = lgsvi_system(case)?;
     let w0 = case.model.velocity(&case.start.momentum);
     let mut it =
         Integrator::new(system, settings, SO3::identity(), w0).map_err(|e| e.to_string())?;
