@@ -329,7 +329,8 @@ pub(crate) struct Workspace {
     residual: Vec<f64>,
     trial: Vec<f64>,
     jacobian: Mat<f64>,
-    rhs: Mat<f64>,
+    /// The Newton (or chord) step `−J⁻¹F`, kept for the backtracking.
+    delta: Vec<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     stack: MemBuffer,
@@ -365,7 +366,7 @@ impl Workspace {
             residual: vec![0.0; unknowns],
             trial: vec![0.0; unknowns],
             jacobian: Mat::zeros(unknowns, unknowns),
-            rhs: Mat::zeros(unknowns, 1),
+            delta: vec![0.0; unknowns],
             perm: vec![0; unknowns],
             perm_inv: vec![0; unknowns],
             stack: MemBuffer::new(scratch),
@@ -595,7 +596,7 @@ impl<L: Lagrangian> Stepper<'_, L> {
         let jac = &mut work.jacobian;
         for i in 1..n - 1 {
             let source = action_hessian.col_as_slice(i);
-            for (r, rows) in source.chunks_exact(unknowns).take(3).enumerate() {
+            for (r, rows) in source.chunks_exact(unknowns).enumerate() {
                 for (col, &value) in rows.iter().enumerate() {
                     jac[(3 * (i - 1) + r, col)] = value;
                 }
@@ -722,7 +723,7 @@ impl<L: Lagrangian> Stepper<'_, L> {
                 for i in 1..n {
                     for c in 0..3 {
                         work.xi[i][c] =
-                            work.xi_accepted[i][c] + damping * work.rhs[(3 * (i - 1) + c, 0)];
+                            work.xi_accepted[i][c] + damping * work.delta[3 * (i - 1) + c];
                     }
                 }
                 continue;
@@ -797,14 +798,13 @@ impl<L: Lagrangian> Stepper<'_, L> {
                 factored_at = Some(relative);
                 factorizations += 1;
             }
-            let delta = work.rhs.col_as_slice_mut(0);
-            for (d, &p) in delta.iter_mut().zip(&work.perm) {
+            for (d, &p) in work.delta.iter_mut().zip(&work.perm) {
                 *d = -work.residual[p];
             }
-            substitute(&work.jacobian, delta);
+            substitute(&work.jacobian, &mut work.delta);
             work.xi_accepted.copy_from_slice(&work.xi);
             damping = 1.0;
-            let deltas = work.rhs.col_as_slice(0);
+            let deltas = &work.delta;
             if !deltas.iter().all(|x| x.is_finite()) {
                 return Err(MechanicsError::SingularJacobian { step, time });
             }
