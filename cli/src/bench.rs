@@ -31,6 +31,10 @@ pub struct BenchOptions {
     /// Steps of the long run [default: 1000000].
     #[arg(long, value_name = "N")]
     pub long_run_steps: Option<usize>,
+    /// Initial conditions of the long run's energy-trend ensemble, each run for the same
+    /// steps in parallel; 0 skips it [default: 12].
+    #[arg(long, value_name = "N")]
+    pub long_run_members: Option<usize>,
     /// Initial conditions per case in the parallel-ensemble measurement [default: 64].
     #[arg(long, value_name = "N")]
     pub ensemble_members: Option<usize>,
@@ -484,7 +488,13 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
         .unwrap_or_else(|| PathBuf::from("lgsvi-bench"));
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     if options.long_run {
-        return run_long(&dir, steps, options.quiet);
+        let members = options.long_run_members.unwrap_or(12);
+        if members == 1 {
+            return Err(
+                "invalid --long-run-members 1: a trend needs at least 2 (or 0 to skip it)".into(),
+            );
+        }
+        return run_long(&dir, steps, members, options.quiet);
     }
     let total = 2 * 2 * runs_per_case() as u64;
     let progress = crate::progress_bar(total, "bench", "runs", options.quiet);
@@ -665,12 +675,124 @@ pub fn long_run(
     Ok((lgsvi, dop, lgsvi_time, dop_time))
 }
 
+/// The signed end values of an ensemble: mean, its standard error, rms.
+#[derive(Debug, Clone, Serialize)]
+pub struct Spread {
+    /// One value per member, in member order.
+    pub values: Vec<f64>,
+    /// Mean.
+    pub mean: f64,
+    /// Standard error of the mean, `sd/√members`.
+    pub standard_error: f64,
+    /// Root mean square.
+    pub rms: f64,
+}
+
+impl Spread {
+    fn new(values: Vec<f64>) -> Self {
+        let count = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / count;
+        let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (count - 1.0);
+        let rms = (values.iter().map(|v| v * v).sum::<f64>() / count).sqrt();
+        Self {
+            values,
+            mean,
+            standard_error: (variance / count).sqrt(),
+            rms,
+        }
+    }
+
+    /// No trend: the mean is within three standard errors of zero.
+    pub fn consistent_with_zero(&self) -> bool {
+        self.mean.abs() <= 3.0 * self.standard_error
+    }
+}
+
+/// The long run's trend test: one trajectory cannot tell a linear drift from a random
+/// walk of rounding errors, an ensemble can. Signed relative errors of the energy and of
+/// `|μ|²` after the same steps, over initial conditions near case A's.
+#[derive(Debug, Clone, Serialize)]
+pub struct EnergyTrend {
+    /// Members.
+    pub members: usize,
+    /// Steps of each.
+    pub steps: usize,
+    /// `(E − E₀)/E₀` at the end.
+    pub energy: Spread,
+    /// `(|μ|² − |μ₀|²)/|μ₀|²` at the end.
+    pub casimir: Spread,
+    /// Wall time of the ensemble on every core (s).
+    pub seconds: f64,
+}
+
+/// Runs [`EnergyTrend`]: member `k` starts from case A's `Ω₀` scaled by `1 + 10⁻³k` and
+/// shifted by `10⁻³k` along the body y axis (h = 0.5, n = 8, exp chart), on rayon's pool.
+pub fn energy_trend(
+    steps: usize,
+    members: usize,
+    tick: impl Fn(u64) + Sync,
+) -> Result<EnergyTrend, String> {
+    use rayon::prelude::*;
+    let case = cases().remove(0);
+    let system = RigidBody::new(
+        Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?,
+    );
+    let settings = StepSettings::new(0.5, 8)
+        .map_err(|e| e.to_string())?
+        .with_chart(ChartKind::Exp);
+    let w0 = case.model.velocity(&case.start.momentum);
+    let clock = Instant::now();
+    let ends: Vec<(f64, f64)> = (0..members)
+        .into_par_iter()
+        .map(|k| {
+            let shift = 1e-3 * k as f64;
+            let velocity = w0 * (1.0 + shift) + Vector3::y() * shift;
+            let mut integrator = Integrator::new(system, settings, SO3::identity(), velocity)
+                .map_err(|e| e.to_string())?;
+            let (e0, c0) = (
+                integrator.state().energy(&system),
+                integrator.state().casimir(),
+            );
+            const TICK: usize = 10_000;
+            for k in 1..=steps {
+                integrator.step().map_err(|e| e.to_string())?;
+                if k % TICK == 0 {
+                    tick(TICK as u64);
+                }
+            }
+            let end = integrator.state();
+            Ok(((end.energy(&system) - e0) / e0, (end.casimir() - c0) / c0))
+        })
+        .collect::<Result<_, String>>()?;
+    Ok(EnergyTrend {
+        members,
+        steps,
+        energy: Spread::new(ends.iter().map(|e| e.0).collect()),
+        casimir: Spread::new(ends.iter().map(|e| e.1).collect()),
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
 /// `lgsvi bench --long-run`: runs [`long_run`] and writes `LONG_RUN.md`, `long_run.json`
 /// and the plots `long_run_{energy,casimir,spatial_momentum,orthogonality}.svg|png`.
-fn run_long(dir: &std::path::Path, steps: usize, quiet: bool) -> Result<(), String> {
+fn run_long(
+    dir: &std::path::Path,
+    steps: usize,
+    members: usize,
+    quiet: bool,
+) -> Result<(), String> {
     let progress = crate::progress_bar(steps as u64, "long run (lgsvi)", "steps", quiet);
     let (lgsvi, dop, lgsvi_time, dop_time) = long_run(steps, 500, |k| progress.inc(k))?;
     progress.finish_and_clear();
+    let trend = if members > 0 {
+        let total = (members * steps) as u64;
+        let progress = crate::progress_bar(total, "energy trend (ensemble)", "steps", quiet);
+        let trend = energy_trend(steps, members, |k| progress.inc(k))?;
+        progress.finish_and_clear();
+        Some(trend)
+    } else {
+        None
+    };
     let max = |v: &[Invariants], f: fn(&Invariants) -> f64| v.iter().map(f).fold(0.0, f64::max);
     let half = |v: &[Invariants], f: fn(&Invariants) -> f64| {
         let mid = v.len() / 2;
@@ -726,6 +848,31 @@ fn run_long(dir: &std::path::Path, steps: usize, quiet: bool) -> Result<(), Stri
             &dir.join(format!("long_run_{name}")),
         )?;
     }
+    if let Some(trend) = &trend {
+        let row = |name: &str, spread: &Spread| {
+            format!(
+                "| {name} | {:+.2e} ± {:.2e} | {:.2e} | {}/{} | {} |",
+                spread.mean,
+                spread.standard_error,
+                spread.rms,
+                spread.values.iter().filter(|v| **v < 0.0).count(),
+                trend.members,
+                if spread.consistent_with_zero() {
+                    "none detected"
+                } else {
+                    "**drift**"
+                }
+            )
+        };
+        let _ = write!(
+            md,
+            "\n## Trend\n\nOne trajectory cannot tell a linear drift from a random walk of rounding errors. {} initial conditions near case A's (Ω₀ scaled by 1 + 10⁻³k, shifted by 10⁻³k along y), {steps} steps each, same settings, in {:.1} s on every core: signed relative errors at the end. A trend is reported when the mean is more than three standard errors from 0; a random walk's rms grows as √steps.\n\n| quantity | mean ± standard error | rms | negative | trend |\n|---|---|---|---|---|\n{}\n{}\n",
+            trend.members,
+            trend.seconds,
+            row("(E − E₀)/E₀", &trend.energy),
+            row("(\\|μ\\|² − \\|μ₀\\|²)/\\|μ₀\\|²", &trend.casimir),
+        );
+    }
     let write = |name: &str, text: &str| {
         let path = dir.join(name);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
@@ -733,7 +880,7 @@ fn run_long(dir: &std::path::Path, steps: usize, quiet: bool) -> Result<(), Stri
     write("LONG_RUN.md", &md)?;
     let json = serde_json::to_string_pretty(&serde_json::json!({
         "steps": steps, "lgsvi_time_s": lgsvi_time, "dop853_time_s": dop_time,
-        "lgsvi": lgsvi, "dop853": dop,
+        "lgsvi": lgsvi, "dop853": dop, "trend": trend,
     }))
     .map_err(|e| e.to_string())?;
     write("long_run.json", &json)?;

@@ -483,8 +483,25 @@ fn bench_long_run_writes_report_data_and_plots() {
             );
         }
     }
+    // The trend ensemble: 12 members by default, each ending where its own run does.
+    let trend = &data["trend"];
+    assert_eq!(trend["members"], 12);
+    let energy = trend["energy"]["values"].as_array().unwrap();
+    assert_eq!(energy.len(), 12);
+    // Member 0 is the long run's own initial condition: the same end energy (the sampled
+    // run stores |E − E₀|/E₀, evaluated by the baselines' formula: a few ε apart).
+    let last = samples.last().unwrap()["energy"].as_f64().unwrap();
+    let member = energy[0].as_f64().unwrap().abs();
+    assert!(
+        (member - last).abs() <= 4.0 * f64::EPSILON,
+        "{member:e} vs {last:e}"
+    );
+    assert!(out.contains("## Trend"), "{out}");
     let (code, _, err) = lgsvi(&["bench", "--long-run", "--long-run-steps", "1"]);
     assert_ne!(code, 0);
     assert!(err.contains("--long-run-steps"), "{err}");
+    let (code, _, err) = lgsvi(&["bench", "--long-run", "--long-run-members", "1"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--long-run-members"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
