@@ -734,9 +734,9 @@ pub fn energy_trend(
 ) -> Result<EnergyTrend, String> {
     use rayon::prelude::*;
     let case = cases().remove(0);
-    let system = RigidBody::new(
-        Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?,
-    );
+    let System::Free(system) = lgsvi_system(&case)? else {
+        return Err("the long run's case A is not the free rigid body".into());
+    };
     let settings = StepSettings::new(0.5, 8)
         .map_err(|e| e.to_string())?
         .with_chart(ChartKind::Exp);

@@ -24,8 +24,10 @@
 //! are carried as two doubles, the rounded value and its rounding error (`*_LOW`, printed
 //! by the generator), and added as `c_k + (low_k + s·rest)`: the result is then rounded
 //! once, with an error that varies erratically with `s` and averages to zero. The
-//! remaining coefficients enter multiplied by `s³` and ratios `≲ 1/60 000` of the first,
-//! so their rounding biases the function by `≲ 10⁻⁴ ε`. With this, the same ensemble's
+//! remaining coefficients enter multiplied by `s³`: over each series' range their
+//! rounding can bias the value by at most 4·10⁻⁴ ε and the first derivative by 0.006 ε
+//! (bounded in mpmath: `Σ_{k≥3} |c_k − fl(c_k)| s^k` against the function, likewise for
+//! the derivative). With this, the same ensemble's
 //! energy error is a random walk (mean +2e-14, rms 1.3e-13 after 10⁶ steps, growing as
 //! `√N`), and `tests::coefficient_functions_have_no_rounding_bias` checks the mean error
 //! against mpmath.
@@ -407,11 +409,12 @@ mod tests {
 
     /// The coefficient functions' rounding errors average to zero: the mean relative
     /// error of the value and of the first derivative in `s` (as a dual number carries it
-    /// into the integrator's gradients) over 2000 values of `s` in `(0, 9)` (θ evenly spaced) against
-    /// mpmath, per branch, is within `0.02 ε + 4` standard errors of 0. A rounded leading
-    /// coefficient biases a function by up to ε/2 (measured before the `*_LOW` terms:
-    /// `(θ − sin θ)/θ³` −0.27 ± 0.014 ε, `J_r⁻¹`'s coefficient −0.22 ± 0.012 ε, the
-    /// derivative of `(1 − cos θ)/θ²` +0.34 ± 0.015 ε, all failing here); a bias of
+    /// into the integrator's gradients) over 2000 values of `s` in `(0, 9)` (`θ` evenly
+    /// spaced) against mpmath, per branch, is within `0.02 ε + 4` standard errors of 0. A
+    /// rounded leading coefficient biases a function by up to ε/2 (measured without the
+    /// `*_LOW` terms, for `θ² ∈ [1/4, 4)`: `(θ − sin θ)/θ³` −0.26 ± 0.012 ε, `J_r⁻¹`'s
+    /// coefficient −0.24 ± 0.011 ε, the derivative of `(1 − cos θ)/θ²` +0.32 ± 0.013 ε,
+    /// all failing here; with them, at most 0.008 ± 0.005 ε); a bias of
     /// 0.02 ε in `(θ − sin θ)/θ³` drifts the energy of case A by ~6e-14 over 10⁶ steps
     /// (the measured sensitivity, see the module notes), below the random walk's 1.3e-13.
     #[test]
