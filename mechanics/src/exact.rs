@@ -199,12 +199,24 @@ struct Elliptic {
     amp: [f64; 3],
     m: f64,
     m1: f64,
+    /// `k' = √(1 − m)`.
+    k1: f64,
     lambda: f64,
-    u0: f64,
+    /// `u₀ = q₀ K + w₀`: `q₀` quarter periods (0 or ±1) and the rest, `|w₀| ≤ K/2` when
+    /// `q₀ ≠ 0` (see [`Elliptic::phase`]).
+    q0: f64,
+    w0: f64,
     /// `K(m)`, infinite on the separatrix.
     quarter: f64,
+    /// Whether arguments near an odd multiple of `K` are evaluated in the shifted form.
+    shifted: bool,
     /// `ν`.
     nu: f64,
+    /// `ν' = (m − ν)/(1 − ν)` and the two coefficients of
+    /// `∫₀^w dv/(1 − ν cd² v) = a w + b Π(ν'; am w | m)` (see [`Elliptic::phase`]).
+    nu_shifted: f64,
+    shifted_linear: f64,
+    shifted_third: f64,
     /// Complete `Π(ν | m)` (unused on the separatrix).
     pi_complete: f64,
     /// `Π(ν; am u₀ | m)`.
@@ -334,14 +346,30 @@ impl FreeRigidBodyExact {
         let epsilon = if (a + 1) % 3 == b { 1.0 } else { -1.0 };
         let beta = epsilon * gamma * (jc - jb).signum();
         let amp = [alpha * amp_a, alpha * beta * amp_b, gamma * amp_c];
-        // u₀ from its amplitude φ₀ = atan2(sn u₀, cn u₀) ∈ [−π/2, π/2].
+        // u₀ = q₀ K + w₀. Near an odd multiple of K (μ near the middle axis, where a body
+        // close to the separatrix spends most of its time) sn u → ±1 and cn u, dn u are
+        // O(k'): an absolute error of ε in the amplitude am u would be a relative error
+        // ε/k' in them. There the shifted form u = ±K + w is used, whose functions of w are
+        // O(1) (Elliptic::phase); it is chosen when |u₀| > K/2, i.e. cn²u₀ (1 + k') < k'.
         let (sn0, cn0) = (mb / amp[1], ma / amp[0]);
-        let phi0 = sn0.atan2(cn0);
-        let (sin0, cos0) = phi0.sin_cos();
-        let u0 = if m1 == 0.0 {
-            sin0.atanh()
+        let k1 = m1.sqrt();
+        let shifted = m > 0.5 && m1 > 0.0;
+        let (q0, s0, c0) = if shifted && cn0 * cn0 * (1.0 + k1) < k1 * (sn0 * sn0 + cn0 * cn0) {
+            // sn w₀ ∝ −σ μ_a/amp_a, cn w₀ ∝ σ k' μ_b/amp_b, σ = sign(sn u₀).
+            let sigma = if sn0 < 0.0 { -1.0 } else { 1.0 };
+            (sigma, -sigma * cn0, k1 * sn0.abs())
         } else {
-            sin0 * ellip::elliprf(cos0 * cos0, 1.0 - m * sin0 * sin0, 1.0).unwrap_or(f64::NAN)
+            (0.0, sn0, cn0)
+        };
+        // The amplitude's sine and cosine, normalised (cn ≥ 0: |am| ≤ π/2).
+        let radius = s0.hypot(c0);
+        let (sin0, cos0) = (s0 / radius, c0 / radius);
+        let w0 = if m1 == 0.0 {
+            // atanh(sin φ₀) as asinh(tan φ₀): no cancellation in 1 − sin φ₀.
+            (sin0 / cos0).asinh()
+        } else {
+            sin0 * ellip::elliprf(cos0 * cos0, m1.mul_add(1.0, m * cos0 * cos0), 1.0)
+                .unwrap_or(f64::NAN)
         };
         let nu = jc * (ja - jb) / (ja * (jc - jb));
         let norm = mu.norm();
@@ -354,27 +382,41 @@ impl FreeRigidBodyExact {
                 quarter + nu / 3.0 * ellip::elliprj(0.0, m1, 1.0, 1.0 - nu).unwrap_or(f64::NAN);
             (quarter, pi_complete)
         };
-        let f0 = JacobiElliptic {
-            sn: sin0,
-            cn: cos0,
-            dn: m1.mul_add(1.0, m * cos0 * cos0).sqrt(),
+        // 1 − ν cd² = (1 − ν)(1 − ν' sn²)/dn², so the integrand is
+        // [m/ν' + (1 − m/ν')/(1 − ν' sn²)]/(1 − ν), with 1 − m/ν' = −ν m₁/((1 − ν) ν').
+        let nu_shifted = (m - nu) / (1.0 - nu);
+        let (shifted_linear, shifted_third) = if shifted {
+            (
+                m / (nu_shifted * (1.0 - nu)),
+                -nu * m1 / ((1.0 - nu) * (1.0 - nu) * nu_shifted),
+            )
+        } else {
+            (0.0, 0.0)
         };
         let mut elliptic = Elliptic {
             axes: [a, b, c],
             amp,
             m,
             m1,
+            k1,
             lambda,
-            u0,
+            q0,
+            w0,
             quarter,
+            shifted,
             nu,
+            nu_shifted,
+            shifted_linear,
+            shifted_third,
             pi_complete,
-            pi_u0: third_kind(f0, nu),
+            pi_u0: 0.0,
             precession_rate: norm / jc,
             precession_coefficient: norm * (1.0 / ja - 1.0 / jc) / lambda,
             norm,
             frame: Matrix3::identity(),
         };
+        // Π at u₀ by the very evaluation `at(0)` makes, so that ψ(0) = 0 exactly.
+        elliptic.pi_u0 = elliptic.phase(q0, w0).1;
         elliptic.frame = attitude0.matrix() * elliptic.polhode_frame(&mu).transpose();
         let body = Self {
             inertia,
@@ -386,7 +428,7 @@ impl FreeRigidBodyExact {
         };
         let constants = [
             lambda,
-            u0,
+            w0,
             elliptic.pi_u0,
             elliptic.pi_complete,
             elliptic.precession_coefficient,
@@ -449,25 +491,70 @@ impl FreeRigidBodyExact {
 }
 
 impl Elliptic {
-    /// Attitude and body momentum at `t`.
-    fn at(&self, t: f64) -> (SO3, Vector3<f64>) {
-        let u = self.lambda.mul_add(t, self.u0);
-        let (functions, pi_u) = if self.m1 == 0.0 {
-            let f = separatrix_functions(u);
-            (f, third_kind(f, self.nu))
-        } else {
-            let (j, r, sign) = reduce(u, self.quarter);
+    /// `(sn, cn, dn)(u)` and `Π(ν; am u | m)` at `u = q K + v` (`q` an integer).
+    ///
+    /// The argument is brought to `u = 2jK + r`, and `r` evaluated directly when
+    /// `|r| ≤ K/2` (or when `m ≤ 1/2`, where `dn ≥ 1/√2` and nothing is ill-conditioned);
+    /// otherwise as `r = σK + w`, `|w| ≤ K/2`, through
+    /// `sn(σK + w) = σ cn w/dn w`, `cn(σK + w) = −σ k' sn w/dn w`, `dn(σK + w) = k'/dn w`
+    /// (DLMF 22.4.iii) and `Π(ν; am(σK + w)) = σ Π(ν) + ∫₀^w dv/(1 − ν cd² v)`, where the
+    /// integrand is that of `Π(ν'; ·)` plus a constant (see the fields). Every quantity
+    /// is then a product of factors with small relative error, even as `k' → 0`.
+    fn phase(&self, q: f64, v: f64) -> (JacobiElliptic, f64) {
+        if self.m1 == 0.0 {
+            let f = separatrix_functions(v);
+            return (f, third_kind(f, self.nu));
+        }
+        if !self.shifted {
+            let (j, r, sign) = reduce(q.mul_add(self.quarter, v), self.quarter);
             let f = sn_cn_dn_reduced(r, self.m, self.m1);
-            let pi_u = (2.0 * j).mul_add(self.pi_complete, third_kind(f, self.nu));
-            (
+            let pi = (2.0 * j).mul_add(self.pi_complete, third_kind(f, self.nu));
+            return (
                 JacobiElliptic {
                     sn: sign * f.sn,
                     cn: sign * f.cn,
                     dn: f.dn,
                 },
-                pi_u,
+                pi,
+            );
+        }
+        // u = q K + w with |w| ≤ K/2, then q = 2j + e, e ∈ {0, 1}.
+        let shift = (v / self.quarter).round();
+        let q = q + shift;
+        let w = (-shift).mul_add(self.quarter, v);
+        let j = (0.5 * q).floor();
+        let odd = q - 2.0 * j != 0.0;
+        let sign = if j.rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
+        let g = sn_cn_dn_reduced(w, self.m, self.m1);
+        let (f, pi_r) = if odd {
+            let shifted = self
+                .shifted_linear
+                .mul_add(w, self.shifted_third * third_kind(g, self.nu_shifted));
+            (
+                JacobiElliptic {
+                    sn: g.cn / g.dn,
+                    cn: -self.k1 * g.sn / g.dn,
+                    dn: self.k1 / g.dn,
+                },
+                self.pi_complete + shifted,
             )
+        } else {
+            (g, third_kind(g, self.nu))
         };
+        let pi = (2.0 * j).mul_add(self.pi_complete, pi_r);
+        (
+            JacobiElliptic {
+                sn: sign * f.sn,
+                cn: sign * f.cn,
+                dn: f.dn,
+            },
+            pi,
+        )
+    }
+
+    /// Attitude and body momentum at `t`.
+    fn at(&self, t: f64) -> (SO3, Vector3<f64>) {
+        let (functions, pi_u) = self.phase(self.q0, self.lambda.mul_add(t, self.w0));
         let [a, b, c] = self.axes;
         let mut mu = Vector3::zeros();
         mu[a] = self.amp[0] * functions.cn;
