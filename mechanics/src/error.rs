@@ -68,6 +68,47 @@ pub enum MechanicsError {
         /// Its start time.
         time: f64,
     },
+    /// The motion turns the body further within one step than the chart can follow: a
+    /// root Newton found would be an aliased one (energy and momenta conserved, the
+    /// attitude wrong by a turn the chart cannot see).
+    #[error(
+        "step {step} (t = {time}): the body turns by at least {rotation:.3} rad within the step, \
+         beyond the {chart} chart's reach of {limit:.3} rad; take a smaller step h (below {suggested:.3}){advice}"
+    )]
+    StepTooLong {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// The chart's name.
+        chart: &'static str,
+        /// The rotation angle the motion reaches (an estimate).
+        rotation: f64,
+        /// The chart's [`lgsvi_lie::So3Chart::max_rotation_angle`].
+        limit: f64,
+        /// A step that stays within reach at the present speed.
+        suggested: f64,
+        /// What else to change, if anything.
+        advice: &'static str,
+    },
+    /// Newton converged, but to an attitude that is not the continuation of the motion
+    /// (checked against the system's own flow over the step): an aliased root.
+    #[error(
+        "step {step} (t = {time}): Newton converged to an attitude {distance:.3} rad away from \
+         the motion's continuation (an aliased root of the {chart} chart); take a smaller step h{advice}"
+    )]
+    AliasedRoot {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// The chart's name.
+        chart: &'static str,
+        /// The rotation angle between the converged attitude and the flow's.
+        distance: f64,
+        /// What else to change, if anything.
+        advice: &'static str,
+    },
     /// The step's curve left the domain of the chart.
     #[error("step {step} (t = {time}): {source}")]
     OutsideChart {

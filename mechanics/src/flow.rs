@@ -96,12 +96,41 @@ fn frequency<L: Lagrangian>(
     }
 }
 
+/// What the flow predictor found.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum FlowGuess {
+    /// The guess is written; the flow's attitude at the step's end relative to its start
+    /// (`R_kᵀ R(h)`), against which the converged step is checked.
+    Written(Matrix3<f64>),
+    /// The flow turns the body by `angle` (≥ the chart's [`So3Chart::max_rotation_angle`])
+    /// relative to the step's start by `time` into the step: the chart cannot represent
+    /// the step, and a root Newton found would be an aliased one.
+    LeavesChart {
+        /// Time into the step.
+        time: f64,
+        /// The rotation angle reached.
+        angle: f64,
+    },
+    /// No closed-form `Ω(μ)`, a non-finite value, a node the chart's inverse refuses, or
+    /// more than [`MAX_SUBSTEPS`] substeps needed.
+    Unavailable,
+}
+
+/// The rotation angle of a (not necessarily unit) quaternion that has moved continuously
+/// from the identity, in `[0, 2π]`: past a half turn its scalar part is negative.
+fn continuous_angle(q: &Quaternion<f64>) -> f64 {
+    2.0 * q.imag().norm().atan2(q.w)
+}
+
 /// Writes into `out[i]` the chart coordinates at `times[i]` (ascending, in `[0, h]`) of
 /// the flow from `(base, μ)` with initial velocity `omega`: classical RK4 on `(q, μ)` with
 /// substeps of at most [`SUBSTEP_ANGLE`] of rotation, cubic Hermite interpolation of `q`
 /// between substeps (the same order), each node's coordinates on the chart's branch
-/// nearest the node before (`ξ¹ = 0`). False (and `out` partly written) where [`rate`] is
-/// `None`, a node leaves the chart's domain, or more than [`MAX_SUBSTEPS`] would be needed.
+/// nearest the node before (`ξ¹ = 0`). The rotation is followed continuously (the
+/// quaternion's angle): where it reaches the chart's [`So3Chart::max_rotation_angle`] the
+/// step cannot be represented ([`FlowGuess::LeavesChart`]); a Cayley chart's inverse
+/// would silently return the aliased rotation. `out` may be partly written unless the
+/// result is [`FlowGuess::Written`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flow_guess<L: Lagrangian>(
     system: &L,
@@ -112,16 +141,18 @@ pub(crate) fn flow_guess<L: Lagrangian>(
     h: f64,
     times: &[f64],
     out: &mut [Vector3<f64>],
-) -> bool {
+) -> FlowGuess {
+    use FlowGuess::Unavailable;
     let wanted = (h * frequency(system, base, mu, omega) / SUBSTEP_ANGLE).ceil();
     if wanted.is_nan() || wanted > MAX_SUBSTEPS as f64 {
-        return false;
+        return Unavailable;
     }
+    let limit = chart.max_rotation_angle();
     let substeps = (wanted as usize).max(2);
     let dt = h / substeps as f64;
     let (mut q, mut mu) = (Quaternion::identity(), *mu);
     let Some((mut q_dot, mut mu_dot)) = rate(system, base, &q, &mu) else {
-        return false;
+        return Unavailable;
     };
     let mut near = Vector3::zeros();
     let mut next_node = 0;
@@ -132,19 +163,26 @@ pub(crate) fn flow_guess<L: Lagrangian>(
         };
         let k1 = (q_dot, mu_dot);
         let Some(k2) = stage(&k1, 0.5 * dt) else {
-            return false;
+            return Unavailable;
         };
         let Some(k3) = stage(&k2, 0.5 * dt) else {
-            return false;
+            return Unavailable;
         };
         let Some(k4) = stage(&k3, dt) else {
-            return false;
+            return Unavailable;
         };
         let q1 = q + (k1.0 + (k2.0 + k3.0) * 2.0 + k4.0) * (dt / 6.0);
         let mu1 = mu + (k1.1 + (k2.1 + k3.1) * 2.0 + k4.1) * (dt / 6.0);
         let Some((q1_dot, mu1_dot)) = rate(system, base, &q1, &mu1) else {
-            return false;
+            return Unavailable;
         };
+        let angle = continuous_angle(&q1);
+        if angle >= limit {
+            return FlowGuess::LeavesChart {
+                time: t0 + dt,
+                angle,
+            };
+        }
         let last = s + 1 == substeps;
         while next_node < times.len() && (last || times[next_node] <= t0 + dt) {
             let u = ((times[next_node] - t0) / dt).clamp(0.0, 1.0);
@@ -159,11 +197,15 @@ pub(crate) fn flow_guess<L: Lagrangian>(
                     out[next_node] = xi;
                     near = xi;
                 }
-                _ => return false,
+                _ => return Unavailable,
             }
             next_node += 1;
         }
         (q, mu, q_dot, mu_dot) = (q1, mu1, q1_dot, mu1_dot);
     }
-    true
+    FlowGuess::Written(
+        *UnitQuaternion::from_quaternion(q)
+            .to_rotation_matrix()
+            .matrix(),
+    )
 }

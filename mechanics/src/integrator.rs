@@ -1,6 +1,7 @@
 //! The integrator: initial state, stepping, trajectories, invariants, dense output.
 
 use crate::error::{check_finite, MechanicsError};
+use crate::flow::FlowGuess;
 use crate::galerkin::{Discretisation, Stepper, Workspace};
 use crate::lagrangian::Lagrangian;
 use crate::settings::StepSettings;
@@ -11,6 +12,27 @@ use num_dual::{Dual2SVec64, DualSVec64};
 /// A continued curve whose residual is below this fraction of the equations' terms is
 /// taken without trying the velocity-corrected predictor (Newton then needs ~2 steps).
 const PREDICTOR_GOOD_ENOUGH: f64 = 1e-3;
+
+/// A converged step whose end attitude is further than this (radians) from the system's
+/// own flow over the step is an aliased root. The flow's error is ~1e-5 of the step's
+/// rotation (see [`crate::flow`]) and a converged step's local error far below 0.1 rad on
+/// any step that converges to the motion, while an aliased root is off by an O(1) turn.
+const ALIASED_DISTANCE: f64 = 0.5;
+
+/// The rotation angle of a rotation matrix (`acos((tr R − 1)/2)`, clamped).
+fn rotation_angle(r: &Matrix3<f64>) -> f64 {
+    (0.5 * (r.trace() - 1.0)).clamp(-1.0, 1.0).acos()
+}
+
+/// What to suggest besides a smaller step when a step outruns `chart`.
+fn chart_advice(chart: ChartKind) -> &'static str {
+    match chart {
+        ChartKind::Exp => "",
+        ChartKind::Cayley | ChartKind::CayleyUnscaled => {
+            " or the exp chart (--chart exp), which follows up to 2π per step"
+        }
+    }
+}
 
 /// `μ = ∂ℓ/∂Ω(R, Ω)` (the Legendre transform), by dual numbers.
 pub fn body_momentum<L: Lagrangian>(
@@ -210,6 +232,9 @@ pub struct Integrator<L: Lagrangian> {
     /// Scratch for the predictor's comparison.
     extrapolated: Vec<Vector3<f64>>,
     last_base: SO3,
+    /// The flow predictor's attitude at the end of the step being taken, relative to its
+    /// start, when the flow could be integrated: the check against aliased roots.
+    flow_end: Option<Matrix3<f64>>,
     statistics: Statistics,
 }
 
@@ -247,6 +272,7 @@ impl<L: Lagrangian> Integrator<L> {
             last_nodes: vec![Vector3::zeros(); n],
             extrapolated: vec![Vector3::zeros(); n],
             last_base: attitude,
+            flow_end: None,
             statistics: Statistics::default(),
         })
     }
@@ -295,17 +321,40 @@ impl<L: Lagrangian> Integrator<L> {
     /// when the velocity changes a lot within a step (the fallback when Newton fails).
     ///
     /// Returns whether the guess is the constant-velocity one (nothing left to retry).
-    fn predict(&mut self, constant_velocity: bool) -> bool {
+    ///
+    /// # Errors
+    /// [`MechanicsError::StepTooLong`] where the flow (or, without one, the present
+    /// angular speed) turns the body past the chart's reach within the step.
+    fn predict(&mut self, constant_velocity: bool) -> Result<bool, MechanicsError> {
         self.work.guess_changed();
-        if !constant_velocity && self.predict_by_flow() {
-            return false;
+        if !constant_velocity {
+            self.flow_end = None;
+            match self.predict_by_flow() {
+                FlowGuess::Written(end) => {
+                    self.flow_end = Some(end);
+                    return Ok(false);
+                }
+                FlowGuess::LeavesChart { time, angle } => {
+                    return Err(self.step_too_long(angle, time));
+                }
+                FlowGuess::Unavailable => {
+                    // Without the flow, the present angular speed bounds what a step
+                    // must be able to turn.
+                    let h = self.settings.step();
+                    let rotation = self.state.velocity.norm() * h;
+                    let limit = self.settings.chart().max_rotation_angle();
+                    if rotation >= limit {
+                        return Err(self.step_too_long(rotation, h * limit / rotation));
+                    }
+                }
+            }
         }
         if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
             // On long steps the continuation can be worse than the velocity correction
             // below: when its residual is not small, keep the better of the two.
             let continued = self.predictor_residual();
             if continued <= PREDICTOR_GOOD_ENOUGH {
-                return false;
+                return Ok(false);
             }
             self.extrapolated.copy_from_slice(&self.work.xi);
             self.predict_from_velocity(false);
@@ -314,17 +363,32 @@ impl<L: Lagrangian> Integrator<L> {
                 self.work.xi.copy_from_slice(&self.extrapolated);
                 self.work.guess_changed();
             }
-            return false;
+            return Ok(false);
         }
         self.predict_from_velocity(constant_velocity);
-        constant_velocity || self.previous_velocity.is_none()
+        Ok(constant_velocity || self.previous_velocity.is_none())
+    }
+
+    /// The error for a step that turns the body `rotation` rad, reaching the chart's
+    /// limit `suggested` seconds into the step.
+    fn step_too_long(&self, rotation: f64, suggested: f64) -> MechanicsError {
+        let chart = self.settings.chart();
+        MechanicsError::StepTooLong {
+            step: self.step_index,
+            time: self.state.time,
+            chart: chart.chart_name(),
+            rotation,
+            limit: chart.max_rotation_angle(),
+            suggested,
+            advice: chart_advice(chart),
+        }
     }
 
     /// The system's own flow over the step (classical RK4 in the chart, see
     /// [`crate::flow`]), when the system gives `Ω(μ)` in closed form. False (the guess
     /// then comes from the other predictors) where it does not, or where the flow leaves
     /// the chart's domain.
-    fn predict_by_flow(&mut self) -> bool {
+    fn predict_by_flow(&mut self) -> FlowGuess {
         let base = *self.state.attitude.matrix();
         let done = crate::flow::flow_guess(
             &self.system,
@@ -398,9 +462,14 @@ impl<L: Lagrangian> Integrator<L> {
     ///
     /// # Errors
     /// [`MechanicsError::NewtonDiverged`], [`MechanicsError::SingularJacobian`] or
-    /// [`MechanicsError::OutsideChart`], naming the step; the state is left unchanged.
+    /// [`MechanicsError::OutsideChart`], naming the step;
+    /// [`MechanicsError::StepTooLong`] where the motion turns the body past the chart's
+    /// reach ([`lgsvi_lie::So3Chart::max_rotation_angle`]) within the step, and
+    /// [`MechanicsError::AliasedRoot`] where Newton converged to an attitude that is not
+    /// the continuation of the motion (checked against the system's own flow, when it
+    /// has a closed-form `Ω(μ)`). The state is left unchanged.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
-        let constant_velocity = self.predict(false);
+        let constant_velocity = self.predict(false)?;
         let base = *self.state.attitude.matrix();
         let first = self.solve(&base);
         let outcome = match first {
@@ -408,11 +477,24 @@ impl<L: Lagrangian> Integrator<L> {
             // A poor guess (the velocity changed a lot over the last step, or the flow
             // guess led Newton astray): retry once from constant velocity before giving up.
             Err(_) if !constant_velocity => {
-                self.predict(true);
+                self.predict(true)?;
                 self.solve(&base)?
             }
             Err(error) => return Err(error),
         };
+        if let Some(end) = self.flow_end {
+            let distance = rotation_angle(&(end.transpose() * base.transpose() * outcome.attitude));
+            if distance.is_nan() || distance > ALIASED_DISTANCE {
+                let chart = self.settings.chart();
+                return Err(MechanicsError::AliasedRoot {
+                    step: self.step_index,
+                    time: self.state.time,
+                    chart: chart.chart_name(),
+                    distance,
+                    advice: chart_advice(chart),
+                });
+            }
+        }
         // R_k Φ(ξⁿ) is a rotation up to the rounding of the product, which would
         // accumulate over millions of steps (measured ‖RᵀR − I‖ 1e-12 after 10⁶ steps);
         // one polar Newton step R(I + ½(I − RᵀR)) squares that deviation away.

@@ -70,6 +70,10 @@ impl So3Chart for ExpChart {
         )
     }
 
+    /// `2π`: `exp` is a local diffeomorphism for `|ω| < 2π`.
+    fn max_rotation_angle(&self) -> f64 {
+        std::f64::consts::TAU
+    }
     fn check_rotation_domain<T: RealField + Copy>(&self, w: &Vector3<T>) -> Result<(), LieError> {
         check_exp_domain(w)
     }

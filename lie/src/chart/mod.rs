@@ -137,6 +137,20 @@ pub trait So3Chart: Copy + Debug {
         let _ = near;
         self.rotation_vector(r)
     }
+    /// The largest rotation angle a curve starting at the identity can reach in this
+    /// chart, following its rotation continuously: `π` (the default) for a chart that
+    /// covers each rotation once, as the Cayley maps do. A motion that turns further
+    /// within one step cannot be represented: the chart would show it as a different,
+    /// aliased rotation.
+    ///
+    /// ```
+    /// use lgsvi_lie::{CayleyChart, ExpChart, So3Chart};
+    /// assert_eq!(CayleyChart.max_rotation_angle(), std::f64::consts::PI);
+    /// assert_eq!(ExpChart.max_rotation_angle(), std::f64::consts::TAU);
+    /// ```
+    fn max_rotation_angle(&self) -> f64 {
+        std::f64::consts::PI
+    }
     /// Finite and inside the region where `Φ` is a local diffeomorphism.
     ///
     /// # Errors
@@ -351,6 +365,9 @@ impl So3Chart for ChartKind {
         near: &Vector3<T>,
     ) -> Result<Vector3<T>, LieError> {
         dispatch!(self, c => c.rotation_vector_near(r, near))
+    }
+    fn max_rotation_angle(&self) -> f64 {
+        dispatch!(self, c => c.max_rotation_angle())
     }
     fn check_rotation_domain<T: RealField + Copy>(&self, w: &Vector3<T>) -> Result<(), LieError> {
         dispatch!(self, c => c.check_rotation_domain(w))
