@@ -15,27 +15,34 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// The most timed repetitions of a bench run.
+const MAX_REPEATS: usize = 1000;
+/// The most steps of the long run (10⁹ steps of case A take about 2.5 hours).
+const MAX_LONG_RUN_STEPS: usize = 1_000_000_000;
+/// The most initial conditions of an ensemble.
+const MAX_MEMBERS: usize = 100_000;
+
 /// `lgsvi bench`.
 #[derive(Debug, Clone, Default, Args)]
 pub struct BenchOptions {
     /// Output folder for the table, JSON and plots [default: lgsvi-bench].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Timed repetitions of every run; the median is reported [default: 5].
+    /// Timed repetitions of every run, 1 to 1000; the median is reported [default: 5].
     #[arg(long)]
     pub repeats: Option<usize>,
     /// Run only the long run instead of the sweep: lgsvi (case A, h = 0.5, n = 8) beside
     /// DOP853 over the same horizon, invariants over time.
     #[arg(long)]
     pub long_run: bool,
-    /// Steps of the long run [default: 1000000].
+    /// Steps of the long run, 2 to 10⁹ [default: 1000000].
     #[arg(long, value_name = "N")]
     pub long_run_steps: Option<usize>,
     /// Initial conditions of the long run's energy-trend ensemble, each run for the same
-    /// steps in parallel; 0 skips it [default: 12].
+    /// steps in parallel; 0 skips it, at most 100000 [default: 12].
     #[arg(long, value_name = "N")]
     pub long_run_members: Option<usize>,
-    /// Initial conditions per case in the parallel-ensemble measurement [default: 64].
+    /// Initial conditions per case in the parallel-ensemble measurement, 1 to 100000 [default: 64].
     #[arg(long, value_name = "N")]
     pub ensemble_members: Option<usize>,
     /// No progress bar.
@@ -471,16 +478,29 @@ pub fn targets(points: &[Point]) -> String {
 /// `lgsvi bench`.
 pub fn run(options: BenchOptions) -> Result<(), String> {
     let repeats = options.repeats.unwrap_or(5);
-    if repeats == 0 {
-        return Err("invalid --repeats 0: need at least one run".into());
+    if !(1..=MAX_REPEATS).contains(&repeats) {
+        return Err(format!(
+            "invalid --repeats {repeats}: from 1 to {MAX_REPEATS} runs"
+        ));
     }
     let steps = options.long_run_steps.unwrap_or(1_000_000);
-    if steps < 2 {
-        return Err(format!("invalid --long-run-steps {steps}: need at least 2"));
+    if !(2..=MAX_LONG_RUN_STEPS).contains(&steps) {
+        return Err(format!(
+            "invalid --long-run-steps {steps}: from 2 to {MAX_LONG_RUN_STEPS}"
+        ));
     }
     let members = options.ensemble_members.unwrap_or(64);
-    if members == 0 {
-        return Err("invalid --ensemble-members 0: need at least one initial condition".into());
+    if !(1..=MAX_MEMBERS).contains(&members) {
+        return Err(format!(
+            "invalid --ensemble-members {members}: from 1 to {MAX_MEMBERS} initial conditions"
+        ));
+    }
+    if let Some(members) = options.long_run_members {
+        if members > MAX_MEMBERS {
+            return Err(format!(
+                "invalid --long-run-members {members}: at most {MAX_MEMBERS} (0 skips the trend)"
+            ));
+        }
     }
     let dir = options
         .out
@@ -573,7 +593,7 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
     }
     let write = |name: &str, text: &str| {
         let path = dir.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        crate::files::write(&path, text.as_bytes())
     };
     write("BENCH.md", &table)?;
     let json = serde_json::to_string_pretty(&serde_json::json!({
@@ -880,7 +900,7 @@ fn run_long(
     }
     let write = |name: &str, text: &str| {
         let path = dir.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        crate::files::write(&path, text.as_bytes())
     };
     write("LONG_RUN.md", &md)?;
     let json = serde_json::to_string_pretty(&serde_json::json!({

@@ -154,13 +154,13 @@ pub struct SimulateOptions {
     /// Heavy top: the direction gravity pulls in, world frame [default: 0,0,1, the paper's e₃].
     #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub gravity_direction: Option<[f64; 3]>,
-    /// Step h [default: 0.5].
+    /// Step h, between 1e-280 and 1e280 [default: 0.5].
     #[arg(long, allow_hyphen_values = true)]
     pub h: Option<f64>,
-    /// Chebyshev–Lobatto nodes n ≥ 2 (polynomial degree n − 1) [default: 10].
+    /// Chebyshev–Lobatto nodes, 2 ≤ n ≤ 100 (polynomial degree n − 1) [default: 10].
     #[arg(long)]
     pub nodes: Option<usize>,
-    /// Gauss points m [default: n].
+    /// Gauss points, 1 ≤ m ≤ 1000 [default: n].
     #[arg(long)]
     pub quad: Option<usize>,
     /// Natural chart [default: exp].
@@ -172,7 +172,8 @@ pub struct SimulateOptions {
     /// Newton matrix [default: exact].
     #[arg(long, value_enum)]
     pub jacobian: Option<JacobianArg>,
-    /// Final time T [default: 10].
+    /// Final time T, a whole number of steps h (the method takes fixed steps; other values
+    /// are refused with the nearest that work), at most 10⁹ steps [default: 10].
     #[arg(long, allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// Keep every K-th step (and always the first and last) [default: 1].
@@ -264,7 +265,13 @@ impl SimulateOptions {
     pub fn attitude(&self) -> Result<SO3, String> {
         match (self.attitude0, self.quaternion0) {
             (Some(_), Some(_)) => Err("give --attitude0 or --quaternion0, not both".into()),
-            (Some(r), None) => SO3::try_from_row_major(r).map_err(|e| format!("--attitude0: {e}")),
+            (Some(r), None) => SO3::try_from_row_major(r).map_err(|e| match e {
+                lgsvi_mechanics::lie::LieError::NotOrthogonal { deviation, .. } => format!(
+                    "--attitude0: not a rotation matrix (‖RᵀR − I‖ = {deviation:.1e}); give its \
+                     nine entries row-major to full precision, or the attitude as --quaternion0 w,x,y,z"
+                ),
+                other => format!("--attitude0: {other}"),
+            }),
             (None, Some(q)) => {
                 SO3::try_from_quaternion_wxyz(q).map_err(|e| format!("--quaternion0: {e}"))
             }

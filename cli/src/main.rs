@@ -1,11 +1,12 @@
 //! `lgsvi`: Lie group spectral variational integrators from the command line.
 //!
-//! `lgsvi` alone runs the main job (the paper's free rigid body on embedded defaults, a
-//! short report); `lgsvi simulate` runs one trajectory from flags and/or a TOML config and
-//! writes JSON or CSV. Errors are one line on standard error and a non-zero exit.
+//! `lgsvi` alone runs the main job, `lgsvi reproduce` on embedded defaults (the paper's
+//! nine figures, their data and a report); `lgsvi simulate` runs one trajectory from flags
+//! and/or a TOML config and writes JSON or CSV. Errors are one line on standard error and a non-zero exit.
 
 mod bench;
 mod config;
+mod files;
 mod output;
 mod plot;
 mod problem;
@@ -14,7 +15,7 @@ mod study;
 
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
-use lgsvi_mechanics::Trajectory;
+use lgsvi_mechanics::{State, Trajectory};
 use problem::Problem;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -24,8 +25,9 @@ use std::time::Instant;
     name = "lgsvi",
     version,
     about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies",
-    long_about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies.\n\n\
-                  Without a command, runs the paper's free rigid body on embedded defaults and prints a report."
+    long_about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies on SO(3).\n\n\
+                  Without a command, runs `lgsvi reproduce` on embedded defaults: the paper's nine figures \
+                  (rigid body and 3D pendulum) with their data and a report, into ./lgsvi-reproduce."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -55,27 +57,66 @@ pub struct Run {
     pub description: serde_json::Value,
 }
 
+/// Checks that a recorded state and its invariants are finite: a run whose numbers
+/// overflow stops there, naming the step and the quantity, instead of writing `null` or
+/// `inf`.
+fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<(), String> {
+    let pi = state.spatial_momentum();
+    let quantities: [(&str, &[f64]); 6] = [
+        ("attitude R", &state.attitude.to_row_major()),
+        ("angular velocity Ω", state.velocity.as_slice()),
+        ("body momentum μ", state.momentum.as_slice()),
+        ("energy", &[energy]),
+        ("Casimir |μ|²", &[state.casimir()]),
+        ("spatial momentum Rμ", pi.as_slice()),
+    ];
+    for (name, values) in quantities {
+        if values.iter().any(|x| !x.is_finite()) {
+            return Err(format!(
+                "step {step} (t = {}): the {name} is not finite ({values:?}); the inputs overflow \
+                 double precision: scale them (other units), or lower the inertia, mass, gravity or velocity",
+                state.time
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn integrate(problem: &Problem) -> Result<Run, String> {
     let mut integrator = problem.integrator(problem.settings)?;
     let steps = integrator
         .steps_until(problem.t_end)
         .map_err(|e| e.to_string())?;
     let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
-    let start = Instant::now();
-    let trajectory = integrator
-        .run_with_progress(steps, problem.every, |k| {
-            if k % 64 == 0 {
-                progress.set_position(k as u64);
-            }
-        })
-        .map_err(|e| e.to_string())?;
-    let wall_time_s = start.elapsed().as_secs_f64();
+    let system = *integrator.system();
+    let mut trajectory = Trajectory::default();
+    let mut energies = Vec::new();
+    let mut record = |k: usize, state: &State, iterations: usize| -> Result<(), String> {
+        let energy = state.energy(&system);
+        check_finite_state(k, state, energy)?;
+        trajectory.states.push(*state);
+        trajectory.newton_iterations.push(iterations);
+        energies.push(energy);
+        Ok(())
+    };
+    record(0, integrator.state(), 0)?;
+    // The integration alone is timed: not the checks, the recording or the output.
+    let mut wall_time = std::time::Duration::ZERO;
+    for k in 1..=steps {
+        let start = Instant::now();
+        let iterations = integrator.step().map_err(|e| e.to_string())?;
+        wall_time += start.elapsed();
+        let state = integrator.state();
+        if k % problem.every == 0 || k == steps {
+            record(k, state, iterations)?;
+        } else {
+            check_finite_state(k, state, state.energy(&system))?;
+        }
+        if k % 64 == 0 {
+            progress.set_position(k as u64);
+        }
+    }
     progress.finish_and_clear();
-    let energies = trajectory
-        .states
-        .iter()
-        .map(|s| s.energy(integrator.system()))
-        .collect();
     let stats = integrator.statistics();
     let mut description = problem.description.clone();
     description["settings"] =
@@ -84,7 +125,7 @@ fn integrate(problem: &Problem) -> Result<Run, String> {
     Ok(Run {
         trajectory,
         energies,
-        wall_time_s,
+        wall_time_s: wall_time.as_secs_f64(),
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
         max_newton_iterations: stats.max_newton_iterations,
@@ -109,11 +150,15 @@ fn exact_run(problem: &Problem) -> Result<Run, String> {
         trajectory.newton_iterations.push(0);
     }
     let wall_time_s = start.elapsed().as_secs_f64();
-    let energies = trajectory
+    let energies: Vec<f64> = trajectory
         .states
         .iter()
         .map(|s| s.energy(&problem.system))
         .collect();
+    for (state, energy) in trajectory.states.iter().zip(&energies) {
+        // The step the integrator would have reached at this time.
+        check_finite_state((state.time / h).round() as usize, state, *energy)?;
+    }
     let mut description = problem.description.clone();
     description["settings"] =
         Problem::settings_json(&problem.settings, problem.t_end, problem.every);
@@ -163,18 +208,18 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> 
 
 fn run_simulate(options: SimulateOptions) -> Result<(), String> {
     let (run, options) = simulate(options)?;
-    let text = match options.format.unwrap_or(config::Format::Json) {
-        config::Format::Json => output::json(&run),
-        config::Format::Csv => output::csv(&run),
+    let format = options.format.unwrap_or(config::Format::Json);
+    let write = |out: &mut dyn std::io::Write| match format {
+        config::Format::Json => output::write_json(&run, out),
+        config::Format::Csv => output::write_csv(&run, out),
     };
     match &options.out {
-        Some(path) => {
-            std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
-        }
+        Some(path) => files::write_with(path, |out| write(out)),
         None => {
-            use std::io::Write;
-            std::io::stdout()
-                .write_all(text.as_bytes())
+            let stdout = std::io::stdout();
+            let mut out = std::io::BufWriter::new(stdout.lock());
+            write(&mut out)
+                .and_then(|()| std::io::Write::flush(&mut out))
                 .map_err(|e| format!("cannot write to standard output: {e}"))
         }
     }

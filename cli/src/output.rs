@@ -1,48 +1,108 @@
-//! JSON and CSV output, and the main job's report.
+//! JSON and CSV output of a run, written straight to a file or standard output: no copy
+//! of the document is built in memory, so a run of millions of recorded states needs
+//! only its states (16 numbers each) besides the output itself.
 
 use crate::Run;
-use std::fmt::Write;
+use lgsvi_mechanics::State;
+use std::io::{self, Write};
 
-/// The JSON document: the field names are part of the command-line contract.
-pub fn json(run: &Run) -> String {
+/// `x` as JSON writes it (shortest round-trip form; finite by the run's checks).
+fn number<W: Write + ?Sized>(out: &mut W, x: f64) -> io::Result<()> {
+    serde_json::to_writer(&mut *out, &x).map_err(io::Error::other)
+}
+
+/// `[x, y, …]`.
+fn vector<W: Write + ?Sized>(out: &mut W, xs: &[f64]) -> io::Result<()> {
+    out.write_all(b"[")?;
+    for (i, &x) in xs.iter().enumerate() {
+        if i > 0 {
+            out.write_all(b",")?;
+        }
+        number(out, x)?;
+    }
+    out.write_all(b"]")
+}
+
+/// `"key":[item(s₀),item(s₁),…]` over the recorded states.
+fn column<W: Write + ?Sized>(
+    out: &mut W,
+    key: &str,
+    states: &[State],
+    mut item: impl FnMut(&mut W, usize, &State) -> io::Result<()>,
+) -> io::Result<()> {
+    write!(out, "\"{key}\":[")?;
+    for (k, s) in states.iter().enumerate() {
+        if k > 0 {
+            out.write_all(b",")?;
+        }
+        item(out, k, s)?;
+    }
+    out.write_all(b"]")
+}
+
+/// The JSON document, one line: the field names are part of the command-line contract,
+/// in alphabetical order (as earlier versions wrote them).
+pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
     let states = &run.trajectory.states;
-    let document = serde_json::json!({
-        "description": run.description,
-        "times": states.iter().map(|s| s.time).collect::<Vec<_>>(),
-        "R": states.iter().map(|s| s.attitude.to_row_major().to_vec()).collect::<Vec<_>>(),
-        "omega": states.iter().map(|s| s.velocity.as_slice().to_vec()).collect::<Vec<_>>(),
-        "momentum": states.iter().map(|s| s.momentum.as_slice().to_vec()).collect::<Vec<_>>(),
-        "energy": run.energies,
-        "casimir": states.iter().map(|s| s.casimir()).collect::<Vec<_>>(),
-        "spatial_momentum": states.iter().map(|s| s.spatial_momentum().as_slice().to_vec()).collect::<Vec<_>>(),
-        "newton_iterations_per_step": run.trajectory.newton_iterations,
-        "stats": {
-            "steps": run.steps,
-            "newton_iterations": run.newton_iterations,
-            "max_newton_iterations": run.max_newton_iterations,
-            "wall_time_s": run.wall_time_s,
-        },
+    out.write_all(b"{")?;
+    column(out, "R", states, |o, _, s| {
+        vector(o, &s.attitude.to_row_major())
+    })?;
+    out.write_all(b",")?;
+    column(out, "casimir", states, |o, _, s| number(o, s.casimir()))?;
+    out.write_all(b",\"description\":")?;
+    serde_json::to_writer(&mut *out, &run.description).map_err(io::Error::other)?;
+    out.write_all(b",")?;
+    column(out, "energy", states, |o, k, _| number(o, run.energies[k]))?;
+    out.write_all(b",")?;
+    column(out, "momentum", states, |o, _, s| {
+        vector(o, s.momentum.as_slice())
+    })?;
+    out.write_all(b",")?;
+    column(out, "newton_iterations_per_step", states, |o, k, _| {
+        write!(o, "{}", run.trajectory.newton_iterations[k])
+    })?;
+    out.write_all(b",")?;
+    column(out, "omega", states, |o, _, s| {
+        vector(o, s.velocity.as_slice())
+    })?;
+    out.write_all(b",")?;
+    column(out, "spatial_momentum", states, |o, _, s| {
+        vector(o, s.spatial_momentum().as_slice())
+    })?;
+    let stats = serde_json::json!({
+        "steps": run.steps,
+        "newton_iterations": run.newton_iterations,
+        "max_newton_iterations": run.max_newton_iterations,
+        "wall_time_s": run.wall_time_s,
     });
-    let mut text = serde_json::to_string(&document).expect("JSON of numbers and strings");
-    text.push('\n');
-    text
+    out.write_all(b",\"stats\":")?;
+    serde_json::to_writer(&mut *out, &stats).map_err(io::Error::other)?;
+    out.write_all(b",")?;
+    column(out, "times", states, |o, _, s| number(o, s.time))?;
+    out.write_all(b"}\n")
 }
 
 /// One row per recorded state.
-pub fn csv(run: &Run) -> String {
-    let mut out = String::from(
-        "t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega_x,omega_y,omega_z,mu_x,mu_y,mu_z,energy,casimir,pi_x,pi_y,pi_z,newton_iterations\n",
-    );
+pub fn write_csv<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
+    out.write_all(
+        b"t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega_x,omega_y,omega_z,mu_x,mu_y,mu_z,energy,casimir,pi_x,pi_y,pi_z,newton_iterations\n",
+    )?;
     for (k, s) in run.trajectory.states.iter().enumerate() {
-        let mut row: Vec<String> = vec![s.time.to_string()];
-        row.extend(s.attitude.to_row_major().iter().map(f64::to_string));
-        row.extend(s.velocity.iter().map(f64::to_string));
-        row.extend(s.momentum.iter().map(f64::to_string));
-        row.push(run.energies[k].to_string());
-        row.push(s.casimir().to_string());
-        row.extend(s.spatial_momentum().iter().map(f64::to_string));
-        row.push(run.trajectory.newton_iterations[k].to_string());
-        let _ = writeln!(out, "{}", row.join(","));
+        write!(out, "{}", s.time)?;
+        let pi = s.spatial_momentum();
+        let values = s
+            .attitude
+            .to_row_major()
+            .into_iter()
+            .chain(s.velocity.iter().copied())
+            .chain(s.momentum.iter().copied())
+            .chain([run.energies[k], s.casimir()])
+            .chain(pi.iter().copied());
+        for x in values {
+            write!(out, ",{x}")?;
+        }
+        writeln!(out, ",{}", run.trajectory.newton_iterations[k])?;
     }
-    out
+    Ok(())
 }

@@ -1,6 +1,7 @@
 //! Figures: 2D line/marker plots with linear or log axes, written as SVG and PNG
 //! (plotters), and a 3D plot of curves on a sphere.
 
+use crate::files::{commit, partial_path};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -236,13 +237,17 @@ const SIZE: (u32, u32) = (960, 620);
 
 /// Writes `base.svg` and `base.png`.
 pub fn save(fig: &Figure, base: &Path) -> Result<(), String> {
-    let svg = base.with_extension("svg");
-    let png = base.with_extension("png");
-    draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), fig)
+    let (svg, png) = (base.with_extension("svg"), base.with_extension("png"));
+    let (svg_partial, png_partial) = (partial_path(&svg), partial_path(&png));
+    draw(SVGBackend::new(&svg_partial, SIZE).into_drawing_area(), fig)
         .map_err(|e| format!("{}: {e}", svg.display()))?;
-    draw(BitMapBackend::new(&png, SIZE).into_drawing_area(), fig)
-        .map_err(|e| format!("{}: {e}", png.display()))?;
-    Ok(())
+    draw(
+        BitMapBackend::new(&png_partial, SIZE).into_drawing_area(),
+        fig,
+    )
+    .map_err(|e| format!("{}: {e}", png.display()))?;
+    commit(&svg_partial, &svg)?;
+    commit(&png_partial, &png)
 }
 
 /// A 3D figure: curves on the sphere `|y| = radius`, with a wireframe of the sphere.
@@ -331,14 +336,18 @@ where
 
 /// Writes `base.svg` and `base.png` of a sphere figure.
 pub fn save_sphere(fig: &SphereFigure, base: &Path) -> Result<(), String> {
-    let svg = base.with_extension("svg");
-    let png = base.with_extension("png");
-    draw_sphere(SVGBackend::new(&svg, (760, 720)).into_drawing_area(), fig)
-        .map_err(|e| format!("{}: {e}", svg.display()))?;
+    let (svg, png) = (base.with_extension("svg"), base.with_extension("png"));
+    let (svg_partial, png_partial) = (partial_path(&svg), partial_path(&png));
     draw_sphere(
-        BitMapBackend::new(&png, (760, 720)).into_drawing_area(),
+        SVGBackend::new(&svg_partial, (760, 720)).into_drawing_area(),
+        fig,
+    )
+    .map_err(|e| format!("{}: {e}", svg.display()))?;
+    draw_sphere(
+        BitMapBackend::new(&png_partial, (760, 720)).into_drawing_area(),
         fig,
     )
     .map_err(|e| format!("{}: {e}", png.display()))?;
-    Ok(())
+    commit(&svg_partial, &svg)?;
+    commit(&png_partial, &png)
 }

@@ -9,7 +9,7 @@ use lgsvi_mechanics::{
 };
 use nalgebra::{Matrix3, RealField, Vector3};
 
-/// The paper's parameters per system (`paper/README.md`): case A and case B.
+/// The paper's parameters per system (`docs/paper-notes.md` §4): case A and case B.
 pub struct Defaults {
     pub inertia_d: [f64; 3],
     pub omega0: [f64; 3],
@@ -26,6 +26,34 @@ pub fn defaults(system: SystemKind) -> Defaults {
             omega0: [0.5, -0.5, 0.4],
         },
     }
+}
+
+/// The most steps one run may take (a run of 10⁹ steps takes hours; a mistyped horizon
+/// or step should not run for ever).
+pub const MAX_RUN_STEPS: f64 = 1e9;
+
+/// The number of steps `h` that make up `t_end`, or a one-line error: the method has a
+/// fixed step, and a run ends at a whole number of them. A relative slack of 1e-9 of a
+/// step absorbs the rounding of decimal inputs (`t_end = 10`, `h = 0.1`).
+pub fn whole_steps(t_end: f64, h: f64) -> Result<usize, String> {
+    let ratio = t_end / h;
+    if ratio.is_nan() || ratio > MAX_RUN_STEPS {
+        return Err(format!(
+            "--t-end {t_end:?} with --h {h:?} asks for {ratio:.3e} steps, more than the {MAX_RUN_STEPS:.0e} a run may take: \
+             take a shorter horizon or a longer step"
+        ));
+    }
+    let steps = ratio.round();
+    if (ratio - steps).abs() > 1e-9 * steps.max(1.0) {
+        let (below, above) = (ratio.floor() * h, ratio.ceil() * h);
+        let fitted = t_end / ratio.ceil();
+        return Err(format!(
+            "--t-end {t_end:?} is not a whole number of steps h = {h:?}: the method takes fixed \
+             steps, so end at {below:?} or {above:?}, or take h = {fitted:?} ({} steps)",
+            ratio.ceil()
+        ));
+    }
+    Ok(steps as usize)
 }
 
 /// A built-in system: one type, so that studies need not be generic.
@@ -97,6 +125,20 @@ impl Problem {
             (None, None) => Inertia::from_paper_jd(d.inertia_d).map_err(|e| e.to_string())?,
             (Some(_), Some(_)) => return Err("give --inertia or --inertia-d, not both".into()),
         };
+        if kind == SystemKind::RigidBody {
+            for (flag, given) in [
+                ("--mass", options.mass.is_some()),
+                ("--gravity", options.gravity.is_some()),
+                ("--com", options.com.is_some()),
+                ("--gravity-direction", options.gravity_direction.is_some()),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag} applies to the heavy top only (--system heavy-top); the rigid body is free"
+                    ));
+                }
+            }
+        }
         let h = options.h.unwrap_or(0.5);
         let nodes = options.nodes.unwrap_or(10);
         let mut settings = StepSettings::new(h, nodes).map_err(|e| e.to_string())?;
@@ -115,6 +157,7 @@ impl Problem {
                 "invalid --t-end {t_end}: must be finite and non-negative"
             ));
         }
+        whole_steps(t_end, h)?;
         let every = options.every.unwrap_or(1);
         if every == 0 {
             return Err("invalid --every 0: keep every K-th step with K ≥ 1".into());

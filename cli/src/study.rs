@@ -2,11 +2,11 @@
 //! or a high-accuracy run, with fitted rates; `lgsvi converge`.
 
 use crate::config::{Format, SimulateOptions};
-use crate::problem::Problem;
+use crate::problem::{whole_steps, Problem};
 use clap::{Args, ValueEnum};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
-use lgsvi_mechanics::{GalerkinCurve, Lagrangian, Matching, StepSettings};
+use lgsvi_mechanics::{GalerkinCurve, Lagrangian, Matching, StepSettings, MAX_NODES};
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
@@ -301,6 +301,9 @@ pub fn algebraic_order(points: &[(f64, f64)]) -> Option<f64> {
     slope(&fit)
 }
 
+/// The most points per step at which `converge` compares the Galerkin curve.
+pub const MAX_CURVE_SAMPLES: usize = 1000;
+
 /// Which refinements `lgsvi converge` runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -323,8 +326,10 @@ fn node_range(text: &str) -> Result<[usize; 2], String> {
             .map_err(|_| format!("{s:?} is not a node count"))
     };
     let (a, b) = (parse(a)?, parse(b)?);
-    if a < 2 || b < a {
-        return Err(format!("invalid range {text}: need 2 ≤ first ≤ last"));
+    if a < 2 || b < a || b > MAX_NODES {
+        return Err(format!(
+            "invalid range {text}: need 2 ≤ first ≤ last ≤ {MAX_NODES}"
+        ));
     }
     Ok([a, b])
 }
@@ -338,14 +343,18 @@ fn positive_step(text: &str) -> Result<f64, String> {
 
 fn node_count(text: &str) -> Result<usize, String> {
     match text.trim().parse::<usize>() {
-        Ok(n) if n >= 2 => Ok(n),
-        _ => Err(format!("{text:?} is not a node count ≥ 2")),
+        Ok(n) if (2..=MAX_NODES).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "{text:?} is not a node count from 2 to {MAX_NODES}"
+        )),
     }
 }
 
 /// `lgsvi converge`: the system and integrator flags of `simulate`, plus the study's.
 #[derive(Debug, Clone, Default, Args, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
+// simulate's `--exact` and `--every` do not apply to a study (they are refused if given).
+#[command(mut_arg("exact", |a| a.hide(true)), mut_arg("every", |a| a.hide(true)))]
 pub struct ConvergeOptions {
     /// System, initial state, chart, matching, `--h` (the step of the n-refinement),
     /// `--t-end` (default 10), `--format`, `--out` (the data), `--config`. A config file may
@@ -365,7 +374,7 @@ pub struct ConvergeOptions {
     /// h-refinement: one series per node count [default: 2,3,4,5].
     #[arg(long, value_parser = node_count, value_delimiter = ',', value_name = "N1,N2,...")]
     pub step_nodes: Option<Vec<usize>>,
-    /// Points per step at which the Galerkin curve is compared (1 = none) [default: 8].
+    /// Points per step at which the Galerkin curve is compared, 1 (none) to 1000 [default: 8].
     #[arg(long)]
     pub curve_samples: Option<usize>,
 }
@@ -605,6 +614,16 @@ pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
     if options.base.exact {
         return Err("--exact is a simulate option; converge always measures against the exact solution when there is one".into());
     }
+    if options.base.every.is_some() {
+        return Err("--every is a simulate option; converge measures every step".into());
+    }
+    if let Some(samples) = options.curve_samples {
+        if !(1..=MAX_CURVE_SAMPLES).contains(&samples) {
+            return Err(format!(
+                "invalid --curve-samples {samples}: from 1 (no curve check) to {MAX_CURVE_SAMPLES}"
+            ));
+        }
+    }
     let (problem, base) = Problem::resolve(options.base)?;
     let kind = options.study.unwrap_or(StudyKind::Both);
     let [first, last] = options.nodes_range.unwrap_or([2, 16]);
@@ -614,6 +633,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
     }
     for h in options.steps.iter().flatten() {
         positive_step(&h.to_string()).map_err(|e| format!("steps: {e}"))?;
+        whole_steps(problem.t_end, *h).map_err(|e| format!("steps: {e}"))?;
     }
     for n in options.step_nodes.iter().flatten() {
         node_count(&n.to_string()).map_err(|e| format!("step-nodes: {e}"))?;
@@ -676,7 +696,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
                 t
             }
         };
-        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        crate::files::write(path, text.as_bytes())?;
     }
     Ok(())
 }

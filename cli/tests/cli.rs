@@ -63,6 +63,24 @@ fn main_job_reproduces_the_nine_figures() {
     }
     let report = std::fs::read_to_string(folder.join("REPORT.md")).unwrap();
     assert!(report.contains("## The paper's claims and what lgsvi measured"));
+    // The README's sample figures are what `reproduce` writes (`docs/samples/regenerate.sh`).
+    for name in [
+        "fig1_rigid_body_n_refinement.svg",
+        "fig2_rigid_body_h_refinement.svg",
+    ] {
+        let sample = format!("{}/../docs/samples/{name}", env!("CARGO_MANIFEST_DIR"));
+        assert!(
+            std::fs::read(&sample).unwrap() == std::fs::read(folder.join(name)).unwrap(),
+            "docs/samples/{name} is stale: run sh docs/samples/regenerate.sh"
+        );
+    }
+    // The finished report replaced the mark written at the start, and no partial file
+    // is left.
+    assert!(!report.contains("INCOMPLETE"));
+    for entry in std::fs::read_dir(&folder).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.starts_with(".partial"), "{name} left behind");
+    }
     for k in 1..=9 {
         assert!(
             report.contains(&format!("Figure {k}")) || report.contains(&format!("Figures {k}")),
@@ -503,5 +521,202 @@ fn bench_long_run_writes_report_data_and_plots() {
     let (code, _, err) = lgsvi(&["bench", "--long-run", "--long-run-members", "1"]);
     assert_ne!(code, 0);
     assert!(err.contains("--long-run-members"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The inputs that gave a wrong answer with exit 0, a panic or an endless run: each is
+/// now a one-line error that names what to change.
+#[test]
+fn adversarial_inputs_are_refused_in_one_line() {
+    let huge = "18446744073709551615";
+    for (args, needle) in [
+        // Steps the Cayley chart cannot follow converged to aliased roots.
+        (
+            vec!["simulate", "--chart", "cayley", "--h", "5", "--t-end", "20"],
+            "smaller step h",
+        ),
+        (
+            vec![
+                "simulate", "--omega0", "1e3,0,0", "--chart", "cayley", "--t-end", "2",
+            ],
+            "exp chart",
+        ),
+        // Overflow became null / inf in the output.
+        (
+            vec!["simulate", "--system", "heavy-top", "--gravity", "1e307"],
+            "not finite",
+        ),
+        (
+            vec!["simulate", "--inertia", "1e300,1e300,1e300"],
+            "Casimir",
+        ),
+        // Flags that do not apply were ignored.
+        (
+            vec!["simulate", "--mass", "2"],
+            "--mass applies to the heavy top",
+        ),
+        (vec!["simulate", "--gravity", "-5"], "--gravity applies"),
+        (
+            vec!["converge", "--every", "2"],
+            "--every is a simulate option",
+        ),
+        (vec!["converge", "--exact"], "--exact is a simulate option"),
+        // A horizon that is not a whole number of steps ended elsewhere.
+        (
+            vec!["simulate", "--t-end", "1.3", "--h", "0.5"],
+            "end at 1.0 or 1.5",
+        ),
+        // Counts that panicked ("capacity overflow", faer's AllocError) or never ended.
+        (vec!["simulate", "--nodes", huge], "at most 100 nodes"),
+        (vec!["simulate", "--nodes", "5000"], "at most 100 nodes"),
+        (
+            vec!["simulate", "--quad", huge],
+            "at most 1000 Gauss points",
+        ),
+        (
+            vec!["converge", "--nodes-range", &format!("2..{huge}")],
+            "≤ 100",
+        ),
+        (vec!["converge", "--step-nodes", huge], "from 2 to 100"),
+        (vec!["converge", "--curve-samples", huge], "curve-samples"),
+        (
+            vec!["bench", "--ensemble-members", huge],
+            "ensemble-members",
+        ),
+        (vec!["simulate", "--t-end", "1e308"], "more than the 1e9"),
+        (
+            vec!["simulate", "--h", "1e-320"],
+            "between 1e-280 and 1e280",
+        ),
+        (vec!["simulate", "--h", "1e308"], "between 1e-280 and 1e280"),
+        // Library advice reworded for the command line.
+        (
+            vec!["simulate", "--attitude0", "1,0,0,0,1,0,0,0.1,1"],
+            "--quaternion0",
+        ),
+    ] {
+        let (code, out, err) = lgsvi(&args);
+        assert_ne!(
+            code,
+            0,
+            "{args:?} succeeded: {}",
+            &out[..out.len().min(200)]
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(!err.contains("from_matrix"), "{args:?}: {err}");
+    }
+}
+
+/// Inputs that gave a wrong answer with exit 0 and now give the right one.
+#[test]
+fn overflowing_quaternions_and_near_separatrix_spins_start_where_they_should() {
+    // |q| = 1e155 overflowed the norm: R(0) was the zero matrix.
+    let (code, out, err) = lgsvi(&[
+        "simulate",
+        "--quaternion0",
+        "1e155,0,0,0",
+        "--t-end",
+        "0",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let row: Vec<f64> = out
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(&row[1..10], &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+    // A spin about the middle axis perturbed by 1e-10: the exact solution's R(0) was a
+    // 2.2 rad rotation and Ω_z had the wrong sign. Now R(0) = I and Ω(0) = Ω₀ to rounding.
+    let (code, out, err) = lgsvi(&[
+        "simulate",
+        "--exact",
+        "--omega0",
+        "1,1e-10,1e-10",
+        "--t-end",
+        "0",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let row: Vec<f64> = out
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let identity = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    for (got, want) in row[1..10].iter().zip(identity) {
+        assert!(
+            (got - want).abs() <= 4.0 * f64::EPSILON,
+            "R(0): {:?}",
+            &row[1..10]
+        );
+    }
+    for (got, want) in row[10..13].iter().zip([1.0, 1e-10, 1e-10]) {
+        // Relative to each component: the small ones carry the motion near the separatrix.
+        assert!(
+            (got - want).abs() <= 8.0 * f64::EPSILON * want,
+            "Ω(0): {:?}",
+            &row[10..13]
+        );
+    }
+}
+
+/// A run that fails, or output that cannot be written, leaves an existing file as it was.
+#[test]
+fn a_failed_run_keeps_the_previous_output_file() {
+    let dir = temp_dir("atomic");
+    let path = dir.join("run.json");
+    let path_text = path.to_str().unwrap();
+    let (code, _, err) = lgsvi(&["simulate", "--t-end", "1", "--out", path_text]);
+    assert_eq!(code, 0, "{err}");
+    let good = std::fs::read(&path).unwrap();
+    // Fails at its first step (a step the Cayley chart cannot follow).
+    let (code, _, _) = lgsvi(&[
+        "simulate", "--chart", "cayley", "--h", "5", "--t-end", "20", "--out", path_text,
+    ]);
+    assert_ne!(code, 0);
+    assert_eq!(std::fs::read(&path).unwrap(), good);
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["run.json"], "no partial file is left behind");
+    // An unwritable destination is a one-line error.
+    let (code, _, err) = lgsvi(&[
+        "simulate",
+        "--t-end",
+        "1",
+        "--out",
+        dir.join("missing/run.json").to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("cannot write") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A `reproduce` that does not finish leaves REPORT.md saying so (here it fails at figure
+/// 3, whose CSV cannot be written: a directory stands in its place).
+#[test]
+fn an_unfinished_reproduce_is_marked_incomplete() {
+    let dir = temp_dir("incomplete");
+    std::fs::create_dir_all(dir.join("fig3_rigid_body_energy.csv/blocked")).unwrap();
+    let (code, _, err) = lgsvi(&["reproduce", "--out", dir.to_str().unwrap(), "--quiet"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("fig3_rigid_body_energy.csv"), "{err}");
+    let report = std::fs::read_to_string(dir.join("REPORT.md")).unwrap();
+    assert!(report.starts_with("# INCOMPLETE"), "{report}");
+    // What was finished before the failure is complete.
+    assert!(dir.join("fig1_rigid_body_n_refinement.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

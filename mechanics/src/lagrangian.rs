@@ -259,8 +259,10 @@ impl HeavyTop {
                 reason: "must be non-negative (set the direction with gravity_direction)",
             });
         }
-        let norm = gravity_direction.norm();
-        if norm == 0.0 {
+        // Scaled by its largest component first: the norm of a direction like 1e200·e₃
+        // would overflow (and the direction become zero).
+        let largest = gravity_direction.amax();
+        if largest == 0.0 {
             return Err(MechanicsError::InvalidSetting {
                 name: "gravity direction",
                 value: format!("{:?}", gravity_direction.as_slice()),
@@ -272,7 +274,7 @@ impl HeavyTop {
             mass,
             gravity,
             center_of_mass,
-            gravity_direction: gravity_direction / norm,
+            gravity_direction: (gravity_direction / largest).normalize(),
         })
     }
 

@@ -79,5 +79,5 @@ pub use lagrangian::{
 pub use lgsvi_lie as lie;
 pub use settings::{
     Matching, NewtonJacobian, StepSettings, DEFAULT_EXTRA_QUADRATURE_POINTS,
-    DEFAULT_MAX_NEWTON_ITERATIONS,
+    DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES, MAX_QUADRATURE_POINTS, STEP_RANGE,
 };

@@ -7,7 +7,7 @@ use lgsvi_lie::ChartKind;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Matching {
     /// The exact derivative of the discrete Lagrangian, including how the curve's base
-    /// point moves (see `paper/README.md`): discrete Noether holds to rounding.
+    /// point moves (see `docs/paper-notes.md` §3): discrete Noether holds to rounding.
     #[default]
     Exact,
     /// The paper's recipe `μ_k = −A(0)⁻ᵀ ∂S/∂ξ¹`: not the derivative of the discrete
@@ -64,18 +64,51 @@ pub const DEFAULT_EXTRA_QUADRATURE_POINTS: usize = 0;
 /// Default cap on Newton iterations per step (converged steps take 3 to 8).
 pub const DEFAULT_MAX_NEWTON_ITERATIONS: usize = 40;
 
+/// The most Chebyshev–Lobatto nodes a step may have. A step's Newton system has
+/// `3(n − 1)` unknowns and its tables `O(n²)` entries; spectral convergence reaches the
+/// rounding floor by `n ≈ 20` on every reference case, so 100 leaves ample room while
+/// keeping a mistyped count from allocating without bound.
+pub const MAX_NODES: usize = 100;
+
+/// The most Gauss points a step may have (the quadrature rules are accurate to a few
+/// ulps up to 1000 points and beyond; a step needs about `n`).
+pub const MAX_QUADRATURE_POINTS: usize = 1000;
+
+/// The range of steps `h`: wide enough for any unit system (femtoseconds in SI for a
+/// molecule, years for an orbit), narrow enough that the node times, their differences
+/// and the predictor's continuation to `2h` are normal floating-point numbers.
+pub const STEP_RANGE: (f64, f64) = (1e-280, 1e280);
+
 impl StepSettings {
-    /// Step `h > 0` and `n ≥ 2` Chebyshev–Lobatto nodes (degree `n − 1`); defaults:
-    /// `m = n` Gauss points, the exp chart, exact matching, exact Jacobian.
+    /// Step `h` in [`STEP_RANGE`] and `2 ≤ n ≤` [`MAX_NODES`] Chebyshev–Lobatto nodes
+    /// (degree `n − 1`); defaults: `m = n` Gauss points, the exp chart, exact matching,
+    /// exact Jacobian.
+    ///
+    /// ```
+    /// use lgsvi_mechanics::StepSettings;
+    /// assert!(StepSettings::new(0.5, 10).is_ok());
+    /// assert!(StepSettings::new(0.5, 1).is_err());
+    /// assert!(StepSettings::new(0.5, 5000).is_err());
+    /// assert!(StepSettings::new(1e308, 10).is_err());
+    /// ```
     ///
     /// # Errors
-    /// [`MechanicsError::InvalidSetting`] unless `h` is positive and finite and `n ≥ 2`.
+    /// [`MechanicsError::InvalidSetting`] for `h` outside [`STEP_RANGE`] (or not finite)
+    /// and `n` outside `2..=MAX_NODES`.
     pub fn new(step: f64, nodes: usize) -> Result<Self, MechanicsError> {
         if !(step.is_finite() && step > 0.0) {
             return Err(MechanicsError::InvalidSetting {
                 name: "h",
-                value: step.to_string(),
+                value: format!("{step:?}"),
                 reason: "the step must be positive and finite",
+            });
+        }
+        if !(STEP_RANGE.0..=STEP_RANGE.1).contains(&step) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "h",
+                value: format!("{step:?}"),
+                reason:
+                    "the step must lie between 1e-280 and 1e280 (choose units in which it does)",
             });
         }
         if nodes < 2 {
@@ -83,6 +116,13 @@ impl StepSettings {
                 name: "nodes",
                 value: nodes.to_string(),
                 reason: "at least 2 Chebyshev-Lobatto nodes (polynomial degree 1) are needed",
+            });
+        }
+        if nodes > MAX_NODES {
+            return Err(MechanicsError::InvalidSetting {
+                name: "nodes",
+                value: nodes.to_string(),
+                reason: "at most 100 nodes (spectral convergence reaches rounding by about 20)",
             });
         }
         Ok(Self {
@@ -99,13 +139,20 @@ impl StepSettings {
     /// Sets the number of Gauss points `m ≥ 1`.
     ///
     /// # Errors
-    /// [`MechanicsError::InvalidSetting`] for `m = 0`.
+    /// [`MechanicsError::InvalidSetting`] for `m = 0` or `m >` [`MAX_QUADRATURE_POINTS`].
     pub fn with_quadrature_points(mut self, m: usize) -> Result<Self, MechanicsError> {
         if m == 0 {
             return Err(MechanicsError::InvalidSetting {
                 name: "quad",
                 value: "0".into(),
                 reason: "at least one Gauss point is needed",
+            });
+        }
+        if m > MAX_QUADRATURE_POINTS {
+            return Err(MechanicsError::InvalidSetting {
+                name: "quad",
+                value: m.to_string(),
+                reason: "at most 1000 Gauss points (a step needs about as many as it has nodes)",
             });
         }
         self.quadrature_points = Some(m);

@@ -264,16 +264,26 @@ impl<T: RealField + Copy> SO3<T> {
     /// let r = SO3::try_from_quaternion_wxyz([half, 0.0, 0.0, half])?; // 90° about z
     /// assert!((r.matrix()[(1, 0)] - 1.0).abs() < 1e-15);
     /// assert!(SO3::<f64>::try_from_quaternion_wxyz([0.0; 4]).is_err());
+    /// // Scale does not matter, however large or small.
+    /// let big = SO3::try_from_quaternion_wxyz([1e155, 0.0, 0.0, 1e155])?;
+    /// let tiny = SO3::try_from_quaternion_wxyz([1e-170, 0.0, 0.0, 1e-170])?;
+    /// assert!((big.matrix() - r.matrix()).norm() < 1e-15);
+    /// assert!((tiny.matrix() - r.matrix()).norm() < 1e-15);
     /// # Ok::<(), lgsvi_lie::LieError>(())
     /// ```
     pub fn try_from_quaternion_wxyz(q: [T; 4]) -> Result<Self, LieError> {
         if q.iter().any(|x| !real(*x).is_finite()) {
             return Err(LieError::NonFinite { what: "quaternion" });
         }
-        let norm = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
-        if real(norm) < f64::MIN_POSITIVE.sqrt() {
-            return Err(LieError::ZeroQuaternion { norm: real(norm) });
+        // Scaled by the largest component first, so that the sum of squares can neither
+        // overflow (|q| ~ 1e155) nor underflow (|q| ~ 1e-160): any non-zero quaternion
+        // gives its rotation.
+        let largest = q.iter().fold(T::zero(), |m, x| m.max(x.abs()));
+        if largest == T::zero() {
+            return Err(LieError::ZeroQuaternion { norm: 0.0 });
         }
+        let q = q.map(|x| x / largest);
+        let norm = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
         let (w, v) = (q[0] / norm, Vector3::new(q[1], q[2], q[3]) / norm);
         Ok(Self {
             matrix: quaternion::to_matrix(w, &v),
