@@ -13,7 +13,7 @@
 //! equations,
 //! - exact: `A(ξⁿ)ᵀ Φ(ξⁿ)ᵀ w − ∂S/∂ξⁿ = 0`, `w = μ_k + Σ_j h b_j Φ(x_j) p_j` with
 //!   `p_j = ∂ℓ̃/∂ζ` (zero for a left-invariant Lagrangian), which is
-//!   `μ_k = Φ(ξⁿ) A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ − A(0)⁻ᵀ ∂_η S(g_k Φ(η) Φ(ξ(t)))` of `paper/README.md`;
+//!   `μ_k = Φ(ξⁿ) A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ − A(0)⁻ᵀ ∂_η S(g_k Φ(η) Φ(ξ(t)))` of `docs/paper-notes.md` §3;
 //! - paper: `A(0)ᵀ μ_k + ∂S/∂ξ¹ = 0`.
 //!
 //! Afterwards `g_{k+1} = g_k Φ(ξⁿ)` and `μ_{k+1} = A(ξⁿ)⁻ᵀ ∂S/∂ξⁿ`, which the exact
