@@ -585,7 +585,6 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
                     y_log: true,
                     series,
                     hlines: vec![],
-                    legend_left: false,
                 },
                 &dir.join(&name),
             )?;
@@ -868,7 +867,6 @@ fn run_long(
                     series("DOP853, (R, Ω), tol 1e-13", &dop, 1),
                 ],
                 hlines: vec![],
-                legend_left: true,
             },
             &dir.join(format!("long_run_{name}")),
         )?;
