@@ -5,8 +5,10 @@
 //! and/or a TOML config and writes JSON or CSV. Errors are one line on standard error and a non-zero exit.
 
 mod bench;
+mod cases;
 mod config;
 mod files;
+mod invariants;
 mod output;
 mod plot;
 mod problem;

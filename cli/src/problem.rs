@@ -16,15 +16,13 @@ pub struct Defaults {
 }
 
 pub fn defaults(system: SystemKind) -> Defaults {
-    match system {
-        SystemKind::RigidBody => Defaults {
-            inertia_d: [1.3, 2.1, 1.2],
-            omega0: [-2.0, 1.9, -1.0],
-        },
-        SystemKind::HeavyTop => Defaults {
-            inertia_d: [1.0, 2.8, 2.0],
-            omega0: [0.5, -0.5, 0.4],
-        },
+    let case = crate::cases::case(match system {
+        SystemKind::RigidBody => "A",
+        SystemKind::HeavyTop => "B",
+    });
+    Defaults {
+        inertia_d: case.inertia_d,
+        omega0: case.omega0,
     }
 }
 
@@ -180,8 +178,12 @@ impl Problem {
                 System::Free(RigidBody::new(inertia))
             }
             SystemKind::HeavyTop => {
-                let mass = options.mass.unwrap_or(1.0);
-                let gravity = options.gravity.unwrap_or(9.81);
+                let paper = crate::cases::case("B");
+                // The compiled-in case B has both (checked by the cases' test).
+                let mass = options.mass.unwrap_or(paper.mass.expect("case B's mass"));
+                let gravity = options
+                    .gravity
+                    .unwrap_or(paper.gravity.expect("case B's g"));
                 let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
                 let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
                 let top = HeavyTop::new(inertia, mass, gravity, com, direction)

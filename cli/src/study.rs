@@ -2,11 +2,12 @@
 //! or a high-accuracy run, with fitted rates; `lgsvi converge`.
 
 use crate::config::{Format, SimulateOptions};
+use crate::invariants::Tracker;
 use crate::problem::{whole_steps, Problem};
 use clap::{Args, ValueEnum};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
-use lgsvi_mechanics::{GalerkinCurve, Lagrangian, Matching, StepSettings, MAX_NODES};
+use lgsvi_mechanics::{GalerkinCurve, Matching, StepSettings, MAX_NODES};
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
@@ -191,17 +192,21 @@ fn measure_into(
     let mut integrator = problem.integrator(settings)?;
     let steps = integrator.steps_until(t_end).map_err(|e| e.to_string())?;
     let system = problem.system;
-    let e0 = integrator.state().energy(&system);
-    let pi0 = integrator.state().spatial_momentum();
-    let free = system.is_left_invariant();
+    let s0 = *integrator.state();
+    let tracker = Tracker::new(
+        s0.energy(&system),
+        s0.attitude.matrix(),
+        &s0.momentum,
+        problem.is_free(),
+    );
     let (mut energy_error, mut drift, mut curve_error) = (0.0f64, 0.0f64, 0.0f64);
     let start = Instant::now();
     for _ in 0..steps {
         integrator.step().map_err(|e| e.to_string())?;
         let s = integrator.state();
-        energy_error = energy_error.max((s.energy(&system) - e0).abs() / e0.abs().max(1e-300));
-        let d = s.spatial_momentum() - pi0;
-        drift = drift.max(if free { d.norm() } else { d.z.abs() } / pi0.norm().max(1e-300));
+        let d = tracker.drift(s.energy(&system), s.attitude.matrix(), &s.momentum);
+        energy_error = energy_error.max(d.energy);
+        drift = drift.max(d.spatial_momentum);
         if curve_samples > 1 {
             if let Some(curve) = integrator.last_curve() {
                 for j in 1..curve_samples {
