@@ -3,6 +3,7 @@
 //! Leok and McClamroch, a rotation splitting, and their Yoshida compositions), measured
 //! side by side in one process, repeated, medians.
 
+use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use crate::plot::{self, Figure, Series, Style};
 use crate::problem::System;
@@ -126,7 +127,7 @@ fn cases() -> Vec<Case> {
 /// One timed lgsvi run, on the concrete system type as a library user writes it: through
 /// the command line's [`System`] enum every call of the Lagrangian's methods takes a
 /// `match` (measured, case A at h = 1, n = 10: 114 µs per run against 108 µs).
-fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>, String> {
+fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> {
     match lgsvi_system(case)? {
         System::Free(body) => lgsvi_run_with(body, case, t_end, h, n),
         System::Top(top) => lgsvi_run_with(top, case, t_end, h, n),
@@ -139,15 +140,12 @@ fn lgsvi_run_with<L: Lagrangian>(
     t_end: f64,
     h: f64,
     n: usize,
-) -> Result<Matrix3<f64>, String> {
-    let settings = StepSettings::new(h, n)
-        .map_err(|e| e.to_string())?
-        .with_chart(ChartKind::Exp);
+) -> Result<Matrix3<f64>> {
+    let settings = StepSettings::new(h, n)?.with_chart(ChartKind::Exp);
     let w0 = case.model.velocity(&case.start.momentum);
-    let mut it =
-        Integrator::new(system, settings, SO3::identity(), w0).map_err(|e| e.to_string())?;
+    let mut it = Integrator::new(system, settings, SO3::identity(), w0)?;
     let steps = (t_end / h).round() as usize;
-    it.run(steps, steps).map_err(|e| e.to_string())?;
+    it.run(steps, steps)?;
     Ok(*it.state().attitude.matrix())
 }
 
@@ -214,11 +212,9 @@ pub struct EnsembleResult {
 }
 
 /// Measures [`EnsembleResult`].
-pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult, String> {
+pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
     use lgsvi_mechanics::ensemble::{run_ensemble, InitialCondition};
-    let settings = StepSettings::new(0.5, 8)
-        .map_err(|e| e.to_string())?
-        .with_chart(ChartKind::Exp);
+    let settings = StepSettings::new(0.5, 8)?.with_chart(ChartKind::Exp);
     let mut work = Vec::new();
     for case in cases() {
         let system = lgsvi_system(&case)?;
@@ -244,12 +240,7 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult, String
             })
             .sum::<usize>()
     };
-    let pool = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| e.to_string())
-    };
+    let pool = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build();
     let threads = rayon::current_num_threads();
     let (failures, one_thread_s) = pool(1)?.install(|| timed(repeats, run_all));
     let (_, parallel_s) = pool(threads)?.install(|| timed(repeats, run_all));
@@ -263,15 +254,18 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult, String
     })
 }
 
-fn lgsvi_system(case: &Case) -> Result<System, String> {
-    let inertia = Inertia::from_principal_moments(case.model.inertia).map_err(|e| e.to_string())?;
+fn lgsvi_system(case: &Case) -> Result<System> {
+    let inertia = Inertia::from_principal_moments(case.model.inertia)?;
     Ok(if case.model.mg == 0.0 {
         System::Free(RigidBody::new(inertia))
     } else {
-        System::Top(
-            HeavyTop::new(inertia, 1.0, case.model.mg, Vector3::z(), Vector3::z())
-                .map_err(|e| e.to_string())?,
-        )
+        System::Top(HeavyTop::new(
+            inertia,
+            1.0,
+            case.model.mg,
+            Vector3::z(),
+            Vector3::z(),
+        )?)
     })
 }
 
@@ -282,10 +276,10 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
         for t_end in [10.0, 100.0] {
             let r_ref = reference(case.name, t_end);
             let mut push =
-                |method: &str, knob: String, result: Result<Matrix3<f64>, String>, time_s: f64| {
+                |method: &str, knob: String, result: Result<Matrix3<f64>>, time_s: f64| {
                     let (error, failure) = match result {
                         Ok(r) => ((r - r_ref).norm(), None),
-                        Err(e) => (f64::NAN, Some(e)),
+                        Err(e) => (f64::NAN, Some(e.to_string())),
                     };
                     points.push(Point {
                         case: case.name.into(),
@@ -310,7 +304,7 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                     let (r, t) = timed(repeats, || {
                         dop853(&case.model, &case.start, t_end, tol, kind)
                             .map(|(s, _)| s.attitude)
-                            .map_err(|e| e.to_string())
+                            .map_err(CliError::from)
                     });
                     let name = match kind {
                         Dop853State::Quaternion => "DOP853 (quaternion)",
@@ -329,7 +323,7 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                         method
                             .run(&case.model, &mut s, h, steps)
                             .map(|_| s.attitude)
-                            .map_err(|e| e.to_string())
+                            .map_err(CliError::from)
                     });
                     push(name, format!("h = {h:.3e}"), r, t);
                     tick();
@@ -408,29 +402,42 @@ pub fn targets(points: &[Point]) -> String {
 }
 
 /// `lgsvi bench`.
-pub fn run(options: BenchOptions) -> Result<(), String> {
+pub fn run(options: BenchOptions) -> Result<()> {
+    let invalid = |flag: &'static str, value: usize, reason: String| CliError::Invalid {
+        flag,
+        value: value.to_string(),
+        reason,
+    };
     let repeats = options.repeats.unwrap_or(5);
     if !(1..=MAX_REPEATS).contains(&repeats) {
-        return Err(format!(
-            "invalid --repeats {repeats}: from 1 to {MAX_REPEATS} runs"
+        return Err(invalid(
+            "--repeats",
+            repeats,
+            format!("from 1 to {MAX_REPEATS} runs"),
         ));
     }
     let steps = options.long_run_steps.unwrap_or(1_000_000);
     if !(2..=MAX_LONG_RUN_STEPS).contains(&steps) {
-        return Err(format!(
-            "invalid --long-run-steps {steps}: from 2 to {MAX_LONG_RUN_STEPS}"
+        return Err(invalid(
+            "--long-run-steps",
+            steps,
+            format!("from 2 to {MAX_LONG_RUN_STEPS}"),
         ));
     }
     let members = options.ensemble_members.unwrap_or(64);
     if !(1..=MAX_MEMBERS).contains(&members) {
-        return Err(format!(
-            "invalid --ensemble-members {members}: from 1 to {MAX_MEMBERS} initial conditions"
+        return Err(invalid(
+            "--ensemble-members",
+            members,
+            format!("from 1 to {MAX_MEMBERS} initial conditions"),
         ));
     }
     if let Some(members) = options.long_run_members {
         if members > MAX_MEMBERS {
-            return Err(format!(
-                "invalid --long-run-members {members}: at most {MAX_MEMBERS} (0 skips the trend)"
+            return Err(invalid(
+                "--long-run-members",
+                members,
+                format!("at most {MAX_MEMBERS} (0 skips the trend)"),
             ));
         }
     }
@@ -438,13 +445,18 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("lgsvi-bench"));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|source| CliError::CreateDir {
+        path: dir.clone(),
+        source,
+    })?;
     if options.long_run {
         let members = options.long_run_members.unwrap_or(12);
         if members == 1 {
-            return Err(
-                "invalid --long-run-members 1: a trend needs at least 2 (or 0 to skip it)".into(),
-            );
+            return Err(invalid(
+                "--long-run-members",
+                1,
+                "a trend needs at least 2 (or 0 to skip it)".into(),
+            ));
         }
         return run_long(&dir, steps, members, options.quiet);
     }
@@ -530,8 +542,7 @@ pub fn run(options: BenchOptions) -> Result<(), String> {
     let json = serde_json::to_string_pretty(&serde_json::json!({
         "points": points,
         "ensemble": ensemble,
-    }))
-    .map_err(|e| e.to_string())?;
+    }))?;
     write("bench.json", &json)?;
     println!("{}", targets(&points));
     println!("{ensemble_line}");
@@ -575,10 +586,8 @@ fn invariants(t: f64, start: &State, model: &Model, state: &State) -> Invariants
 
 /// The settings of the long run and of its trend ensemble: h = 0.5, n = 8, exp chart (the
 /// issue's).
-fn long_run_settings() -> Result<StepSettings, String> {
-    Ok(StepSettings::new(0.5, 8)
-        .map_err(|e| e.to_string())?
-        .with_chart(ChartKind::Exp))
+fn long_run_settings() -> Result<StepSettings> {
+    Ok(StepSettings::new(0.5, 8)?.with_chart(ChartKind::Exp))
 }
 
 /// The long run: lgsvi (case A, h = 0.5, n = 8, exp chart) for `steps` steps beside
@@ -589,14 +598,13 @@ pub fn long_run(
     steps: usize,
     samples: usize,
     mut tick: impl FnMut(u64),
-) -> Result<(Vec<Invariants>, Vec<Invariants>, f64, f64), String> {
+) -> Result<(Vec<Invariants>, Vec<Invariants>, f64, f64)> {
     let case = cases().remove(0);
     let settings = long_run_settings()?;
     let h = settings.step();
     let every = (steps / samples.max(1)).max(1);
     let w0 = case.model.velocity(&case.start.momentum);
-    let mut integrator = Integrator::new(lgsvi_system(&case)?, settings, SO3::identity(), w0)
-        .map_err(|e| e.to_string())?;
+    let mut integrator = Integrator::new(lgsvi_system(&case)?, settings, SO3::identity(), w0)?;
     let as_state = |s: &lgsvi_mechanics::State| State {
         attitude: *s.attitude.matrix(),
         momentum: s.momentum,
@@ -605,7 +613,7 @@ pub fn long_run(
     let clock = Instant::now();
     let mut reported = 0;
     for k in 1..=steps {
-        integrator.step().map_err(|e| e.to_string())?;
+        integrator.step()?;
         if k % every == 0 || k == steps {
             let s = as_state(integrator.state());
             lgsvi.push(invariants(k as f64 * h, &case.start, &case.model, &s));
@@ -622,9 +630,7 @@ pub fn long_run(
     let mut t = 0.0;
     while t < steps as f64 * h - 1e-9 {
         let span = segment.min(steps as f64 * h - t);
-        state = dop853(&case.model, &state, span, 1e-13, Dop853State::Matrix)
-            .map_err(|e| e.to_string())?
-            .0;
+        state = dop853(&case.model, &state, span, 1e-13, Dop853State::Matrix)?.0;
         t += span;
         dop.push(invariants(t, &case.start, &case.model, &state));
     }
@@ -688,11 +694,12 @@ pub fn energy_trend(
     steps: usize,
     members: usize,
     tick: impl Fn(u64) + Sync,
-) -> Result<EnergyTrend, String> {
+) -> Result<EnergyTrend> {
     use rayon::prelude::*;
     let case = cases().remove(0);
+    // Case A has no weight: lgsvi_system makes it the free body.
     let System::Free(system) = lgsvi_system(&case)? else {
-        return Err("the long run's case A is not the free rigid body".into());
+        unreachable!("case A is the free rigid body")
     };
     let settings = long_run_settings()?;
     let w0 = case.model.velocity(&case.start.momentum);
@@ -702,7 +709,10 @@ pub fn energy_trend(
         .map(|k| {
             let shift = 1e-3 * k as f64;
             let velocity = w0 * (1.0 + shift) + Vector3::y() * shift;
-            let failed = |e: lgsvi_mechanics::MechanicsError| format!("trend member {k}: {e}");
+            let failed = |source| CliError::Run {
+                context: format!("trend member {k}"),
+                source,
+            };
             let mut integrator =
                 Integrator::new(system, settings, SO3::identity(), velocity).map_err(failed)?;
             let (e0, c0) = (
@@ -719,7 +729,7 @@ pub fn energy_trend(
             let end = integrator.state();
             Ok(((end.energy(&system) - e0) / e0, (end.casimir() - c0) / c0))
         })
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_>>()?;
     Ok(EnergyTrend {
         members,
         steps,
@@ -731,12 +741,7 @@ pub fn energy_trend(
 
 /// `lgsvi bench --long-run`: runs [`long_run`] and writes `LONG_RUN.md`, `long_run.json`
 /// and the plots `long_run_{energy,casimir,spatial_momentum,orthogonality}.svg|png`.
-fn run_long(
-    dir: &std::path::Path,
-    steps: usize,
-    members: usize,
-    quiet: bool,
-) -> Result<(), String> {
+fn run_long(dir: &std::path::Path, steps: usize, members: usize, quiet: bool) -> Result<()> {
     let progress = crate::progress_bar(steps as u64, "long run (lgsvi)", "steps", quiet);
     let (lgsvi, dop, lgsvi_time, dop_time) = long_run(steps, 500, |k| progress.inc(k))?;
     progress.finish_and_clear();
@@ -836,8 +841,7 @@ fn run_long(
     let json = serde_json::to_string_pretty(&serde_json::json!({
         "steps": steps, "lgsvi_time_s": lgsvi_time, "dop853_time_s": dop_time,
         "lgsvi": lgsvi, "dop853": dop, "trend": trend,
-    }))
-    .map_err(|e| e.to_string())?;
+    }))?;
     write("long_run.json", &json)?;
     print!("{md}");
     println!(

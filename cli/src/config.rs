@@ -1,8 +1,9 @@
 //! The `simulate` configuration: TOML file, then command-line flags over it, then the
 //! embedded defaults (the paper's parameters for each system).
 
+use crate::error::CliError;
 use clap::{Args, ValueEnum};
-use lgsvi_mechanics::lie::{ChartKind, SO3};
+use lgsvi_mechanics::lie::{ChartKind, LieError, SO3};
 use lgsvi_mechanics::{Matching, NewtonJacobian};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -208,7 +209,7 @@ macro_rules! overlay {
 
 impl SimulateOptions {
     /// The file's options with these flags laid over them.
-    pub fn merged_with_config(self) -> Result<Self, String> {
+    pub fn merged_with_config(self) -> Result<Self, CliError> {
         let Some(path) = self.config.clone() else {
             return Ok(self);
         };
@@ -262,50 +263,52 @@ impl SimulateOptions {
     }
 
     /// The initial attitude.
-    pub fn attitude(&self) -> Result<SO3, String> {
+    pub fn attitude(&self) -> Result<SO3, CliError> {
         match (self.attitude0, self.quaternion0) {
-            (Some(_), Some(_)) => Err("give --attitude0 or --quaternion0, not both".into()),
+            (Some(_), Some(_)) => Err(CliError::Conflict("--attitude0", "--quaternion0")),
             (Some(r), None) => SO3::try_from_row_major(r).map_err(|e| match e {
-                lgsvi_mechanics::lie::LieError::NotOrthogonal { deviation, .. } => format!(
-                    "--attitude0: not a rotation matrix (‖RᵀR − I‖ = {deviation:.1e}); give its \
-                     nine entries row-major to full precision, or the attitude as --quaternion0 w,x,y,z"
-                ),
-                other => format!("--attitude0: {other}"),
+                LieError::NotOrthogonal { deviation, .. } => CliError::NotARotation { deviation },
+                source => CliError::Geometry {
+                    flag: "--attitude0",
+                    source,
+                },
             }),
             (None, Some(q)) => {
-                SO3::try_from_quaternion_wxyz(q).map_err(|e| format!("--quaternion0: {e}"))
+                SO3::try_from_quaternion_wxyz(q).map_err(|source| CliError::Geometry {
+                    flag: "--quaternion0",
+                    source,
+                })
             }
             (None, None) => Ok(SO3::identity()),
         }
     }
 }
 
-fn read_config(path: &Path) -> Result<SimulateOptions, String> {
+fn read_config(path: &Path) -> Result<SimulateOptions, CliError> {
     let (mut table, _) = read_config_table(path)?;
     table.remove("converge");
-    SimulateOptions::deserialize(table).map_err(|e| {
-        let message = e.message().replace('\n', " ");
-        format!("config {}: {message}", path.display())
-    })
+    SimulateOptions::deserialize(table).map_err(|e| config_error(path, e.message()))
+}
+
+/// A parser's message about a config file, on one line.
+pub fn config_error(path: &Path, message: &str) -> CliError {
+    CliError::Config {
+        path: path.to_path_buf(),
+        message: message.replace('\n', " "),
+    }
 }
 
 /// The config file as a table, and its `[converge]` table (read by `lgsvi converge`).
-pub fn read_config_table(path: &Path) -> Result<(toml::Table, Option<toml::Table>), String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read config {}: {e}", path.display()))?;
-    let table: toml::Table = toml::from_str(&text).map_err(|e| {
-        let message = e.message().replace('\n', " ");
-        format!("config {}: {message}", path.display())
+pub fn read_config_table(path: &Path) -> Result<(toml::Table, Option<toml::Table>), CliError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::ReadConfig {
+        path: path.to_path_buf(),
+        source,
     })?;
+    let table: toml::Table = toml::from_str(&text).map_err(|e| config_error(path, e.message()))?;
     let converge = match table.get("converge") {
         None => None,
         Some(toml::Value::Table(t)) => Some(t.clone()),
-        Some(_) => {
-            return Err(format!(
-                "config {}: `converge` must be a table",
-                path.display()
-            ))
-        }
+        Some(_) => return Err(config_error(path, "`converge` must be a table")),
     };
     Ok((table, converge))
 }

@@ -6,6 +6,7 @@
 //! (if any) intact and at worst a `.partial-…` file beside it, never a truncated result
 //! under the real name.
 
+use crate::error::{CliError, Result};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -21,10 +22,13 @@ pub fn partial_path(path: &Path) -> PathBuf {
 }
 
 /// Renames the finished `partial` over `path` (or removes it and reports the error).
-pub fn commit(partial: &Path, path: &Path) -> Result<(), String> {
-    std::fs::rename(partial, path).map_err(|e| {
+pub fn commit(partial: &Path, path: &Path) -> Result<()> {
+    std::fs::rename(partial, path).map_err(|source| {
         let _ = std::fs::remove_file(partial);
-        format!("cannot write {}: {e}", path.display())
+        CliError::Write {
+            path: path.to_path_buf(),
+            source,
+        }
     })
 }
 
@@ -36,7 +40,7 @@ pub fn commit(partial: &Path, path: &Path) -> Result<(), String> {
 pub fn write_with(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
-) -> Result<(), String> {
+) -> Result<()> {
     let partial = partial_path(path);
     let result = (|| {
         let mut out = BufWriter::new(File::create(&partial)?);
@@ -46,9 +50,12 @@ pub fn write_with(
     })();
     match result {
         Ok(()) => commit(&partial, path),
-        Err(e) => {
+        Err(source) => {
             let _ = std::fs::remove_file(&partial);
-            Err(format!("cannot write {}: {e}", path.display()))
+            Err(CliError::Write {
+                path: path.to_path_buf(),
+                source,
+            })
         }
     }
 }
@@ -57,7 +64,7 @@ pub fn write_with(
 ///
 /// # Errors
 /// As [`write_with`].
-pub fn write(path: &Path, contents: &[u8]) -> Result<(), String> {
+pub fn write(path: &Path, contents: &[u8]) -> Result<()> {
     write_with(path, |out| out.write_all(contents))
 }
 
@@ -75,7 +82,7 @@ mod tests {
             out.write_all(b"{\"new\": ")?;
             Err(std::io::Error::other("disk full"))
         });
-        let message = failed.unwrap_err();
+        let message = failed.unwrap_err().to_string();
         assert!(
             message.contains("out.json") && message.contains("disk full"),
             "{message}"

@@ -7,6 +7,7 @@
 mod bench;
 mod cases;
 mod config;
+mod error;
 mod files;
 mod invariants;
 mod output;
@@ -17,6 +18,7 @@ mod study;
 
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
+use error::{CliError, Result};
 use lgsvi_mechanics::{State, Trajectory};
 use problem::Problem;
 use std::process::ExitCode;
@@ -62,7 +64,7 @@ pub struct Run {
 /// Checks that a recorded state and its invariants are finite: a run whose numbers
 /// overflow stops there, naming the step and the quantity, instead of writing `null` or
 /// `inf`.
-fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<(), String> {
+fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<()> {
     let pi = state.spatial_momentum();
     let quantities: [(&str, &[f64]); 6] = [
         ("attitude R", &state.attitude.to_row_major()),
@@ -72,28 +74,27 @@ fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<(), Str
         ("Casimir |μ|²", &[state.casimir()]),
         ("spatial momentum Rμ", pi.as_slice()),
     ];
-    for (name, values) in quantities {
+    for (quantity, values) in quantities {
         if values.iter().any(|x| !x.is_finite()) {
-            return Err(format!(
-                "step {step} (t = {}): the {name} is not finite ({values:?}); the inputs overflow \
-                 double precision: scale them (other units), or lower the inertia, mass, gravity or velocity",
-                state.time
-            ));
+            return Err(CliError::Overflow {
+                step,
+                time: state.time,
+                quantity,
+                values: format!("{values:?}"),
+            });
         }
     }
     Ok(())
 }
 
-fn integrate(problem: &Problem) -> Result<Run, String> {
+fn integrate(problem: &Problem) -> Result<Run> {
     let mut integrator = problem.integrator(problem.settings)?;
-    let steps = integrator
-        .steps_until(problem.t_end)
-        .map_err(|e| e.to_string())?;
+    let steps = integrator.steps_until(problem.t_end)?;
     let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let system = *integrator.system();
     let mut trajectory = Trajectory::default();
     let mut energies = Vec::new();
-    let mut record = |k: usize, state: &State, iterations: usize| -> Result<(), String> {
+    let mut record = |k: usize, state: &State, iterations: usize| -> Result<()> {
         let energy = state.energy(&system);
         check_finite_state(k, state, energy)?;
         trajectory.states.push(*state);
@@ -106,7 +107,7 @@ fn integrate(problem: &Problem) -> Result<Run, String> {
     let mut wall_time = std::time::Duration::ZERO;
     for k in 1..=steps {
         let start = Instant::now();
-        let iterations = integrator.step().map_err(|e| e.to_string())?;
+        let iterations = integrator.step()?;
         wall_time += start.elapsed();
         let state = integrator.state();
         if k % problem.every == 0 || k == steps {
@@ -136,19 +137,16 @@ fn integrate(problem: &Problem) -> Result<Run, String> {
 }
 
 /// The exact free-body solution at the times the integrator would record.
-fn exact_run(problem: &Problem) -> Result<Run, String> {
+fn exact_run(problem: &Problem) -> Result<Run> {
     let body = problem.exact()?;
     let h = problem.settings.step();
     let steps = problem
         .integrator(problem.settings)?
-        .steps_until(problem.t_end)
-        .map_err(|e| e.to_string())?;
+        .steps_until(problem.t_end)?;
     let start = Instant::now();
     let mut trajectory = Trajectory::default();
     for k in (0..=steps).filter(|k| k % problem.every == 0 || *k == steps) {
-        trajectory
-            .states
-            .push(body.state(k as f64 * h).map_err(|e| e.to_string())?);
+        trajectory.states.push(body.state(k as f64 * h)?);
         trajectory.newton_iterations.push(0);
     }
     let wall_time_s = start.elapsed().as_secs_f64();
@@ -198,7 +196,7 @@ pub fn progress_bar(len: u64, message: &str, unit: &str, quiet: bool) -> indicat
 const PROGRESS_FROM_STEPS: u64 = 1000;
 
 /// Resolves the options (config, flags, defaults) and runs.
-fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> {
+fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
     let (problem, options) = Problem::resolve(options)?;
     let run = if options.exact {
         exact_run(&problem)?
@@ -208,7 +206,7 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions), String> 
     Ok((run, options))
 }
 
-fn run_simulate(options: SimulateOptions) -> Result<(), String> {
+fn run_simulate(options: SimulateOptions) -> Result<()> {
     let (run, options) = simulate(options)?;
     let format = options.format.unwrap_or(config::Format::Json);
     let write = |out: &mut dyn std::io::Write| match format {
@@ -222,7 +220,7 @@ fn run_simulate(options: SimulateOptions) -> Result<(), String> {
             let mut out = std::io::BufWriter::new(stdout.lock());
             write(&mut out)
                 .and_then(|()| std::io::Write::flush(&mut out))
-                .map_err(|e| format!("cannot write to standard output: {e}"))
+                .map_err(CliError::Stdout)
         }
     }
 }
@@ -261,8 +259,8 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {}", message.replace('\n', " "));
+        Err(error) => {
+            eprintln!("error: {}", error.to_string().replace('\n', " "));
             ExitCode::FAILURE
         }
     }

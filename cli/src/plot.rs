@@ -1,6 +1,7 @@
 //! Figures: 2D line/marker plots with linear or log axes, written as SVG and PNG
 //! (plotters), and a 3D plot of curves on a sphere.
 
+use crate::error::CliError;
 use crate::files::{commit, partial_path};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -617,16 +618,23 @@ where
 }
 
 /// Writes `base.svg` and `base.png`.
-pub fn save(fig: &Figure, base: &Path) -> Result<(), String> {
+pub fn save(fig: &Figure, base: &Path) -> Result<(), CliError> {
     let (svg, png) = (base.with_extension("svg"), base.with_extension("png"));
     let (svg_partial, png_partial) = (partial_path(&svg), partial_path(&png));
-    draw(SVGBackend::new(&svg_partial, SIZE).into_drawing_area(), fig)
-        .map_err(|e| format!("{}: {e}", svg.display()))?;
+    draw(SVGBackend::new(&svg_partial, SIZE).into_drawing_area(), fig).map_err(|message| {
+        CliError::Plot {
+            path: svg.clone(),
+            message,
+        }
+    })?;
     draw(
         BitMapBackend::new(&png_partial, SIZE).into_drawing_area(),
         fig,
     )
-    .map_err(|e| format!("{}: {e}", png.display()))?;
+    .map_err(|message| CliError::Plot {
+        path: png.clone(),
+        message,
+    })?;
     commit(&svg_partial, &svg)?;
     commit(&png_partial, &png)
 }
@@ -774,19 +782,25 @@ where
 }
 
 /// Writes `base.svg` and `base.png` of a sphere figure.
-pub fn save_sphere(fig: &SphereFigure, base: &Path) -> Result<(), String> {
+pub fn save_sphere(fig: &SphereFigure, base: &Path) -> Result<(), CliError> {
     let (svg, png) = (base.with_extension("svg"), base.with_extension("png"));
     let (svg_partial, png_partial) = (partial_path(&svg), partial_path(&png));
     draw_sphere(
         SVGBackend::new(&svg_partial, SPHERE_SIZE).into_drawing_area(),
         fig,
     )
-    .map_err(|e| format!("{}: {e}", svg.display()))?;
+    .map_err(|message| CliError::Plot {
+        path: svg.clone(),
+        message,
+    })?;
     draw_sphere(
         BitMapBackend::new(&png_partial, SPHERE_SIZE).into_drawing_area(),
         fig,
     )
-    .map_err(|e| format!("{}: {e}", png.display()))?;
+    .map_err(|message| CliError::Plot {
+        path: png.clone(),
+        message,
+    })?;
     commit(&svg_partial, &svg)?;
     commit(&png_partial, &png)
 }

@@ -2,6 +2,7 @@
 //! settings, with the paper's parameters as defaults.
 
 use crate::config::{SimulateOptions, SystemKind};
+use crate::error::{CliError, Result};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{
@@ -33,23 +34,25 @@ pub const MAX_RUN_STEPS: f64 = 1e9;
 /// The number of steps `h` that make up `t_end`, or a one-line error: the method has a
 /// fixed step, and a run ends at a whole number of them. A relative slack of 1e-9 of a
 /// step absorbs the rounding of decimal inputs (`t_end = 10`, `h = 0.1`).
-pub fn whole_steps(t_end: f64, h: f64) -> Result<usize, String> {
+pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     let ratio = t_end / h;
     if ratio.is_nan() || ratio > MAX_RUN_STEPS {
-        return Err(format!(
-            "--t-end {t_end:?} with --h {h:?} asks for {ratio:.3e} steps, more than the {MAX_RUN_STEPS:.0e} a run may take: \
-             take a shorter horizon or a longer step"
-        ));
+        return Err(CliError::TooManySteps {
+            t_end,
+            h,
+            steps: ratio,
+        });
     }
     let steps = ratio.round();
     if (ratio - steps).abs() > 1e-9 * steps.max(1.0) {
-        let (below, above) = (ratio.floor() * h, ratio.ceil() * h);
-        let fitted = t_end / ratio.ceil();
-        return Err(format!(
-            "--t-end {t_end:?} is not a whole number of steps h = {h:?}: the method takes fixed \
-             steps, so end at {below:?} or {above:?}, or take h = {fitted:?} ({} steps)",
-            ratio.ceil()
-        ));
+        return Err(CliError::NotWholeSteps {
+            t_end,
+            h,
+            below: ratio.floor() * h,
+            above: ratio.ceil() * h,
+            fitted: t_end / ratio.ceil(),
+            steps: ratio.ceil(),
+        });
     }
     Ok(steps as usize)
 }
@@ -106,7 +109,7 @@ pub struct Problem {
 
 impl Problem {
     /// Resolves config file, flags and defaults.
-    pub fn resolve(options: SimulateOptions) -> Result<(Problem, SimulateOptions), String> {
+    pub fn resolve(options: SimulateOptions) -> Result<(Problem, SimulateOptions)> {
         let mut options = options.merged_with_config()?;
         let kind = options.system();
         let d = defaults(kind);
@@ -115,13 +118,17 @@ impl Problem {
         }
         let inertia = match (options.inertia, options.inertia_d) {
             (Some(j), None) => {
-                Inertia::from_principal_moments(j).map_err(|e| format!("--inertia: {e}"))?
+                Inertia::from_principal_moments(j).map_err(|source| CliError::Input {
+                    flag: "--inertia",
+                    source,
+                })?
             }
-            (None, Some(jd)) => {
-                Inertia::from_paper_jd(jd).map_err(|e| format!("--inertia-d: {e}"))?
-            }
-            (None, None) => Inertia::from_paper_jd(d.inertia_d).map_err(|e| e.to_string())?,
-            (Some(_), Some(_)) => return Err("give --inertia or --inertia-d, not both".into()),
+            (None, Some(jd)) => Inertia::from_paper_jd(jd).map_err(|source| CliError::Input {
+                flag: "--inertia-d",
+                source,
+            })?,
+            (None, None) => Inertia::from_paper_jd(d.inertia_d)?,
+            (Some(_), Some(_)) => return Err(CliError::Conflict("--inertia", "--inertia-d")),
         };
         if kind == SystemKind::RigidBody {
             for (flag, given) in [
@@ -131,19 +138,15 @@ impl Problem {
                 ("--gravity-direction", options.gravity_direction.is_some()),
             ] {
                 if given {
-                    return Err(format!(
-                        "{flag} applies to the heavy top only (--system heavy-top); the rigid body is free"
-                    ));
+                    return Err(CliError::HeavyTopOnly { flag });
                 }
             }
         }
         let h = options.h.unwrap_or(0.5);
         let nodes = options.nodes.unwrap_or(10);
-        let mut settings = StepSettings::new(h, nodes).map_err(|e| e.to_string())?;
+        let mut settings = StepSettings::new(h, nodes)?;
         if let Some(m) = options.quad {
-            settings = settings
-                .with_quadrature_points(m)
-                .map_err(|e| e.to_string())?;
+            settings = settings.with_quadrature_points(m)?;
         }
         settings = settings
             .with_chart(options.chart.map(Into::into).unwrap_or_default())
@@ -151,14 +154,20 @@ impl Problem {
             .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default());
         let t_end = options.t_end.unwrap_or(10.0);
         if !(t_end.is_finite() && t_end >= 0.0) {
-            return Err(format!(
-                "invalid --t-end {t_end}: must be finite and non-negative"
-            ));
+            return Err(CliError::Invalid {
+                flag: "--t-end",
+                value: t_end.to_string(),
+                reason: "must be finite and non-negative".into(),
+            });
         }
         whole_steps(t_end, h)?;
         let every = options.every.unwrap_or(1);
         if every == 0 {
-            return Err("invalid --every 0: keep every K-th step with K ≥ 1".into());
+            return Err(CliError::Invalid {
+                flag: "--every",
+                value: "0".into(),
+                reason: "keep every K-th step with K ≥ 1".into(),
+            });
         }
         // The inertia as the user gave it (J or J_d), the other form derived from it, so the
         // description echoes the input without the rounding of a round trip.
@@ -186,8 +195,7 @@ impl Problem {
                     .unwrap_or(paper.gravity.expect("case B's g"));
                 let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
                 let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
-                let top = HeavyTop::new(inertia, mass, gravity, com, direction)
-                    .map_err(|e| e.to_string())?;
+                let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
                 description["system"] = "heavy-top".into();
                 description["mass"] = mass.into();
                 description["gravity"] = gravity.into();
@@ -222,9 +230,13 @@ impl Problem {
     }
 
     /// An integrator for this problem with other settings.
-    pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<System>, String> {
-        Integrator::new(self.system, settings, self.attitude0, self.omega0)
-            .map_err(|e| e.to_string())
+    pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<System>> {
+        Ok(Integrator::new(
+            self.system,
+            settings,
+            self.attitude0,
+            self.omega0,
+        )?)
     }
 
     /// Whether the system is a free body (a heavy top without weight counts).
@@ -233,15 +245,14 @@ impl Problem {
     }
 
     /// The exact solution, for a free body.
-    pub fn exact(&self) -> Result<FreeRigidBodyExact, String> {
+    pub fn exact(&self) -> Result<FreeRigidBodyExact> {
         if !self.is_free() {
-            return Err(
-                "the exact solution is known for the free rigid body only (system rigid-body, \
-                 or a heavy top with m g = 0)"
-                    .into(),
-            );
+            return Err(CliError::NoExactSolution);
         }
-        FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0)
-            .map_err(|e| e.to_string())
+        Ok(FreeRigidBodyExact::new(
+            self.inertia,
+            self.attitude0,
+            self.omega0,
+        )?)
     }
 }

@@ -4,6 +4,7 @@
 //! high-accuracy run, never against the method itself.
 
 use crate::config::{ChartArg, MatchingArg, SimulateOptions, SystemKind};
+use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use crate::plot::{self, Figure, Series, SphereFigure, Style};
 use crate::problem::Problem;
@@ -48,7 +49,7 @@ fn problem(
     nodes: usize,
     t_end: f64,
     unstable: bool,
-) -> Result<Problem, String> {
+) -> Result<Problem> {
     let options = SimulateOptions {
         system: Some(system),
         chart: Some(chart),
@@ -63,14 +64,8 @@ fn problem(
     Ok(Problem::resolve(options)?.0)
 }
 
-fn settings(
-    chart: ChartKind,
-    matching: Matching,
-    h: f64,
-    n: usize,
-) -> Result<StepSettings, String> {
-    Ok(StepSettings::new(h, n)
-        .map_err(|e| e.to_string())?
+fn settings(chart: ChartKind, matching: Matching, h: f64, n: usize) -> Result<StepSettings> {
+    Ok(StepSettings::new(h, n)?
         .with_chart(chart)
         .with_matching(matching))
 }
@@ -118,7 +113,7 @@ fn long_run(
     steps: usize,
     curve_samples: usize,
     mut tick: impl FnMut(usize),
-) -> Result<LongRun, String> {
+) -> Result<LongRun> {
     let mut integrator = problem.integrator(settings)?;
     let system = problem.system;
     let s0 = *integrator.state();
@@ -191,13 +186,13 @@ struct Output {
 }
 
 impl Output {
-    fn write(&mut self, name: &str, text: &str) -> Result<(), String> {
+    fn write(&mut self, name: &str, text: &str) -> Result<()> {
         let path = self.dir.join(name);
         crate::files::write(&path, text.as_bytes())?;
         self.files.push(path);
         Ok(())
     }
-    fn figure(&mut self, name: &str, fig: &Figure) -> Result<(), String> {
+    fn figure(&mut self, name: &str, fig: &Figure) -> Result<()> {
         let base = self.dir.join(name);
         plot::save(fig, &base)?;
         self.figures.push((name.to_string(), fig.clone()));
@@ -205,7 +200,7 @@ impl Output {
         self.files.push(base.with_extension("png"));
         Ok(())
     }
-    fn sphere(&mut self, name: &str, fig: &SphereFigure) -> Result<(), String> {
+    fn sphere(&mut self, name: &str, fig: &SphereFigure) -> Result<()> {
         let base = self.dir.join(name);
         plot::save_sphere(fig, &base)?;
         self.files.push(base.with_extension("svg"));
@@ -241,7 +236,7 @@ fn n_refinement(
     title: &str,
     base: &Problem,
     quiet: bool,
-) -> Result<Vec<NodeFit>, String> {
+) -> Result<Vec<NodeFit>> {
     let nodes: Vec<usize> = (2..=20).collect();
     let t_end = 10.0;
     let reference = Reference::for_problem(base, t_end)?;
@@ -344,7 +339,7 @@ fn h_refinement(
     title: &str,
     base: &Problem,
     quiet: bool,
-) -> Result<Vec<(usize, Matching, Option<f64>)>, String> {
+) -> Result<Vec<(usize, Matching, Option<f64>)>> {
     let nodes = [2usize, 3, 4, 5, 6];
     let steps = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125];
     let t_end = 10.0;
@@ -456,7 +451,7 @@ fn energy_figure(
     n: usize,
     steps: usize,
     quiet: bool,
-) -> Result<Vec<(String, LongRun)>, String> {
+) -> Result<Vec<(String, LongRun)>> {
     let progress = bar(quiet, (LONG_CONFIGS.len() * steps) as u64, name);
     let mut runs = Vec::new();
     for &(chart, matching) in &LONG_CONFIGS {
@@ -605,18 +600,21 @@ fn label(chart: ChartKind, matching: Matching) -> String {
 }
 
 /// `lgsvi reproduce`.
-pub fn run(options: ReproduceOptions) -> Result<(), String> {
+pub fn run(options: ReproduceOptions) -> Result<()> {
     run_into(options).map(|_| ())
 }
 
 /// `lgsvi reproduce`, returning what it wrote.
-fn run_into(options: ReproduceOptions) -> Result<Output, String> {
+fn run_into(options: ReproduceOptions) -> Result<Output> {
     let started = Instant::now();
     let dir = options
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|source| CliError::CreateDir {
+        path: dir.clone(),
+        source,
+    })?;
     // REPORT.md first says the run has not finished; the finished report replaces it
     // (atomically) at the end, so an interrupted or failed run leaves a visible mark.
     crate::files::write(&dir.join("REPORT.md"), INCOMPLETE_REPORT.as_bytes())?;
@@ -913,7 +911,7 @@ fn sphere_figure(
     report: &mut String,
     base: &Problem,
     quiet: bool,
-) -> Result<Vec<(Matching, f64, f64)>, String> {
+) -> Result<Vec<(Matching, f64, f64)>> {
     let j = base.inertia.principal_moments();
     // Initial body momenta on the unit sphere: polhodes about the smallest axis (J = 2.5,
     // body y), about the largest (J = 3.4, body z), and two near the separatrix through the
@@ -1016,7 +1014,7 @@ fn unstable_figures(
     base: &Problem,
     f: &mut Findings,
     quiet: bool,
-) -> Result<(), String> {
+) -> Result<()> {
     let (h, n, steps) = (0.6, 20, 100);
     let progress = bar(
         quiet,

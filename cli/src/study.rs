@@ -1,7 +1,8 @@
 //! Convergence studies: n-refinement and h-refinement against the exact free-body solution
 //! or a high-accuracy run, with fitted rates; `lgsvi converge`.
 
-use crate::config::{Format, SimulateOptions};
+use crate::config::{config_error, Format, SimulateOptions};
+use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use crate::problem::{whole_steps, Problem};
 use clap::{Args, ValueEnum};
@@ -40,23 +41,23 @@ pub enum Reference {
 
 impl Reference {
     /// The exact solution for a free body, otherwise a high-accuracy run to `t_end`.
-    pub fn for_problem(problem: &Problem, t_end: f64) -> Result<Self, String> {
+    pub fn for_problem(problem: &Problem, t_end: f64) -> Result<Self> {
         if problem.is_free() {
             return Ok(Reference::Exact(Box::new(problem.exact()?)));
         }
-        let run = |nodes: usize| -> Result<(Vec<_>, Vec<_>), String> {
-            let settings = StepSettings::new(REFERENCE_STEP, nodes)
-                .map_err(|e| e.to_string())?
+        let run = |nodes: usize| -> Result<(Vec<_>, Vec<_>)> {
+            let settings = StepSettings::new(REFERENCE_STEP, nodes)?
                 .with_chart(ChartKind::Exp)
                 .with_matching(Matching::Exact);
             let mut integrator = problem.integrator(settings)?;
-            let steps = integrator.steps_until(t_end).map_err(|e| e.to_string())?;
+            let steps = integrator.steps_until(t_end)?;
             let mut states = vec![(integrator.state().attitude, integrator.state().velocity)];
             let mut curves = Vec::with_capacity(steps);
             for _ in 0..steps {
-                integrator
-                    .step()
-                    .map_err(|e| format!("reference run: {e}"))?;
+                integrator.step().map_err(|source| CliError::Run {
+                    context: "reference run".into(),
+                    source,
+                })?;
                 states.push((integrator.state().attitude, integrator.state().velocity));
                 curves.extend(integrator.last_curve());
             }
@@ -92,10 +93,10 @@ impl Reference {
     }
 
     /// `(R(t), Ω(t))`.
-    pub fn at(&self, t: f64) -> Result<(Matrix3<f64>, Vector3<f64>), String> {
+    pub fn at(&self, t: f64) -> Result<(Matrix3<f64>, Vector3<f64>)> {
         match self {
             Reference::Exact(body) => {
-                let s = body.state(t).map_err(|e| e.to_string())?;
+                let s = body.state(t)?;
                 Ok((*s.attitude.matrix(), s.velocity))
             }
             Reference::Dense {
@@ -110,10 +111,8 @@ impl Reference {
                     return Ok((*r.matrix(), *w));
                 }
                 let k = ((t / step).floor() as usize).min(curves.len().saturating_sub(1));
-                let curve = curves
-                    .get(k)
-                    .ok_or_else(|| format!("reference has no curve at t = {t}"))?;
-                let (g, w) = curve.at(t - curve.start()).map_err(|e| e.to_string())?;
+                let curve = curves.get(k).ok_or(CliError::NoReferenceCurve(t))?;
+                let (g, w) = curve.at(t - curve.start())?;
                 Ok((*g.matrix(), w))
             }
         }
@@ -173,7 +172,7 @@ pub fn measure(
         failure: None,
     };
     if let Err(e) = measure_into(problem, settings, t_end, reference, curve_samples, &mut m) {
-        m.failure = Some(e);
+        m.failure = Some(e.to_string());
         m.error_r = f64::NAN;
         m.error_omega = f64::NAN;
         m.error_curve = f64::NAN;
@@ -188,9 +187,9 @@ fn measure_into(
     reference: &Reference,
     curve_samples: usize,
     m: &mut Measurement,
-) -> Result<(), String> {
+) -> Result<()> {
     let mut integrator = problem.integrator(settings)?;
-    let steps = integrator.steps_until(t_end).map_err(|e| e.to_string())?;
+    let steps = integrator.steps_until(t_end)?;
     let system = problem.system;
     let s0 = *integrator.state();
     let tracker = Tracker::new(
@@ -202,7 +201,7 @@ fn measure_into(
     let (mut energy_error, mut drift, mut curve_error) = (0.0f64, 0.0f64, 0.0f64);
     let start = Instant::now();
     for _ in 0..steps {
-        integrator.step().map_err(|e| e.to_string())?;
+        integrator.step()?;
         let s = integrator.state();
         let d = tracker.drift(s.energy(&system), s.attitude.matrix(), &s.momentum);
         energy_error = energy_error.max(d.energy);
@@ -211,7 +210,7 @@ fn measure_into(
             if let Some(curve) = integrator.last_curve() {
                 for j in 1..curve_samples {
                     let tau = curve.step() * j as f64 / curve_samples as f64;
-                    let (g, _) = curve.at(tau).map_err(|e| e.to_string())?;
+                    let (g, _) = curve.at(tau)?;
                     let (r_ref, _) = reference.at(curve.start() + tau)?;
                     curve_error = curve_error.max((g.matrix() - r_ref).norm());
                 }
@@ -409,20 +408,17 @@ pub fn study(
     t_end: f64,
     curve_samples: usize,
     mut tick: impl FnMut(),
-) -> Result<Study, String> {
+) -> Result<Study> {
     let base = problem.settings;
-    let with = |h: f64, n: usize| -> Result<StepSettings, String> {
-        let mut s = StepSettings::new(h, n)
-            .map_err(|e| e.to_string())?
+    let with = |h: f64, n: usize| -> Result<StepSettings> {
+        let mut s = StepSettings::new(h, n)?
             .with_chart(base.chart())
             .with_matching(base.matching())
             .with_jacobian(base.jacobian());
         if base.quadrature_points()
             != base.nodes() + lgsvi_mechanics::DEFAULT_EXTRA_QUADRATURE_POINTS
         {
-            s = s
-                .with_quadrature_points(base.quadrature_points().max(n))
-                .map_err(|e| e.to_string())?;
+            s = s.with_quadrature_points(base.quadrature_points().max(n))?;
         }
         Ok(s)
     };
@@ -597,18 +593,13 @@ pub fn csv(rows: &[&Measurement], study: &str) -> String {
 }
 
 /// `lgsvi converge`.
-pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
+pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     let mut options = options;
     if let Some(path) = options.base.config.clone() {
         let (_, table) = crate::config::read_config_table(&path)?;
         if let Some(table) = table {
-            let file = ConvergeOptions::deserialize(table).map_err(|e| {
-                format!(
-                    "config {} [converge]: {}",
-                    path.display(),
-                    e.message().replace('\n', " ")
-                )
-            })?;
+            let file = ConvergeOptions::deserialize(table)
+                .map_err(|e| config_error(&path, &format!("[converge]: {}", e.message())))?;
             options.study = options.study.or(file.study);
             options.nodes_range = options.nodes_range.or(file.nodes_range);
             options.steps = options.steps.or(file.steps);
@@ -617,16 +608,24 @@ pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
         }
     }
     if options.base.exact {
-        return Err("--exact is a simulate option; converge always measures against the exact solution when there is one".into());
+        return Err(CliError::SimulateOnly {
+            flag: "--exact",
+            why: "converge always measures against the exact solution when there is one",
+        });
     }
     if options.base.every.is_some() {
-        return Err("--every is a simulate option; converge measures every step".into());
+        return Err(CliError::SimulateOnly {
+            flag: "--every",
+            why: "converge measures every step",
+        });
     }
     if let Some(samples) = options.curve_samples {
         if !(1..=MAX_CURVE_SAMPLES).contains(&samples) {
-            return Err(format!(
-                "invalid --curve-samples {samples}: from 1 (no curve check) to {MAX_CURVE_SAMPLES}"
-            ));
+            return Err(CliError::Invalid {
+                flag: "--curve-samples",
+                value: samples.to_string(),
+                reason: format!("from 1 (no curve check) to {MAX_CURVE_SAMPLES}"),
+            });
         }
     }
     let (problem, base) = Problem::resolve(options.base)?;
@@ -634,14 +633,26 @@ pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
     let [first, last] = options.nodes_range.unwrap_or([2, 16]);
     // Values from a config file did not pass the flags' parsers.
     if let Some([a, b]) = options.nodes_range {
-        node_range(&format!("{a}..{b}")).map_err(|e| format!("nodes-range: {e}"))?;
+        node_range(&format!("{a}..{b}")).map_err(|reason| CliError::ConfigValue {
+            key: "nodes-range",
+            reason,
+        })?;
     }
     for h in options.steps.iter().flatten() {
-        positive_step(&h.to_string()).map_err(|e| format!("steps: {e}"))?;
-        whole_steps(problem.t_end, *h).map_err(|e| format!("steps: {e}"))?;
+        positive_step(&h.to_string()).map_err(|reason| CliError::ConfigValue {
+            key: "steps",
+            reason,
+        })?;
+        whole_steps(problem.t_end, *h).map_err(|e| CliError::ConfigValue {
+            key: "steps",
+            reason: e.to_string(),
+        })?;
     }
     for n in options.step_nodes.iter().flatten() {
-        node_count(&n.to_string()).map_err(|e| format!("step-nodes: {e}"))?;
+        node_count(&n.to_string()).map_err(|reason| CliError::ConfigValue {
+            key: "step-nodes",
+            reason,
+        })?;
     }
     let nodes: Vec<usize> = if kind == StudyKind::Step {
         Vec::new()
@@ -689,8 +700,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<(), String> {
                 let mut t = serde_json::to_string_pretty(&serde_json::json!({
                     "description": problem.description,
                     "study": result,
-                }))
-                .map_err(|e| e.to_string())?;
+                }))?;
                 t.push('\n');
                 t
             }

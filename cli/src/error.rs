@@ -1,0 +1,195 @@
+//! The command line's one error type. Each variant is one line that says what was wrong
+//! and what to change; `main` prints it after `error: ` and exits with a failure code.
+
+use crate::problem::MAX_RUN_STEPS;
+use lgsvi_baselines::BaselineError;
+use lgsvi_mechanics::lie::LieError;
+use lgsvi_mechanics::MechanicsError;
+use std::path::PathBuf;
+
+/// Why a command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// From the integrator, a system or a setting.
+    #[error(transparent)]
+    Mechanics(#[from] MechanicsError),
+    /// From a baseline integrator (`bench`).
+    #[error(transparent)]
+    Baseline(#[from] BaselineError),
+    /// A flag's value that the mechanics layer refused.
+    #[error("{flag}: {source}")]
+    Input {
+        /// The flag.
+        flag: &'static str,
+        /// Why.
+        source: MechanicsError,
+    },
+    /// A flag's value that the geometry layer refused.
+    #[error("{flag}: {source}")]
+    Geometry {
+        /// The flag.
+        flag: &'static str,
+        /// Why.
+        source: LieError,
+    },
+    /// `--attitude0` is not orthogonal.
+    #[error(
+        "--attitude0: not a rotation matrix (‖RᵀR − I‖ = {deviation:.1e}); give its nine entries \
+         row-major to full precision, or the attitude as --quaternion0 w,x,y,z"
+    )]
+    NotARotation {
+        /// `‖RᵀR − I‖_F`.
+        deviation: f64,
+    },
+    /// Two flags that exclude each other.
+    #[error("give {0} or {1}, not both")]
+    Conflict(&'static str, &'static str),
+    /// A heavy-top parameter given for the free body.
+    #[error("{flag} applies to the heavy top only (--system heavy-top); the rigid body is free")]
+    HeavyTopOnly {
+        /// The flag.
+        flag: &'static str,
+    },
+    /// A `simulate` flag given to `converge`.
+    #[error("{flag} is a simulate option; {why}")]
+    SimulateOnly {
+        /// The flag.
+        flag: &'static str,
+        /// What `converge` does instead.
+        why: &'static str,
+    },
+    /// A value out of its range.
+    #[error("invalid {flag} {value}: {reason}")]
+    Invalid {
+        /// The flag.
+        flag: &'static str,
+        /// The value, as given.
+        value: String,
+        /// The allowed range.
+        reason: String,
+    },
+    /// A value from a config file that the flag's parser refuses.
+    #[error("{key}: {reason}")]
+    ConfigValue {
+        /// The config key.
+        key: &'static str,
+        /// The parser's message.
+        reason: String,
+    },
+    /// More steps than a run may take.
+    #[error(
+        "--t-end {t_end:?} with --h {h:?} asks for {steps:.3e} steps, more than the \
+         {MAX_RUN_STEPS:.0e} a run may take: take a shorter horizon or a longer step"
+    )]
+    TooManySteps {
+        /// The horizon.
+        t_end: f64,
+        /// The step.
+        h: f64,
+        /// `t_end / h`.
+        steps: f64,
+    },
+    /// A horizon that is not a whole number of steps.
+    #[error(
+        "--t-end {t_end:?} is not a whole number of steps h = {h:?}: the method takes fixed \
+         steps, so end at {below:?} or {above:?}, or take h = {fitted:?} ({steps} steps)"
+    )]
+    NotWholeSteps {
+        /// The horizon.
+        t_end: f64,
+        /// The step.
+        h: f64,
+        /// The whole-step horizons on either side.
+        below: f64,
+        /// See `below`.
+        above: f64,
+        /// A step that divides `t_end`.
+        fitted: f64,
+        /// The number of steps of `fitted`.
+        steps: f64,
+    },
+    /// A state or invariant overflowed.
+    #[error(
+        "step {step} (t = {time}): the {quantity} is not finite ({values}); the inputs overflow \
+         double precision: scale them (other units), or lower the inertia, mass, gravity or velocity"
+    )]
+    Overflow {
+        /// The step.
+        step: usize,
+        /// Its time.
+        time: f64,
+        /// Which quantity.
+        quantity: &'static str,
+        /// Its values.
+        values: String,
+    },
+    /// `--exact` for a system without a closed-form solution.
+    #[error(
+        "the exact solution is known for the free rigid body only (system rigid-body, \
+         or a heavy top with m g = 0)"
+    )]
+    NoExactSolution,
+    /// A failure inside a named run.
+    #[error("{context}: {source}")]
+    Run {
+        /// Which run.
+        context: String,
+        /// What failed.
+        source: MechanicsError,
+    },
+    /// The reference run has no Galerkin curve at a time.
+    #[error("reference has no curve at t = {0}")]
+    NoReferenceCurve(f64),
+    /// A config file that cannot be read.
+    #[error("cannot read config {}: {source}", path.display())]
+    ReadConfig {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A config file that does not parse or holds an unknown key.
+    #[error("config {}: {message}", path.display())]
+    Config {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message, on one line.
+        message: String,
+    },
+    /// An output folder that cannot be created.
+    #[error("cannot create {}: {source}", path.display())]
+    CreateDir {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// An output file that cannot be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Standard output closed or full.
+    #[error("cannot write to standard output: {0}")]
+    Stdout(std::io::Error),
+    /// A figure that could not be drawn.
+    #[error("{}: {message}", path.display())]
+    Plot {
+        /// The figure's file.
+        path: PathBuf,
+        /// The renderer's message.
+        message: String,
+    },
+    /// JSON that could not be produced.
+    #[error("JSON: {0}")]
+    Json(#[from] serde_json::Error),
+    /// The thread pool of a parallel measurement could not be built.
+    #[error("thread pool: {0}")]
+    ThreadPool(#[from] rayon::ThreadPoolBuildError),
+}
+
+/// The command line's result.
+pub type Result<T, E = CliError> = std::result::Result<T, E>;
