@@ -1189,6 +1189,89 @@ fn unstable_figures(
 mod tests {
     use super::*;
 
+    #[test]
+    fn verdicts_follow_the_numbers() {
+        // At rounding: bounded whatever the halves' ratio (a random walk of ulps).
+        assert!(energy_verdict(3e-14, 2.4, &None).starts_with("**yes** (at rounding"));
+        // Above rounding: bounded if the second half does not outgrow the first.
+        assert!(energy_verdict(4e-8, 1.02, &None).starts_with("**yes**"));
+        assert!(energy_verdict(1.5e-6, 1.98, &None).starts_with("**no**: grows"));
+        assert!(energy_verdict(1e-15, 1.0, &Some("step 3 failed".into())).starts_with("**no**"));
+        // Orders: within 0.5 of 2(n − 1) is a match; a miss is named with its number.
+        let orders = [
+            (2, Matching::Exact, Some(2.1)),
+            (3, Matching::Exact, Some(4.0)),
+            (6, Matching::Exact, Some(12.1)),
+            (4, Matching::Paper, None),
+        ];
+        assert_eq!(
+            order_misses(&orders, Matching::Exact),
+            ["n = 6: 12.1 instead of 10"]
+        );
+        assert_eq!(order_misses(&orders, Matching::Paper), ["n = 4: no fit"]);
+        assert!(orders_verdict(&orders[..2], Matching::Exact).starts_with("**yes**"));
+        assert!(orders_verdict(&orders, Matching::Exact).starts_with("**partly**"));
+    }
+
+    #[test]
+    fn every_claim_row_has_a_verdict() {
+        let fit = |chart, matching, map: f64, curve: f64| (chart, matching, Some(map), curve);
+        let f = Findings {
+            rb_factors: vec![
+                fit(ChartKind::CayleyUnscaled, Matching::Paper, 28.0, 8.0),
+                fit(ChartKind::Exp, Matching::Exact, 146.0, 17.0),
+            ],
+            rb_orders: vec![
+                (2, Matching::Exact, Some(2.0)),
+                (2, Matching::Paper, Some(3.2)),
+            ],
+            rb_energy: vec![(
+                "exp chart, exact matching".into(),
+                3e-14,
+                2.3,
+                2e-14,
+                4e-14,
+                None,
+            )],
+            sphere: vec![(Matching::Exact, 3e-15, 3e-15)],
+            pend_factors: vec![fit(ChartKind::Exp, Matching::Exact, 187.0, 18.0)],
+            pend_orders: vec![(2, Matching::Exact, Some(2.0))],
+            pend_energy: vec![(
+                "exp chart, exact matching".into(),
+                2.5e-9,
+                0.97,
+                4e-15,
+                0.0,
+                None,
+            )],
+            unstable: vec![("exp chart, exact matching".into(), 3.7e-15, 2.1, None)],
+            unstable_jumps: vec![(17.4, 1.4e-15, 2.0)],
+        };
+        let table = claims(&f);
+        let rows: Vec<&str> = table
+            .lines()
+            .filter(|l| l.starts_with("| ") && !l.starts_with("| #"))
+            .collect();
+        assert_eq!(rows.len(), 10);
+        for row in rows {
+            let verdict = row.split(" | ").nth(2).unwrap();
+            assert!(
+                verdict.contains("**yes**")
+                    || verdict.contains("**no**")
+                    || verdict.contains("**partly**"),
+                "{row}"
+            );
+        }
+        // The curves converge more slowly than the nodes: claim 2 is contradicted.
+        assert!(table
+            .lines()
+            .any(|l| l.starts_with("| 2 |") && l.contains("| **no** |")));
+        // Rounding-level jumps do not support claim 10.
+        assert!(table
+            .lines()
+            .any(|l| l.starts_with("| 10 |") && l.contains("**no**")));
+    }
+
     /// Every figure of the main job, checked as a referee would look at it: what is drawn
     /// for each series spans exactly its data (no renderer-made spikes, nothing cut), the
     /// data's extremes are numbers of the figure's CSV, the legend and the title fit in
