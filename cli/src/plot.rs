@@ -617,26 +617,29 @@ where
     Ok(())
 }
 
+/// Renders a figure as `base.svg` and `base.png` (each through a temporary file renamed
+/// into place), drawing it with `svg` and `png`.
+fn render(
+    base: &Path,
+    size: (u32, u32),
+    svg: impl FnOnce(DrawingArea<SVGBackend, Shift>) -> Result<(), String>,
+    png: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Result<(), String>,
+) -> Result<(), CliError> {
+    let (svg_path, png_path) = (base.with_extension("svg"), base.with_extension("png"));
+    let (svg_partial, png_partial) = (partial_path(&svg_path), partial_path(&png_path));
+    let failed = |path: &Path| {
+        let path = path.to_path_buf();
+        move |message| CliError::Plot { path, message }
+    };
+    svg(SVGBackend::new(&svg_partial, size).into_drawing_area()).map_err(failed(&svg_path))?;
+    png(BitMapBackend::new(&png_partial, size).into_drawing_area()).map_err(failed(&png_path))?;
+    commit(&svg_partial, &svg_path)?;
+    commit(&png_partial, &png_path)
+}
+
 /// Writes `base.svg` and `base.png`.
 pub fn save(fig: &Figure, base: &Path) -> Result<(), CliError> {
-    let (svg, png) = (base.with_extension("svg"), base.with_extension("png"));
-    let (svg_partial, png_partial) = (partial_path(&svg), partial_path(&png));
-    draw(SVGBackend::new(&svg_partial, SIZE).into_drawing_area(), fig).map_err(|message| {
-        CliError::Plot {
-            path: svg.clone(),
-            message,
-        }
-    })?;
-    draw(
-        BitMapBackend::new(&png_partial, SIZE).into_drawing_area(),
-        fig,
-    )
-    .map_err(|message| CliError::Plot {
-        path: png.clone(),
-        message,
-    })?;
-    commit(&svg_partial, &svg)?;
-    commit(&png_partial, &png)
+    render(base, SIZE, |area| draw(area, fig), |area| draw(area, fig))
 }
 
 /// A 3D figure: curves on the sphere `|y| = radius`, with a wireframe of the sphere.
@@ -783,26 +786,12 @@ where
 
 /// Writes `base.svg` and `base.png` of a sphere figure.
 pub fn save_sphere(fig: &SphereFigure, base: &Path) -> Result<(), CliError> {
-    let (svg, png) = (base.with_extension("svg"), base.with_extension("png"));
-    let (svg_partial, png_partial) = (partial_path(&svg), partial_path(&png));
-    draw_sphere(
-        SVGBackend::new(&svg_partial, SPHERE_SIZE).into_drawing_area(),
-        fig,
+    render(
+        base,
+        SPHERE_SIZE,
+        |area| draw_sphere(area, fig),
+        |area| draw_sphere(area, fig),
     )
-    .map_err(|message| CliError::Plot {
-        path: svg.clone(),
-        message,
-    })?;
-    draw_sphere(
-        BitMapBackend::new(&png_partial, SPHERE_SIZE).into_drawing_area(),
-        fig,
-    )
-    .map_err(|message| CliError::Plot {
-        path: png.clone(),
-        message,
-    })?;
-    commit(&svg_partial, &svg)?;
-    commit(&png_partial, &png)
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 
 use crate::config::{SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
+use crate::invariants::Tracker;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{
@@ -237,6 +238,16 @@ impl Problem {
             self.attitude0,
             self.omega0,
         )?)
+    }
+
+    /// The invariant tracker from `state` (the run's start), with this system's symmetry.
+    pub fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
+        Tracker::new(
+            state.energy(&self.system),
+            state.attitude.matrix(),
+            &state.momentum,
+            self.is_free(),
+        )
     }
 
     /// Whether the system is a free body (a heavy top without weight counts).

@@ -5,7 +5,6 @@
 
 use crate::config::{ChartArg, MatchingArg, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
-use crate::invariants::Tracker;
 use crate::plot::{self, Figure, Series, SphereFigure, Style};
 use crate::problem::Problem;
 use crate::study::{self, Measurement, Reference};
@@ -117,12 +116,7 @@ fn long_run(
     let mut integrator = problem.integrator(settings)?;
     let system = problem.system;
     let s0 = *integrator.state();
-    let tracker = Tracker::new(
-        s0.energy(&system),
-        s0.attitude.matrix(),
-        &s0.momentum,
-        problem.is_free(),
-    );
+    let tracker = problem.tracker(&s0);
     let mut run = LongRun::default();
     let record = |run: &mut LongRun, s: &lgsvi_mechanics::State| {
         run.times.push(s.time);

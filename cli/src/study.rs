@@ -3,7 +3,6 @@
 
 use crate::config::{config_error, Format, SimulateOptions};
 use crate::error::{CliError, Result};
-use crate::invariants::Tracker;
 use crate::problem::{whole_steps, Problem};
 use clap::{Args, ValueEnum};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
@@ -192,12 +191,7 @@ fn measure_into(
     let steps = integrator.steps_until(t_end)?;
     let system = problem.system;
     let s0 = *integrator.state();
-    let tracker = Tracker::new(
-        s0.energy(&system),
-        s0.attitude.matrix(),
-        &s0.momentum,
-        problem.is_free(),
-    );
+    let tracker = problem.tracker(&s0);
     let (mut energy_error, mut drift, mut curve_error) = (0.0f64, 0.0f64, 0.0f64);
     let start = Instant::now();
     for _ in 0..steps {

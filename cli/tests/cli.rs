@@ -609,6 +609,16 @@ fn adversarial_inputs_are_refused_in_one_line() {
     }
 }
 
+/// The numbers of a CSV's first data row.
+fn first_csv_row(csv: &str) -> Vec<f64> {
+    csv.lines()
+        .nth(1)
+        .expect("a data row")
+        .split(',')
+        .map(|x| x.parse().expect("a number"))
+        .collect()
+}
+
 /// Inputs that gave a wrong answer with exit 0 and now give the right one.
 #[test]
 fn overflowing_quaternions_and_near_separatrix_spins_start_where_they_should() {
@@ -623,13 +633,7 @@ fn overflowing_quaternions_and_near_separatrix_spins_start_where_they_should() {
         "csv",
     ]);
     assert_eq!(code, 0, "{err}");
-    let row: Vec<f64> = out
-        .lines()
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let row = first_csv_row(&out);
     assert_eq!(&row[1..10], &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
     // A spin about the middle axis perturbed by 1e-10: the exact solution's R(0) was a
     // 2.2 rad rotation and Ω_z had the wrong sign. Now R(0) = I and Ω(0) = Ω₀ to rounding.
@@ -644,13 +648,7 @@ fn overflowing_quaternions_and_near_separatrix_spins_start_where_they_should() {
         "csv",
     ]);
     assert_eq!(code, 0, "{err}");
-    let row: Vec<f64> = out
-        .lines()
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let row = first_csv_row(&out);
     let identity = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
     for (got, want) in row[1..10].iter().zip(identity) {
         assert!(
