@@ -2,8 +2,8 @@
 //! (`measure`). Nothing here runs an integrator or writes a file.
 
 use super::measure::{
-    chart_name, matching_name, EnergyRuns, HRefinement, NRefinement, SphereRuns, UnstableRuns,
-    H_MATCHINGS, N_CONFIGS,
+    chart_name, matching_name, EnergyRuns, HRefinement, LongRun, NRefinement, SphereRuns,
+    UnstableRuns, H_MATCHINGS, N_CONFIGS,
 };
 use crate::plot::{Figure, Series, SphereFigure, Style};
 use crate::study;
@@ -78,12 +78,15 @@ pub(super) fn h_refinement_csv(data: &HRefinement) -> String {
     study::csv(&data.rows.iter().collect::<Vec<_>>(), "step")
 }
 
-/// Figures 3 and 7: relative energy error over the long runs (at most ~1500 points per
-/// series; the CSV has every step).
-pub(super) fn energy(data: &EnergyRuns, title: &str) -> Figure {
-    let stride = (data.steps / 1500).max(1);
-    let series = data
-        .runs
+/// The relative energy error of each run against time, every `stride`-th step after the
+/// first, drawn as `style`.
+fn energy_error_figure(
+    title: String,
+    runs: &[(String, LongRun)],
+    stride: usize,
+    style: Style,
+) -> Figure {
+    let series = runs
         .iter()
         .enumerate()
         .map(|(i, (m, run))| Series {
@@ -96,12 +99,12 @@ pub(super) fn energy(data: &EnergyRuns, title: &str) -> Figure {
                 .skip(1)
                 .map(|(t, e)| (*t, *e))
                 .collect(),
-            style: Style::Line,
+            style,
             color: i,
         })
         .collect();
     Figure {
-        title: title.into(),
+        title,
         x_label: "time t (s)".into(),
         y_label: "relative energy error |E − E₀|/|E₀|".into(),
         x_log: false,
@@ -109,6 +112,13 @@ pub(super) fn energy(data: &EnergyRuns, title: &str) -> Figure {
         series,
         hlines: vec![],
     }
+}
+
+/// Figures 3 and 7: relative energy error over the long runs (at most ~1500 points per
+/// series; the CSV has every step).
+pub(super) fn energy(data: &EnergyRuns, title: &str) -> Figure {
+    let stride = (data.steps / 1500).max(1);
+    energy_error_figure(title.into(), &data.runs, stride, Style::Line)
 }
 
 pub(super) fn energy_csv(data: &EnergyRuns) -> String {
@@ -247,37 +257,13 @@ pub(super) fn unstable_dynamics_csv(data: &UnstableRuns) -> String {
     csv
 }
 
-/// Figure 9: the energy error of every configuration.
+/// Figure 9: the energy error of every configuration, every step.
 pub(super) fn unstable_energy(data: &UnstableRuns) -> Figure {
-    let series = data
-        .runs
-        .iter()
-        .enumerate()
-        .map(|(i, (m, r))| Series {
-            label: m.clone(),
-            points: r
-                .times
-                .iter()
-                .zip(&r.energy_error)
-                .skip(1)
-                .map(|(t, e)| (*t, *e))
-                .collect(),
-            style: Style::LineMarkers,
-            color: i,
-        })
-        .collect();
-    Figure {
-        title: format!(
-            "3D pendulum (unstable): energy error, n = {}, h = {}",
-            data.n, data.h
-        ),
-        x_label: "time t (s)".into(),
-        y_label: "relative energy error |E − E₀|/|E₀|".into(),
-        x_log: false,
-        y_log: true,
-        series,
-        hlines: vec![],
-    }
+    let title = format!(
+        "3D pendulum (unstable): energy error, n = {}, h = {}",
+        data.n, data.h
+    );
+    energy_error_figure(title, &data.runs, 1, Style::LineMarkers)
 }
 
 pub(super) fn unstable_energy_csv(data: &UnstableRuns) -> String {
