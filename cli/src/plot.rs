@@ -224,7 +224,7 @@ pub fn layout(fig: &Figure, size: (u32, u32)) -> Layout {
         .max()
         .unwrap_or(0);
     let legend_width =
-        (widest + LEGEND_TEXT_X as u32 + 10).clamp(LEGEND_WIDTH.0, LEGEND_WIDTH.1) as i32;
+        (widest + LEGEND_TEXT_X as u32 + 24).clamp(LEGEND_WIDTH.0, LEGEND_WIDTH.1) as i32;
     Layout {
         title_font,
         title_fits: text_size(&fig.title, title_font).0 as i32 <= w - 20,
