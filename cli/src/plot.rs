@@ -247,9 +247,8 @@ fn axes(fig: &Figure) -> (f64, f64, f64, f64) {
 }
 
 /// The points of a series that are drawn as data (finite), those at or below zero on a
-/// log axis moved to its bottom (or left) edge.
-fn drawable(fig: &Figure, s: &Series) -> Vec<(f64, f64)> {
-    let (x0, _, y0, _) = axes(fig);
+/// log axis moved to its bottom or left edge (`y0`, `x0` of [`axes`]).
+fn drawable(fig: &Figure, s: &Series, x0: f64, y0: f64) -> Vec<(f64, f64)> {
     s.points
         .iter()
         .filter(|p| p.0.is_finite() && p.1.is_finite())
@@ -344,11 +343,11 @@ fn extremes(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
 /// The extremes of every series' data beside those of what is drawn for it.
 #[cfg(test)]
 pub fn inspect(fig: &Figure) -> Vec<Drawn> {
-    let (x0, x1, _, _) = axes(fig);
+    let (x0, x1, y0, _) = axes(fig);
     fig.series
         .iter()
         .map(|s| {
-            let pts = drawable(fig, s);
+            let pts = drawable(fig, s, x0, y0);
             let drawn = if is_dense(s) {
                 extremes(
                     envelope(&pts, x0, x1, fig.x_log)
@@ -531,7 +530,7 @@ where
                 .collect();
             for (s, crosses) in fig.series.iter().zip(&stacked) {
                 let c = color(s.color);
-                let pts = drawable(fig, s);
+                let pts = drawable(fig, s, x0, y0);
                 if is_dense(s) {
                     let bins = envelope(&pts, x0, x1, fig.x_log);
                     let style = c.stroke_width(1);

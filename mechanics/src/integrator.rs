@@ -19,11 +19,6 @@ const PREDICTOR_GOOD_ENOUGH: f64 = 1e-3;
 /// any step that converges to the motion, while an aliased root is off by an O(1) turn.
 const ALIASED_DISTANCE: f64 = 0.5;
 
-/// The rotation angle of a rotation matrix (`acos((tr R − 1)/2)`, clamped).
-fn rotation_angle(r: &Matrix3<f64>) -> f64 {
-    (0.5 * (r.trace() - 1.0)).clamp(-1.0, 1.0).acos()
-}
-
 /// What to suggest besides a smaller step when a step outruns `chart`.
 fn chart_advice(chart: ChartKind) -> &'static str {
     match chart {
@@ -384,10 +379,23 @@ impl<L: Lagrangian> Integrator<L> {
         }
     }
 
-    /// The system's own flow over the step (classical RK4 in the chart, see
-    /// [`crate::flow`]), when the system gives `Ω(μ)` in closed form. False (the guess
-    /// then comes from the other predictors) where it does not, or where the flow leaves
-    /// the chart's domain.
+    /// The error for a converged step `distance` rad away from the flow's end attitude.
+    fn aliased_root(&self, distance: f64) -> MechanicsError {
+        let chart = self.settings.chart();
+        MechanicsError::AliasedRoot {
+            step: self.step_index,
+            time: self.state.time,
+            chart: chart.chart_name(),
+            distance,
+            advice: chart_advice(chart),
+        }
+    }
+
+    /// The system's own flow over the step (classical RK4 on a quaternion, see
+    /// [`crate::flow`]), when the system gives `Ω(μ)` in closed form: the guess is written
+    /// ([`FlowGuess::Written`]), the flow turns past the chart's reach
+    /// ([`FlowGuess::LeavesChart`]), or there is no flow to follow
+    /// ([`FlowGuess::Unavailable`]; the guess then comes from the other predictors).
     fn predict_by_flow(&mut self) -> FlowGuess {
         let base = *self.state.attitude.matrix();
         let done = crate::flow::flow_guess(
@@ -483,16 +491,10 @@ impl<L: Lagrangian> Integrator<L> {
             Err(error) => return Err(error),
         };
         if let Some(end) = self.flow_end {
-            let distance = rotation_angle(&(end.transpose() * base.transpose() * outcome.attitude));
+            let difference = end.transpose() * base.transpose() * outcome.attitude;
+            let distance = SO3::from_matrix_unchecked(difference).angle();
             if distance.is_nan() || distance > ALIASED_DISTANCE {
-                let chart = self.settings.chart();
-                return Err(MechanicsError::AliasedRoot {
-                    step: self.step_index,
-                    time: self.state.time,
-                    chart: chart.chart_name(),
-                    distance,
-                    advice: chart_advice(chart),
-                });
+                return Err(self.aliased_root(distance));
             }
         }
         // R_k Φ(ξⁿ) is a rotation up to the rounding of the product, which would
