@@ -146,7 +146,7 @@ fn lgsvi_run_with<L: Lagrangian>(
     let mut it = Integrator::new(system, settings, SO3::identity(), w0)?;
     let steps = (t_end / h).round() as usize;
     it.run(steps, steps)?;
-    Ok(*it.state().attitude.matrix())
+    Ok(*it.state().attitude().matrix())
 }
 
 /// lgsvi's sweeps: nodes at a fixed step, for four steps (a longer step amortises the
@@ -606,7 +606,7 @@ pub fn long_run(
     let w0 = case.model.velocity(&case.start.momentum);
     let mut integrator = Integrator::new(lgsvi_system(&case)?, settings, SO3::identity(), w0)?;
     let as_state = |s: &lgsvi_mechanics::State| State {
-        attitude: *s.attitude.matrix(),
+        attitude: *s.attitude().matrix(),
         momentum: s.momentum,
     };
     let mut lgsvi = vec![invariants(0.0, &case.start, &case.model, &case.start)];

@@ -67,7 +67,7 @@ pub struct Run {
 fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<()> {
     let pi = state.spatial_momentum();
     let quantities: [(&str, &[f64]); 6] = [
-        ("attitude R", &state.attitude.to_row_major()),
+        ("attitude R", &state.attitude().to_row_major()),
         ("angular velocity Ω", state.velocity.as_slice()),
         ("body momentum μ", state.momentum.as_slice()),
         ("energy", &[energy]),

@@ -46,7 +46,7 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
     let states = &run.trajectory.states;
     out.write_all(b"{")?;
     column(out, "R", states, |o, _, s| {
-        vector(o, &s.attitude.to_row_major())
+        vector(o, &s.attitude().to_row_major())
     })?;
     out.write_all(b",")?;
     column(out, "casimir", states, |o, _, s| number(o, s.casimir()))?;
@@ -92,7 +92,7 @@ pub fn write_csv<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
         write!(out, "{}", s.time)?;
         let pi = s.spatial_momentum();
         let values = s
-            .attitude
+            .attitude()
             .to_row_major()
             .into_iter()
             .chain(s.velocity.iter().copied())

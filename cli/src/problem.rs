@@ -244,7 +244,7 @@ impl Problem {
     pub fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
         Tracker::new(
             state.energy(&self.system),
-            state.attitude.matrix(),
+            state.attitude().matrix(),
             &state.momentum,
             self.is_free(),
         )

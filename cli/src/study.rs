@@ -50,14 +50,14 @@ impl Reference {
                 .with_matching(Matching::Exact);
             let mut integrator = problem.integrator(settings)?;
             let steps = integrator.steps_until(t_end)?;
-            let mut states = vec![(integrator.state().attitude, integrator.state().velocity)];
+            let mut states = vec![(*integrator.state().attitude(), integrator.state().velocity)];
             let mut curves = Vec::with_capacity(steps);
             for _ in 0..steps {
                 integrator.step().map_err(|source| CliError::Run {
                     context: "reference run".into(),
                     source,
                 })?;
-                states.push((integrator.state().attitude, integrator.state().velocity));
+                states.push((*integrator.state().attitude(), integrator.state().velocity));
                 curves.extend(integrator.last_curve());
             }
             Ok((states, curves))
@@ -96,7 +96,7 @@ impl Reference {
         match self {
             Reference::Exact(body) => {
                 let s = body.state(t)?;
-                Ok((*s.attitude.matrix(), s.velocity))
+                Ok((*s.attitude().matrix(), s.velocity))
             }
             Reference::Dense {
                 step,
@@ -197,7 +197,7 @@ fn measure_into(
     for _ in 0..steps {
         integrator.step()?;
         let s = integrator.state();
-        let d = tracker.drift(s.energy(&system), s.attitude.matrix(), &s.momentum);
+        let d = tracker.drift(s.energy(&system), s.attitude().matrix(), &s.momentum);
         energy_error = energy_error.max(d.energy);
         drift = drift.max(d.spatial_momentum);
         if curve_samples > 1 {
@@ -216,7 +216,7 @@ fn measure_into(
     let (r_ref, w_ref) = reference.at(s.time)?;
     m.steps = steps;
     m.t_end = s.time;
-    m.error_r = (s.attitude.matrix() - r_ref).norm();
+    m.error_r = (s.attitude().matrix() - r_ref).norm();
     m.error_omega = (s.velocity - w_ref).norm();
     m.error_curve = if curve_samples > 1 {
         curve_error.max(m.error_r)

@@ -258,7 +258,7 @@ enum Motion {
 /// // R μ is conserved, and so are |μ| and the energy.
 /// let pi0 = inertia.matrix() * Vector3::new(-2.0, 1.9, -1.0);
 /// assert!((s.spatial_momentum() - pi0).norm() < 1e-13);
-/// assert!((s.attitude.matrix().transpose() * s.attitude.matrix()
+/// assert!((s.attitude().matrix().transpose() * s.attitude().matrix()
 ///     - nalgebra::Matrix3::identity()).norm() < 1e-15);
 /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 /// ```
@@ -277,13 +277,23 @@ impl FreeRigidBodyExact {
     /// (`world_from_body`) and body angular velocity `omega0`.
     ///
     /// # Errors
-    /// [`MechanicsError::NonFinite`] for a NaN or infinite `omega0`.
+    /// [`MechanicsError::NonFinite`] for a NaN or infinite `omega0`;
+    /// [`MechanicsError::InvalidSetting`] for an inertia tensor that is not diagonal
+    /// (express the body in its principal axes, [`Inertia::principal_axes`]).
     pub fn new(
         inertia: Inertia,
         attitude0: SO3,
         omega0: Vector3<f64>,
     ) -> Result<Self, MechanicsError> {
         check_finite("initial angular velocity", omega0.as_slice())?;
+        if !inertia.is_diagonal() {
+            return Err(MechanicsError::InvalidSetting {
+                name: "inertia",
+                value: format!("{:?}", inertia.matrix().as_slice()),
+                reason: "the exact solution takes a diagonal tensor: express the body in its \
+                         principal axes",
+            });
+        }
         let j = inertia.principal_moments();
         let mu = inertia.matrix() * omega0;
         let uniform = |regime| Self {
@@ -483,7 +493,7 @@ impl FreeRigidBodyExact {
         };
         Ok(State {
             time: t,
-            attitude,
+            configuration: attitude,
             momentum,
             velocity: self.inertia.velocity(&momentum),
         })

@@ -13,9 +13,10 @@
 //! needs no chart differential (`A(ξ)⁻¹` of the exp chart costs a `sin_cos` and a series
 //! per evaluation, measured 7% of a step at `h = 1`), and the chart enters once per node.
 
+use crate::group::{GroupChart, Rotations};
 use crate::lagrangian::Lagrangian;
 use lgsvi_lie::so3::vee;
-use lgsvi_lie::{ChartKind, So3Chart};
+use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 /// The largest rotation one Runge–Kutta substep takes (radians). The guess is accurate to
@@ -96,23 +97,23 @@ fn frequency<L: Lagrangian>(
     }
 }
 
-/// What the flow predictor found.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum FlowGuess {
-    /// The guess is written; the flow's attitude at the step's end relative to its start
-    /// (`R_kᵀ R(h)`), against which the converged step is checked.
-    Written(Matrix3<f64>),
-    /// The flow turns the body by `angle` (≥ the chart's [`So3Chart::max_rotation_angle`])
-    /// relative to the step's start by `time` into the step: the chart cannot represent
-    /// the step, and a root Newton found would be an aliased one.
+/// What a flow predictor ([`crate::GroupLagrangian::flow_guess`]) found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FlowGuess<E> {
+    /// The guess is written; the flow's configuration at the step's end relative to its
+    /// start (`g_k⁻¹ g(h)`), against which the converged step is checked.
+    Written(E),
+    /// The flow turns the body by `angle` (≥ the chart's maximal rotation angle) relative
+    /// to the step's start by `time` into the step: the chart cannot represent the step,
+    /// and a root Newton found would be an aliased one.
     LeavesChart {
         /// Time into the step.
         time: f64,
         /// The rotation angle reached.
         angle: f64,
     },
-    /// No closed-form `Ω(μ)`, a non-finite value, a node the chart's inverse refuses, or
-    /// more than [`MAX_SUBSTEPS`] substeps needed.
+    /// No flow to follow (no closed-form `ξ(μ)`, a non-finite value, a node the chart's
+    /// inverse refuses, or too many substeps needed): the guess comes from elsewhere.
     Unavailable,
 }
 
@@ -127,21 +128,21 @@ fn continuous_angle(q: &Quaternion<f64>) -> f64 {
 /// substeps of at most [`SUBSTEP_ANGLE`] of rotation, cubic Hermite interpolation of `q`
 /// between substeps (the same order), each node's coordinates on the chart's branch
 /// nearest the node before (`ξ¹ = 0`). The rotation is followed continuously (the
-/// quaternion's angle): where it reaches the chart's [`So3Chart::max_rotation_angle`] the
+/// quaternion's angle): where it reaches the chart's maximal rotation angle the
 /// step cannot be represented ([`FlowGuess::LeavesChart`]); a Cayley chart's inverse
 /// would silently return the aliased rotation. `out` may be partly written unless the
 /// result is [`FlowGuess::Written`].
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn flow_guess<L: Lagrangian>(
+pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
-    chart: ChartKind,
+    chart: &C,
     base: &Matrix3<f64>,
     mu: &Vector3<f64>,
     omega: &Vector3<f64>,
     h: f64,
     times: &[f64],
     out: &mut [Vector3<f64>],
-) -> FlowGuess {
+) -> FlowGuess<SO3> {
     use FlowGuess::Unavailable;
     let wanted = (h * frequency(system, base, mu, omega) / SUBSTEP_ANGLE).ceil();
     if wanted.is_nan() || wanted > MAX_SUBSTEPS as f64 {
@@ -192,7 +193,7 @@ pub(crate) fn flow_guess<L: Lagrangian>(
                 + q1 * (3.0 * u2 - 2.0 * u3)
                 + q1_dot * ((u3 - u2) * dt);
             let rotation = UnitQuaternion::from_quaternion(qi).to_rotation_matrix();
-            match chart.rotation_vector_near(rotation.matrix(), &near) {
+            match chart.to_algebra_near(&SO3::from_matrix_unchecked(*rotation.matrix()), &near) {
                 Ok(xi) if xi.iter().all(|x| x.is_finite()) => {
                     out[next_node] = xi;
                     near = xi;
@@ -203,9 +204,9 @@ pub(crate) fn flow_guess<L: Lagrangian>(
         }
         (q, mu, q_dot, mu_dot) = (q1, mu1, q1_dot, mu1_dot);
     }
-    FlowGuess::Written(
+    FlowGuess::Written(SO3::from_matrix_unchecked(
         *UnitQuaternion::from_quaternion(q)
             .to_rotation_matrix()
             .matrix(),
-    )
+    ))
 }

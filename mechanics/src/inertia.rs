@@ -3,7 +3,8 @@
 use crate::error::MechanicsError;
 use nalgebra::{Matrix3, Vector3};
 
-/// A body-frame inertia tensor `J` (principal axes along the body axes), validated.
+/// A body-frame inertia tensor `J`, validated: diagonal (principal axes along the body
+/// axes) or full ([`Inertia::from_tensor`]).
 ///
 /// Two conventions are accepted, and every constructor says which it takes:
 /// - the **standard** inertia `J` (kinetic energy `½ΩᵀJΩ`):
@@ -25,7 +26,20 @@ use nalgebra::{Matrix3, Vector3};
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inertia {
+    /// The principal moments: the diagonal in body-axis order for a diagonal tensor, the
+    /// eigenvalues (ascending) otherwise.
     moments: [f64; 3],
+    /// `J` and `J⁻¹`, for a full tensor; `None` for a diagonal one (whose formulas use
+    /// the moments directly, as they always have).
+    full: Option<FullTensor>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct FullTensor {
+    tensor: Matrix3<f64>,
+    inverse: Matrix3<f64>,
+    /// Principal axes (columns), body frame.
+    axes: Matrix3<f64>,
 }
 
 impl Inertia {
@@ -62,7 +76,82 @@ impl Inertia {
                 });
             }
         }
-        Ok(Self { moments })
+        Ok(Self {
+            moments,
+            full: None,
+        })
+    }
+
+    /// From a full body-frame tensor `J` (symmetric, positive definite, its eigenvalues
+    /// obeying the triangle inequality). A tensor with zero off-diagonal entries is the
+    /// same as [`Inertia::from_principal_moments`] of its diagonal.
+    ///
+    /// ```
+    /// use lgsvi_mechanics::Inertia;
+    /// use nalgebra::Matrix3;
+    /// let j = Matrix3::new(3.0, 0.4, -0.2, 0.4, 2.6, 0.3, -0.2, 0.3, 3.3);
+    /// let inertia = Inertia::from_tensor(j)?;
+    /// assert!((inertia.matrix() - j).amax() == 0.0);
+    /// let w = nalgebra::Vector3::new(0.1, -0.2, 0.3);
+    /// assert!((inertia.velocity(&(j * w)) - w).amax() < 1e-15);
+    /// // Not symmetric, not positive definite, not a mass distribution:
+    /// assert!(Inertia::from_tensor(Matrix3::new(1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)).is_err());
+    /// assert!(Inertia::from_tensor(Matrix3::new(1.0, 2.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0)).is_err());
+    /// assert!(Inertia::from_tensor(Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, 3.0))).is_err());
+    /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`MechanicsError::NonFinite`]; [`MechanicsError::InvalidInertia`] for a tensor that
+    /// is not symmetric (beyond 8 ulps of its largest entry), not positive definite, or
+    /// whose principal moments break `J_i ≤ J_j + J_k`.
+    pub fn from_tensor(tensor: Matrix3<f64>) -> Result<Self, MechanicsError> {
+        crate::error::check_finite("inertia tensor", tensor.as_slice())?;
+        let size = tensor.amax();
+        let asymmetry = (tensor - tensor.transpose()).amax();
+        let diagonal = [tensor.m11, tensor.m22, tensor.m33];
+        if asymmetry > 8.0 * f64::EPSILON * size {
+            return Err(MechanicsError::InvalidInertia {
+                moments: diagonal,
+                reason: format!(
+                    "the tensor is not symmetric (|J − Jᵀ| = {asymmetry:e}); give the nine \
+                     entries of a symmetric matrix, row by row"
+                ),
+            });
+        }
+        if (0..3).all(|i| (0..3).all(|j| i == j || tensor[(i, j)] == 0.0)) {
+            return Self::from_principal_moments(diagonal);
+        }
+        let symmetric = (tensor + tensor.transpose()) * 0.5;
+        let eigen = symmetric.symmetric_eigen();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+        let moments = order.map(|k| eigen.eigenvalues[k]);
+        if moments[0] <= 0.0 {
+            return Err(MechanicsError::InvalidInertia {
+                moments,
+                reason: "the tensor is not positive definite (a principal moment is not \
+                         positive)"
+                    .into(),
+            });
+        }
+        // Validates the principal moments (positivity, triangle inequality).
+        Self::from_principal_moments(moments)?;
+        let axes = Matrix3::from_columns(&order.map(|k| eigen.eigenvectors.column(k).into_owned()));
+        let inverse = symmetric
+            .try_inverse()
+            .ok_or_else(|| MechanicsError::InvalidInertia {
+                moments,
+                reason: "the tensor is singular".into(),
+            })?;
+        Ok(Self {
+            moments,
+            full: Some(FullTensor {
+                tensor: symmetric,
+                inverse,
+                axes,
+            }),
+        })
     }
 
     /// From the paper's `J_d = diag(a, b, c)`: `J = tr(J_d) I − J_d`.
@@ -82,24 +171,50 @@ impl Inertia {
         Self::from_principal_moments([jd[1] + jd[2], jd[0] + jd[2], jd[0] + jd[1]])
     }
 
-    /// The standard principal moments `(J₁, J₂, J₃)`.
+    /// The standard principal moments `(J₁, J₂, J₃)`: the diagonal of a diagonal tensor
+    /// (in body-axis order), the eigenvalues of a full one (ascending, along
+    /// [`Inertia::principal_axes`]).
     pub fn principal_moments(&self) -> [f64; 3] {
         self.moments
     }
 
-    /// The paper's `J_d = ½ tr(J) I − J`.
+    /// Whether the tensor is diagonal in the body frame.
+    pub fn is_diagonal(&self) -> bool {
+        self.full.is_none()
+    }
+
+    /// The principal axes (columns, body frame): the identity for a diagonal tensor.
+    pub fn principal_axes(&self) -> Matrix3<f64> {
+        self.full.map_or(Matrix3::identity(), |f| f.axes)
+    }
+
+    /// `J Ω`.
+    pub fn momentum(&self, omega: &Vector3<f64>) -> Vector3<f64> {
+        match &self.full {
+            None => Vector3::from(self.moments).component_mul(omega),
+            Some(f) => f.tensor * omega,
+        }
+    }
+
+    /// The paper's `J_d = ½ tr(J) I − J` (of the principal moments, for a full tensor).
     pub fn paper_jd(&self) -> [f64; 3] {
         let half_trace = 0.5 * (self.moments[0] + self.moments[1] + self.moments[2]);
         self.moments.map(|m| half_trace - m)
     }
 
-    /// `J` as a matrix.
+    /// `J` as a matrix (body frame).
     pub fn matrix(&self) -> Matrix3<f64> {
-        Matrix3::from_diagonal(&Vector3::from(self.moments))
+        match &self.full {
+            None => Matrix3::from_diagonal(&Vector3::from(self.moments)),
+            Some(f) => f.tensor,
+        }
     }
 
     /// `J⁻¹ μ`.
     pub fn velocity(&self, momentum: &Vector3<f64>) -> Vector3<f64> {
+        if let Some(f) = &self.full {
+            return f.inverse * momentum;
+        }
         Vector3::new(
             momentum.x / self.moments[0],
             momentum.y / self.moments[1],

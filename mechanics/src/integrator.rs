@@ -1,13 +1,18 @@
-//! The integrator: initial state, stepping, trajectories, invariants, dense output.
+//! The integrator: initial state, stepping, control inputs, trajectories, invariants,
+//! dense output — for any configuration group and chart.
 
 use crate::error::{check_finite, MechanicsError};
 use crate::flow::FlowGuess;
-use crate::galerkin::{Discretisation, Stepper, Workspace};
-use crate::lagrangian::Lagrangian;
+use crate::group::{ConfigurationGroup, GroupChart, Rotations};
 use crate::settings::StepSettings;
-use lgsvi_lie::{ChartKind, So3Chart, SO3};
-use nalgebra::{Matrix3, SVector, Vector3};
+use crate::step::assembly::{Workspace, WorkspaceOf};
+use crate::step::tables::Discretisation;
+use crate::step::{StepOutcome, Stepper};
+use crate::system::{ElementOf, GroupLagrangian};
+use lgsvi_lie::{ChartKind, LieGroup, SE3, SO3};
+use nalgebra::{SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
+use std::marker::PhantomData;
 
 /// A continued curve whose residual is below this fraction of the equations' terms is
 /// taken without trying the velocity-corrected predictor (Newton then needs ~2 steps).
@@ -19,71 +24,63 @@ const PREDICTOR_GOOD_ENOUGH: f64 = 1e-3;
 /// any step that converges to the motion, while an aliased root is off by an O(1) turn.
 const ALIASED_DISTANCE: f64 = 0.5;
 
-/// What to suggest besides a smaller step when a step outruns `chart`.
-fn chart_advice(chart: ChartKind) -> &'static str {
-    match chart {
-        ChartKind::Exp => "",
-        ChartKind::Cayley | ChartKind::CayleyUnscaled => {
-            " or the exp chart (--chart exp), which follows up to 2π per step"
-        }
-    }
-}
-
-/// `μ = ∂ℓ/∂Ω(R, Ω)` (the Legendre transform), by dual numbers.
-pub fn body_momentum<L: Lagrangian>(
-    system: &L,
-    attitude: &Matrix3<f64>,
-    omega: &Vector3<f64>,
-) -> Vector3<f64> {
+/// `μ = ∂ℓ/∂ξ(t, g, ξ)` (the Legendre transform), by dual numbers.
+pub fn body_momentum<S: GroupLagrangian<D>, const D: usize>(
+    system: &S,
+    time: f64,
+    configuration: &ElementOf<S, D>,
+    velocity: &SVector<f64, D>,
+) -> SVector<f64, D> {
     let (_, gradient) = num_dual::gradient(
-        |w: SVector<DualSVec64<3>, 3>| {
-            let r: Matrix3<DualSVec64<3>> = attitude.map(nalgebra::convert);
-            system.lagrangian(&r, &w)
+        |w: SVector<DualSVec64<D>, D>| {
+            let g = <S::Group as ConfigurationGroup<D>>::lift(configuration);
+            system.lagrangian(time, &g, &w)
         },
-        omega,
+        velocity,
     );
     gradient
 }
 
-/// `Ω` with `∂ℓ/∂Ω(R, Ω) = μ`: the closed form when the system has one, else Newton
-/// with the exact Hessian `∂²ℓ/∂Ω²` from `guess`.
+/// `ξ` with `∂ℓ/∂ξ(t, g, ξ) = μ`: the closed form when the system has one, else Newton
+/// with the exact Hessian `∂²ℓ/∂ξ²` from `guess`.
 ///
 /// # Errors
 /// [`MechanicsError::InverseLegendre`] if Newton does not converge (a Lagrangian not
-/// strictly convex in `Ω`).
-pub fn body_velocity<L: Lagrangian>(
-    system: &L,
-    attitude: &Matrix3<f64>,
-    momentum: &Vector3<f64>,
-    guess: &Vector3<f64>,
-) -> Result<Vector3<f64>, MechanicsError> {
-    if let Some(omega) = system.velocity_from_momentum(attitude, momentum) {
-        return Ok(omega);
+/// strictly convex in `ξ`).
+pub fn body_velocity<S: GroupLagrangian<D>, const D: usize>(
+    system: &S,
+    time: f64,
+    configuration: &ElementOf<S, D>,
+    momentum: &SVector<f64, D>,
+    guess: &SVector<f64, D>,
+) -> Result<SVector<f64, D>, MechanicsError> {
+    if let Some(velocity) = system.velocity_from_momentum(time, configuration, momentum) {
+        return Ok(velocity);
     }
-    let mut omega = *guess;
+    let mut velocity = *guess;
     let mut residual_norm = f64::INFINITY;
     for iteration in 0..50 {
         let (_, gradient, hessian) = num_dual::hessian(
-            |w: SVector<Dual2SVec64<3>, 3>| {
-                let r: Matrix3<Dual2SVec64<3>> = attitude.map(nalgebra::convert);
-                system.lagrangian(&r, &w)
+            |w: SVector<Dual2SVec64<D>, D>| {
+                let g = <S::Group as ConfigurationGroup<D>>::lift(configuration);
+                system.lagrangian(time, &g, &w)
             },
-            &omega,
+            &velocity,
         );
         let residual = gradient - momentum;
         residual_norm = residual.amax();
         if residual_norm <= 16.0 * f64::EPSILON * momentum.amax().max(1.0) {
-            return Ok(omega);
+            return Ok(velocity);
         }
-        let Some(delta) = hessian.lu().solve(&residual) else {
+        let Some(delta) = solve_small(hessian, residual) else {
             break;
         };
-        omega -= delta;
-        if !omega.iter().all(|w| w.is_finite()) {
+        velocity -= delta;
+        if !velocity.iter().all(|w| w.is_finite()) {
             break;
         }
-        if iteration > 0 && delta.amax() <= 4.0 * f64::EPSILON * omega.amax() {
-            return Ok(omega);
+        if iteration > 0 && delta.amax() <= 4.0 * f64::EPSILON * velocity.amax() {
+            return Ok(velocity);
         }
     }
     Err(MechanicsError::InverseLegendre {
@@ -91,35 +88,107 @@ pub fn body_velocity<L: Lagrangian>(
     })
 }
 
-/// The state at a step: time, attitude, body momentum and velocity.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct State {
-    /// Time.
-    pub time: f64,
-    /// `R = world_from_body`.
-    pub attitude: SO3,
-    /// Body momentum `μ`.
-    pub momentum: Vector3<f64>,
-    /// Body angular velocity `Ω` with `∂ℓ/∂Ω(R, Ω) = μ` (for `½ΩᵀJΩ − V`: `J⁻¹μ`).
-    pub velocity: Vector3<f64>,
+/// `A x = b` by Gaussian elimination with partial pivoting, for the small fixed-size
+/// systems of the inverse Legendre transform (nalgebra's LU needs a type-level dimension
+/// that a const generic `D` does not give); `None` for a singular `A`.
+fn solve_small<const D: usize>(
+    mut a: SMatrix<f64, D, D>,
+    mut b: SVector<f64, D>,
+) -> Option<SVector<f64, D>> {
+    for k in 0..D {
+        let pivot = (k..D).max_by(|&i, &j| a[(i, k)].abs().total_cmp(&a[(j, k)].abs()))?;
+        if a[(pivot, k)] == 0.0 || !a[(pivot, k)].is_finite() {
+            return None;
+        }
+        a.swap_rows(k, pivot);
+        b.swap_rows(k, pivot);
+        for i in k + 1..D {
+            let factor = a[(i, k)] / a[(k, k)];
+            for j in k..D {
+                a[(i, j)] -= factor * a[(k, j)];
+            }
+            b[i] -= factor * b[k];
+        }
+    }
+    for k in (0..D).rev() {
+        let tail: f64 = (k + 1..D).map(|j| a[(k, j)] * b[j]).sum();
+        b[k] = (b[k] - tail) / a[(k, k)];
+    }
+    Some(b)
 }
 
-impl State {
-    /// Spatial (world-frame) angular momentum `Rμ`: conserved by every left-invariant
-    /// system, and its component along gravity by the heavy top.
-    pub fn spatial_momentum(&self) -> Vector3<f64> {
-        self.attitude.matrix() * self.momentum
+/// The state at a step: time, configuration, body momentum and velocity.
+///
+/// On SO(3) (`State`, the default parameters) the configuration is the attitude
+/// ([`State::attitude`]); on SE(3) (`State<SE3, 6>`) it is `(R, x)`, and
+/// [`State::position`], [`State::linear_velocity`] give the centre of mass and its
+/// space-frame velocity `ẋ = R v`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State<E = SO3, const D: usize = 3> {
+    /// Time.
+    pub time: f64,
+    /// `g = world_from_body`.
+    pub configuration: E,
+    /// Body momentum `μ = ∂ℓ/∂ξ`.
+    pub momentum: SVector<f64, D>,
+    /// Body velocity `ξ` with `∂ℓ/∂ξ(t, g, ξ) = μ` (on SO(3) the angular velocity `Ω`;
+    /// on SE(3) `(Ω, v)` with `v = Rᵀẋ`).
+    pub velocity: SVector<f64, D>,
+}
+
+impl<E, const D: usize> State<E, D>
+where
+    E: LieGroup<Scalar = f64, Tangent = SVector<f64, D>, Jacobian = SMatrix<f64, D, D>>,
+{
+    /// The spatial (world-frame) momentum `Ad_{g⁻¹}ᵀ μ`: on SO(3) `Rμ`, on SE(3)
+    /// `(RJΩ + x × mẋ, mẋ)` (angular momentum about the world origin, linear momentum).
+    /// Its components along the symmetries of `ℓ` are conserved.
+    pub fn spatial_momentum(&self) -> SVector<f64, D> {
+        self.configuration.coadjoint_action(&self.momentum)
+    }
+
+    /// Energy `⟨μ, ξ⟩ − ℓ(t, g, ξ)`.
+    pub fn energy<S>(&self, system: &S) -> f64
+    where
+        S: GroupLagrangian<D>,
+        S::Group: ConfigurationGroup<D, Element<f64> = E>,
+    {
+        self.momentum.dot(&self.velocity)
+            - system.lagrangian(self.time, &self.configuration, &self.velocity)
+    }
+}
+
+impl State<SO3, 3> {
+    /// `R = world_from_body`.
+    pub fn attitude(&self) -> &SO3 {
+        &self.configuration
     }
 
     /// `|μ|²`, the Casimir: conserved by the free rigid body.
     pub fn casimir(&self) -> f64 {
         self.momentum.norm_squared()
     }
+}
 
-    /// Energy `⟨μ, Ω⟩ − ℓ(R, Ω)`.
-    pub fn energy<L: Lagrangian>(&self, system: &L) -> f64 {
-        self.momentum.dot(&self.velocity)
-            - system.lagrangian(self.attitude.matrix(), &self.velocity)
+impl State<SE3, 6> {
+    /// `R = world_from_body`.
+    pub fn attitude(&self) -> &SO3 {
+        self.configuration.rotation()
+    }
+
+    /// The centre of mass `x`, world frame.
+    pub fn position(&self) -> Vector3<f64> {
+        *self.configuration.translation()
+    }
+
+    /// The body angular velocity `Ω`.
+    pub fn angular_velocity(&self) -> Vector3<f64> {
+        self.velocity.fixed_rows::<3>(0).into_owned()
+    }
+
+    /// The centre of mass velocity `ẋ = R v`, world frame.
+    pub fn linear_velocity(&self) -> Vector3<f64> {
+        self.configuration.rotation().matrix() * self.velocity.fixed_rows::<3>(3)
     }
 }
 
@@ -139,15 +208,16 @@ pub struct Statistics {
 
 /// A step's Galerkin curve: `g(t) = g_k Φ(ξ(t))`, `t ∈ [0, h]` from the step's start.
 #[derive(Debug, Clone)]
-pub struct GalerkinCurve {
-    base: SO3,
-    nodes: Vec<Vector3<f64>>,
+pub struct GalerkinCurve<G: ConfigurationGroup<D> = Rotations, C = ChartKind, const D: usize = 3> {
+    base: G::Element<f64>,
+    nodes: Vec<SVector<f64, D>>,
     basis: lgsvi_spectral::Barycentric,
-    chart: ChartKind,
+    chart: C,
     start: f64,
+    group: PhantomData<G>,
 }
 
-impl GalerkinCurve {
+impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> GalerkinCurve<G, C, D> {
     /// The step's start time.
     pub fn start(&self) -> f64 {
         self.start
@@ -158,43 +228,61 @@ impl GalerkinCurve {
         *self.basis.nodes().last().unwrap_or(&0.0)
     }
 
-    /// `(g(t), Ω(t))` at `t` seconds after the step's start (`0 ≤ t ≤ h`; outside,
+    /// `(g(t), ξ(t))` at `t` seconds after the step's start (`0 ≤ t ≤ h`; outside,
     /// the polynomial is extrapolated).
     ///
     /// # Errors
     /// [`MechanicsError::Spectral`] for a non-finite `t`.
-    pub fn at(&self, t: f64) -> Result<(SO3, Vector3<f64>), MechanicsError> {
+    pub fn at(&self, t: f64) -> Result<(G::Element<f64>, SVector<f64, D>), MechanicsError> {
         let n = self.nodes.len();
         let mut phi = vec![0.0; n];
         let mut dphi = vec![0.0; n];
         self.basis
             .basis_and_derivatives_into(t, &mut phi, &mut dphi)?;
-        let mut xi = Vector3::zeros();
-        let mut xi_dot = Vector3::zeros();
+        let mut xi = SVector::<f64, D>::zeros();
+        let mut xi_dot = SVector::<f64, D>::zeros();
         for i in 0..n {
             xi += self.nodes[i] * phi[i];
             xi_dot += self.nodes[i] * dphi[i];
         }
-        let g = self.base * SO3::from_matrix_unchecked(self.chart.rotation_matrix(&xi));
-        Ok((g, self.chart.rotation_left_differential(&xi) * xi_dot))
+        let g = self.base.compose(&self.chart.to_group(&xi));
+        Ok((g, self.chart.left_differential(&xi) * xi_dot))
     }
 
     /// The chart coordinates `ξ¹ = 0, ξ², …, ξⁿ` of the nodes.
-    pub fn nodes(&self) -> &[Vector3<f64>] {
+    pub fn nodes(&self) -> &[SVector<f64, D>] {
         &self.nodes
     }
 }
 
 /// A recorded trajectory (every `every`-th step, always the first and the last).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Trajectory {
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory<E = SO3, const D: usize = 3> {
     /// States, in time order.
-    pub states: Vec<State>,
+    pub states: Vec<State<E, D>>,
     /// Newton iterations of the step that produced each state (0 for the initial one).
     pub newton_iterations: Vec<usize>,
 }
 
-/// The Lie group spectral variational integrator for a system on SO(3).
+impl<E, const D: usize> Default for Trajectory<E, D> {
+    fn default() -> Self {
+        Self {
+            states: Vec::new(),
+            newton_iterations: Vec::new(),
+        }
+    }
+}
+
+/// The Lie group spectral variational integrator, for a system `S` on a group with
+/// algebra `ℝ^D` in the chart `C`.
+///
+/// - `Integrator::new(system, settings, g₀, ξ₀)` takes the chart from the settings
+///   ([`ChartKind`], chosen at run time); [`Integrator::with_chart`] takes a chart type
+///   (`ExpChart`, `CayleyChart`, or your own), fixed at compile time.
+/// - Driven from a control loop: [`Integrator::set_input`] (a piecewise-constant
+///   generalised force for the next steps), [`Integrator::step`], [`Integrator::state`],
+///   [`Integrator::reset`], [`Integrator::system_mut`] (change parameters between steps).
+///   Nothing is rebuilt, and a step allocates nothing.
 ///
 /// ```
 /// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
@@ -213,73 +301,138 @@ pub struct Trajectory {
 /// assert!((end.casimir() - start.casimir()).abs() < 1e-11);
 /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 /// ```
-pub struct Integrator<L: Lagrangian> {
-    system: L,
+pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> {
+    system: S,
+    chart: C,
     settings: StepSettings,
     discretisation: Discretisation,
-    work: Workspace,
-    state: State,
+    work: WorkspaceOf<S, D>,
+    state: State<ElementOf<S, D>, D>,
+    /// Steps since the start (or the last reset).
     step_index: usize,
+    /// The time of the start (or the last reset).
+    origin: f64,
+    /// The piecewise-constant generalised force added to the system's own.
+    input: SVector<f64, D>,
     /// The velocity at the start of the last step taken; `None` before the first step
     /// (then there is no previous Galerkin curve either).
-    previous_velocity: Option<Vector3<f64>>,
-    last_nodes: Vec<Vector3<f64>>,
+    previous_velocity: Option<SVector<f64, D>>,
+    last_nodes: Vec<SVector<f64, D>>,
     /// Scratch for the predictor's comparison.
-    extrapolated: Vec<Vector3<f64>>,
-    last_base: SO3,
-    /// The flow predictor's attitude at the end of the step being taken, relative to its
-    /// start, when the flow could be integrated: the check against aliased roots.
-    flow_end: Option<Matrix3<f64>>,
+    extrapolated: Vec<SVector<f64, D>>,
+    last_base: ElementOf<S, D>,
+    /// The flow predictor's configuration at the end of the step being taken, relative to
+    /// its start, when the flow could be integrated: the check against aliased roots.
+    flow_end: Option<ElementOf<S, D>>,
     statistics: Statistics,
 }
 
-impl<L: Lagrangian> Integrator<L> {
-    /// Starts at attitude `R₀` with body angular velocity `Ω₀` (`μ₀ = ∂ℓ/∂Ω(R₀, Ω₀)`).
+impl<S: GroupLagrangian<D>, const D: usize> Integrator<S, ChartKind, D>
+where
+    ChartKind: GroupChart<S::Group, D>,
+{
+    /// Starts at configuration `g₀` with body velocity `ξ₀` (`μ₀ = ∂ℓ/∂ξ(0, g₀, ξ₀)`), in
+    /// the chart the settings name.
     ///
     /// # Errors
-    /// [`MechanicsError::NonFinite`] for non-finite `Ω₀` or attitude; errors of the
+    /// [`MechanicsError::NonFinite`] for a non-finite `ξ₀` or `g₀`; errors of the
     /// quadrature or basis construction (not expected for valid settings).
     pub fn new(
-        system: L,
+        system: S,
         settings: StepSettings,
-        attitude: SO3,
-        omega: Vector3<f64>,
+        configuration: ElementOf<S, D>,
+        velocity: SVector<f64, D>,
     ) -> Result<Self, MechanicsError> {
-        check_finite("initial angular velocity", omega.as_slice())?;
-        check_finite("initial attitude", attitude.matrix().as_slice())?;
+        Self::with_chart(system, settings.chart(), settings, configuration, velocity)
+    }
+}
+
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+    /// As [`Integrator::new`] in the chart `chart` (whatever `settings.chart()` says).
+    ///
+    /// ```
+    /// use lgsvi_mechanics::{FreeBody, Inertia, Integrator, StepSettings};
+    /// use lgsvi_mechanics::lie::{CayleyChart, SE3};
+    /// use nalgebra::SVector;
+    /// // A free rigid body drifting through space, in the Cayley chart of SE(3).
+    /// let body = FreeBody::new(Inertia::from_principal_moments([1.0, 2.0, 2.5])?, 3.0)?;
+    /// let xi = SVector::<f64, 6>::new(0.3, -0.2, 1.0, 0.5, 0.0, 0.0);
+    /// let mut integrator = Integrator::with_chart(body, CayleyChart, StepSettings::new(0.2, 6)?, SE3::identity(), xi)?;
+    /// integrator.run(10, 1)?;
+    /// let e = integrator.state();
+    /// // The centre of mass moves in a straight line at its initial velocity.
+    /// assert!((e.position() - nalgebra::Vector3::new(1.0, 0.0, 0.0)).amax() < 1e-14);
+    /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Integrator::new`].
+    pub fn with_chart(
+        system: S,
+        chart: C,
+        settings: StepSettings,
+        configuration: ElementOf<S, D>,
+        velocity: SVector<f64, D>,
+    ) -> Result<Self, MechanicsError> {
+        let what = match <S::Group as ConfigurationGroup<D>>::VELOCITY {
+            "angular velocity" => "initial angular velocity",
+            _ => "initial velocity",
+        };
+        check_finite(what, velocity.as_slice())?;
+        if !<S::Group as ConfigurationGroup<D>>::is_finite(&configuration) {
+            return Err(MechanicsError::NonFinite {
+                what: "initial configuration",
+                value: format!("{configuration:?}"),
+            });
+        }
         let discretisation = Discretisation::new(&settings)?;
         let work = Workspace::new(&discretisation);
-        let momentum = body_momentum(&system, attitude.matrix(), &omega);
+        let momentum = body_momentum(&system, 0.0, &configuration, &velocity);
         let n = settings.nodes();
         Ok(Self {
             system,
+            chart,
             settings,
             discretisation,
             work,
             state: State {
                 time: 0.0,
-                attitude,
+                configuration,
                 momentum,
-                velocity: omega,
+                velocity,
             },
             step_index: 0,
+            origin: 0.0,
+            input: SVector::zeros(),
             previous_velocity: None,
-            last_nodes: vec![Vector3::zeros(); n],
-            extrapolated: vec![Vector3::zeros(); n],
-            last_base: attitude,
+            last_nodes: vec![SVector::zeros(); n],
+            extrapolated: vec![SVector::zeros(); n],
+            last_base: configuration,
             flow_end: None,
             statistics: Statistics::default(),
         })
     }
 
     /// The current state.
-    pub fn state(&self) -> &State {
+    pub fn state(&self) -> &State<ElementOf<S, D>, D> {
         &self.state
     }
 
     /// The system.
-    pub fn system(&self) -> &L {
+    pub fn system(&self) -> &S {
         &self.system
+    }
+
+    /// The system, to change its parameters between steps (a new inertia, gain or
+    /// target). The next step uses them; the state is kept as it is (its momentum is
+    /// the old system's).
+    pub fn system_mut(&mut self) -> &mut S {
+        &mut self.system
+    }
+
+    /// The chart.
+    pub fn chart(&self) -> &C {
+        &self.chart
     }
 
     /// The settings.
@@ -292,27 +445,103 @@ impl<L: Lagrangian> Integrator<L> {
         &self.statistics
     }
 
+    /// Sets the control input: a generalised force (for SO(3) a body torque; for SE(3)
+    /// `(body torque, body force)`) held constant over the following steps until set
+    /// again (zero-order hold), added to the system's own force through the discrete
+    /// Lagrange–d'Alembert principle. Zero (the start) leaves the step unforced.
+    ///
+    /// ```
+    /// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_lie::SO3;
+    /// use nalgebra::Vector3;
+    /// // A PD loop holding a body's spin at 1 rad/s about z against an initial wobble.
+    /// let body = RigidBody::new(Inertia::from_principal_moments([2.0, 2.0, 3.0])?);
+    /// let mut integrator = Integrator::new(body, StepSettings::new(0.1, 6)?, SO3::identity(), Vector3::new(0.2, 0.0, 0.5))?;
+    /// for _ in 0..200 {
+    ///     let w = integrator.state().velocity;
+    ///     integrator.set_input((Vector3::new(0.0, 0.0, 1.0) - w) * 2.0)?;
+    ///     integrator.step()?;
+    /// }
+    /// assert!((integrator.state().velocity - Vector3::new(0.0, 0.0, 1.0)).amax() < 1e-6);
+    /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`MechanicsError::NonFinite`] for a non-finite input (the input is then unchanged).
+    pub fn set_input(&mut self, input: SVector<f64, D>) -> Result<(), MechanicsError> {
+        check_finite("control input", input.as_slice())?;
+        self.input = input;
+        Ok(())
+    }
+
+    /// The control input in force.
+    pub fn input(&self) -> &SVector<f64, D> {
+        &self.input
+    }
+
+    /// Restarts from `(t, g, ξ)`: the state is replaced (momentum from the Legendre
+    /// transform), the predictor forgets the last step, and steps are counted from `t`.
+    /// The tables, the workspace, the input and the statistics are kept.
+    ///
+    /// # Errors
+    /// [`MechanicsError::NonFinite`] for a non-finite time, configuration or velocity
+    /// (the integrator is then unchanged).
+    pub fn reset(
+        &mut self,
+        time: f64,
+        configuration: ElementOf<S, D>,
+        velocity: SVector<f64, D>,
+    ) -> Result<(), MechanicsError> {
+        check_finite("reset time", &[time])?;
+        check_finite("reset velocity", velocity.as_slice())?;
+        if !<S::Group as ConfigurationGroup<D>>::is_finite(&configuration) {
+            return Err(MechanicsError::NonFinite {
+                what: "reset configuration",
+                value: format!("{configuration:?}"),
+            });
+        }
+        let momentum = body_momentum(&self.system, time, &configuration, &velocity);
+        self.state = State {
+            time,
+            configuration,
+            momentum,
+            velocity,
+        };
+        self.origin = time;
+        self.step_index = 0;
+        self.previous_velocity = None;
+        self.last_base = configuration;
+        self.flow_end = None;
+        Ok(())
+    }
+
     /// The Galerkin curve of the last step taken (dense output), if any.
-    pub fn last_curve(&self) -> Option<GalerkinCurve> {
+    pub fn last_curve(&self) -> Option<GalerkinCurve<S::Group, C, D>> {
         self.previous_velocity.is_some().then(|| GalerkinCurve {
             base: self.last_base,
             nodes: self.last_nodes.clone(),
             basis: self.discretisation.basis.clone(),
-            chart: self.settings.chart(),
+            chart: self.chart,
             start: self.state.time - self.settings.step(),
+            group: PhantomData,
         })
     }
 
-    /// The predictor. When the system gives `Ω(μ)` in closed form (the built-in ones do):
-    /// the system's own flow over the step by a few Runge–Kutta substeps
-    /// ([`Integrator::predict_by_flow`]; measured relative residual 3e-6 at `h = 0.5`
+    /// Whether the next step is forced: the system has a force or the input is not zero.
+    fn forcing(&self) -> Option<SVector<f64, D>> {
+        (self.system.is_forced() || self.input.iter().any(|&u| u != 0.0)).then_some(self.input)
+    }
+
+    /// The predictor. When the system has a flow predictor (the SO(3) systems with `Ω(μ)`
+    /// in closed form, unforced): the system's own flow over the step
+    /// ([`GroupLagrangian::flow_guess`]; measured relative residual 3e-6 at `h = 0.5`
     /// and 2e-5 at `h = 1` on the paper's rigid body, against 3e-4 and 0.1 for the
     /// continued curve). Otherwise, after the first step: the last step's Galerkin curve
     /// continued ([`Integrator::extrapolate`]); if its relative residual exceeds
     /// [`PREDICTOR_GOOD_ENOUGH`] (long steps), the better of it and the previous step's
     /// chart coordinates corrected by the change of velocity,
-    /// `ξⁱ ← ξⁱ_prev + A(0)⁻¹ t_i (Ω_k − Ω_{k−1})` (second order in `h`). On the first
-    /// step, or with `constant_velocity`, `ξⁱ = Φ⁻¹(exp(t_i Ω_k))`: first order, but robust
+    /// `ξⁱ ← ξⁱ_prev + A(0)⁻¹ t_i (ξ_k − ξ_{k−1})` (second order in `h`). On the first
+    /// step, or with `constant_velocity`, `ξⁱ = Φ⁻¹(exp(t_i ξ_k))`: first order, but robust
     /// when the velocity changes a lot within a step (the fallback when Newton fails).
     ///
     /// Returns whether the guess is the constant-velocity one (nothing left to retry).
@@ -336,8 +565,10 @@ impl<L: Lagrangian> Integrator<L> {
                     // Without the flow, the present angular speed bounds what a step
                     // must be able to turn.
                     let h = self.settings.step();
-                    let rotation = self.state.velocity.norm() * h;
-                    let limit = self.settings.chart().max_rotation_angle();
+                    let rotation =
+                        <S::Group as ConfigurationGroup<D>>::angular_speed(&self.state.velocity)
+                            * h;
+                    let limit = self.chart.max_rotation_angle();
                     if rotation >= limit {
                         return Err(self.step_too_long(rotation, h * limit / rotation));
                     }
@@ -367,56 +598,55 @@ impl<L: Lagrangian> Integrator<L> {
     /// The error for a step that turns the body `rotation` rad, reaching the chart's
     /// limit `suggested` seconds into the step.
     fn step_too_long(&self, rotation: f64, suggested: f64) -> MechanicsError {
-        let chart = self.settings.chart();
         MechanicsError::StepTooLong {
             step: self.step_index,
             time: self.state.time,
-            chart: chart.chart_name(),
+            chart: self.chart.name(),
             rotation,
-            limit: chart.max_rotation_angle(),
+            limit: self.chart.max_rotation_angle(),
             suggested,
-            advice: chart_advice(chart),
+            advice: self.chart.advice(),
         }
     }
 
     /// The error for a converged step `distance` rad away from the flow's end attitude.
     fn aliased_root(&self, distance: f64) -> MechanicsError {
-        let chart = self.settings.chart();
         MechanicsError::AliasedRoot {
             step: self.step_index,
             time: self.state.time,
-            chart: chart.chart_name(),
+            chart: self.chart.name(),
             distance,
-            advice: chart_advice(chart),
+            advice: self.chart.advice(),
         }
     }
 
-    /// The system's own flow over the step (classical RK4 on a quaternion, see
-    /// [`crate::flow`]), when the system gives `Ω(μ)` in closed form: the guess is written
-    /// ([`FlowGuess::Written`]), the flow turns past the chart's reach
-    /// ([`FlowGuess::LeavesChart`]), or there is no flow to follow
-    /// ([`FlowGuess::Unavailable`]; the guess then comes from the other predictors).
-    fn predict_by_flow(&mut self) -> FlowGuess {
-        let base = *self.state.attitude.matrix();
-        let done = crate::flow::flow_guess(
-            &self.system,
-            self.settings.chart(),
-            &base,
+    /// The system's own flow over the step, when it has one and the step is not forced
+    /// by the input (the flow does not know it).
+    fn predict_by_flow(&mut self) -> FlowGuess<ElementOf<S, D>> {
+        if self.input.iter().any(|&u| u != 0.0) {
+            return FlowGuess::Unavailable;
+        }
+        let done = self.system.flow_guess(
+            &self.chart,
+            self.state.time,
+            &self.state.configuration,
             &self.state.momentum,
             &self.state.velocity,
             self.settings.step(),
             self.discretisation.node_times(),
             &mut self.work.xi,
         );
-        self.work.xi[0] = Vector3::zeros();
+        self.work.xi[0] = SVector::zeros();
         done
     }
 
     /// The velocity-corrected (or, with `constant_velocity`, constant-velocity) predictor.
     fn predict_from_velocity(&mut self, constant_velocity: bool) {
         self.work.guess_changed();
-        let chart = self.settings.chart();
-        let a0_inv = chart.rotation_left_differential_inverse(&Vector3::zeros());
+        let chart = self.chart;
+        let a0_inv = chart
+            .left_differential_inverse(&SVector::zeros())
+            .unwrap_or_else(|_| SMatrix::identity());
         let omega = self.state.velocity;
         let times = self.discretisation.node_times();
         match self.previous_velocity {
@@ -431,34 +661,32 @@ impl<L: Lagrangian> Integrator<L> {
                     // On the branch of the linear guess: past a half turn per step, the
                     // principal logarithm would jump to the other side of the exp chart.
                     let linear = a0_inv * (omega * *t);
-                    let rotation = SO3::exp(&(omega * *t));
-                    self.work.xi[i] = chart
-                        .rotation_vector_near(rotation.matrix(), &linear)
-                        .unwrap_or(linear);
+                    let moved = <S::Group as ConfigurationGroup<D>>::exp(&(omega * *t));
+                    self.work.xi[i] = chart.to_algebra_near(&moved, &linear).unwrap_or(linear);
                 }
             }
         }
-        self.work.xi[0] = Vector3::zeros();
+        self.work.xi[0] = SVector::zeros();
     }
 
     /// The previous step's Galerkin curve continued over the next step, in the new
     /// step's chart: `ξⁱ = Φ⁻¹(Φ(ξⁿ_prev)⁻¹ Φ(ξ_prev(h + t_i)))`. False where a node
     /// leaves `Φ⁻¹`'s domain (the guess is then partly written: the caller replaces it).
     fn extrapolate(&mut self) -> bool {
-        let chart = self.settings.chart();
+        let chart = self.chart;
         let n = self.discretisation.n;
-        self.work.xi[0] = Vector3::zeros();
-        let end = chart.rotation_matrix(&self.last_nodes[n - 1]).transpose();
+        self.work.xi[0] = SVector::zeros();
+        let end = chart.to_group(&self.last_nodes[n - 1]).inverse();
         for i in 1..n {
             let row = &self.discretisation.extrapolation[i * n..(i + 1) * n];
             let continued = row
                 .iter()
                 .zip(&self.last_nodes)
-                .fold(Vector3::zeros(), |acc, (e, xi)| acc + xi * *e);
+                .fold(SVector::<f64, D>::zeros(), |acc, (e, xi)| acc + xi * *e);
             // Each node on the branch of the one before (ξ¹ = 0): the continued curve may
             // rotate past a half turn relative to the step's start.
             let near = self.work.xi[i - 1];
-            match chart.rotation_vector_near(&(end * chart.rotation_matrix(&continued)), &near) {
+            match chart.to_algebra_near(&end.compose(&chart.to_group(&continued)), &near) {
                 Ok(xi) if xi.iter().all(|x| x.is_finite()) => self.work.xi[i] = xi,
                 _ => return false,
             }
@@ -472,13 +700,13 @@ impl<L: Lagrangian> Integrator<L> {
     /// [`MechanicsError::NewtonDiverged`], [`MechanicsError::SingularJacobian`] or
     /// [`MechanicsError::OutsideChart`], naming the step;
     /// [`MechanicsError::StepTooLong`] where the motion turns the body past the chart's
-    /// reach ([`lgsvi_lie::So3Chart::max_rotation_angle`]) within the step, and
+    /// reach ([`GroupChart::max_rotation_angle`]) within the step, and
     /// [`MechanicsError::AliasedRoot`] where Newton converged to an attitude that is not
     /// the continuation of the motion (checked against the system's own flow, when it
-    /// has a closed-form `Ω(μ)`). The state is left unchanged.
+    /// has one). The state is left unchanged.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
         let constant_velocity = self.predict(false)?;
-        let base = *self.state.attitude.matrix();
+        let base = self.state.configuration;
         let first = self.solve(&base);
         let outcome = match first {
             Ok(outcome) => outcome,
@@ -491,32 +719,36 @@ impl<L: Lagrangian> Integrator<L> {
             Err(error) => return Err(error),
         };
         if let Some(end) = self.flow_end {
-            let difference = end.transpose() * base.transpose() * outcome.attitude;
-            let distance = SO3::from_matrix_unchecked(difference).angle();
+            let difference = end
+                .inverse()
+                .compose(&base.inverse())
+                .compose(&outcome.configuration);
+            let distance = <S::Group as ConfigurationGroup<D>>::rotation_angle(&difference);
             if distance.is_nan() || distance > ALIASED_DISTANCE {
                 return Err(self.aliased_root(distance));
             }
         }
-        // R_k Φ(ξⁿ) is a rotation up to the rounding of the product, which would
+        // g_k Φ(ξⁿ) is on the group up to the rounding of the product, which would
         // accumulate over millions of steps (measured ‖RᵀR − I‖ 1e-12 after 10⁶ steps);
         // one polar Newton step R(I + ½(I − RᵀR)) squares that deviation away.
-        let r = outcome.attitude;
-        let deviation = Matrix3::identity() - r.transpose() * r;
-        let attitude = SO3::from_matrix_unchecked(r + r * deviation * 0.5);
+        let configuration =
+            <S::Group as ConfigurationGroup<D>>::renormalise(&outcome.configuration);
+        let time = self.origin + (self.step_index + 1) as f64 * self.settings.step();
         let velocity = body_velocity(
             &self.system,
-            &outcome.attitude,
+            time,
+            &outcome.configuration,
             &outcome.momentum,
             &self.state.velocity,
         )?;
         check_finite("momentum after the step", outcome.momentum.as_slice())?;
-        self.last_base = self.state.attitude;
+        self.last_base = self.state.configuration;
         self.last_nodes.copy_from_slice(&self.work.xi);
         self.previous_velocity = Some(self.state.velocity);
         self.step_index += 1;
         self.state = State {
-            time: self.step_index as f64 * self.settings.step(),
-            attitude,
+            time,
+            configuration,
             momentum: outcome.momentum,
             velocity,
         };
@@ -530,8 +762,8 @@ impl<L: Lagrangian> Integrator<L> {
 
     fn solve(
         &mut self,
-        base: &Matrix3<f64>,
-    ) -> Result<crate::galerkin::StepOutcome, MechanicsError> {
+        base: &ElementOf<S, D>,
+    ) -> Result<StepOutcome<ElementOf<S, D>, D>, MechanicsError> {
         let (mu, step, time) = (self.state.momentum, self.step_index, self.state.time);
         let (stepper, work) = self.stepper();
         stepper.solve(base, &mu, work, step, time)
@@ -539,18 +771,22 @@ impl<L: Lagrangian> Integrator<L> {
 
     /// The relative residual of the guess in the workspace, from the current state.
     fn predictor_residual(&mut self) -> f64 {
-        let (base, mu) = (*self.state.attitude.matrix(), self.state.momentum);
+        let (base, mu) = (self.state.configuration, self.state.momentum);
         let (stepper, work) = self.stepper();
         stepper.relative_residual(&base, &mu, work)
     }
 
     /// The step solver over this integrator's system and settings, beside its workspace.
-    fn stepper(&mut self) -> (Stepper<'_, L>, &mut Workspace) {
+    fn stepper(&mut self) -> (Stepper<'_, S, C, D>, &mut WorkspaceOf<S, D>) {
+        let forcing = self.forcing();
         (
             Stepper {
                 system: &self.system,
+                chart: &self.chart,
                 settings: &self.settings,
                 d: &self.discretisation,
+                time: self.state.time,
+                forcing,
             },
             &mut self.work,
         )
@@ -562,7 +798,11 @@ impl<L: Lagrangian> Integrator<L> {
     /// # Errors
     /// As [`Integrator::step`]; the states recorded so far are lost with the error, the
     /// integrator keeps the last good state.
-    pub fn run(&mut self, steps: usize, every: usize) -> Result<Trajectory, MechanicsError> {
+    pub fn run(
+        &mut self,
+        steps: usize,
+        every: usize,
+    ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError> {
         self.run_with_progress(steps, every, |_| {})
     }
 
@@ -575,7 +815,7 @@ impl<L: Lagrangian> Integrator<L> {
         steps: usize,
         every: usize,
         mut progress: impl FnMut(usize),
-    ) -> Result<Trajectory, MechanicsError> {
+    ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError> {
         let every = every.max(1);
         let mut trajectory = Trajectory {
             states: vec![self.state],
@@ -617,7 +857,11 @@ impl<L: Lagrangian> Integrator<L> {
     /// # Errors
     /// As [`Integrator::run`]; [`MechanicsError::InvalidSetting`] for a non-finite or
     /// negative `t_end`.
-    pub fn run_until(&mut self, t_end: f64, every: usize) -> Result<Trajectory, MechanicsError> {
+    pub fn run_until(
+        &mut self,
+        t_end: f64,
+        every: usize,
+    ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError> {
         let steps = self.steps_until(t_end)?;
         self.run(steps, every)
     }

@@ -17,9 +17,10 @@
 //! second-order dual number through the whole chart (≈ 90 floats per operation) by a few
 //! hundred floating-point operations per Gauss point.
 
+use crate::group::{GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
 use lgsvi_lie::so3::{hat, vee};
-use lgsvi_lie::{ChartKind, RodriguesCoefficients, So3Chart};
+use lgsvi_lie::RodriguesCoefficients;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
 
@@ -178,23 +179,6 @@ impl MatrixJet {
     }
 }
 
-/// Gradient and Hessian of `ℓ̃` at one Gauss point: in `(x, v)` (the ζ rows and columns
-/// zero) or `(x, v, ζ)` at `ζ = 0`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct PointDerivatives {
-    pub gradient: SVector<f64, 9>,
-    pub hessian: SMatrix<f64, 9, 9>,
-}
-
-impl PointDerivatives {
-    pub fn zeros() -> Self {
-        Self {
-            gradient: SVector::zeros(),
-            hessian: SMatrix::zeros(),
-        }
-    }
-}
-
 /// `R`'s entries flattened row-major, as [`crate::LagrangianDerivatives`] indexes them.
 fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
     SVector::<f64, 9>::from_fn(|i, _| m[(i / 3, i % 3)])
@@ -205,27 +189,27 @@ fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
 /// Rodrigues form. In place: the 90 floats are written once, not returned and copied
 /// (the copies were 10% of a step, measured).
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn point_derivatives<L: Lagrangian>(
+pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
-    chart: ChartKind,
+    chart: &C,
     base: &Matrix3<f64>,
     x: &Vector3<f64>,
     v: &Vector3<f64>,
     with_configuration: bool,
     with_hessian: bool,
-    out: &mut PointDerivatives,
+    out: &mut Stacked<9>,
 ) -> bool {
     // The coefficients' second derivatives in s enter only the Hessian: for a gradient,
     // a first-order dual number does.
     let s = x.norm_squared();
     let (s2, s1) = (Dual2_64::new(s, 1.0, 0.0), Dual64::new(s, 1.0));
     let a = if with_hessian {
-        let Some(c) = chart.rotation_left_differential_coefficients(s2) else {
+        let Some(c) = chart.left_differential_coefficients(s2) else {
             return false;
         };
         MatrixJet::from_rodrigues(&c, x)
     } else {
-        let Some(c) = chart.rotation_left_differential_coefficients(s1) else {
+        let Some(c) = chart.left_differential_coefficients(s1) else {
             return false;
         };
         MatrixJet::from_rodrigues_first_order(&c, x)
@@ -234,12 +218,12 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
     let phi = if attitude_free {
         None
     } else if with_hessian {
-        let Some(c) = chart.rotation_matrix_coefficients(s2) else {
+        let Some(c) = chart.rotation_coefficients(s2) else {
             return false;
         };
         Some(MatrixJet::from_rodrigues(&c, x))
     } else {
-        let Some(c) = chart.rotation_matrix_coefficients(s1) else {
+        let Some(c) = chart.rotation_coefficients(s1) else {
             return false;
         };
         Some(MatrixJet::from_rodrigues_first_order(&c, x))
@@ -253,7 +237,7 @@ pub(crate) fn point_derivatives<L: Lagrangian>(
 
     // Ω = A(x) v: ∂Ω/∂x = [∂_k A v]_k, ∂Ω/∂v = A.
     let dw_dx = a.first_times(v);
-    let PointDerivatives { gradient, hessian } = out;
+    let Stacked { gradient, hessian } = out;
     gradient.fill(0.0);
     gradient
         .fixed_rows_mut::<3>(0)

@@ -145,11 +145,10 @@ fn quadratic_kinetic_derivatives(
     omega: &Vector3<f64>,
     attitude_gradient: Matrix3<f64>,
 ) -> LagrangianDerivatives {
-    let moments = Vector3::from(inertia.principal_moments());
     LagrangianDerivatives {
         attitude_gradient,
-        velocity_gradient: moments.component_mul(omega),
-        velocity_hessian: Matrix3::from_diagonal(&moments),
+        velocity_gradient: inertia.momentum(omega),
+        velocity_hessian: inertia.matrix(),
         attitude_hessian: None,
         mixed_hessian: None,
     }
@@ -182,9 +181,14 @@ impl RigidBody {
     }
 }
 
-fn kinetic<T: RealField + Copy>(inertia: &Inertia, w: &Vector3<T>) -> T {
-    let [a, b, c] = inertia.principal_moments();
+/// `½ΩᵀJΩ` (for a diagonal `J`, the three products written out, as they always were).
+pub(crate) fn kinetic<T: RealField + Copy>(inertia: &Inertia, w: &Vector3<T>) -> T {
     let half: T = nalgebra::convert(0.5);
+    if !inertia.is_diagonal() {
+        let j: Matrix3<T> = inertia.matrix().map(nalgebra::convert);
+        return half * w.dot(&(j * w));
+    }
+    let [a, b, c] = inertia.principal_moments();
     half * (w.x * w.x * nalgebra::convert(a)
         + w.y * w.y * nalgebra::convert(b)
         + w.z * w.z * nalgebra::convert(c))

@@ -60,14 +60,19 @@ pub mod ensemble;
 mod error;
 pub mod exact;
 mod flow;
-mod galerkin;
+pub mod group;
 mod inertia;
 mod integrator;
 mod jet;
 mod lagrangian;
+mod rigid_motion;
 mod settings;
+mod step;
+mod system;
 
 pub use error::MechanicsError;
+pub use flow::FlowGuess;
+pub use group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations};
 pub use inertia::Inertia;
 pub use integrator::{
     body_momentum, body_velocity, GalerkinCurve, Integrator, State, Statistics, Trajectory,
@@ -77,7 +82,11 @@ pub use lagrangian::{
 };
 /// The geometry layer, re-exported so that users of this crate need no second import.
 pub use lgsvi_lie as lie;
+pub use rigid_motion::{BodyInField, FieldPotential, FreeBody, OrbitingBody};
 pub use settings::{
     Matching, NewtonJacobian, StepSettings, DEFAULT_EXTRA_QUADRATURE_POINTS,
     DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES, MAX_QUADRATURE_POINTS, STEP_RANGE,
+};
+pub use system::{
+    AngularDamping, BodyTorque, ElementOf, Forced, Forcing, GroupLagrangian, SpaceForce,
 };

@@ -34,7 +34,7 @@ fn exact_solution_matches_the_shared_case_a() {
     let rate = body.state(0.0).unwrap().momentum.norm() / 2.5;
     for (reference, sens) in case.states.iter().zip(sensitivity) {
         let s = body.state(reference.t).unwrap();
-        let err_r = (s.attitude.matrix() - reference.r).abs().max();
+        let err_r = (s.attitude().matrix() - reference.r).abs().max();
         let err_w = (s.velocity - reference.omega).abs().max();
         // Up to t = 10 the bound, 1e-14. At t = 100 the precession angle is ≈ 350 rad:
         // its half-ulp alone is 2.8e-14, and the inputs' rounding (≈ ε) is amplified by the

@@ -177,7 +177,7 @@ fn long_run_conserves_with_exact_matching_and_drifts_with_the_papers() {
         let orth = t
             .states
             .iter()
-            .map(|s| s.attitude.orthogonality_error())
+            .map(|s| s.attitude().orthogonality_error())
             .fold(0.0, f64::max);
         (pi_drift, casimir_drift, first, last, orth)
     };
@@ -298,7 +298,7 @@ fn exp_chart_steps_past_a_half_turn() {
     let (t, stats) = run(&a, settings, 7, 7).unwrap();
     let end = t.states.last().unwrap();
     let reference = exact.state(end.time).unwrap();
-    let error = (end.attitude.matrix() - reference.attitude.matrix()).norm();
+    let error = (end.attitude().matrix() - reference.attitude().matrix()).norm();
     println!(
         "case A, exp, h 10/7, n 16: error {error:.1e} at T = {}, {stats:?}",
         end.time
@@ -331,9 +331,9 @@ fn galerkin_curves_between_the_nodes() {
             it.step().unwrap();
             let curve = it.last_curve().unwrap();
             let (g0, _) = curve.at(0.0).unwrap();
-            assert!((g0.matrix() - start.attitude.matrix()).amax() <= 1e-15);
+            assert!((g0.matrix() - start.attitude().matrix()).amax() <= 1e-15);
             let (g1, _) = curve.at(1.0).unwrap();
-            assert!((g1.matrix() - it.state().attitude.matrix()).amax() <= 1e-14);
+            assert!((g1.matrix() - it.state().attitude().matrix()).amax() <= 1e-14);
             let (g, omega) = curve.at(0.5).unwrap();
             let r = a
                 .states

@@ -95,23 +95,23 @@ pub(super) fn long_run(
     let mut run = LongRun::default();
     let record = |run: &mut LongRun, s: &lgsvi_mechanics::State| {
         run.times.push(s.time);
-        let drift = tracker.drift(s.energy(&system), s.attitude.matrix(), &s.momentum);
+        let drift = tracker.drift(s.energy(&system), s.attitude().matrix(), &s.momentum);
         run.energy_error.push(drift.energy);
         run.casimir_drift.push(drift.casimir);
         run.momentum_drift.push(drift.spatial_momentum);
         run.momentum.push(s.momentum);
-        run.axis.push(s.attitude.matrix() * Vector3::z());
+        run.axis.push(s.attitude().matrix() * Vector3::z());
     };
     record(&mut run, &s0);
     let start = Instant::now();
     for k in 0..steps {
-        let before = *integrator.state().attitude.matrix();
+        let before = *integrator.state().attitude().matrix();
         if let Err(e) = integrator.step() {
             run.failure = Some(e.to_string());
             break;
         }
         let s = *integrator.state();
-        let relative = before.transpose() * s.attitude.matrix();
+        let relative = before.transpose() * s.attitude().matrix();
         let cos = ((relative.trace() - 1.0) / 2.0).clamp(-1.0, 1.0);
         run.step_angle.push(cos.acos());
         record(&mut run, &s);

@@ -112,7 +112,7 @@ pub fn max_errors(case: &Case, trajectory: &Trajectory, t_max: f64) -> (f64, f64
             continue;
         }
         if let Some(r) = case.states.iter().find(|r| (r.t - s.time).abs() < 1e-9) {
-            let diff = s.attitude.matrix() - r.r;
+            let diff = s.attitude().matrix() - r.r;
             er = er.max(diff.svd(false, false).singular_values.max());
             ew = ew.max((s.velocity - r.omega).norm());
         }

@@ -1,0 +1,484 @@
+//! The configuration groups and charts the integrator is generic over.
+//!
+//! A step works in the Lie algebra `ℝ^D` of a group `G` through a chart `Φ: ℝ^D → G`. All
+//! it needs of the group is in [`ConfigurationGroup`] (composition, the adjoint, the
+//! exponential for configuration variations, the storage of one Gauss point's
+//! derivatives) and of the chart in [`GroupChart`] (`Φ`, its left-trivialised
+//! differential `A` and inverse). Both are implemented here for
+//!
+//! | group | `D` | marker | element | charts |
+//! |---|---|---|---|---|
+//! | SO(3) | 3 | [`Rotations`] | [`SO3`] | every [`So3Chart`]: exp, Cayley, the paper's Cayley, [`lgsvi_lie::ChartKind`] |
+//! | SE(3) | 6 | [`RigidMotions`] | [`SE3`] (tangent `(ω, v)`, body velocities) | every [`So3Chart`], acting on SE(3) as in `lgsvi_lie` |
+//!
+//! # Adding a group or a chart
+//! A chart of SO(3) or SE(3) of your own: implement [`So3Chart`] (the lie crate's law
+//! tests show what it must satisfy); the blanket impls here make it a [`GroupChart`] of
+//! both groups. A group of your own with algebra dimension `D`: a marker type implementing
+//! [`ConfigurationGroup<D>`] whose `Element<T>` implements [`LieGroup`] over any scalar
+//! (dual numbers pass through it), with `Jet = Stacked<{3D}>` and
+//! `LocalJet = Stacked<{2D}>` written out (e.g. `Stacked<12>` and `Stacked<8>` for `D = 4`), and a chart implementing [`GroupChart`] for it. The
+//! integrator then runs any [`crate::GroupLagrangian`] on it unchanged; the test
+//! `tests/tests/generic_group.rs` does this for the torus `SO(2) × SO(2)`.
+
+use lgsvi_lie::{Chart, LieError, LieGroup, RodriguesCoefficients, So3Chart, SE3, SO3};
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
+use num_dual::{Dual2SVec64, DualSVec64};
+use std::fmt::Debug;
+
+/// A function of the stacked variables of one Gauss point, generic over the scalar so
+/// that dual numbers pass through it (what [`PointJet::set_by_dual_numbers`] differentiates).
+pub trait StackedFunction {
+    /// The value at `y`.
+    fn eval<T: RealField + Copy>(&self, y: &[T]) -> T;
+}
+
+/// A vector function of the stacked variables, generic over the scalar (what
+/// [`PointJet::add_force`] differentiates).
+pub trait StackedMap {
+    /// Writes the value at `y` into `out` (`out.len()` outputs).
+    fn eval<T: RealField + Copy>(&self, y: &[T], out: &mut [T]);
+}
+
+/// The first and second derivatives of `ℓ̃(x, v, ζ)` at one Gauss point, `3D` stacked
+/// variables (`x`, then `v`, then `ζ`): the gradient and the Jacobian of the gradient
+/// (the Hessian; with a non-conservative force added it is not symmetric), entry
+/// `(component, variable)`.
+pub trait PointJet: Clone + Debug + Send + Sync {
+    /// All zero.
+    fn zeros() -> Self;
+    /// The number of stacked variables, `3D`.
+    fn size(&self) -> usize;
+    /// The gradient.
+    fn gradient(&self) -> &[f64];
+    /// The gradient, to write.
+    fn gradient_mut(&mut self) -> &mut [f64];
+    /// Entry `(component, variable)` of the Hessian.
+    fn hessian(&self, row: usize, col: usize) -> f64;
+    /// Adds to entry `(row, col)` of the Hessian.
+    fn add_hessian(&mut self, row: usize, col: usize, value: f64);
+    /// Sets the gradient and Hessian to those of `f` at the stacked `(x, v)`, or
+    /// `(x, v, 0)` with `with_configuration`, by a second-order dual number (the entries
+    /// of variables not passed are zero).
+    fn set_by_dual_numbers<F: StackedFunction>(
+        &mut self,
+        f: &F,
+        x: &[f64],
+        v: &[f64],
+        with_configuration: bool,
+    );
+    /// Sets the gradient of `f` at the stacked `(x, v)` (or `(x, v, 0)`) by a first-order
+    /// dual number, leaving the Hessian as it was: a tenth of the cost or less.
+    fn set_gradient_by_dual_numbers<F: StackedFunction>(
+        &mut self,
+        f: &F,
+        x: &[f64],
+        v: &[f64],
+        with_configuration: bool,
+    );
+    /// Sets entry `(row, col)` of the Hessian.
+    fn set_hessian(&mut self, row: usize, col: usize, value: f64);
+    /// Adds a force term: `f` maps the stacked `(x, v)` to `2D` outputs, the first `D`
+    /// added to the `x` rows of the gradient, the last `D` to its `ζ` rows, with their
+    /// Jacobian (first-order dual numbers) added to those rows of the Hessian.
+    fn add_force<F: StackedMap>(&mut self, f: &F, x: &[f64], v: &[f64]);
+}
+
+/// The derivatives of one Gauss point in `N = 3D` stacked variables: the storage every
+/// group here uses (`Stacked<9>` for SO(3), `Stacked<18>` for SE(3)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stacked<const N: usize> {
+    /// The gradient.
+    pub gradient: SVector<f64, N>,
+    /// The Hessian, entry `(component, variable)`.
+    pub hessian: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> PointJet for Stacked<N> {
+    fn zeros() -> Self {
+        Self {
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        }
+    }
+    fn size(&self) -> usize {
+        N
+    }
+    fn gradient(&self) -> &[f64] {
+        self.gradient.as_slice()
+    }
+    fn gradient_mut(&mut self) -> &mut [f64] {
+        self.gradient.as_mut_slice()
+    }
+    #[inline]
+    fn hessian(&self, row: usize, col: usize) -> f64 {
+        self.hessian[(row, col)]
+    }
+    #[inline]
+    fn add_hessian(&mut self, row: usize, col: usize, value: f64) {
+        self.hessian[(row, col)] += value;
+    }
+    fn set_by_dual_numbers<F: StackedFunction>(
+        &mut self,
+        f: &F,
+        x: &[f64],
+        v: &[f64],
+        with_configuration: bool,
+    ) {
+        let d = x.len();
+        let k = if with_configuration { 3 * d } else { 2 * d };
+        let mut y = SVector::<f64, N>::zeros();
+        y.as_mut_slice()[..d].copy_from_slice(x);
+        y.as_mut_slice()[d..2 * d].copy_from_slice(v);
+        let (_, gradient, hessian) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<N>, N>| f.eval(&y.as_slice()[..k]),
+            &y,
+        );
+        self.gradient = gradient;
+        self.hessian = hessian;
+    }
+    fn set_gradient_by_dual_numbers<F: StackedFunction>(
+        &mut self,
+        f: &F,
+        x: &[f64],
+        v: &[f64],
+        with_configuration: bool,
+    ) {
+        let d = x.len();
+        let k = if with_configuration { 3 * d } else { 2 * d };
+        let mut y = SVector::<f64, N>::zeros();
+        y.as_mut_slice()[..d].copy_from_slice(x);
+        y.as_mut_slice()[d..2 * d].copy_from_slice(v);
+        let (_, gradient) = num_dual::gradient(
+            |y: SVector<DualSVec64<N>, N>| f.eval(&y.as_slice()[..k]),
+            &y,
+        );
+        self.gradient = gradient;
+    }
+    #[inline]
+    fn set_hessian(&mut self, row: usize, col: usize, value: f64) {
+        self.hessian[(row, col)] = value;
+    }
+    fn add_force<F: StackedMap>(&mut self, f: &F, x: &[f64], v: &[f64]) {
+        let d = x.len();
+        let unit = |i: usize| SVector::<f64, N>::from_fn(|j, _| if i == j { 1.0 } else { 0.0 });
+        // First-order dual numbers with N directions, the first 2D seeded.
+        let y: SVector<DualSVec64<N>, N> = SVector::from_fn(|i, _| {
+            if i < d {
+                DualSVec64::<N>::new(x[i], num_dual::Derivative::some(unit(i)))
+            } else if i < 2 * d {
+                DualSVec64::<N>::new(v[i - d], num_dual::Derivative::some(unit(i)))
+            } else {
+                DualSVec64::<N>::from_re(0.0)
+            }
+        });
+        let mut out: SVector<DualSVec64<N>, N> = SVector::from_element(DualSVec64::from_re(0.0));
+        f.eval(&y.as_slice()[..2 * d], &mut out.as_mut_slice()[..2 * d]);
+        for (o, value) in out.iter().take(2 * d).enumerate() {
+            let row = if o < d { o } else { o + d };
+            self.gradient[row] += value.re;
+            let eps = value
+                .eps
+                .unwrap_generic(nalgebra::Const::<N>, nalgebra::Const::<1>);
+            for col in 0..2 * d {
+                self.hessian[(row, col)] += eps[col];
+            }
+        }
+    }
+}
+
+/// A Lie group as the integrator uses it, with algebra `ℝ^D`. Implemented by the marker
+/// types [`Rotations`] (SO(3)) and [`RigidMotions`] (SE(3)); see the module documentation
+/// for adding your own.
+pub trait ConfigurationGroup<const D: usize>:
+    Copy + Debug + Default + Send + Sync + 'static
+{
+    /// The group element over a scalar (`f64`, or a dual number).
+    type Element<T: RealField + Copy>: LieGroup<Scalar = T, Tangent = SVector<T, D>, Jacobian = SMatrix<T, D, D>>
+        + Copy
+        + Send
+        + Sync;
+    /// Storage of one Gauss point's derivatives in the `3D` stacked variables
+    /// (`Stacked<{3D}>`).
+    type Jet: PointJet;
+    /// Storage of the derivatives of `ℓ(g exp(η), ξ)` in the `2D` variables `(η, ξ)`
+    /// (`Stacked<{2D}>`): the generic chain rule's one differentiation of the Lagrangian.
+    type LocalJet: PointJet;
+    /// Name, for messages.
+    const NAME: &'static str;
+    /// What the body velocity `ξ` is called in messages ("angular velocity" on SO(3)).
+    const VELOCITY: &'static str = "velocity";
+
+    /// `g` over another scalar.
+    fn lift<T: RealField + Copy>(g: &Self::Element<f64>) -> Self::Element<T>;
+    /// The exponential map, for configuration variations `g exp(ζ)` (only its first two
+    /// orders at `ζ = 0` matter).
+    fn exp<T: RealField + Copy>(zeta: &SVector<T, D>) -> Self::Element<T>;
+    /// `exp(ζ)` to second order, `I + ζ^ + ½(ζ^)²` in the matrix representation (not on
+    /// the group beyond second order): what the derivatives of `ℓ(g exp(η), ξ)` at
+    /// `η = 0` need, without the exponential's trigonometry. Defaults to
+    /// [`ConfigurationGroup::exp`].
+    fn exp_second_order<T: RealField + Copy>(zeta: &SVector<T, D>) -> Self::Element<T> {
+        Self::exp(zeta)
+    }
+    /// The rotation angle of `g`'s rotational part (for the checks that a step stays in
+    /// its chart; `0` for a group without one).
+    fn rotation_angle(g: &Self::Element<f64>) -> f64;
+    /// The angular speed `|Ω|` of a body velocity (its rotational part), which bounds
+    /// how far a step turns the body.
+    fn angular_speed(xi: &SVector<f64, D>) -> f64;
+    /// `g` with the rounding of its products removed (one polar Newton step on a rotation
+    /// block), so that millions of steps do not drift off the group.
+    fn renormalise(g: &Self::Element<f64>) -> Self::Element<f64>;
+    /// Whether every entry of `g` is finite.
+    fn is_finite(g: &Self::Element<f64>) -> bool;
+    /// The matrix of `η ↦ ad_ηᵀ p`: the coadjoint term of the Euler–Poincaré equations
+    /// (`μ̇ = ad_ξᵀ μ + p`) and of the derivative of `Ad_{Φ(x)⁻¹}ᵀ p` in `x`.
+    fn coadjoint_generator(p: &SVector<f64, D>) -> SMatrix<f64, D, D>;
+}
+
+/// SO(3), `D = 3`, elements [`SO3`]: the rigid body's attitude.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Rotations;
+
+/// SE(3), `D = 6`, elements [`SE3`] `(R, x)` with body velocities `(Ω, v)`, `ẋ = R v`:
+/// a rigid body that rotates and translates.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RigidMotions;
+
+/// `I + ω̂ + ½ω̂²`.
+fn quadratic_rotation<T: RealField + Copy>(w: &Vector3<T>) -> Matrix3<T> {
+    let half: T = nalgebra::convert(0.5);
+    let w_hat = lgsvi_lie::so3::hat(w);
+    Matrix3::identity() + w_hat + w_hat * w_hat * half
+}
+
+/// One polar Newton step `R(I + ½(I − RᵀR))`: squares the deviation from orthogonality.
+fn polar_step(r: &Matrix3<f64>) -> Matrix3<f64> {
+    let deviation = Matrix3::identity() - r.transpose() * r;
+    r + r * deviation * 0.5
+}
+
+impl ConfigurationGroup<3> for Rotations {
+    type Element<T: RealField + Copy> = SO3<T>;
+    type Jet = Stacked<9>;
+    type LocalJet = Stacked<6>;
+    const NAME: &'static str = "SO(3)";
+    const VELOCITY: &'static str = "angular velocity";
+
+    fn lift<T: RealField + Copy>(g: &SO3) -> SO3<T> {
+        SO3::from_matrix_unchecked(g.matrix().map(nalgebra::convert))
+    }
+    fn exp<T: RealField + Copy>(zeta: &Vector3<T>) -> SO3<T> {
+        SO3::exp(zeta)
+    }
+    fn exp_second_order<T: RealField + Copy>(zeta: &Vector3<T>) -> SO3<T> {
+        SO3::from_matrix_unchecked(quadratic_rotation(zeta))
+    }
+    fn rotation_angle(g: &SO3) -> f64 {
+        g.angle()
+    }
+    fn angular_speed(xi: &Vector3<f64>) -> f64 {
+        xi.norm()
+    }
+    fn renormalise(g: &SO3) -> SO3 {
+        SO3::from_matrix_unchecked(polar_step(g.matrix()))
+    }
+    fn is_finite(g: &SO3) -> bool {
+        g.matrix().iter().all(|x| x.is_finite())
+    }
+    fn coadjoint_generator(p: &Vector3<f64>) -> Matrix3<f64> {
+        lgsvi_lie::so3::hat(p)
+    }
+}
+
+impl ConfigurationGroup<6> for RigidMotions {
+    type Element<T: RealField + Copy> = SE3<T>;
+    type Jet = Stacked<18>;
+    type LocalJet = Stacked<12>;
+    const NAME: &'static str = "SE(3)";
+    const VELOCITY: &'static str = "velocity (Ω, v)";
+
+    fn lift<T: RealField + Copy>(g: &SE3) -> SE3<T> {
+        SE3::new(
+            Rotations::lift(g.rotation()),
+            g.translation().map(nalgebra::convert),
+        )
+    }
+    fn exp<T: RealField + Copy>(zeta: &SVector<T, 6>) -> SE3<T> {
+        SE3::exp(zeta)
+    }
+    /// `[[I + ω̂ + ½ω̂², (I + ½ω̂)u], [0, 1]]`.
+    fn exp_second_order<T: RealField + Copy>(zeta: &SVector<T, 6>) -> SE3<T> {
+        let w = Vector3::new(zeta[0], zeta[1], zeta[2]);
+        let u = Vector3::new(zeta[3], zeta[4], zeta[5]);
+        let half: T = nalgebra::convert(0.5);
+        SE3::new(
+            SO3::from_matrix_unchecked(quadratic_rotation(&w)),
+            u + w.cross(&u) * half,
+        )
+    }
+    fn rotation_angle(g: &SE3) -> f64 {
+        g.rotation().angle()
+    }
+    fn angular_speed(xi: &SVector<f64, 6>) -> f64 {
+        xi.fixed_rows::<3>(0).norm()
+    }
+    fn renormalise(g: &SE3) -> SE3 {
+        SE3::new(Rotations::renormalise(g.rotation()), *g.translation())
+    }
+    fn is_finite(g: &SE3) -> bool {
+        Rotations::is_finite(g.rotation()) && g.translation().iter().all(|x| x.is_finite())
+    }
+    /// With `p = (p_ω, p_v)`: `ad_(ω,v)ᵀ p = (−ω̂ p_ω − v̂ p_v, −ω̂ p_v)`, i.e.
+    /// `[[p̂_ω, p̂_v], [p̂_v, 0]]` applied to `(ω, v)`.
+    fn coadjoint_generator(p: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        let pw = lgsvi_lie::so3::hat(&p.fixed_rows::<3>(0).into_owned());
+        let pv = lgsvi_lie::so3::hat(&p.fixed_rows::<3>(3).into_owned());
+        let mut m = SMatrix::<f64, 6, 6>::zeros();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&pw);
+        m.fixed_view_mut::<3, 3>(0, 3).copy_from(&pv);
+        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&pv);
+        m
+    }
+}
+
+/// A chart `Φ: ℝ^D → G` as the integrator uses it. Every [`So3Chart`] is one on both
+/// [`Rotations`] and [`RigidMotions`]; implement it directly for a group of your own.
+///
+/// Chosen by type: the integrator is monomorphised for its chart, so a chart type costs
+/// no dispatch per call ([`lgsvi_lie::ChartKind`], the run-time choice, matches per call).
+pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + Send + Sync {
+    /// Name, for messages.
+    fn name(&self) -> &'static str;
+    /// `Φ(ξ)`.
+    fn to_group<T: RealField + Copy>(&self, xi: &SVector<T, D>) -> G::Element<T>;
+    /// The left-trivialised differential `A(ξ)`: `Φ(ξ)⁻¹ DΦ(ξ)[v] = (A(ξ) v)^`.
+    fn left_differential<T: RealField + Copy>(&self, xi: &SVector<T, D>) -> SMatrix<T, D, D>;
+    /// `A(ξ)⁻¹`.
+    ///
+    /// # Errors
+    /// Outside the chart's domain.
+    fn left_differential_inverse(
+        &self,
+        xi: &SVector<f64, D>,
+    ) -> Result<SMatrix<f64, D, D>, LieError>;
+    /// `Φ⁻¹(g)` on the branch nearest `near` (for charts that cover an element twice).
+    ///
+    /// # Errors
+    /// Outside the chart's image.
+    fn to_algebra_near(
+        &self,
+        g: &G::Element<f64>,
+        near: &SVector<f64, D>,
+    ) -> Result<SVector<f64, D>, LieError>;
+    /// Finite and where `Φ` is a local diffeomorphism.
+    ///
+    /// # Errors
+    /// [`LieError::NonFinite`] or [`LieError::OutsideChart`].
+    fn check_domain(&self, xi: &SVector<f64, D>) -> Result<(), LieError>;
+    /// The largest rotation angle a curve from the identity can reach in this chart
+    /// ([`So3Chart::max_rotation_angle`]); infinite for a group without rotations.
+    fn max_rotation_angle(&self) -> f64;
+    /// Advice beside "take a smaller step" when a step outruns the chart.
+    fn advice(&self) -> &'static str {
+        ""
+    }
+    /// `Φ` on rotations in Rodrigues form, where it has one (the SO(3) closed-form path).
+    fn rotation_coefficients<T: RealField + Copy>(&self, s: T) -> Option<RodriguesCoefficients<T>> {
+        let _ = s;
+        None
+    }
+    /// `A` on rotations in Rodrigues form, where it has one.
+    fn left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        let _ = s;
+        None
+    }
+}
+
+/// What to suggest besides a smaller step: the Cayley charts reach half a turn, exp two.
+fn so3_advice<C: So3Chart>(chart: &C) -> &'static str {
+    if chart.max_rotation_angle() < std::f64::consts::TAU {
+        " or the exp chart (--chart exp), which follows up to 2π per step"
+    } else {
+        ""
+    }
+}
+
+impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
+    fn name(&self) -> &'static str {
+        self.chart_name()
+    }
+    #[inline]
+    fn to_group<T: RealField + Copy>(&self, xi: &Vector3<T>) -> SO3<T> {
+        SO3::from_matrix_unchecked(self.rotation_matrix(xi))
+    }
+    #[inline]
+    fn left_differential<T: RealField + Copy>(&self, xi: &Vector3<T>) -> Matrix3<T> {
+        self.rotation_left_differential(xi)
+    }
+    fn left_differential_inverse(&self, xi: &Vector3<f64>) -> Result<Matrix3<f64>, LieError> {
+        Chart::<SO3>::left_differential_inverse(self, xi)
+    }
+    fn to_algebra_near(&self, g: &SO3, near: &Vector3<f64>) -> Result<Vector3<f64>, LieError> {
+        self.rotation_vector_near(g.matrix(), near)
+    }
+    fn check_domain(&self, xi: &Vector3<f64>) -> Result<(), LieError> {
+        self.check_rotation_domain(xi)
+    }
+    fn max_rotation_angle(&self) -> f64 {
+        So3Chart::max_rotation_angle(self)
+    }
+    fn advice(&self) -> &'static str {
+        so3_advice(self)
+    }
+    fn rotation_coefficients<T: RealField + Copy>(&self, s: T) -> Option<RodriguesCoefficients<T>> {
+        self.rotation_matrix_coefficients(s)
+    }
+    fn left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<RodriguesCoefficients<T>> {
+        self.rotation_left_differential_coefficients(s)
+    }
+}
+
+impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
+    fn name(&self) -> &'static str {
+        self.chart_name()
+    }
+    fn to_group<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SE3<T> {
+        Chart::<SE3<T>>::to_group(self, xi)
+    }
+    fn left_differential<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SMatrix<T, 6, 6> {
+        Chart::<SE3<T>>::left_differential(self, xi)
+    }
+    fn left_differential_inverse(
+        &self,
+        xi: &SVector<f64, 6>,
+    ) -> Result<SMatrix<f64, 6, 6>, LieError> {
+        Chart::<SE3>::left_differential_inverse(self, xi)
+    }
+    fn to_algebra_near(
+        &self,
+        g: &SE3,
+        near: &SVector<f64, 6>,
+    ) -> Result<SVector<f64, 6>, LieError> {
+        let w = self
+            .rotation_vector_near(g.rotation().matrix(), &near.fixed_rows::<3>(0).into_owned())?;
+        let v = self.translation_map_inverse(&w) * g.translation();
+        Ok(SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z))
+    }
+    fn check_domain(&self, xi: &SVector<f64, 6>) -> Result<(), LieError> {
+        Chart::<SE3>::check_domain(self, xi)
+    }
+    fn max_rotation_angle(&self) -> f64 {
+        So3Chart::max_rotation_angle(self)
+    }
+    fn advice(&self) -> &'static str {
+        so3_advice(self)
+    }
+}

@@ -1,0 +1,307 @@
+//! The residual of a step's equations and their exact Newton matrix, from the Gauss
+//! points' derivatives.
+//!
+//! `∂S/∂ξⁱ = Σ_j h b_j [φ_i(c_j h) ∂ℓ̃/∂x + φ_i'(c_j h) ∂ℓ̃/∂v]_j`, and
+//! `∂²S/∂ξⁱ∂ξᵏ = Σ_j h b_j [φ_i φ_k H_xx + φ_i φ_k' H_xv + φ_i' φ_k H_vx + φ_i' φ_k' H_vv]_j`,
+//! formed for the `D` component rows at once as the basis times the points' Hessian rows
+//! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
+//! `n²m` small block sums.
+
+use super::matching::MatchingTerms;
+use super::points::{point_derivatives, EllTilde};
+use super::tables::Discretisation;
+use super::{Element, Stepper};
+use crate::error::MechanicsError;
+use crate::group::{ConfigurationGroup, GroupChart, PointJet};
+use crate::settings::NewtonJacobian;
+use crate::system::GroupLagrangian;
+use faer::dyn_stack::MemBuffer;
+use faer::linalg::lu::partial_pivoting::factor;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
+use nalgebra::{SMatrix, SVector};
+
+/// Preallocated buffers of the Newton iteration: nothing is allocated per step.
+pub(crate) struct Workspace<J, const D: usize> {
+    /// Unknowns `ξ², …, ξⁿ` (with `ξ¹ = 0` at index 0): `n` vectors.
+    pub xi: Vec<SVector<f64, D>>,
+    /// The last accepted iterate, for the line search.
+    pub(super) xi_accepted: Vec<SVector<f64, D>>,
+    pub(super) points: Vec<J>,
+    /// Exact matching with configuration terms: `∂q_j/∂x`, `∂q_j/∂v` per point,
+    /// `q_j = Ad_{Φ(x_j)⁻¹}ᵀ p_j` (computed once per assembly, used by every column of the
+    /// matching rows).
+    pub(super) dq_dx: Vec<SMatrix<f64, D, D>>,
+    pub(super) dq_dv: Vec<SMatrix<f64, D, D>>,
+    pub(super) x: Vec<SVector<f64, D>>,
+    pub(super) v: Vec<SVector<f64, D>>,
+    /// The matching's `w` and `A(ξⁿ)ᵀ Ad_{Φ(ξⁿ)}ᵀ`, from the last assembly.
+    pub(super) matching: MatchingTerms<D>,
+    /// The basis times the points' Hessian rows, the `D` component rows `r` stacked
+    /// (`D·D(n−1) × 2m`, row `D(n−1)r + D(k−1) + c`, columns `2j`, `2j + 1` for `x`, `v`),
+    /// and `∂²S/∂ξᵏ_c ∂ξⁱ_r` (`D·D(n−1) × n`, the same rows, column `i`) = that times
+    /// `weighted_basis`.
+    hessian_times_basis: Mat<f64>,
+    pub(super) action_hessian: Mat<f64>,
+    pub(super) gradient: Vec<SVector<f64, D>>,
+    gradient_scale: Vec<f64>,
+    pub(super) residual: Vec<f64>,
+    trial: Vec<f64>,
+    pub(super) jacobian: Mat<f64>,
+    /// The Newton (or chord) step `−J⁻¹F`, kept for the backtracking.
+    pub(super) delta: Vec<f64>,
+    pub(super) perm: Vec<usize>,
+    pub(super) perm_inv: Vec<usize>,
+    pub(super) stack: MemBuffer,
+    /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
+    /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
+    /// assembly, saved.
+    pub(super) guess_assembled: Option<(f64, f64)>,
+}
+
+impl<J: PointJet, const D: usize> Workspace<J, D> {
+    pub fn new(d: &Discretisation) -> Self {
+        let unknowns = D * (d.n - 1);
+        let scratch = factor::lu_in_place_scratch::<usize, f64>(
+            unknowns,
+            unknowns,
+            Par::Seq,
+            Default::default(),
+        );
+        Self {
+            xi: vec![SVector::zeros(); d.n],
+            xi_accepted: vec![SVector::zeros(); d.n],
+            points: vec![J::zeros(); d.m],
+            dq_dx: vec![SMatrix::zeros(); d.m],
+            dq_dv: vec![SMatrix::zeros(); d.m],
+            x: vec![SVector::zeros(); d.m],
+            v: vec![SVector::zeros(); d.m],
+            matching: MatchingTerms::default(),
+            hessian_times_basis: Mat::zeros(D * unknowns, 2 * d.m),
+            action_hessian: Mat::zeros(D * unknowns, d.n),
+            gradient: vec![SVector::zeros(); d.n],
+            gradient_scale: vec![0.0; d.n],
+            residual: vec![0.0; unknowns],
+            trial: vec![0.0; unknowns],
+            jacobian: Mat::zeros(unknowns, unknowns),
+            delta: vec![0.0; unknowns],
+            perm: vec![0; unknowns],
+            perm_inv: vec![0; unknowns],
+            stack: MemBuffer::new(scratch),
+            guess_assembled: None,
+        }
+    }
+
+    /// Forgets the assembly at the guess: call after changing `xi` from outside the solve.
+    pub fn guess_changed(&mut self) {
+        self.guess_assembled = None;
+    }
+}
+
+/// The workspace of a system's group.
+pub(crate) type WorkspaceOf<S, const D: usize> =
+    Workspace<<<S as GroupLagrangian<D>>::Group as ConfigurationGroup<D>>::Jet, D>;
+
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
+    /// The residual at the unknowns in `work.xi` relative to the equations' largest terms
+    /// (infinite outside the chart's domain or where not finite): how good a predictor is.
+    /// The assembly (with Hessians, for the exact Jacobian) is kept for [`Stepper::solve`]'s
+    /// first iteration until `work.xi` changes ([`Workspace::guess_changed`]).
+    pub fn relative_residual(
+        &self,
+        base: &Element<S, D>,
+        mu: &SVector<f64, D>,
+        work: &mut WorkspaceOf<S, D>,
+    ) -> f64 {
+        work.guess_changed();
+        if self.check_domain(work, 0, 0.0).is_err() {
+            return f64::INFINITY;
+        }
+        let exact = self.settings.jacobian() == NewtonJacobian::Exact;
+        let (residual, scale) = self.assemble(base, mu, work, exact);
+        let relative = residual / scale.max(f64::MIN_POSITIVE);
+        if relative.is_finite() {
+            work.guess_assembled = Some((residual, scale));
+            relative
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Evaluates the points (with their Hessians if `with_jacobian`, for a following
+    /// [`Stepper::fill_jacobian`]) and the residual at the current unknowns; returns
+    /// `(‖F‖∞, scale)` with the residual written to `work.residual`.
+    pub(super) fn assemble(
+        &self,
+        base: &Element<S, D>,
+        mu: &SVector<f64, D>,
+        work: &mut WorkspaceOf<S, D>,
+        with_jacobian: bool,
+    ) -> (f64, f64) {
+        let d = self.d;
+        let (n, m) = (d.n, d.m);
+        let with_configuration = self.needs_configuration();
+        for j in 0..m {
+            let mut x = SVector::<f64, D>::zeros();
+            let mut v = SVector::<f64, D>::zeros();
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            for i in 1..n {
+                x += work.xi[i] * values[i];
+                v += work.xi[i] * slopes[i];
+            }
+            work.x[j] = x;
+            work.v[j] = v;
+            let ell = EllTilde {
+                system: self.system,
+                chart: self.chart,
+                base,
+                time: self.time + d.times[j],
+            };
+            point_derivatives(
+                &ell,
+                &x,
+                &v,
+                with_configuration,
+                with_jacobian,
+                self.forcing.as_ref(),
+                &mut work.points[j],
+            );
+        }
+        // ∂S/∂ξⁱ and the scale of its terms, accumulated point by point (the same sums,
+        // in the same order, as node by node).
+        work.gradient.fill(SVector::zeros());
+        work.gradient_scale.fill(0.0);
+        for j in 0..m {
+            let g = work.points[j].gradient();
+            let gx = SVector::<f64, D>::from_column_slice(&g[..D]);
+            let gv = SVector::<f64, D>::from_column_slice(&g[D..2 * D]);
+            let (size_x, size_v) = (gx.amax(), gv.amax());
+            let weight = d.weights[j];
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            for i in 0..n {
+                let term = gx * values[i] + gv * slopes[i];
+                work.gradient[i] += term * weight;
+                work.gradient_scale[i] = work.gradient_scale[i]
+                    .max(weight * (size_x * values[i].abs() + size_v * slopes[i].abs()));
+            }
+        }
+        // Residual blocks: internal stages i = 2..n−1 (rows D(i−2)..), then matching.
+        let rows = D * (n - 1);
+        let mut scale = mu.amax();
+        for i in 1..n - 1 {
+            for c in 0..D {
+                work.residual[D * (i - 1) + c] = work.gradient[i][c];
+            }
+            scale = scale.max(work.gradient_scale[i]);
+        }
+        let (matching, matching_scale) = self.matching_residual(mu, work, with_jacobian);
+        scale = scale.max(matching_scale);
+        for c in 0..D {
+            work.residual[rows - D + c] = matching[c];
+        }
+        let norm = work.residual.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+        (norm, scale)
+    }
+
+    /// The largest term of `∂S/∂ξⁱ` at node `i` in the last assembly.
+    pub(super) fn gradient_scale(work: &WorkspaceOf<S, D>, i: usize) -> f64 {
+        work.gradient_scale[i]
+    }
+
+    /// The exact Newton matrix from the point Hessians of the last assembly (module
+    /// documentation); the matching rows from [`Stepper::fill_matching_rows`].
+    pub(super) fn fill_jacobian(&self, work: &mut WorkspaceOf<S, D>) {
+        let d = self.d;
+        let n = d.n;
+        let unknowns = D * (n - 1);
+        // Point by point, each point's Hessian read once, each column written in order.
+        let z = &mut work.hessian_times_basis;
+        for (j, point) in work.points.iter().enumerate() {
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            for half in 0..2 {
+                let column = z.col_as_slice_mut(2 * j + half);
+                let row = D * half;
+                for (r, rows) in column.chunks_exact_mut(unknowns).enumerate() {
+                    let hx: [f64; D] = std::array::from_fn(|c| point.hessian(row + r, c));
+                    let hv: [f64; D] = std::array::from_fn(|c| point.hessian(row + r, D + c));
+                    for ((block, &bk), &dk) in
+                        rows.chunks_exact_mut(D).zip(&values[1..]).zip(&slopes[1..])
+                    {
+                        for c in 0..D {
+                            block[c] = bk * hx[c] + dk * hv[c];
+                        }
+                    }
+                }
+            }
+        }
+        // One product for the D component rows (D would pay faer's dispatch D times).
+        matmul(
+            work.action_hessian.as_mut(),
+            Accum::Replace,
+            work.hessian_times_basis.as_ref(),
+            d.weighted_basis.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        let jac = &mut work.jacobian;
+        for i in 1..n - 1 {
+            let source = work.action_hessian.col_as_slice(i);
+            for (r, rows) in source.chunks_exact(unknowns).enumerate() {
+                for (col, &value) in rows.iter().enumerate() {
+                    jac[(D * (i - 1) + r, col)] = value;
+                }
+            }
+        }
+        self.fill_matching_rows(work);
+    }
+
+    /// `∂²S/∂ξᵏ∂ξⁱ` as a `D × D` block (rows the components of `ξⁱ`'s equation), from the
+    /// last [`Stepper::fill_jacobian`].
+    pub(super) fn hessian_block(
+        work: &WorkspaceOf<S, D>,
+        i: usize,
+        k: usize,
+    ) -> SMatrix<f64, D, D> {
+        let unknowns = D * (work.xi.len() - 1);
+        SMatrix::from_fn(|r, c| work.action_hessian[(unknowns * r + D * (k - 1) + c, i)])
+    }
+
+    /// Forward-difference Newton matrix (the paper's solver), column by column.
+    pub(super) fn fill_jacobian_by_differences(
+        &self,
+        base: &Element<S, D>,
+        mu: &SVector<f64, D>,
+        work: &mut WorkspaceOf<S, D>,
+    ) {
+        let n = self.d.n;
+        let unknowns = D * (n - 1);
+        work.trial.copy_from_slice(&work.residual);
+        for col in 0..unknowns {
+            let (i, c) = (1 + col / D, col % D);
+            let saved = work.xi[i][c];
+            let step = f64::EPSILON.sqrt() * saved.abs().max(1.0);
+            work.xi[i][c] = saved + step;
+            self.assemble(base, mu, work, false);
+            for row in 0..unknowns {
+                work.jacobian[(row, col)] = (work.residual[row] - work.trial[row]) / step;
+            }
+            work.xi[i][c] = saved;
+        }
+        work.residual.copy_from_slice(&work.trial);
+    }
+
+    /// Checks every node against the chart's domain.
+    pub(super) fn check_domain(
+        &self,
+        work: &WorkspaceOf<S, D>,
+        step: usize,
+        time: f64,
+    ) -> Result<(), MechanicsError> {
+        for xi in &work.xi {
+            self.chart
+                .check_domain(xi)
+                .map_err(|source| MechanicsError::OutsideChart { step, time, source })?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,447 @@
+//! Systems on any configuration group: the generic reduced Lagrangian, forcing, and the
+//! bridge from the SO(3) [`Lagrangian`].
+//!
+//! # Forces (discrete Lagrange–d'Alembert)
+//! A left-trivialised generalised force `F(t, g, ξ) ∈ ℝ^D` (for SO(3) a body-frame torque;
+//! for SE(3) a body-frame torque and a body-frame force, `(τ, Rᵀf)`) enters a step through
+//! the virtual work of the variation `δg = g η^`, integrated by the step's own quadrature:
+//! `δS + Σ_j h b_j ⟨F_j, η_j⟩ = 0`. On the curve `g(t) = g_k Φ(ξ(t))` a node variation
+//! gives `η_j = A(x_j) δx_j`, so each Gauss point adds `A(x_j)ᵀ F_j` to the `x`-gradient of
+//! its term, and moving the base point (the exact momentum matching) adds `F_j` to the
+//! configuration force `p_j`: `μ_{k+1} = Ad_{Φ(ξⁿ)}ᵀ (μ_k + Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ (p_j + F_j))`.
+//! These are the discrete forces `F_d^±` of Marsden and West's forced discrete
+//! Euler–Lagrange equations for this discrete Lagrangian, so the energy balance
+//! `E(T) − E(0) = ∫ ⟨F, ξ⟩ dt` holds to the method's order. With no force the step is the
+//! unforced one, bit for bit (the force terms are skipped, not added as zeros).
+
+use crate::flow::FlowGuess;
+use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
+use crate::lagrangian::Lagrangian;
+use lgsvi_lie::{LieGroup, SE3, SO3};
+use nalgebra::{RealField, SVector, Vector3};
+
+/// The element type of a system's group over the scalar `T`.
+pub type ElementOf<S, const D: usize, T = f64> =
+    <<S as GroupLagrangian<D>>::Group as ConfigurationGroup<D>>::Element<T>;
+
+/// A reduced, left-trivialised Lagrangian `ℓ(t, g, ξ)` on a configuration group with
+/// algebra `ℝ^D`: `g` the configuration (`world_from_body`), `ξ` the body velocity
+/// (`ġ = g ξ^`). Body momentum `μ = ∂ℓ/∂ξ`, energy `⟨μ, ξ⟩ − ℓ`.
+///
+/// Every SO(3) [`Lagrangian`] is one (`D = 3`, [`Rotations`]), with its closed-form
+/// derivatives and flow predictor; the SE(3) systems ([`crate::FreeBody`],
+/// [`crate::OrbitingBody`], [`crate::BodyInField`]) have `D = 6`. Write `ℓ` once,
+/// generically over the scalar: the integrator differentiates it by dual numbers.
+///
+/// ```
+/// use lgsvi_mechanics::{GroupLagrangian, RigidMotions};
+/// use lgsvi_mechanics::lie::SE3;
+/// use nalgebra::{RealField, SVector};
+///
+/// /// A unit sphere on a spring to the origin: ℓ = ½|ω|² + ½|v|² − ½k|x|².
+/// struct Tethered { k: f64 }
+/// impl GroupLagrangian<6> for Tethered {
+///     type Group = RigidMotions;
+///     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
+///         let half: T = nalgebra::convert(0.5);
+///         let k: T = nalgebra::convert(self.k);
+///         half * xi.dot(xi) - half * k * g.translation().norm_squared()
+///     }
+/// }
+/// ```
+pub trait GroupLagrangian<const D: usize> {
+    /// The configuration group.
+    type Group: ConfigurationGroup<D>;
+
+    /// `ℓ(t, g, ξ)`.
+    fn lagrangian<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D, T>,
+        velocity: &SVector<T, D>,
+    ) -> T;
+
+    /// True when `ℓ` depends on neither `g` nor `t` (a free body): the exact momentum
+    /// matching then has no configuration term. The default `false` is always correct.
+    fn is_left_invariant(&self) -> bool {
+        false
+    }
+
+    /// `ξ` from `μ` in closed form where known; `None` (the default) makes the integrator
+    /// solve `∂ℓ/∂ξ = μ` by Newton.
+    fn velocity_from_momentum(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D>,
+        momentum: &SVector<f64, D>,
+    ) -> Option<SVector<f64, D>> {
+        let _ = (time, configuration, momentum);
+        None
+    }
+
+    /// Whether the system has a generalised force ([`GroupLagrangian::force`]); the
+    /// default `false` skips it.
+    fn is_forced(&self) -> bool {
+        false
+    }
+
+    /// The left-trivialised generalised force `F(t, g, ξ)` (module documentation), generic
+    /// over the scalar so that Newton gets its exact derivatives. Read only when
+    /// [`GroupLagrangian::is_forced`]; the default is zero.
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D, T>,
+        velocity: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        let _ = (time, configuration, velocity);
+        SVector::zeros()
+    }
+
+    /// A closed-form path for one Gauss point's derivatives of
+    /// `ℓ̃(x, v, ζ) = ℓ(t, base Φ(x) exp(ζ), A(x) v)` (see [`crate::group::PointJet`]):
+    /// write them into `out` and return `true`, or return `false` (the default) to have
+    /// them taken by dual numbers. The SO(3) systems use their chart's Rodrigues form.
+    #[allow(clippy::too_many_arguments)]
+    fn point_derivatives<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        time: f64,
+        base: &ElementOf<Self, D>,
+        x: &SVector<f64, D>,
+        v: &SVector<f64, D>,
+        with_configuration: bool,
+        with_hessian: bool,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+    ) -> bool {
+        let _ = (
+            chart,
+            time,
+            base,
+            x,
+            v,
+            with_configuration,
+            with_hessian,
+            out,
+        );
+        false
+    }
+
+    /// A predictor from the system's own flow over the step: write the chart coordinates
+    /// at `times` into `out` ([`FlowGuess::Written`], with the flow's end relative to its
+    /// start, which the converged step is checked against), or report that the flow
+    /// leaves the chart. The default has none ([`FlowGuess::Unavailable`]): the
+    /// integrator then continues the last step's curve.
+    #[allow(clippy::too_many_arguments)]
+    fn flow_guess<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        time: f64,
+        base: &ElementOf<Self, D>,
+        momentum: &SVector<f64, D>,
+        velocity: &SVector<f64, D>,
+        h: f64,
+        times: &[f64],
+        out: &mut [SVector<f64, D>],
+    ) -> FlowGuess<ElementOf<Self, D>> {
+        let _ = (chart, time, base, momentum, velocity, h, times, out);
+        FlowGuess::Unavailable
+    }
+}
+
+impl<L: Lagrangian> GroupLagrangian<3> for L {
+    type Group = Rotations;
+
+    fn lagrangian<T: RealField + Copy>(&self, _time: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
+        Lagrangian::lagrangian(self, g.matrix(), w)
+    }
+    fn is_left_invariant(&self) -> bool {
+        Lagrangian::is_left_invariant(self)
+    }
+    fn velocity_from_momentum(
+        &self,
+        _time: f64,
+        g: &SO3,
+        mu: &Vector3<f64>,
+    ) -> Option<Vector3<f64>> {
+        Lagrangian::velocity_from_momentum(self, g.matrix(), mu)
+    }
+    fn point_derivatives<C: GroupChart<Rotations, 3>>(
+        &self,
+        chart: &C,
+        _time: f64,
+        base: &SO3,
+        x: &Vector3<f64>,
+        v: &Vector3<f64>,
+        with_configuration: bool,
+        with_hessian: bool,
+        out: &mut Stacked<9>,
+    ) -> bool {
+        crate::jet::point_derivatives(
+            self,
+            chart,
+            base.matrix(),
+            x,
+            v,
+            with_configuration,
+            with_hessian,
+            out,
+        )
+    }
+    fn flow_guess<C: GroupChart<Rotations, 3>>(
+        &self,
+        chart: &C,
+        _time: f64,
+        base: &SO3,
+        momentum: &Vector3<f64>,
+        velocity: &Vector3<f64>,
+        h: f64,
+        times: &[f64],
+        out: &mut [Vector3<f64>],
+    ) -> FlowGuess<SO3> {
+        crate::flow::flow_guess(
+            self,
+            chart,
+            base.matrix(),
+            momentum,
+            velocity,
+            h,
+            times,
+            out,
+        )
+    }
+}
+
+/// A generalised force on a group (module documentation): for SO(3) a body torque, for
+/// SE(3) `(body torque, body force)`. Generic over the scalar, so Newton differentiates it
+/// exactly; combine two with a tuple `(a, b)` (their sum).
+pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
+    /// `F(t, g, ξ)`.
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &G::Element<T>,
+        velocity: &SVector<T, D>,
+    ) -> SVector<T, D>;
+
+    /// Whether the force is identically zero (then the step is the unforced one, bit for
+    /// bit). The default `false` is always correct.
+    fn is_zero(&self) -> bool {
+        false
+    }
+}
+
+impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D>
+    for (A, B)
+{
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        g: &G::Element<T>,
+        xi: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        self.0.force(time, g, xi) + self.1.force(time, g, xi)
+    }
+    fn is_zero(&self) -> bool {
+        self.0.is_zero() && self.1.is_zero()
+    }
+}
+
+/// A constant body-frame torque `τ` (N·m), on SO(3) and SE(3).
+///
+/// ```
+/// use lgsvi_mechanics::{BodyTorque, Forced, Inertia, Integrator, RigidBody, StepSettings};
+/// use lgsvi_mechanics::lie::SO3;
+/// use nalgebra::Vector3;
+/// // A body at rest spun up about its z axis by τ = 0.1 for 1 s: Ω_z = τ/J_z t.
+/// let body = Forced::new(
+///     RigidBody::new(Inertia::from_principal_moments([1.0, 1.0, 2.0])?),
+///     BodyTorque(Vector3::new(0.0, 0.0, 0.1)),
+/// );
+/// let mut integrator = Integrator::new(body, StepSettings::new(0.25, 6)?, SO3::identity(), Vector3::zeros())?;
+/// integrator.run(4, 1)?;
+/// assert!((integrator.state().velocity.z - 0.05).abs() < 1e-14);
+/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyTorque(pub Vector3<f64>);
+
+/// Damping `τ = −c Ω` of the angular velocity (`c ≥ 0`, N·m·s), on SO(3) and SE(3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AngularDamping(pub f64);
+
+/// A constant space-frame force `f` (N) on an SE(3) body's centre of mass: body force
+/// `Rᵀ f`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpaceForce(pub Vector3<f64>);
+
+fn convert3<T: RealField + Copy>(v: &Vector3<f64>) -> Vector3<T> {
+    v.map(nalgebra::convert)
+}
+
+impl Forcing<Rotations, 3> for BodyTorque {
+    fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, _w: &Vector3<T>) -> Vector3<T> {
+        convert3(&self.0)
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == Vector3::zeros()
+    }
+}
+
+impl Forcing<RigidMotions, 6> for BodyTorque {
+    fn force<T: RealField + Copy>(
+        &self,
+        _t: f64,
+        _g: &SE3<T>,
+        _xi: &SVector<T, 6>,
+    ) -> SVector<T, 6> {
+        let t = convert3::<T>(&self.0);
+        SVector::<T, 6>::new(t.x, t.y, t.z, T::zero(), T::zero(), T::zero())
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == Vector3::zeros()
+    }
+}
+
+impl Forcing<Rotations, 3> for AngularDamping {
+    fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, w: &Vector3<T>) -> Vector3<T> {
+        w * nalgebra::convert::<f64, T>(-self.0)
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == 0.0
+    }
+}
+
+impl Forcing<RigidMotions, 6> for AngularDamping {
+    fn force<T: RealField + Copy>(
+        &self,
+        _t: f64,
+        _g: &SE3<T>,
+        xi: &SVector<T, 6>,
+    ) -> SVector<T, 6> {
+        let c: T = nalgebra::convert(-self.0);
+        SVector::<T, 6>::new(
+            xi[0] * c,
+            xi[1] * c,
+            xi[2] * c,
+            T::zero(),
+            T::zero(),
+            T::zero(),
+        )
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == 0.0
+    }
+}
+
+impl Forcing<RigidMotions, 6> for SpaceForce {
+    fn force<T: RealField + Copy>(
+        &self,
+        _t: f64,
+        g: &SE3<T>,
+        _xi: &SVector<T, 6>,
+    ) -> SVector<T, 6> {
+        let body = g.rotation().inverse().act(&convert3::<T>(&self.0));
+        SVector::<T, 6>::new(T::zero(), T::zero(), T::zero(), body.x, body.y, body.z)
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == Vector3::zeros()
+    }
+}
+
+/// A system with a generalised force added ([`Forcing`]): `Forced::new(body, BodyTorque(τ))`.
+/// Everything else (the closed-form derivatives of `ℓ`) is the inner system's; the flow
+/// predictor is not (it does not know the force), so the integrator continues the last
+/// step's curve instead. Under a force that [`Forcing::is_zero`], the steps are the inner
+/// system's, bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Forced<S, F> {
+    /// The unforced system.
+    pub system: S,
+    /// The force.
+    pub forcing: F,
+}
+
+impl<S, F> Forced<S, F> {
+    /// `system` under `forcing`.
+    pub fn new(system: S, forcing: F) -> Self {
+        Self { system, forcing }
+    }
+}
+
+impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagrangian<D>
+    for Forced<S, F>
+{
+    type Group = S::Group;
+
+    fn lagrangian<T: RealField + Copy>(
+        &self,
+        time: f64,
+        g: &ElementOf<S, D, T>,
+        xi: &SVector<T, D>,
+    ) -> T {
+        self.system.lagrangian(time, g, xi)
+    }
+    fn is_left_invariant(&self) -> bool {
+        self.system.is_left_invariant()
+    }
+    fn velocity_from_momentum(
+        &self,
+        time: f64,
+        g: &ElementOf<S, D>,
+        mu: &SVector<f64, D>,
+    ) -> Option<SVector<f64, D>> {
+        self.system.velocity_from_momentum(time, g, mu)
+    }
+    fn is_forced(&self) -> bool {
+        self.system.is_forced() || !self.forcing.is_zero()
+    }
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        g: &ElementOf<S, D, T>,
+        xi: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        self.system.force(time, g, xi) + self.forcing.force(time, g, xi)
+    }
+    fn point_derivatives<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        time: f64,
+        base: &ElementOf<S, D>,
+        x: &SVector<f64, D>,
+        v: &SVector<f64, D>,
+        with_configuration: bool,
+        with_hessian: bool,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+    ) -> bool {
+        self.system.point_derivatives(
+            chart,
+            time,
+            base,
+            x,
+            v,
+            with_configuration,
+            with_hessian,
+            out,
+        )
+    }
+    /// The inner system's flow when the force is zero; none otherwise.
+    fn flow_guess<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        time: f64,
+        base: &ElementOf<S, D>,
+        momentum: &SVector<f64, D>,
+        velocity: &SVector<f64, D>,
+        h: f64,
+        times: &[f64],
+        out: &mut [SVector<f64, D>],
+    ) -> FlowGuess<ElementOf<S, D>> {
+        if self.is_forced() {
+            return FlowGuess::Unavailable;
+        }
+        self.system
+            .flow_guess(chart, time, base, momentum, velocity, h, times, out)
+    }
+}
