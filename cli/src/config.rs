@@ -16,6 +16,18 @@ pub enum SystemKind {
     RigidBody,
     /// The heavy top / 3D pendulum, `ℓ = ½ΩᵀJΩ + m g e₃ᵀRρ`.
     HeavyTop,
+    /// A free rigid body on SE(3): rotation and translation, `ℓ = ½ΩᵀJΩ + ½m|ẋ|²`.
+    Se3Body,
+    /// A rigid body orbiting a point mass on SE(3) (MacCullagh's potential: the
+    /// gravity-gradient torque couples attitude and orbit).
+    OrbitingBody,
+}
+
+impl SystemKind {
+    /// Whether the system lives on SE(3) (has a position and a velocity).
+    pub fn is_rigid_motion(self) -> bool {
+        matches!(self, SystemKind::Se3Body | SystemKind::OrbitingBody)
+    }
 }
 
 /// The chart, for the command line and config files.
@@ -134,6 +146,10 @@ pub struct SimulateOptions {
     /// The paper's nonstandard inertia J_d = diag(a, b, c), J = tr(J_d) I − J_d.
     #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "A,B,C")]
     pub inertia_d: Option<[f64; 3]>,
+    /// Full body-frame inertia tensor J, 9 numbers row-major (symmetric, positive
+    /// definite, principal moments obeying the triangle inequality); instead of --inertia.
+    #[arg(long, value_parser = nine, allow_hyphen_values = true, conflicts_with_all = ["inertia", "inertia_d"], value_name = "J11,...,J33")]
+    pub inertia_tensor: Option<[f64; 9]>,
     /// Initial body angular velocity Ω(0) [default: the paper's, per system].
     #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub omega0: Option<[f64; 3]>,
@@ -143,9 +159,26 @@ pub struct SimulateOptions {
     /// Initial attitude as a unit quaternion (w, x, y, z), Hamilton convention.
     #[arg(long, value_parser = four, allow_hyphen_values = true, value_name = "W,X,Y,Z")]
     pub quaternion0: Option<[f64; 4]>,
-    /// Heavy top: mass m [default: 1].
+    /// Heavy top, se3-body, orbiting-body: mass m [default: 1].
     #[arg(long, allow_hyphen_values = true)]
     pub mass: Option<f64>,
+    /// Orbiting body: gravitational parameter μ = GM of the point mass at the origin [default: 1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub mu: Option<f64>,
+    /// SE(3) systems: initial centre of mass x(0), world frame [default: 3,0,0 for
+    /// orbiting-body, 0,0,0 for se3-body].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub position0: Option<[f64; 3]>,
+    /// SE(3) systems: initial centre-of-mass velocity ẋ(0), world frame [default:
+    /// 0,0.55,0.05 for orbiting-body, 0,0,0 for se3-body].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub velocity0: Option<[f64; 3]>,
+    /// A constant body-frame torque τ on the body (every system) [default: none].
+    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub torque: Option<[f64; 3]>,
+    /// Angular damping: a torque −cΩ with c ≥ 0 (every system) [default: 0].
+    #[arg(long, allow_hyphen_values = true, value_name = "C")]
+    pub damping: Option<f64>,
     /// Heavy top: gravitational acceleration g [default: 9.81].
     #[arg(long, allow_hyphen_values = true)]
     pub gravity: Option<f64>,
@@ -186,6 +219,10 @@ pub struct SimulateOptions {
     /// Output file [default: standard output].
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Also draw the run's conservation figure to PLOT.svg and PLOT.png: the energy
+    /// balance |E − E₀ − W| and the drift of the conserved momenta over time.
+    #[arg(long, value_name = "PLOT")]
+    pub plot: Option<PathBuf>,
     /// No progress bar (one is shown on a terminal for runs of 1000 steps or more).
     #[arg(long)]
     #[serde(default)]
@@ -221,10 +258,16 @@ impl SimulateOptions {
             system,
             inertia,
             inertia_d,
+            inertia_tensor,
             omega0,
             attitude0,
             quaternion0,
             mass,
+            mu,
+            position0,
+            velocity0,
+            torque,
+            damping,
             gravity,
             com,
             gravity_direction,
@@ -237,13 +280,14 @@ impl SimulateOptions {
             t_end,
             every,
             format,
-            out
+            out,
+            plot
         );
-        if top.inertia.is_some() {
-            base.inertia_d = None;
-        }
-        if top.inertia_d.is_some() {
-            base.inertia = None;
+        // One inertia: the command line's, whichever form it takes.
+        if top.inertia.is_some() || top.inertia_d.is_some() || top.inertia_tensor.is_some() {
+            base.inertia = top.inertia;
+            base.inertia_d = top.inertia_d;
+            base.inertia_tensor = top.inertia_tensor;
         }
         if top.attitude0.is_some() {
             base.quaternion0 = None;

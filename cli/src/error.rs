@@ -50,6 +50,16 @@ pub enum CliError {
         /// The flag.
         flag: &'static str,
     },
+    /// A flag that does not apply to the chosen system.
+    #[error("{flag} does not apply to --system {system}: it applies to {applies}")]
+    NotForSystem {
+        /// The flag.
+        flag: &'static str,
+        /// The system chosen.
+        system: &'static str,
+        /// The systems it applies to.
+        applies: &'static str,
+    },
     /// A `simulate` flag given to `converge`.
     #[error("{flag} is a simulate option; {why}")]
     SimulateOnly {

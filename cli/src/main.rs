@@ -28,8 +28,9 @@ use std::time::Instant;
 #[command(
     name = "lgsvi",
     version,
-    about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies",
-    long_about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies on SO(3).\n\n\
+    about = "Lie group spectral variational integrators (Hall & Leok) for rotating and moving bodies",
+    long_about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies on SO(3) \
+                  and moving ones on SE(3).\n\n\
                   Without a command, runs `lgsvi reproduce` on embedded defaults: the paper's nine figures \
                   (rigid body and 3D pendulum) with their data and a report, into ./lgsvi-reproduce."
 )]
@@ -52,13 +53,30 @@ enum Command {
 
 /// A finished run: the trajectory, the integration's wall time, and a description.
 pub struct Run {
+    /// The states (for an SE(3) run, the rotational part: `R`, `Ω`, `JΩ`).
     pub trajectory: Trajectory,
     pub energies: Vec<f64>,
+    /// The work of the torque and damping up to each recorded state, for a forced run.
+    pub work: Option<Vec<f64>>,
+    /// Position, velocity and spatial momenta of each recorded state, for an SE(3) run.
+    pub motion: Option<Vec<MotionRecord>>,
     pub wall_time_s: f64,
     pub steps: usize,
     pub newton_iterations: usize,
     pub max_newton_iterations: usize,
     pub description: serde_json::Value,
+}
+
+/// The translational part of a recorded SE(3) state.
+#[derive(Debug, Clone, Copy)]
+pub struct MotionRecord {
+    /// Centre of mass `x`, world frame.
+    pub position: nalgebra::Vector3<f64>,
+    /// `ẋ`, world frame.
+    pub velocity: nalgebra::Vector3<f64>,
+    /// The spatial momentum `(RJΩ + x × mẋ, mẋ)`: angular momentum about the world
+    /// origin and linear momentum.
+    pub spatial_momentum: nalgebra::SVector<f64, 6>,
 }
 
 /// Checks that a recorded state and its invariants are finite: a run whose numbers
@@ -88,21 +106,27 @@ fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<()> {
 }
 
 fn integrate(problem: &Problem) -> Result<Run> {
+    if let Some(motion) = &problem.motion {
+        return integrate_motion(problem, motion);
+    }
     let mut integrator = problem.integrator(problem.settings)?;
     let steps = integrator.steps_until(problem.t_end)?;
     let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let system = *integrator.system();
+    let forced = lgsvi_mechanics::GroupLagrangian::is_forced(&system);
     let mut trajectory = Trajectory::default();
     let mut energies = Vec::new();
-    let mut record = |k: usize, state: &State, iterations: usize| -> Result<()> {
+    let mut work = Vec::new();
+    let mut record = |k: usize, state: &State, iterations: usize, done: f64| -> Result<()> {
         let energy = state.energy(&system);
         check_finite_state(k, state, energy)?;
         trajectory.states.push(*state);
         trajectory.newton_iterations.push(iterations);
         energies.push(energy);
+        work.push(done);
         Ok(())
     };
-    record(0, integrator.state(), 0)?;
+    record(0, integrator.state(), 0, 0.0)?;
     // The integration alone is timed: not the checks, the recording or the output.
     let mut wall_time = std::time::Duration::ZERO;
     for k in 1..=steps {
@@ -111,7 +135,7 @@ fn integrate(problem: &Problem) -> Result<Run> {
         wall_time += start.elapsed();
         let state = integrator.state();
         if k % problem.every == 0 || k == steps {
-            record(k, state, iterations)?;
+            record(k, state, iterations, integrator.work_done())?;
         } else {
             check_finite_state(k, state, state.energy(&system))?;
         }
@@ -128,6 +152,83 @@ fn integrate(problem: &Problem) -> Result<Run> {
     Ok(Run {
         trajectory,
         energies,
+        work: forced.then_some(work),
+        motion: None,
+        wall_time_s: wall_time.as_secs_f64(),
+        steps: stats.steps,
+        newton_iterations: stats.newton_iterations,
+        max_newton_iterations: stats.max_newton_iterations,
+        description,
+    })
+}
+
+/// An SE(3) run: the rotational part as the SO(3) columns, the translation beside them.
+fn integrate_motion(problem: &Problem, motion: &problem::Motion) -> Result<Run> {
+    let mut integrator = motion.integrator(problem.settings)?;
+    let steps = integrator.steps_until(problem.t_end)?;
+    let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
+    let system = *integrator.system();
+    let forced = lgsvi_mechanics::GroupLagrangian::is_forced(&system);
+    let mut trajectory = Trajectory::default();
+    let (mut energies, mut work, mut records) = (Vec::new(), Vec::new(), Vec::new());
+    let mut record = |k: usize,
+                      state: &lgsvi_mechanics::State<lgsvi_mechanics::lie::SE3, 6>,
+                      iterations: usize,
+                      done: f64|
+     -> Result<()> {
+        let energy = state.energy(&system);
+        let rotation = State {
+            time: state.time,
+            configuration: *state.attitude(),
+            momentum: state.momentum.fixed_rows::<3>(0).into_owned(),
+            velocity: state.angular_velocity(),
+        };
+        check_finite_state(k, &rotation, energy)?;
+        let entry = MotionRecord {
+            position: state.position(),
+            velocity: state.linear_velocity(),
+            spatial_momentum: state.spatial_momentum(),
+        };
+        let translation = [entry.position, entry.velocity];
+        if translation.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
+            return Err(CliError::Overflow {
+                step: k,
+                time: state.time,
+                quantity: "position x or velocity ẋ",
+                values: format!("{translation:?}"),
+            });
+        }
+        trajectory.states.push(rotation);
+        trajectory.newton_iterations.push(iterations);
+        energies.push(energy);
+        work.push(done);
+        records.push(entry);
+        Ok(())
+    };
+    record(0, integrator.state(), 0, 0.0)?;
+    let mut wall_time = std::time::Duration::ZERO;
+    for k in 1..=steps {
+        let start = Instant::now();
+        let iterations = integrator.step()?;
+        wall_time += start.elapsed();
+        if k % problem.every == 0 || k == steps {
+            record(k, integrator.state(), iterations, integrator.work_done())?;
+        }
+        if k % 64 == 0 {
+            progress.set_position(k as u64);
+        }
+    }
+    progress.finish_and_clear();
+    let stats = integrator.statistics();
+    let mut description = problem.description.clone();
+    description["settings"] =
+        Problem::settings_json(&problem.settings, problem.t_end, problem.every);
+    description["solution"] = "integrator".into();
+    Ok(Run {
+        trajectory,
+        energies,
+        work: forced.then_some(work),
+        motion: Some(records),
         wall_time_s: wall_time.as_secs_f64(),
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
@@ -167,6 +268,8 @@ fn exact_run(problem: &Problem) -> Result<Run> {
     Ok(Run {
         trajectory,
         energies,
+        work: None,
+        motion: None,
         wall_time_s,
         steps: 0,
         newton_iterations: 0,
@@ -206,8 +309,92 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
     Ok((run, options))
 }
 
+/// The conservation figure of a run: `|E − E₀ − W|/|E₀|` (the energy balance; `W = 0`
+/// unforced) and, for an unforced run, the drift of the spatial momentum's conserved
+/// components relative to its size (all of it for a free body, the angular part about
+/// the centre for an orbiting one, the vertical one for the heavy top).
+fn conservation_figure(run: &Run, problem_name: &str) -> plot::Figure {
+    let states = &run.trajectory.states;
+    let e0 = run.energies[0];
+    let scale = e0.abs().max(f64::MIN_POSITIVE);
+    let work = |k: usize| run.work.as_ref().map_or(0.0, |w| w[k]);
+    let balance: Vec<(f64, f64)> = states
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, s)| (s.time, (run.energies[k] - e0 - work(k)).abs() / scale))
+        .collect();
+    let label = if run.work.is_some() {
+        "energy balance |E − E₀ − W|/|E₀|"
+    } else {
+        "energy error |E − E₀|/|E₀|"
+    };
+    let mut series = vec![plot::Series {
+        label: label.into(),
+        points: balance,
+        style: plot::Style::Line,
+        color: 0,
+    }];
+    if run.work.is_none() {
+        // The components a symmetry conserves: all of the spatial momentum for a free
+        // body, the angular momentum about the centre for an orbiting one, the component
+        // along gravity for the heavy top.
+        let direction: Vec<f64> = run.description["gravity_direction"]
+            .as_array()
+            .map(|d| d.iter().filter_map(|x| x.as_f64()).collect())
+            .unwrap_or_default();
+        let conserved = |k: usize| -> Vec<f64> {
+            match (&run.motion, problem_name) {
+                (Some(m), "orbiting-body") => {
+                    m[k].spatial_momentum.iter().take(3).copied().collect()
+                }
+                (Some(m), _) => m[k].spatial_momentum.iter().copied().collect(),
+                (None, "heavy-top") if direction.len() == 3 => {
+                    let pi = states[k].spatial_momentum();
+                    vec![pi.iter().zip(&direction).map(|(a, b)| a * b).sum()]
+                }
+                (None, _) => states[k].spatial_momentum().iter().copied().collect(),
+            }
+        };
+        let p0 = conserved(0);
+        let size = p0.iter().map(|x| x.abs()).fold(f64::MIN_POSITIVE, f64::max);
+        let drift = (1..states.len())
+            .map(|k| {
+                let d = conserved(k)
+                    .iter()
+                    .zip(&p0)
+                    .map(|(p, q)| (p - q).abs())
+                    .fold(0.0, f64::max);
+                (states[k].time, d / size)
+            })
+            .collect();
+        series.push(plot::Series {
+            label: "momentum drift (conserved components)".into(),
+            points: drift,
+            style: plot::Style::Line,
+            color: 1,
+        });
+    }
+    plot::Figure {
+        title: format!("{problem_name}: conservation over {} steps", run.steps),
+        x_label: "time t".into(),
+        y_label: "relative error".into(),
+        x_log: false,
+        y_log: true,
+        series,
+        hlines: vec![],
+    }
+}
+
 fn run_simulate(options: SimulateOptions) -> Result<()> {
     let (run, options) = simulate(options)?;
+    if let Some(base) = &options.plot {
+        let name = run.description["system"]
+            .as_str()
+            .unwrap_or("run")
+            .to_string();
+        plot::save(&conservation_figure(&run, &name), base)?;
+    }
     let format = options.format.unwrap_or(config::Format::Json);
     let write = |out: &mut dyn std::io::Write| match format {
         config::Format::Json => output::write_json(&run, out),

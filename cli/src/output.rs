@@ -66,9 +66,18 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
     column(out, "omega", states, |o, _, s| {
         vector(o, s.velocity.as_slice())
     })?;
+    if let Some(motion) = &run.motion {
+        out.write_all(b",")?;
+        column(out, "position", states, |o, k, _| {
+            vector(o, motion[k].position.as_slice())
+        })?;
+    }
     out.write_all(b",")?;
-    column(out, "spatial_momentum", states, |o, _, s| {
-        vector(o, s.spatial_momentum().as_slice())
+    column(out, "spatial_momentum", states, |o, k, s| {
+        match &run.motion {
+            Some(motion) => vector(o, motion[k].spatial_momentum.as_slice()),
+            None => vector(o, s.spatial_momentum().as_slice()),
+        }
     })?;
     let stats = serde_json::json!({
         "steps": run.steps,
@@ -80,17 +89,39 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
     serde_json::to_writer(&mut *out, &stats).map_err(io::Error::other)?;
     out.write_all(b",")?;
     column(out, "times", states, |o, _, s| number(o, s.time))?;
+    if let Some(motion) = &run.motion {
+        out.write_all(b",")?;
+        column(out, "velocity", states, |o, k, _| {
+            vector(o, motion[k].velocity.as_slice())
+        })?;
+    }
+    if let Some(work) = &run.work {
+        out.write_all(b",")?;
+        column(out, "work", states, |o, k, _| number(o, work[k]))?;
+    }
     out.write_all(b"}\n")
 }
 
-/// One row per recorded state.
+/// One row per recorded state: for an SE(3) run `pi` is the angular momentum about the
+/// world origin and the row goes on with the position, the velocity `ẋ` and the linear
+/// momentum; a forced run's rows end with the work done.
 pub fn write_csv<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
     out.write_all(
-        b"t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega_x,omega_y,omega_z,mu_x,mu_y,mu_z,energy,casimir,pi_x,pi_y,pi_z,newton_iterations\n",
+        b"t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega_x,omega_y,omega_z,mu_x,mu_y,mu_z,energy,casimir,pi_x,pi_y,pi_z,newton_iterations",
     )?;
+    if run.motion.is_some() {
+        out.write_all(b",x,y,z,xdot_x,xdot_y,xdot_z,p_x,p_y,p_z")?;
+    }
+    if run.work.is_some() {
+        out.write_all(b",work")?;
+    }
+    out.write_all(b"\n")?;
     for (k, s) in run.trajectory.states.iter().enumerate() {
         write!(out, "{}", s.time)?;
-        let pi = s.spatial_momentum();
+        let pi = match &run.motion {
+            Some(motion) => motion[k].spatial_momentum.fixed_rows::<3>(0).into_owned(),
+            None => s.spatial_momentum(),
+        };
         let values = s
             .attitude()
             .to_row_major()
@@ -102,7 +133,23 @@ pub fn write_csv<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
         for x in values {
             write!(out, ",{x}")?;
         }
-        writeln!(out, ",{}", run.trajectory.newton_iterations[k])?;
+        write!(out, ",{}", run.trajectory.newton_iterations[k])?;
+        if let Some(motion) = &run.motion {
+            let m = &motion[k];
+            let linear = m.spatial_momentum.fixed_rows::<3>(3);
+            for x in m
+                .position
+                .iter()
+                .chain(m.velocity.iter())
+                .chain(linear.iter())
+            {
+                write!(out, ",{x}")?;
+            }
+        }
+        if let Some(work) = &run.work {
+            write!(out, ",{}", work[k])?;
+        }
+        writeln!(out)?;
     }
     Ok(())
 }

@@ -5,11 +5,13 @@ use crate::config::{SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::lie::SO3;
+use lgsvi_mechanics::lie::{SE3, SO3};
 use lgsvi_mechanics::{
-    HeavyTop, Inertia, Integrator, Lagrangian, LagrangianDerivatives, RigidBody, StepSettings,
+    AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
+    Integrator, Lagrangian, LagrangianDerivatives, OrbitingBody, RigidBody, RigidMotions,
+    StepSettings,
 };
-use nalgebra::{Matrix3, RealField, Vector3};
+use nalgebra::{Matrix3, RealField, SVector, Vector3};
 
 /// The paper's parameters per system (`docs/paper-notes.md` §4): case A and case B.
 pub struct Defaults {
@@ -19,8 +21,16 @@ pub struct Defaults {
 
 pub fn defaults(system: SystemKind) -> Defaults {
     let case = crate::cases::case(match system {
-        SystemKind::RigidBody => "A",
+        SystemKind::RigidBody | SystemKind::Se3Body => "A",
         SystemKind::HeavyTop => "B",
+        SystemKind::OrbitingBody => {
+            // The orbiting body's reference case (tests/data/se3_forced_refs.json, O1):
+            // J = diag(0.3, 0.2, 0.4), i.e. J_d = (0.15, 0.25, 0.05).
+            return Defaults {
+                inertia_d: [0.15, 0.25, 0.05],
+                omega0: [0.2, -0.3, 0.5],
+            };
+        }
     });
     Defaults {
         inertia_d: case.inertia_d,
@@ -68,20 +78,20 @@ pub enum System {
 impl Lagrangian for System {
     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
         match self {
-            System::Free(s) => s.lagrangian(r, w),
-            System::Top(s) => s.lagrangian(r, w),
+            System::Free(s) => Lagrangian::lagrangian(s, r, w),
+            System::Top(s) => Lagrangian::lagrangian(s, r, w),
         }
     }
     fn is_left_invariant(&self) -> bool {
         match self {
-            System::Free(s) => s.is_left_invariant(),
-            System::Top(s) => s.is_left_invariant(),
+            System::Free(s) => Lagrangian::is_left_invariant(s),
+            System::Top(s) => Lagrangian::is_left_invariant(s),
         }
     }
     fn velocity_from_momentum(&self, r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
         match self {
-            System::Free(s) => s.velocity_from_momentum(r, mu),
-            System::Top(s) => s.velocity_from_momentum(r, mu),
+            System::Free(s) => Lagrangian::velocity_from_momentum(s, r, mu),
+            System::Top(s) => Lagrangian::velocity_from_momentum(s, r, mu),
         }
     }
     // Forwarded: the built-ins' closed forms are ~10× faster than the default dual numbers.
@@ -93,10 +103,82 @@ impl Lagrangian for System {
     }
 }
 
+/// The torque and damping every system accepts (`--torque`, `--damping`): zero for
+/// neither, and then the steps are the unforced system's, bit for bit.
+pub type Drive = (BodyTorque, AngularDamping);
+
+/// A built-in SO(3) system under the run's torque and damping.
+pub type Driven = Forced<System, Drive>;
+
+/// A built-in SE(3) system.
+#[derive(Debug, Clone, Copy)]
+pub enum MotionSystem {
+    Free(FreeBody),
+    Orbit(OrbitingBody),
+}
+
+impl GroupLagrangian<6> for MotionSystem {
+    type Group = RigidMotions;
+    fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
+        match self {
+            MotionSystem::Free(s) => s.lagrangian(t, g, xi),
+            MotionSystem::Orbit(s) => s.lagrangian(t, g, xi),
+        }
+    }
+    fn is_left_invariant(&self) -> bool {
+        match self {
+            MotionSystem::Free(s) => s.is_left_invariant(),
+            MotionSystem::Orbit(s) => s.is_left_invariant(),
+        }
+    }
+    fn velocity_from_momentum(
+        &self,
+        t: f64,
+        g: &SE3,
+        mu: &SVector<f64, 6>,
+    ) -> Option<SVector<f64, 6>> {
+        match self {
+            MotionSystem::Free(s) => s.velocity_from_momentum(t, g, mu),
+            MotionSystem::Orbit(s) => s.velocity_from_momentum(t, g, mu),
+        }
+    }
+}
+
+/// An SE(3) run: the system under the run's torque and damping, and its start.
+#[derive(Debug, Clone, Copy)]
+pub struct Motion {
+    pub system: Forced<MotionSystem, Drive>,
+    pub start: SE3,
+    pub velocity0: SVector<f64, 6>,
+}
+
+impl Motion {
+    /// An integrator in the settings' chart.
+    pub fn integrator(
+        &self,
+        settings: StepSettings,
+    ) -> Result<Integrator<Forced<MotionSystem, Drive>, lgsvi_mechanics::lie::ChartKind, 6>> {
+        let chart = settings.chart();
+        debug_assert_eq!(
+            GroupChart::<RigidMotions, 6>::name(&chart),
+            chart.to_string()
+        );
+        Ok(Integrator::new(
+            self.system,
+            settings,
+            self.start,
+            self.velocity0,
+        )?)
+    }
+}
+
 /// Everything a run needs.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    pub system: System,
+    /// The SO(3) system (for an SE(3) run, its rotational part as a free body: unused).
+    pub system: Driven,
+    /// The SE(3) run, for `--system se3-body` and `orbiting-body`.
+    pub motion: Option<Motion>,
     pub inertia: Inertia,
     pub attitude0: SO3,
     pub omega0: Vector3<f64>,
@@ -117,19 +199,46 @@ impl Problem {
         if options.omega0.is_none() {
             options.omega0 = Some(d.omega0);
         }
-        let inertia = match (options.inertia, options.inertia_d) {
-            (Some(j), None) => {
+        let inertia = match (options.inertia, options.inertia_d, options.inertia_tensor) {
+            (Some(j), None, None) => {
                 Inertia::from_principal_moments(j).map_err(|source| CliError::Input {
                     flag: "--inertia",
                     source,
                 })?
             }
-            (None, Some(jd)) => Inertia::from_paper_jd(jd).map_err(|source| CliError::Input {
-                flag: "--inertia-d",
-                source,
-            })?,
-            (None, None) => Inertia::from_paper_jd(d.inertia_d)?,
-            (Some(_), Some(_)) => return Err(CliError::Conflict("--inertia", "--inertia-d")),
+            (None, Some(jd), None) => {
+                Inertia::from_paper_jd(jd).map_err(|source| CliError::Input {
+                    flag: "--inertia-d",
+                    source,
+                })?
+            }
+            (None, None, Some(t)) => {
+                Inertia::from_tensor(Matrix3::from_row_slice(&t)).map_err(|source| {
+                    CliError::Input {
+                        flag: "--inertia-tensor",
+                        source,
+                    }
+                })?
+            }
+            (None, None, None) => Inertia::from_paper_jd(d.inertia_d)?,
+            (Some(_), Some(_), _) => return Err(CliError::Conflict("--inertia", "--inertia-d")),
+            (Some(_), _, Some(_)) => {
+                return Err(CliError::Conflict("--inertia", "--inertia-tensor"))
+            }
+            (_, Some(_), Some(_)) => {
+                return Err(CliError::Conflict("--inertia-d", "--inertia-tensor"))
+            }
+        };
+        let name = match kind {
+            SystemKind::RigidBody => "rigid-body",
+            SystemKind::HeavyTop => "heavy-top",
+            SystemKind::Se3Body => "se3-body",
+            SystemKind::OrbitingBody => "orbiting-body",
+        };
+        let not_for = |flag: &'static str, applies: &'static str| CliError::NotForSystem {
+            flag,
+            system: name,
+            applies,
         };
         if kind == SystemKind::RigidBody {
             for (flag, given) in [
@@ -143,6 +252,45 @@ impl Problem {
                 }
             }
         }
+        if kind.is_rigid_motion() {
+            for (flag, given) in [
+                ("--gravity", options.gravity.is_some()),
+                ("--com", options.com.is_some()),
+                ("--gravity-direction", options.gravity_direction.is_some()),
+            ] {
+                if given {
+                    return Err(not_for(flag, "the heavy top (--system heavy-top)"));
+                }
+            }
+            if options.exact {
+                return Err(not_for(
+                    "--exact",
+                    "the free rigid body (--system rigid-body)",
+                ));
+            }
+        } else {
+            for (flag, given) in [
+                ("--position0", options.position0.is_some()),
+                ("--velocity0", options.velocity0.is_some()),
+            ] {
+                if given {
+                    return Err(not_for(flag, "se3-body and orbiting-body"));
+                }
+            }
+        }
+        if options.mu.is_some() && kind != SystemKind::OrbitingBody {
+            return Err(not_for("--mu", "orbiting-body"));
+        }
+        let torque = Vector3::from(options.torque.unwrap_or([0.0; 3]));
+        let damping = options.damping.unwrap_or(0.0);
+        if !(damping.is_finite() && damping >= 0.0) {
+            return Err(CliError::Invalid {
+                flag: "--damping",
+                value: damping.to_string(),
+                reason: "the damping c of the torque −cΩ must be finite and non-negative".into(),
+            });
+        }
+        let drive: Drive = (BodyTorque(torque), AngularDamping(damping));
         let h = options.h.unwrap_or(0.5);
         let nodes = options.nodes.unwrap_or(10);
         let mut settings = StepSettings::new(h, nodes)?;
@@ -175,16 +323,61 @@ impl Problem {
         let inertia_j = options.inertia.unwrap_or(inertia.principal_moments());
         let inertia_jd = options
             .inertia_d
-            .or(options.inertia.is_none().then_some(d.inertia_d))
+            .or(
+                (options.inertia.is_none() && options.inertia_tensor.is_none())
+                    .then_some(d.inertia_d),
+            )
             .unwrap_or(inertia.paper_jd());
         let mut description = serde_json::json!({
             "inertia_J": inertia_j,
             "inertia_Jd": inertia_jd,
             "omega0": options.omega0,
         });
+        if let Some(t) = options.inertia_tensor {
+            description["inertia_tensor"] = t.as_slice().into();
+        }
+        if options.torque.is_some() {
+            description["torque"] = torque.as_slice().into();
+        }
+        if options.damping.is_some() {
+            description["damping"] = damping.into();
+        }
+        description["system"] = name.into();
+        let mut motion = None;
         let system = match kind {
-            SystemKind::RigidBody => {
-                description["system"] = "rigid-body".into();
+            SystemKind::RigidBody => System::Free(RigidBody::new(inertia)),
+            SystemKind::Se3Body | SystemKind::OrbitingBody => {
+                let orbiting = kind == SystemKind::OrbitingBody;
+                let mass = options.mass.unwrap_or(1.0);
+                let input = |flag| move |source| CliError::Input { flag, source };
+                let (x0, v0) = if orbiting {
+                    ([3.0, 0.0, 0.0], [0.0, 0.55, 0.05])
+                } else {
+                    ([0.0; 3], [0.0; 3])
+                };
+                let position = Vector3::from(options.position0.unwrap_or(x0));
+                let velocity = Vector3::from(options.velocity0.unwrap_or(v0));
+                let inner = if orbiting {
+                    let mu = options.mu.unwrap_or(1.0);
+                    description["mu"] = mu.into();
+                    MotionSystem::Orbit(
+                        OrbitingBody::new(inertia, mass, mu).map_err(input("--mass/--mu"))?,
+                    )
+                } else {
+                    MotionSystem::Free(FreeBody::new(inertia, mass).map_err(input("--mass"))?)
+                };
+                description["mass"] = mass.into();
+                description["position0"] = position.as_slice().into();
+                description["velocity0"] = velocity.as_slice().into();
+                let attitude = options.attitude()?;
+                let omega = Vector3::from(options.omega0.unwrap_or(d.omega0));
+                // Body velocities: (Ω, v) with ẋ = R v.
+                let v = attitude.matrix().transpose() * velocity;
+                motion = Some(Motion {
+                    system: Forced::new(inner, drive),
+                    start: SE3::new(attitude, position),
+                    velocity0: SVector::<f64, 6>::new(omega.x, omega.y, omega.z, v.x, v.y, v.z),
+                });
                 System::Free(RigidBody::new(inertia))
             }
             SystemKind::HeavyTop => {
@@ -197,7 +390,6 @@ impl Problem {
                 let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
                 let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
                 let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
-                description["system"] = "heavy-top".into();
                 description["mass"] = mass.into();
                 description["gravity"] = gravity.into();
                 description["com"] = com.as_slice().into();
@@ -206,7 +398,8 @@ impl Problem {
             }
         };
         let problem = Problem {
-            system,
+            system: Forced::new(system, drive),
+            motion,
             inertia,
             attitude0: options.attitude()?,
             omega0: Vector3::from(options.omega0.unwrap_or(d.omega0)),
@@ -230,8 +423,8 @@ impl Problem {
         })
     }
 
-    /// An integrator for this problem with other settings.
-    pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<System>> {
+    /// An integrator for this problem with other settings (SO(3) systems).
+    pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<Driven>> {
         Ok(Integrator::new(
             self.system,
             settings,
@@ -250,9 +443,9 @@ impl Problem {
         )
     }
 
-    /// Whether the system is a free body (a heavy top without weight counts).
+    /// Whether the system is a free, unforced body (a heavy top without weight counts).
     pub fn is_free(&self) -> bool {
-        self.system.is_left_invariant()
+        self.system.is_left_invariant() && !self.system.is_forced()
     }
 
     /// The exact solution, for a free body.

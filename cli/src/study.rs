@@ -623,6 +623,18 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
         }
     }
     let (problem, base) = Problem::resolve(options.base)?;
+    if problem.motion.is_some() {
+        return Err(CliError::NotForSystem {
+            flag: "converge",
+            system: if base.system() == crate::config::SystemKind::OrbitingBody {
+                "orbiting-body"
+            } else {
+                "se3-body"
+            },
+            applies:
+                "the SO(3) systems (rigid-body, heavy-top) today; run SE(3) systems with simulate",
+        });
+    }
     let kind = options.study.unwrap_or(StudyKind::Both);
     let [first, last] = options.nodes_range.unwrap_or([2, 16]);
     // Values from a config file did not pass the flags' parsers.

@@ -718,3 +718,187 @@ fn an_unfinished_reproduce_is_marked_incomplete() {
     assert!(dir.join("fig1_rigid_body_n_refinement.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+fn reference_number(v: &serde_json::Value) -> f64 {
+    v.as_str().unwrap().parse().unwrap()
+}
+
+fn floats(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+/// `simulate --system orbiting-body` with its defaults is the reference case O1
+/// (`tests/data/se3_forced_refs.json`): R, Ω, x, ẋ at t = 10 to 1e-12 (h = 0.5, n = 12),
+/// in both charts; the JSON carries `position`, `velocity` and the six spatial momenta,
+/// whose angular part (the total angular momentum) is conserved to rounding.
+#[test]
+fn orbiting_body_from_the_command_line_matches_the_reference() {
+    let refs: serde_json::Value =
+        serde_json::from_str(include_str!("../../tests/data/se3_forced_refs.json")).unwrap();
+    let states = refs["cases"]["O1"]["states"].as_array().unwrap();
+    let at10 = states
+        .iter()
+        .find(|s| reference_number(&s["t"]) == 10.0)
+        .unwrap();
+    let expect = |key: &str| -> Vec<f64> {
+        at10[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(reference_number)
+            .collect()
+    };
+    for chart in ["exp", "cayley"] {
+        let (code, out, err) = lgsvi(&[
+            "simulate",
+            "--system",
+            "orbiting-body",
+            "--h",
+            "0.5",
+            "--nodes",
+            "12",
+            "--chart",
+            chart,
+            "--t-end",
+            "10",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let last = |key: &str| floats(v[key].as_array().unwrap().last().unwrap());
+        for (key, reference) in [
+            ("R", "R"),
+            ("omega", "omega"),
+            ("position", "position"),
+            ("velocity", "velocity"),
+        ] {
+            let error = last(key)
+                .iter()
+                .zip(expect(reference))
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(error < 1e-12, "{chart} {key}: {error:e}");
+        }
+        let first = floats(&v["spatial_momentum"][0]);
+        let drift = last("spatial_momentum")
+            .iter()
+            .zip(&first)
+            .take(3)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert_eq!(first.len(), 6);
+        assert!(drift < 1e-14, "{chart}: angular momentum drift {drift:e}");
+    }
+}
+
+/// The new example configs run; the forced one reports its work, and the energy balance
+/// E(t) − E(0) = W(t) holds to the method's accuracy (h = 0.25, n = 10: ~1e-12).
+#[test]
+fn se3_and_forced_configs_run_and_balance_energy() {
+    let path = |name: &str| format!("{}/../configs/{name}", env!("CARGO_MANIFEST_DIR"));
+    let (code, out, err) = lgsvi(&[
+        "simulate",
+        "--config",
+        &path("orbiting_body.toml"),
+        "--t-end",
+        "1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["position"].as_array().unwrap().len(), 3);
+    assert!(
+        v.get("work").is_none(),
+        "an unforced run has no work column"
+    );
+
+    let (code, out, err) = lgsvi(&["simulate", "--config", &path("forced_rigid_body.toml")]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let energy = floats(&v["energy"]);
+    let work = floats(&v["work"]);
+    assert!(work.last().unwrap().abs() > 0.1, "the torque does work");
+    for (e, w) in energy.iter().zip(&work) {
+        assert!(
+            (e - energy[0] - w).abs() < 1e-10,
+            "balance {e} − {} vs {w}",
+            energy[0]
+        );
+    }
+
+    let (code, out, err) = lgsvi(&["simulate", "--config", &path("se3_body.toml")]);
+    assert_eq!(code, 0, "{err}");
+    let mut lines = out.lines();
+    let header = lines.next().unwrap();
+    assert!(
+        header.ends_with("newton_iterations,x,y,z,xdot_x,xdot_y,xdot_z,p_x,p_y,p_z"),
+        "{header}"
+    );
+    // The centre of mass moves in a straight line: x(10) = 10 ẋ(0).
+    let last: Vec<f64> = lines
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let n = last.len();
+    assert!(
+        (last[n - 9] - 5.0).abs() < 1e-12 && (last[n - 7] - 1.0).abs() < 1e-12,
+        "{last:?}"
+    );
+}
+
+/// Flags that do not apply to the chosen system, and non-physical values, are refused in
+/// one line that names the flag.
+#[test]
+fn se3_and_forcing_flags_are_checked() {
+    for (args, needle) in [
+        (vec!["simulate", "--mu", "2"], "--mu"),
+        (
+            vec!["simulate", "--system", "heavy-top", "--position0", "1,0,0"],
+            "--position0",
+        ),
+        (
+            vec!["simulate", "--system", "orbiting-body", "--gravity", "9.81"],
+            "--gravity",
+        ),
+        (
+            vec!["simulate", "--system", "se3-body", "--exact"],
+            "--exact",
+        ),
+        (vec!["simulate", "--damping", "-1"], "--damping"),
+        (
+            vec!["simulate", "--system", "se3-body", "--mass", "0"],
+            "mass",
+        ),
+        (
+            vec!["simulate", "--system", "orbiting-body", "--mu", "-1"],
+            "mu",
+        ),
+        (
+            vec!["simulate", "--inertia-tensor", "1,0.5,0,0,1,0,0,0,1"],
+            "not symmetric",
+        ),
+        (
+            vec!["simulate", "--inertia-tensor", "1,2,0,2,1,0,0,0,1"],
+            "positive definite",
+        ),
+        (
+            vec![
+                "simulate",
+                "--inertia-tensor",
+                "1,0,0,0,1,0,0,0,1",
+                "--inertia",
+                "1,1,1",
+            ],
+            "--inertia",
+        ),
+    ] {
+        let (code, _, err) = lgsvi(&args);
+        assert_ne!(code, 0, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}

@@ -6,3 +6,10 @@ cd "$(dirname "$0")/../.."
 out=target/samples
 cargo run --release --bin lgsvi -- reproduce --quiet --out "$out"
 cp "$out/fig1_rigid_body_n_refinement.svg" "$out/fig2_rigid_body_h_refinement.svg" docs/samples/
+# The SE(3) and forced-body conservation figures (`simulate --plot`; 10⁴ steps each,
+# about 16 s and 1 s).
+cargo run --release --bin lgsvi -- simulate --quiet --system orbiting-body --h 0.5 --nodes 8 \
+    --t-end 5000 --every 10 --plot docs/samples/orbiting_body_conservation --out /dev/null
+cargo run --release --bin lgsvi -- simulate --quiet --config configs/forced_rigid_body.toml \
+    --t-end 2500 --every 40 --plot docs/samples/forced_energy_balance --out /dev/null
+rm -f docs/samples/orbiting_body_conservation.png docs/samples/forced_energy_balance.png

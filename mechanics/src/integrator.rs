@@ -325,6 +325,10 @@ pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> 
     /// its start, when the flow could be integrated: the check against aliased roots.
     flow_end: Option<ElementOf<S, D>>,
     statistics: Statistics,
+    /// The work of the forces since the start (or the last reset), summed with Kahan's
+    /// compensation (`work_carry`): a long forced run adds millions of terms.
+    work_done: f64,
+    work_carry: f64,
 }
 
 impl<S: GroupLagrangian<D>, const D: usize> Integrator<S, ChartKind, D>
@@ -410,6 +414,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             last_base: configuration,
             flow_end: None,
             statistics: Statistics::default(),
+            work_done: 0.0,
+            work_carry: 0.0,
         })
     }
 
@@ -443,6 +449,39 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// Newton statistics so far.
     pub fn statistics(&self) -> &Statistics {
         &self.statistics
+    }
+
+    /// The work `W = ∫ ⟨F, ξ⟩ dt` done by the forces (the system's and the control
+    /// input) since the start or the last [`Integrator::reset`], each step's integral
+    /// taken by the step's own quadrature along its Galerkin curve: the discrete work of
+    /// the Lagrange–d'Alembert step, so that `E(t) − E(0) = W(t)` holds to the method's
+    /// accuracy (the energy balance). Zero for an unforced run.
+    pub fn work_done(&self) -> f64 {
+        self.work_done
+    }
+
+    /// The work of the forces over the step just solved (nodes in `work.xi`, from `base`
+    /// at the step's start `time`), by the step's quadrature.
+    fn step_work(&self, base: &ElementOf<S, D>, time: f64, input: &SVector<f64, D>) -> f64 {
+        let d = &self.discretisation;
+        let mut total = 0.0;
+        for j in 0..d.m {
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            let mut x = SVector::<f64, D>::zeros();
+            let mut v = SVector::<f64, D>::zeros();
+            for i in 1..d.n {
+                x += self.work.xi[i] * values[i];
+                v += self.work.xi[i] * slopes[i];
+            }
+            let velocity = self.chart.left_differential(&x) * v;
+            let mut force = *input;
+            if self.system.is_forced() {
+                let g = base.compose(&self.chart.to_group(&x));
+                force += self.system.force(time + d.times[j], &g, &velocity);
+            }
+            total += d.weights[j] * force.dot(&velocity);
+        }
+        total
     }
 
     /// Sets the control input: a generalised force (for SO(3) a body torque; for SE(3)
@@ -509,6 +548,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         };
         self.origin = time;
         self.step_index = 0;
+        self.work_done = 0.0;
+        self.work_carry = 0.0;
         self.previous_velocity = None;
         self.last_base = configuration;
         self.flow_end = None;
@@ -742,6 +783,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             &self.state.velocity,
         )?;
         check_finite("momentum after the step", outcome.momentum.as_slice())?;
+        if let Some(input) = self.forcing() {
+            let term = self.step_work(&base, self.state.time, &input) - self.work_carry;
+            let sum = self.work_done + term;
+            self.work_carry = (sum - self.work_done) - term;
+            self.work_done = sum;
+        }
         self.last_base = self.state.configuration;
         self.last_nodes.copy_from_slice(&self.work.xi);
         self.previous_velocity = Some(self.state.velocity);

@@ -78,4 +78,64 @@ fn stepping_does_not_allocate() {
             );
         }
     }
+    control_loops_and_se3_steps_do_not_allocate();
+}
+
+/// The control loop allocates nothing either: setting an input, stepping a forced SO(3)
+/// body, and stepping the SE(3) orbiting body (the generic chain rule) with a wrench.
+/// Called from the one test of this binary (a second test would allocate concurrently).
+fn control_loops_and_se3_steps_do_not_allocate() {
+    use lgsvi_lie::SE3;
+    use lgsvi_mechanics::{AngularDamping, BodyTorque, Forced, OrbitingBody};
+    use nalgebra::SVector;
+    let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap();
+    let forced = Forced::new(
+        RigidBody::new(inertia),
+        (
+            BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
+            AngularDamping(0.1),
+        ),
+    );
+    let mut it = Integrator::new(
+        forced,
+        StepSettings::new(0.25, 8).unwrap(),
+        SO3::identity(),
+        Vector3::new(-2.0, 1.9, -1.0),
+    )
+    .unwrap();
+    it.step().unwrap();
+    let n = count(|| {
+        for k in 0..20 {
+            let w = it.state().velocity;
+            it.set_input(-w * (0.01 * k as f64)).unwrap();
+            it.step().unwrap();
+        }
+    });
+    assert_eq!(
+        n, 0,
+        "forced SO(3) control loop: {n} allocations in 20 steps"
+    );
+
+    let orbit = OrbitingBody::new(
+        Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap(),
+        1.0,
+        1.0,
+    )
+    .unwrap();
+    let mut it = Integrator::new(
+        orbit,
+        StepSettings::new(0.5, 6).unwrap(),
+        SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0)),
+        SVector::<f64, 6>::new(0.2, -0.3, 0.5, 0.0, 0.55, 0.05),
+    )
+    .unwrap();
+    it.step().unwrap();
+    let n = count(|| {
+        for _ in 0..10 {
+            it.set_input(SVector::<f64, 6>::new(0.0, 0.0, 1e-3, 1e-3, 0.0, 0.0))
+                .unwrap();
+            it.step().unwrap();
+        }
+    });
+    assert_eq!(n, 0, "SE(3) orbiting body: {n} allocations in 10 steps");
 }

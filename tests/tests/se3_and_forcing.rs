@@ -101,17 +101,19 @@ fn constant_torque_matches_the_reference_and_balances_energy() {
     )
     .unwrap();
     let e0 = it.state().energy(&body);
-    let (mut er, mut ew, mut ebal) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut er, mut ew, mut ebal, mut ework) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for s in states("F1") {
         it.run_until(num(&s["t"]), 1).unwrap();
         let st = it.state();
         er = er.max((st.attitude().matrix() - Matrix3::from_row_slice(&nums(&s["R"]))).amax());
         ew = ew.max((st.velocity - vec3(&s["omega"])).amax());
         ebal = ebal.max((st.energy(&body) - e0 - num(&s["work"])).abs());
+        // The integrator's own account of the work, by each step's quadrature.
+        ework = ework.max((it.work_done() - num(&s["work"])).abs());
     }
     assert!(
-        er < 1e-12 && ew < 1e-12 && ebal < 1e-12,
-        "R {er:e}, Ω {ew:e}, balance {ebal:e}"
+        er < 1e-12 && ew < 1e-12 && ebal < 1e-12 && ework < 1e-12,
+        "R {er:e}, Ω {ew:e}, balance {ebal:e}, work {ework:e}"
     );
 }
 
