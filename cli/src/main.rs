@@ -111,69 +111,124 @@ fn integrate(problem: &Problem) -> Result<Run> {
     }
     let mut integrator = problem.integrator(problem.settings)?;
     let steps = integrator.steps_until(problem.t_end)?;
-    let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let system = *integrator.system();
     let forced = lgsvi_mechanics::GroupLagrangian::is_forced(&system);
     let mut trajectory = Trajectory::default();
     let mut energies = Vec::new();
     let mut work = Vec::new();
-    let mut record = |k: usize, state: &State, iterations: usize, done: f64| -> Result<()> {
-        let energy = state.energy(&system);
-        check_finite_state(k, state, energy)?;
-        trajectory.states.push(*state);
-        trajectory.newton_iterations.push(iterations);
-        energies.push(energy);
-        work.push(done);
-        Ok(())
-    };
-    record(0, integrator.state(), 0, 0.0)?;
-    // The integration alone is timed: not the checks, the recording or the output.
+    // Every state is checked; the recorded ones (`iterations` given) are kept.
+    let mut record =
+        |k: usize, state: &State, iterations: Option<usize>, done: f64| -> Result<()> {
+            let energy = state.energy(&system);
+            check_finite_state(k, state, energy)?;
+            let Some(iterations) = iterations else {
+                return Ok(());
+            };
+            trajectory.states.push(*state);
+            trajectory.newton_iterations.push(iterations);
+            energies.push(energy);
+            work.push(done);
+            Ok(())
+        };
+    record(0, integrator.state(), Some(0), 0.0)?;
+    let wall_time = step_through(&mut integrator, problem, steps, &mut record)?;
+    let work = forced.then_some(work);
+    Ok(integrated(
+        problem,
+        &integrator,
+        trajectory,
+        energies,
+        work,
+        None,
+        wall_time,
+    ))
+}
+
+/// Steps `integrator` to step `steps` with a progress bar, calling
+/// `visit(k, state, Some(iterations), work done)` at the recorded steps (every
+/// `problem.every`-th and the last) and `visit(k, state, None, _)` at the others (to check
+/// them); returns the wall time of the integration alone (not the checks, the recording
+/// or the output).
+fn step_through<S, C, const D: usize>(
+    integrator: &mut lgsvi_mechanics::Integrator<S, C, D>,
+    problem: &Problem,
+    steps: usize,
+    mut visit: impl FnMut(
+        usize,
+        &State<lgsvi_mechanics::ElementOf<S, D>, D>,
+        Option<usize>,
+        f64,
+    ) -> Result<()>,
+) -> Result<std::time::Duration>
+where
+    S: lgsvi_mechanics::GroupLagrangian<D>,
+    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+{
+    let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut wall_time = std::time::Duration::ZERO;
     for k in 1..=steps {
         let start = Instant::now();
         let iterations = integrator.step()?;
         wall_time += start.elapsed();
-        let state = integrator.state();
-        if k % problem.every == 0 || k == steps {
-            record(k, state, iterations, integrator.work_done())?;
-        } else {
-            check_finite_state(k, state, state.energy(&system))?;
-        }
+        let recorded = k % problem.every == 0 || k == steps;
+        visit(
+            k,
+            integrator.state(),
+            recorded.then_some(iterations),
+            integrator.work_done(),
+        )?;
         if k % 64 == 0 {
             progress.set_position(k as u64);
         }
     }
     progress.finish_and_clear();
+    Ok(wall_time)
+}
+
+/// The run of an integration: its records, statistics and description.
+fn integrated<S, C, const D: usize>(
+    problem: &Problem,
+    integrator: &lgsvi_mechanics::Integrator<S, C, D>,
+    trajectory: Trajectory,
+    energies: Vec<f64>,
+    work: Option<Vec<f64>>,
+    motion: Option<Vec<MotionRecord>>,
+    wall_time: std::time::Duration,
+) -> Run
+where
+    S: lgsvi_mechanics::GroupLagrangian<D>,
+    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+{
     let stats = integrator.statistics();
     let mut description = problem.description.clone();
     description["settings"] =
         Problem::settings_json(&problem.settings, problem.t_end, problem.every);
     description["solution"] = "integrator".into();
-    Ok(Run {
+    Run {
         trajectory,
         energies,
-        work: forced.then_some(work),
-        motion: None,
+        work,
+        motion,
         wall_time_s: wall_time.as_secs_f64(),
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
         max_newton_iterations: stats.max_newton_iterations,
         description,
-    })
+    }
 }
 
 /// An SE(3) run: the rotational part as the SO(3) columns, the translation beside them.
 fn integrate_motion(problem: &Problem, motion: &problem::Motion) -> Result<Run> {
     let mut integrator = motion.integrator(problem.settings)?;
     let steps = integrator.steps_until(problem.t_end)?;
-    let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let system = *integrator.system();
     let forced = lgsvi_mechanics::GroupLagrangian::is_forced(&system);
     let mut trajectory = Trajectory::default();
     let (mut energies, mut work, mut records) = (Vec::new(), Vec::new(), Vec::new());
+    // Every state is checked; the recorded ones (`iterations` given) are kept.
     let mut record = |k: usize,
                       state: &lgsvi_mechanics::State<lgsvi_mechanics::lie::SE3, 6>,
-                      iterations: usize,
+                      iterations: Option<usize>,
                       done: f64|
      -> Result<()> {
         let energy = state.energy(&system);
@@ -198,6 +253,9 @@ fn integrate_motion(problem: &Problem, motion: &problem::Motion) -> Result<Run> 
                 values: format!("{translation:?}"),
             });
         }
+        let Some(iterations) = iterations else {
+            return Ok(());
+        };
         trajectory.states.push(rotation);
         trajectory.newton_iterations.push(iterations);
         energies.push(energy);
@@ -205,36 +263,18 @@ fn integrate_motion(problem: &Problem, motion: &problem::Motion) -> Result<Run> 
         records.push(entry);
         Ok(())
     };
-    record(0, integrator.state(), 0, 0.0)?;
-    let mut wall_time = std::time::Duration::ZERO;
-    for k in 1..=steps {
-        let start = Instant::now();
-        let iterations = integrator.step()?;
-        wall_time += start.elapsed();
-        if k % problem.every == 0 || k == steps {
-            record(k, integrator.state(), iterations, integrator.work_done())?;
-        }
-        if k % 64 == 0 {
-            progress.set_position(k as u64);
-        }
-    }
-    progress.finish_and_clear();
-    let stats = integrator.statistics();
-    let mut description = problem.description.clone();
-    description["settings"] =
-        Problem::settings_json(&problem.settings, problem.t_end, problem.every);
-    description["solution"] = "integrator".into();
-    Ok(Run {
+    record(0, integrator.state(), Some(0), 0.0)?;
+    let wall_time = step_through(&mut integrator, problem, steps, &mut record)?;
+    let work = forced.then_some(work);
+    Ok(integrated(
+        problem,
+        &integrator,
         trajectory,
         energies,
-        work: forced.then_some(work),
-        motion: Some(records),
-        wall_time_s: wall_time.as_secs_f64(),
-        steps: stats.steps,
-        newton_iterations: stats.newton_iterations,
-        max_newton_iterations: stats.max_newton_iterations,
-        description,
-    })
+        work,
+        Some(records),
+        wall_time,
+    ))
 }
 
 /// The exact free-body solution at the times the integrator would record.

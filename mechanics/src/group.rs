@@ -94,6 +94,20 @@ pub struct Stacked<const N: usize> {
     pub hessian: SMatrix<f64, N, N>,
 }
 
+/// `(x, v, 0)` stacked into `N` variables, and how many of them are live: `3D` with the
+/// configuration variables, else `2D`.
+fn stacked<const N: usize>(
+    x: &[f64],
+    v: &[f64],
+    with_configuration: bool,
+) -> (SVector<f64, N>, usize) {
+    let d = x.len();
+    let mut y = SVector::<f64, N>::zeros();
+    y.as_mut_slice()[..d].copy_from_slice(x);
+    y.as_mut_slice()[d..2 * d].copy_from_slice(v);
+    (y, if with_configuration { 3 * d } else { 2 * d })
+}
+
 impl<const N: usize> PointJet for Stacked<N> {
     fn zeros() -> Self {
         Self {
@@ -125,11 +139,7 @@ impl<const N: usize> PointJet for Stacked<N> {
         v: &[f64],
         with_configuration: bool,
     ) {
-        let d = x.len();
-        let k = if with_configuration { 3 * d } else { 2 * d };
-        let mut y = SVector::<f64, N>::zeros();
-        y.as_mut_slice()[..d].copy_from_slice(x);
-        y.as_mut_slice()[d..2 * d].copy_from_slice(v);
+        let (y, k) = stacked::<N>(x, v, with_configuration);
         let (_, gradient, hessian) = num_dual::hessian(
             |y: SVector<Dual2SVec64<N>, N>| f.eval(&y.as_slice()[..k]),
             &y,
@@ -144,11 +154,7 @@ impl<const N: usize> PointJet for Stacked<N> {
         v: &[f64],
         with_configuration: bool,
     ) {
-        let d = x.len();
-        let k = if with_configuration { 3 * d } else { 2 * d };
-        let mut y = SVector::<f64, N>::zeros();
-        y.as_mut_slice()[..d].copy_from_slice(x);
-        y.as_mut_slice()[d..2 * d].copy_from_slice(v);
+        let (y, k) = stacked::<N>(x, v, with_configuration);
         let (_, gradient) = num_dual::gradient(
             |y: SVector<DualSVec64<N>, N>| f.eval(&y.as_slice()[..k]),
             &y,

@@ -1,6 +1,12 @@
-//! Lie group spectral variational integrators (Hall & Leok) for rigid bodies on SO(3).
+//! Lie group spectral variational integrators (Hall & Leok) for rotating and moving
+//! bodies: one core for any Lie group and chart ([`group`]), with systems on SO(3)
+//! ([`RigidBody`], [`HeavyTop`], [`RigidBodyInPotential`]) and SE(3) ([`FreeBody`],
+//! [`OrbitingBody`], [`BodyInField`]), forces and control inputs by the discrete
+//! Lagrange–d'Alembert principle ([`Forced`], [`Integrator::set_input`]) and full inertia
+//! tensors ([`Inertia::from_tensor`]).
 //!
-//! # The method
+//! # The method (written here for SO(3); on any group `R` is `g`, `Ω` is `ξ`, and `Rμ`
+//! is the coadjoint `Ad_{g⁻¹}ᵀ μ`)
 //! A step from `(R_k, μ_k)` looks for a curve `R(t) = R_k Φ(ξ(t))` in a natural chart
 //! (`Φ`: exp, Cayley, or the paper's unscaled Cayley), with `ξ(t)` a polynomial on `n`
 //! Chebyshev–Lobatto nodes of `[0, h]` (`ξ¹ = 0`), that makes the discrete action
@@ -88,5 +94,6 @@ pub use settings::{
     DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES, MAX_QUADRATURE_POINTS, STEP_RANGE,
 };
 pub use system::{
-    AngularDamping, BodyTorque, ElementOf, Forced, Forcing, GroupLagrangian, SpaceForce,
+    AngularDamping, BodyTorque, ElementOf, ForceOfTime, Forced, Forcing, GroupLagrangian,
+    SpaceForce,
 };

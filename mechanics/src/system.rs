@@ -247,6 +247,39 @@ impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usiz
     }
 }
 
+/// A generalised force given as a closure of time alone, `t ↦ F(t)` (for SO(3) a body
+/// torque, for SE(3) `(body torque, body force)`), on any group: a feed-forward profile or
+/// a disturbance. Exact in Newton (it does not depend on the state); for a force that
+/// depends on the state, implement [`Forcing`] (generic over the scalar) instead.
+///
+/// ```
+/// use lgsvi_mechanics::{Forced, ForceOfTime, Inertia, Integrator, RigidBody, StepSettings};
+/// use lgsvi_mechanics::lie::SO3;
+/// use nalgebra::Vector3;
+/// // A torque pulse about z for the first second spins a sphere up to Ω_z = τ t / J.
+/// let pulse = ForceOfTime(|t: f64| Vector3::new(0.0, 0.0, if t < 1.0 { 0.2 } else { 0.0 }));
+/// let body = RigidBody::new(Inertia::from_principal_moments([2.0, 2.0, 2.0])?);
+/// let mut it = Integrator::new(Forced::new(body, pulse), StepSettings::new(0.25, 6)?, SO3::identity(), Vector3::zeros())?;
+/// it.run(8, 1)?;
+/// assert!((it.state().velocity.z - 0.1).abs() < 1e-14);
+/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct ForceOfTime<F>(pub F);
+
+impl<G: ConfigurationGroup<D>, F: Fn(f64) -> SVector<f64, D>, const D: usize> Forcing<G, D>
+    for ForceOfTime<F>
+{
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        _g: &G::Element<T>,
+        _xi: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        (self.0)(time).map(nalgebra::convert)
+    }
+}
+
 /// A constant body-frame torque `τ` (N·m), on SO(3) and SE(3).
 ///
 /// ```

@@ -7,10 +7,9 @@
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
 //! `n²m` small block sums.
 
-use super::matching::MatchingTerms;
 use super::points::{point_derivatives, EllTilde};
 use super::tables::Discretisation;
-use super::{Element, Stepper};
+use super::{Element, MatchingTerms, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::NewtonJacobian;

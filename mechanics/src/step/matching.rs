@@ -19,29 +19,13 @@
 //! not the derivative of the discrete Lagrangian, so momenta and energy drift.
 
 use super::assembly::WorkspaceOf;
-use super::{Element, StepOutcome, Stepper};
+use super::{Element, MatchingTerms, StepOutcome, Stepper};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::GroupLagrangian;
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualSVec64;
-
-/// `w` of the exact matching and `A(ξⁿ)ᵀ Ad_{Φ(ξⁿ)}ᵀ`, from the last assembly.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct MatchingTerms<const D: usize> {
-    pub w: SVector<f64, D>,
-    pub transport: SMatrix<f64, D, D>,
-}
-
-impl<const D: usize> Default for MatchingTerms<D> {
-    fn default() -> Self {
-        Self {
-            w: SVector::zeros(),
-            transport: SMatrix::zeros(),
-        }
-    }
-}
 
 /// `Ad_{Φ(x)⁻¹}ᵀ`: takes a configuration force at a Gauss point to the step's start.
 fn coadjoint_to_start<G: ConfigurationGroup<D>, const D: usize>(
@@ -88,7 +72,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         }
         let (a_n, phi_n) = (chart.left_differential(&xi_n), chart.to_group(&xi_n));
         let transport = a_n.transpose() * phi_n.adjoint().transpose();
-        work.matching = super::matching::MatchingTerms { w, transport };
+        work.matching = MatchingTerms { w, transport };
         match self.settings.matching() {
             Matching::Exact => {
                 let scale = Self::gradient_scale(work, n - 1).max((transport * w).amax());

@@ -31,7 +31,7 @@ pub(crate) mod tables;
 
 use crate::settings::{Matching, StepSettings};
 use crate::system::{ElementOf, GroupLagrangian};
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 use tables::Discretisation;
 
 /// What a converged step returns.
@@ -43,6 +43,22 @@ pub(crate) struct StepOutcome<E, const D: usize> {
     pub iterations: usize,
     /// Newton matrices factored (the other iterations were chord steps).
     pub factorizations: usize,
+}
+
+/// `w` of the exact matching and `A(ξⁿ)ᵀ Ad_{Φ(ξⁿ)}ᵀ`, from the last assembly.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MatchingTerms<const D: usize> {
+    pub w: SVector<f64, D>,
+    pub transport: SMatrix<f64, D, D>,
+}
+
+impl<const D: usize> Default for MatchingTerms<D> {
+    fn default() -> Self {
+        Self {
+            w: SVector::zeros(),
+            transport: SMatrix::zeros(),
+        }
+    }
 }
 
 /// The solver of one step, for a system, a chart and fixed settings.
