@@ -106,64 +106,76 @@ fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<()> {
 }
 
 fn integrate(problem: &Problem) -> Result<Run> {
-    if let Some(motion) = &problem.motion {
-        return integrate_motion(problem, motion);
-    }
-    let mut integrator = problem.integrator(problem.settings)?;
-    let steps = integrator.steps_until(problem.t_end)?;
-    let system = *integrator.system();
-    let forced = lgsvi_mechanics::GroupLagrangian::is_forced(&system);
-    let mut trajectory = Trajectory::default();
-    let mut energies = Vec::new();
-    let mut work = Vec::new();
-    // Every state is checked; the recorded ones (`iterations` given) are kept.
-    let mut record =
-        |k: usize, state: &State, iterations: Option<usize>, done: f64| -> Result<()> {
-            let energy = state.energy(&system);
-            check_finite_state(k, state, energy)?;
-            let Some(iterations) = iterations else {
-                return Ok(());
+    match &problem.motion {
+        None => integrate_with(problem, problem.integrator(problem.settings)?, |s| {
+            (*s, None)
+        }),
+        // SE(3): the rotational part as the SO(3) columns, the translation beside them.
+        Some(motion) => integrate_with(problem, motion.integrator(problem.settings)?, |s| {
+            let entry = MotionRecord {
+                position: s.position(),
+                velocity: s.linear_velocity(),
+                spatial_momentum: s.spatial_momentum(),
             };
-            trajectory.states.push(*state);
-            trajectory.newton_iterations.push(iterations);
-            energies.push(energy);
-            work.push(done);
-            Ok(())
-        };
-    record(0, integrator.state(), Some(0), 0.0)?;
-    let wall_time = step_through(&mut integrator, problem, steps, &mut record)?;
-    let work = forced.then_some(work);
-    Ok(integrated(
-        problem,
-        &integrator,
-        trajectory,
-        energies,
-        work,
-        None,
-        wall_time,
-    ))
+            let rotation = State {
+                time: s.time,
+                configuration: *s.attitude(),
+                momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
+                velocity: s.angular_velocity(),
+            };
+            (rotation, Some(entry))
+        }),
+    }
 }
 
-/// Steps `integrator` to step `steps` with a progress bar, calling
-/// `visit(k, state, Some(iterations), work done)` at the recorded steps (every
-/// `problem.every`-th and the last) and `visit(k, state, None, _)` at the others (to check
-/// them); returns the wall time of the integration alone (not the checks, the recording
-/// or the output).
-fn step_through<S, C, const D: usize>(
-    integrator: &mut lgsvi_mechanics::Integrator<S, C, D>,
+/// Runs `integrator` to the problem's horizon: every state is checked (its rotational
+/// part, from `split`, and the translation `split` returns beside it), every
+/// `problem.every`-th and the last are recorded. The integration alone is timed: not the
+/// checks, the recording or the output.
+fn integrate_with<S, C, const D: usize>(
     problem: &Problem,
-    steps: usize,
-    mut visit: impl FnMut(
-        usize,
-        &State<lgsvi_mechanics::ElementOf<S, D>, D>,
-        Option<usize>,
-        f64,
-    ) -> Result<()>,
-) -> Result<std::time::Duration>
+    mut integrator: lgsvi_mechanics::Integrator<S, C, D>,
+    split: impl Fn(&State<lgsvi_mechanics::ElementOf<S, D>, D>) -> (State, Option<MotionRecord>),
+) -> Result<Run>
 where
-    S: lgsvi_mechanics::GroupLagrangian<D>,
+    S: lgsvi_mechanics::GroupLagrangian<D> + Copy,
     C: lgsvi_mechanics::GroupChart<S::Group, D>,
 {
+    let steps = integrator.steps_until(problem.t_end)?;
+    let system = *integrator.system();
+    let forced = system.is_forced();
+    let mut trajectory = Trajectory::default();
+    let (mut energies, mut work, mut records) = (Vec::new(), Vec::new(), Vec::new());
+    let mut visit = |k: usize,
+                     state: &State<lgsvi_mechanics::ElementOf<S, D>, D>,
+                     iterations: Option<usize>,
+                     done: f64|
+     -> Result<()> {
+        let energy = state.energy(&system);
+        let (rotation, entry) = split(state);
+        check_finite_state(k, &rotation, energy)?;
+        if let Some(entry) = &entry {
+            let translation = [entry.position, entry.velocity];
+            if translation.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
+                return Err(CliError::Overflow {
+                    step: k,
+                    time: state.time,
+                    quantity: "position x or velocity ẋ",
+                    values: format!("{translation:?}"),
+                });
+            }
+        }
+        let Some(iterations) = iterations else {
+            return Ok(());
+        };
+        trajectory.states.push(rotation);
+        trajectory.newton_iterations.push(iterations);
+        energies.push(energy);
+        work.push(done);
+        records.extend(entry);
+        Ok(())
+    };
+    visit(0, integrator.state(), Some(0), 0.0)?;
     let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut wall_time = std::time::Duration::ZERO;
     for k in 1..=steps {
@@ -182,99 +194,22 @@ where
         }
     }
     progress.finish_and_clear();
-    Ok(wall_time)
-}
-
-/// The run of an integration: its records, statistics and description.
-fn integrated<S, C, const D: usize>(
-    problem: &Problem,
-    integrator: &lgsvi_mechanics::Integrator<S, C, D>,
-    trajectory: Trajectory,
-    energies: Vec<f64>,
-    work: Option<Vec<f64>>,
-    motion: Option<Vec<MotionRecord>>,
-    wall_time: std::time::Duration,
-) -> Run
-where
-    S: lgsvi_mechanics::GroupLagrangian<D>,
-    C: lgsvi_mechanics::GroupChart<S::Group, D>,
-{
     let stats = integrator.statistics();
     let mut description = problem.description.clone();
     description["settings"] =
         Problem::settings_json(&problem.settings, problem.t_end, problem.every);
     description["solution"] = "integrator".into();
-    Run {
+    Ok(Run {
         trajectory,
         energies,
-        work,
-        motion,
+        work: forced.then_some(work),
+        motion: problem.motion.is_some().then_some(records),
         wall_time_s: wall_time.as_secs_f64(),
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
         max_newton_iterations: stats.max_newton_iterations,
         description,
-    }
-}
-
-/// An SE(3) run: the rotational part as the SO(3) columns, the translation beside them.
-fn integrate_motion(problem: &Problem, motion: &problem::Motion) -> Result<Run> {
-    let mut integrator = motion.integrator(problem.settings)?;
-    let steps = integrator.steps_until(problem.t_end)?;
-    let system = *integrator.system();
-    let forced = lgsvi_mechanics::GroupLagrangian::is_forced(&system);
-    let mut trajectory = Trajectory::default();
-    let (mut energies, mut work, mut records) = (Vec::new(), Vec::new(), Vec::new());
-    // Every state is checked; the recorded ones (`iterations` given) are kept.
-    let mut record = |k: usize,
-                      state: &lgsvi_mechanics::State<lgsvi_mechanics::lie::SE3, 6>,
-                      iterations: Option<usize>,
-                      done: f64|
-     -> Result<()> {
-        let energy = state.energy(&system);
-        let rotation = State {
-            time: state.time,
-            configuration: *state.attitude(),
-            momentum: state.momentum.fixed_rows::<3>(0).into_owned(),
-            velocity: state.angular_velocity(),
-        };
-        check_finite_state(k, &rotation, energy)?;
-        let entry = MotionRecord {
-            position: state.position(),
-            velocity: state.linear_velocity(),
-            spatial_momentum: state.spatial_momentum(),
-        };
-        let translation = [entry.position, entry.velocity];
-        if translation.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
-            return Err(CliError::Overflow {
-                step: k,
-                time: state.time,
-                quantity: "position x or velocity ẋ",
-                values: format!("{translation:?}"),
-            });
-        }
-        let Some(iterations) = iterations else {
-            return Ok(());
-        };
-        trajectory.states.push(rotation);
-        trajectory.newton_iterations.push(iterations);
-        energies.push(energy);
-        work.push(done);
-        records.push(entry);
-        Ok(())
-    };
-    record(0, integrator.state(), Some(0), 0.0)?;
-    let wall_time = step_through(&mut integrator, problem, steps, &mut record)?;
-    let work = forced.then_some(work);
-    Ok(integrated(
-        problem,
-        &integrator,
-        trajectory,
-        energies,
-        work,
-        Some(records),
-        wall_time,
-    ))
+    })
 }
 
 /// The exact free-body solution at the times the integrator would record.

@@ -212,8 +212,9 @@ pub trait ConfigurationGroup<const D: usize>:
     type LocalJet: PointJet;
     /// Name, for messages.
     const NAME: &'static str;
-    /// What the body velocity `ξ` is called in messages ("angular velocity" on SO(3)).
-    const VELOCITY: &'static str = "velocity";
+    /// What the initial body velocity `ξ₀` is called in messages ("initial angular
+    /// velocity" on SO(3)).
+    const INITIAL_VELOCITY: &'static str = "initial velocity";
 
     /// `g` over another scalar.
     fn lift<T: RealField + Copy>(g: &Self::Element<f64>) -> Self::Element<T>;
@@ -270,7 +271,7 @@ impl ConfigurationGroup<3> for Rotations {
     type Jet = Stacked<9>;
     type LocalJet = Stacked<6>;
     const NAME: &'static str = "SO(3)";
-    const VELOCITY: &'static str = "angular velocity";
+    const INITIAL_VELOCITY: &'static str = "initial angular velocity";
 
     fn lift<T: RealField + Copy>(g: &SO3) -> SO3<T> {
         SO3::from_matrix_unchecked(g.matrix().map(nalgebra::convert))
@@ -303,7 +304,7 @@ impl ConfigurationGroup<6> for RigidMotions {
     type Jet = Stacked<18>;
     type LocalJet = Stacked<12>;
     const NAME: &'static str = "SE(3)";
-    const VELOCITY: &'static str = "velocity (Ω, v)";
+    const INITIAL_VELOCITY: &'static str = "initial velocity (Ω, v)";
 
     fn lift<T: RealField + Copy>(g: &SE3) -> SE3<T> {
         SE3::new(

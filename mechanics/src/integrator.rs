@@ -378,11 +378,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         configuration: ElementOf<S, D>,
         velocity: SVector<f64, D>,
     ) -> Result<Self, MechanicsError> {
-        let what = match <S::Group as ConfigurationGroup<D>>::VELOCITY {
-            "angular velocity" => "initial angular velocity",
-            _ => "initial velocity",
-        };
-        check_finite(what, velocity.as_slice())?;
+        check_finite(
+            <S::Group as ConfigurationGroup<D>>::INITIAL_VELOCITY,
+            velocity.as_slice(),
+        )?;
         if !<S::Group as ConfigurationGroup<D>>::is_finite(&configuration) {
             return Err(MechanicsError::NonFinite {
                 what: "initial configuration",

@@ -321,21 +321,6 @@ impl Forcing<Rotations, 3> for BodyTorque {
     }
 }
 
-impl Forcing<RigidMotions, 6> for BodyTorque {
-    fn force<T: RealField + Copy>(
-        &self,
-        _t: f64,
-        _g: &SE3<T>,
-        _xi: &SVector<T, 6>,
-    ) -> SVector<T, 6> {
-        let t = convert3::<T>(&self.0);
-        SVector::<T, 6>::new(t.x, t.y, t.z, T::zero(), T::zero(), T::zero())
-    }
-    fn is_zero(&self) -> bool {
-        self.0 == Vector3::zeros()
-    }
-}
-
 impl Forcing<Rotations, 3> for AngularDamping {
     fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, w: &Vector3<T>) -> Vector3<T> {
         w * nalgebra::convert::<f64, T>(-self.0)
@@ -345,25 +330,41 @@ impl Forcing<Rotations, 3> for AngularDamping {
     }
 }
 
-impl Forcing<RigidMotions, 6> for AngularDamping {
-    fn force<T: RealField + Copy>(
-        &self,
-        _t: f64,
-        _g: &SE3<T>,
-        xi: &SVector<T, 6>,
-    ) -> SVector<T, 6> {
-        let c: T = nalgebra::convert(-self.0);
-        SVector::<T, 6>::new(
-            xi[0] * c,
-            xi[1] * c,
-            xi[2] * c,
-            T::zero(),
-            T::zero(),
-            T::zero(),
-        )
+/// A torque acting on the rotation of an SE(3) body: the SO(3) force `F(t, R, Ω)` as
+/// `(F, 0)`, so that each torque is written once, for SO(3).
+fn on_rotation<F: Forcing<Rotations, 3>, T: RealField + Copy>(
+    forcing: &F,
+    time: f64,
+    g: &SE3<T>,
+    xi: &SVector<T, 6>,
+) -> SVector<T, 6> {
+    let omega = Vector3::new(xi[0], xi[1], xi[2]);
+    let torque = forcing.force(time, g.rotation(), &omega);
+    SVector::<T, 6>::new(
+        torque.x,
+        torque.y,
+        torque.z,
+        T::zero(),
+        T::zero(),
+        T::zero(),
+    )
+}
+
+impl Forcing<RigidMotions, 6> for BodyTorque {
+    fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
+        on_rotation(self, t, g, xi)
     }
     fn is_zero(&self) -> bool {
-        self.0 == 0.0
+        Forcing::<Rotations, 3>::is_zero(self)
+    }
+}
+
+impl Forcing<RigidMotions, 6> for AngularDamping {
+    fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
+        on_rotation(self, t, g, xi)
+    }
+    fn is_zero(&self) -> bool {
+        Forcing::<Rotations, 3>::is_zero(self)
     }
 }
 

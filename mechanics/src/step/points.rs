@@ -185,14 +185,29 @@ pub(super) fn chain_rule<S, C, const D: usize>(
     let l_xx;
     let (p, mu);
     if ell.system.is_left_invariant() {
-        let f = |w: &SVector<Dual2SVec64<D>, D>| {
-            let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
-            ell.system.lagrangian(ell.time, &g, w)
-        };
-        let (_, gradient, hessian) = num_dual::hessian(|w: SVector<Dual2SVec64<D>, D>| f(&w), &xi);
         p = SVector::<f64, D>::zeros();
-        mu = gradient;
-        l_xx = hessian;
+        if with_hessian {
+            let (_, gradient, hessian) = num_dual::hessian(
+                |w: SVector<Dual2SVec64<D>, D>| {
+                    let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
+                    ell.system.lagrangian(ell.time, &g, &w)
+                },
+                &xi,
+            );
+            mu = gradient;
+            l_xx = hessian;
+        } else {
+            // A gradient-only assembly: first-order dual numbers, no Hessian.
+            let (_, gradient) = num_dual::gradient(
+                |w: SVector<DualSVec64<D>, D>| {
+                    let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
+                    ell.system.lagrangian(ell.time, &g, &w)
+                },
+                &xi,
+            );
+            mu = gradient;
+            l_xx = SMatrix::zeros();
+        }
     } else {
         let origin = SVector::<f64, D>::zeros();
         let mut jet = <<S::Group as ConfigurationGroup<D>>::LocalJet as PointJet>::zeros();
