@@ -13,6 +13,7 @@ use lgsvi_lie::{ChartKind, LieGroup, SE3, SO3};
 use nalgebra::{SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
 use std::marker::PhantomData;
+use std::sync::Arc;
 
 /// A continued curve whose residual is below this fraction of the equations' terms is
 /// taken without trying the velocity-corrected predictor (Newton then needs ~2 steps).
@@ -305,7 +306,7 @@ pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> 
     system: S,
     chart: C,
     settings: StepSettings,
-    discretisation: Discretisation,
+    discretisation: Arc<Discretisation>,
     work: WorkspaceOf<S, D>,
     state: State<ElementOf<S, D>, D>,
     /// Steps since the start (or the last reset).
@@ -388,7 +389,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 value: format!("{configuration:?}"),
             });
         }
-        let discretisation = Discretisation::new(&settings)?;
+        let discretisation = Discretisation::shared(&settings)?;
         let work = Workspace::new(&discretisation);
         let momentum = body_momentum(&system, 0.0, &configuration, &velocity);
         let n = settings.nodes();

@@ -7,6 +7,7 @@
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
 //! `n²m` small block sums.
 
+use super::dense::SquareMatrix;
 use super::points::{point_derivatives, EllTilde};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
@@ -14,8 +15,6 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::NewtonJacobian;
 use crate::system::GroupLagrangian;
-use faer::dyn_stack::MemBuffer;
-use faer::linalg::lu::partial_pivoting::factor;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 use nalgebra::{SMatrix, SVector};
@@ -46,12 +45,10 @@ pub(crate) struct Workspace<J, const D: usize> {
     gradient_scale: Vec<f64>,
     pub(super) residual: Vec<f64>,
     trial: Vec<f64>,
-    pub(super) jacobian: Mat<f64>,
+    pub(super) jacobian: SquareMatrix,
     /// The Newton (or chord) step `−J⁻¹F`, kept for the backtracking.
     pub(super) delta: Vec<f64>,
     pub(super) perm: Vec<usize>,
-    pub(super) perm_inv: Vec<usize>,
-    pub(super) stack: MemBuffer,
     /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
     /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
     /// assembly, saved.
@@ -61,12 +58,6 @@ pub(crate) struct Workspace<J, const D: usize> {
 impl<J: PointJet, const D: usize> Workspace<J, D> {
     pub fn new(d: &Discretisation) -> Self {
         let unknowns = D * (d.n - 1);
-        let scratch = factor::lu_in_place_scratch::<usize, f64>(
-            unknowns,
-            unknowns,
-            Par::Seq,
-            Default::default(),
-        );
         Self {
             xi: vec![SVector::zeros(); d.n],
             xi_accepted: vec![SVector::zeros(); d.n],
@@ -82,11 +73,9 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             gradient_scale: vec![0.0; d.n],
             residual: vec![0.0; unknowns],
             trial: vec![0.0; unknowns],
-            jacobian: Mat::zeros(unknowns, unknowns),
+            jacobian: SquareMatrix::zeros(unknowns),
             delta: vec![0.0; unknowns],
             perm: vec![0; unknowns],
-            perm_inv: vec![0; unknowns],
-            stack: MemBuffer::new(scratch),
             guess_assembled: None,
         }
     }
@@ -172,16 +161,23 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         work.gradient_scale.fill(0.0);
         for j in 0..m {
             let g = work.points[j].gradient();
-            let gx = SVector::<f64, D>::from_column_slice(&g[..D]);
-            let gv = SVector::<f64, D>::from_column_slice(&g[D..2 * D]);
-            let (size_x, size_v) = (gx.amax(), gv.amax());
+            let gx: [f64; D] = std::array::from_fn(|c| g[c]);
+            let gv: [f64; D] = std::array::from_fn(|c| g[D + c]);
+            let size_x = gx.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            let size_v = gv.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             let weight = d.weights[j];
             let (values, slopes) = (d.values_at(j), d.slopes_at(j));
-            for i in 0..n {
-                let term = gx * values[i] + gv * slopes[i];
-                work.gradient[i] += term * weight;
-                work.gradient_scale[i] = work.gradient_scale[i]
-                    .max(weight * (size_x * values[i].abs() + size_v * slopes[i].abs()));
+            for (((node, node_scale), &b), &s) in work
+                .gradient
+                .iter_mut()
+                .zip(work.gradient_scale.iter_mut())
+                .zip(values)
+                .zip(slopes)
+            {
+                for c in 0..D {
+                    node[c] += (gx[c] * b + gv[c] * s) * weight;
+                }
+                *node_scale = node_scale.max(weight * (size_x * b.abs() + size_v * s.abs()));
             }
         }
         // Residual blocks: internal stages i = 2..n−1 (rows D(i−2)..), then matching.
