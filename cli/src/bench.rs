@@ -209,7 +209,17 @@ pub struct EnsembleResult {
     pub speedup: f64,
     /// Members that failed (none expected).
     pub failures: usize,
+    /// The same initial conditions by DOP853 (quaternion state) at
+    /// [`ENSEMBLE_DOP853_TOLERANCE`], on `threads` threads (s).
+    pub dop853_parallel_s: f64,
+    /// Trajectories per second on `threads` threads: lgsvi, DOP853.
+    pub trajectories_per_s: (f64, f64),
 }
+
+/// DOP853's tolerance in the ensemble comparison: its most accurate setting of the sweep
+/// (errors at T = 10 of ~1e-12 on A and B against lgsvi's ~4e-14 and ~2e-13 at h = 0.5,
+/// n = 8, the ensemble's settings; the bench tables give both).
+const ENSEMBLE_DOP853_TOLERANCE: f64 = 1e-14;
 
 /// Measures [`EnsembleResult`].
 pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
@@ -244,13 +254,54 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
     let threads = rayon::current_num_threads();
     let (failures, one_thread_s) = pool(1)?.install(|| timed(repeats, run_all));
     let (_, parallel_s) = pool(threads)?.install(|| timed(repeats, run_all));
+    // The same initial conditions by DOP853, one trajectory per task on the same pool.
+    let peers: Vec<(Model, Vec<State>)> = cases()
+        .into_iter()
+        .zip(&work)
+        .map(|(case, (_, initial))| {
+            let j = Vector3::from(case.model.inertia);
+            let starts = initial
+                .iter()
+                .map(|c| State {
+                    attitude: *c.attitude.matrix(),
+                    momentum: j.component_mul(&c.velocity),
+                })
+                .collect();
+            (case.model, starts)
+        })
+        .collect();
+    let run_peers = || {
+        use rayon::prelude::*;
+        peers
+            .iter()
+            .map(|(model, starts)| {
+                starts
+                    .par_iter()
+                    .filter(|start| {
+                        dop853(
+                            model,
+                            start,
+                            10.0,
+                            ENSEMBLE_DOP853_TOLERANCE,
+                            Dop853State::Quaternion,
+                        )
+                        .is_err()
+                    })
+                    .count()
+            })
+            .sum::<usize>()
+    };
+    let (peer_failures, dop853_parallel_s) = pool(threads)?.install(|| timed(repeats, run_peers));
+    let trajectories = (2 * members) as f64;
     Ok(EnsembleResult {
         members,
         threads,
         one_thread_s,
         parallel_s,
         speedup: one_thread_s / parallel_s,
-        failures,
+        failures: failures + peer_failures,
+        dop853_parallel_s,
+        trajectories_per_s: (trajectories / parallel_s, trajectories / dop853_parallel_s),
     })
 }
 
@@ -401,6 +452,64 @@ pub fn targets(points: &[Point]) -> String {
     s
 }
 
+/// The ratio table: for each case, horizon and error target, the fastest lgsvi
+/// run (best `(h, n)` of the sweep) at or below the target over the fastest DOP853
+/// (quaternion state) run at or below it; below 1 lgsvi is faster. The last column goes
+/// where DOP853 does not: lgsvi's fastest run at ≤ 1e-13 over DOP853's most accurate run
+/// (whatever its error), with both errors.
+pub fn dop853_ratios(points: &[Point]) -> String {
+    const TARGETS: [f64; 4] = [1e-6, 1e-8, 1e-10, 1e-12];
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| time lgsvi / time DOP853 (quaternion) | ≤ 1e-6 | ≤ 1e-8 | ≤ 1e-10 | ≤ 1e-12 | lgsvi ≤ 1e-13 / DOP853's most accurate run |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for case in ["A", "B"] {
+        for t_end in [10.0, 100.0] {
+            let mut row = format!("| case {case}, T = {t_end} |");
+            for target in TARGETS {
+                let l = fastest(points, case, t_end, "lgsvi", target);
+                let d = fastest(points, case, t_end, "DOP853 (quaternion)", target);
+                let cell = match (l, d) {
+                    (Some(l), Some(d)) => format!(
+                        " {:.2} ({:.3} / {:.3} ms) |",
+                        l.time_s / d.time_s,
+                        1e3 * l.time_s,
+                        1e3 * d.time_s
+                    ),
+                    (Some(_), None) => " DOP853 does not reach it |".into(),
+                    (None, _) => " lgsvi does not reach it |".into(),
+                };
+                row.push_str(&cell);
+            }
+            let l = fastest(points, case, t_end, "lgsvi", 1e-13);
+            let d = points
+                .iter()
+                .filter(|p| {
+                    p.case == case
+                        && p.t_end == t_end
+                        && p.method == "DOP853 (quaternion)"
+                        && p.error.is_finite()
+                })
+                .min_by(|a, b| a.error.total_cmp(&b.error));
+            row.push_str(&match (l, d) {
+                (Some(l), Some(d)) => format!(
+                    " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
+                    l.time_s / d.time_s,
+                    l.error,
+                    1e3 * l.time_s,
+                    d.error,
+                    1e3 * d.time_s
+                ),
+                _ => " – |".into(),
+            });
+            let _ = writeln!(s, "{row}");
+        }
+    }
+    s
+}
+
 /// `lgsvi bench`.
 pub fn run(options: BenchOptions) -> Result<()> {
     let invalid = |flag: &'static str, value: usize, reason: String| CliError::Invalid {
@@ -471,15 +580,26 @@ pub fn run(options: BenchOptions) -> Result<()> {
     );
     let _ = writeln!(table, "Errors ‖R(T) − R_ref(T)‖_F against the shared 40-digit references; times include construction.\n");
     let _ = writeln!(table, "## Targets\n\n{}", targets(&points));
+    let _ = writeln!(
+        table,
+        "## Against DOP853 (best (h, n) per target, construction included)\n\n{}",
+        dop853_ratios(&points)
+    );
     let ensemble = ensemble(members, repeats)?;
     let ensemble_line = format!(
-        "Ensemble ({} initial conditions per case, A and B, T = 10, h = 0.5, n = 8): {:.1} ms on 1 thread, {:.1} ms on {} threads: speed-up {:.2} (target ≥ 1.8 on 2 cores; {} failures).",
+        "Ensemble ({} initial conditions per case, A and B, T = 10, h = 0.5, n = 8): {:.1} ms on 1 thread, {:.1} ms on {} threads: speed-up {:.2} (target ≥ 1.8 on 2 cores; {} failures). The same trajectories by DOP853 (quaternion, tol = {:.0e}) on {} threads: {:.1} ms. Trajectories per second on {} threads: lgsvi {:.0}, DOP853 {:.0}.",
         ensemble.members,
         1e3 * ensemble.one_thread_s,
         1e3 * ensemble.parallel_s,
         ensemble.threads,
         ensemble.speedup,
-        ensemble.failures
+        ensemble.failures,
+        ENSEMBLE_DOP853_TOLERANCE,
+        ensemble.threads,
+        1e3 * ensemble.dop853_parallel_s,
+        ensemble.threads,
+        ensemble.trajectories_per_s.0,
+        ensemble.trajectories_per_s.1
     );
     let _ = writeln!(table, "## Parallel ensemble\n\n{ensemble_line}\n");
     for case in ["A", "B"] {
@@ -545,6 +665,7 @@ pub fn run(options: BenchOptions) -> Result<()> {
     }))?;
     write("bench.json", &json)?;
     println!("{}", targets(&points));
+    println!("{}", dop853_ratios(&points));
     println!("{ensemble_line}");
     println!(
         "table: {}, data: {}, plots: {}/bench_*.svg|png",

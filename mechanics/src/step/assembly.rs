@@ -7,7 +7,7 @@
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
 //! `n²m` small block sums.
 
-use super::dense::SquareMatrix;
+use super::dense::{LuBuffers, SquareMatrix};
 use super::points::{point_derivatives, EllTilde};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
@@ -48,7 +48,7 @@ pub(crate) struct Workspace<J, const D: usize> {
     pub(super) jacobian: SquareMatrix,
     /// The Newton (or chord) step `−J⁻¹F`, kept for the backtracking.
     pub(super) delta: Vec<f64>,
-    pub(super) perm: Vec<usize>,
+    pub(super) lu: LuBuffers,
     /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
     /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
     /// assembly, saved.
@@ -75,7 +75,7 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             trial: vec![0.0; unknowns],
             jacobian: SquareMatrix::zeros(unknowns),
             delta: vec![0.0; unknowns],
-            perm: vec![0; unknowns],
+            lu: LuBuffers::new(unknowns),
             guess_assembled: None,
         }
     }

@@ -162,11 +162,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 } else {
                     self.fill_jacobian_by_differences(base, mu, work);
                 }
-                lu_in_place(&mut work.jacobian, &mut work.perm);
+                lu_in_place(&mut work.jacobian, &mut work.lu);
                 factored_at = Some(relative);
                 factorizations += 1;
             }
-            for (d, &p) in work.delta.iter_mut().zip(&work.perm) {
+            for (d, &p) in work.delta.iter_mut().zip(&work.lu.perm) {
                 *d = -work.residual[p];
             }
             substitute(&work.jacobian, &mut work.delta);
