@@ -64,6 +64,8 @@ pub struct Run {
     pub steps: usize,
     pub newton_iterations: usize,
     pub max_newton_iterations: usize,
+    /// Newton matrices assembled and factored (the other iterations reused one).
+    pub factorizations: usize,
     pub description: serde_json::Value,
 }
 
@@ -208,6 +210,7 @@ where
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
         max_newton_iterations: stats.max_newton_iterations,
+        factorizations: stats.factorizations,
         description,
     })
 }
@@ -249,6 +252,7 @@ fn exact_run(problem: &Problem) -> Result<Run> {
         steps: 0,
         newton_iterations: 0,
         max_newton_iterations: 0,
+        factorizations: 0,
         description,
     })
 }

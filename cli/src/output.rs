@@ -83,6 +83,7 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
         "steps": run.steps,
         "newton_iterations": run.newton_iterations,
         "max_newton_iterations": run.max_newton_iterations,
+        "factorizations": run.factorizations,
         "wall_time_s": run.wall_time_s,
     });
     out.write_all(b",\"stats\":")?;

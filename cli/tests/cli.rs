@@ -265,12 +265,21 @@ fn json_has_the_contract_fields() {
     ] {
         assert!(v.get(key).is_some(), "missing {key}");
     }
-    for key in ["steps", "newton_iterations", "wall_time_s"] {
+    for key in [
+        "steps",
+        "newton_iterations",
+        "factorizations",
+        "wall_time_s",
+    ] {
         assert!(v["stats"].get(key).is_some(), "missing stats.{key}");
     }
     assert_eq!(v["times"].as_array().unwrap().len(), 3); // t = 0, 1, 2
     assert_eq!(v["R"][0].as_array().unwrap().len(), 9);
     assert_eq!(v["stats"]["steps"], 4);
+    // Every step factors at least one Newton matrix (the first iteration is a Newton
+    // step) and takes at least as many iterations as factorisations.
+    let factorizations = v["stats"]["factorizations"].as_u64().unwrap();
+    assert!((4..=v["stats"]["newton_iterations"].as_u64().unwrap()).contains(&factorizations));
     // Ω from the discrete momentum is J⁻¹μ.
     let (w, mu) = (&v["omega"][2], &v["momentum"][2]);
     let j = [3.3, 2.5, 3.4];
@@ -476,13 +485,25 @@ fn bench_writes_table_data_and_plots() {
     assert_eq!(ensemble["failures"], 0);
     assert!(ensemble["speedup"].as_f64().unwrap() > 0.0);
     let points = data["points"].as_array().unwrap();
-    // lgsvi at h = 0.5 (n = 4..14), h = 1 (n = 6..20), h = 1.25 and 2 (n = 8..20),
-    // DOP853 2 × 12, fixed-step 12 + 12 (one per octave) + 41 + 41 (Yoshida-4, four per
-    // octave).
+    // lgsvi at h = 0.5 (n = 4..14), h = 0.625 (n = 6..16), h = 1 (n = 6..20), h = 1.25
+    // and 2 (n = 8..20), DOP853 2 × 12, fixed-step 12 + 12 (one per octave) + 41 + 41
+    // (Yoshida-4, four per octave).
     assert_eq!(
         points.len(),
-        2 * 2 * (11 + 15 + 13 + 13 + 24 + 12 + 12 + 41 + 41)
+        2 * 2 * (11 + 11 + 15 + 13 + 13 + 24 + 12 + 12 + 41 + 41)
     );
+    // The ratio table against DOP853: one row per case and horizon, and the ensemble's
+    // DOP853 comparison.
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.starts_with("| case A, T =") || l.starts_with("| case B, T ="))
+            .count(),
+        4,
+        "{out}"
+    );
+    assert!(ensemble["dop853_parallel_s"].as_f64().unwrap() > 0.0);
+    let rates = ensemble["trajectories_per_s"].as_array().unwrap();
+    assert!(rates.iter().all(|r| r.as_f64().unwrap() > 0.0));
     // Every baseline converges on its own sweep: each method's best error is small.
     for method in [
         "lgsvi",

@@ -7,7 +7,6 @@
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
 //! `n²m` small block sums.
 
-use super::dense::{LuBuffers, SquareMatrix};
 use super::points::{point_derivatives, EllTilde};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
@@ -15,6 +14,8 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::NewtonJacobian;
 use crate::system::GroupLagrangian;
+use faer::dyn_stack::MemBuffer;
+use faer::linalg::lu::partial_pivoting::factor;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 use nalgebra::{SMatrix, SVector};
@@ -45,10 +46,12 @@ pub(crate) struct Workspace<J, const D: usize> {
     gradient_scale: Vec<f64>,
     pub(super) residual: Vec<f64>,
     trial: Vec<f64>,
-    pub(super) jacobian: SquareMatrix,
+    pub(super) jacobian: Mat<f64>,
     /// The Newton (or chord) step `−J⁻¹F`, kept for the backtracking.
     pub(super) delta: Vec<f64>,
-    pub(super) lu: LuBuffers,
+    pub(super) perm: Vec<usize>,
+    pub(super) perm_inv: Vec<usize>,
+    pub(super) stack: MemBuffer,
     /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
     /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
     /// assembly, saved.
@@ -58,6 +61,12 @@ pub(crate) struct Workspace<J, const D: usize> {
 impl<J: PointJet, const D: usize> Workspace<J, D> {
     pub fn new(d: &Discretisation) -> Self {
         let unknowns = D * (d.n - 1);
+        let scratch = factor::lu_in_place_scratch::<usize, f64>(
+            unknowns,
+            unknowns,
+            Par::Seq,
+            Default::default(),
+        );
         Self {
             xi: vec![SVector::zeros(); d.n],
             xi_accepted: vec![SVector::zeros(); d.n],
@@ -73,9 +82,11 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             gradient_scale: vec![0.0; d.n],
             residual: vec![0.0; unknowns],
             trial: vec![0.0; unknowns],
-            jacobian: SquareMatrix::zeros(unknowns),
+            jacobian: Mat::zeros(unknowns, unknowns),
             delta: vec![0.0; unknowns],
-            lu: LuBuffers::new(unknowns),
+            perm: vec![0; unknowns],
+            perm_inv: vec![0; unknowns],
+            stack: MemBuffer::new(scratch),
             guess_assembled: None,
         }
     }

@@ -22,10 +22,8 @@
 //! | [`assembly`] | the residual and the exact Newton matrix from the points |
 //! | [`matching`] | the momentum-matching equations, their Jacobian rows, the momentum update |
 //! | [`newton`] | the Newton / chord policy and its stopping rules |
-//! | [`dense`] | the LU factorisation of the Newton matrix and its substitutions |
 
 pub(crate) mod assembly;
-pub(crate) mod dense;
 pub(crate) mod matching;
 pub(crate) mod newton;
 pub(crate) mod points;

@@ -156,3 +156,40 @@ impl Discretisation {
         self.basis.nodes()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Equal `(h, n, m)` share one table, equal to a freshly built one entry for entry;
+    /// a change in any of the three gives another table.
+    #[test]
+    fn shared_tables_are_keyed_by_h_n_and_m() {
+        let settings = StepSettings::new(0.37, 9).unwrap();
+        let (a, b) = (
+            Discretisation::shared(&settings).unwrap(),
+            Discretisation::shared(&settings).unwrap(),
+        );
+        assert!(Arc::ptr_eq(&a, &b));
+        let fresh = Discretisation::new(&settings).unwrap();
+        assert_eq!(a.weights, fresh.weights);
+        assert_eq!(a.values, fresh.values);
+        assert_eq!(a.slopes, fresh.slopes);
+        assert_eq!(a.extrapolation, fresh.extrapolation);
+        for other in [
+            StepSettings::new(0.38, 9).unwrap(),
+            StepSettings::new(0.37, 10).unwrap(),
+            StepSettings::new(0.37, 9)
+                .unwrap()
+                .with_quadrature_points(11)
+                .unwrap(),
+        ] {
+            let c = Discretisation::shared(&other).unwrap();
+            assert!(!Arc::ptr_eq(&a, &c));
+            assert_eq!((c.n, c.m, c.times.last().copied()), {
+                let f = Discretisation::new(&other).unwrap();
+                (f.n, f.m, f.times.last().copied())
+            });
+        }
+    }
+}
