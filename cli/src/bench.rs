@@ -40,6 +40,12 @@ pub struct BenchOptions {
     /// Steps of the long run, 2 to 10⁹ [default: 1000000].
     #[arg(long, value_name = "N")]
     pub long_run_steps: Option<usize>,
+    /// The long run's step h (and its ensemble's) [default: 0.5].
+    #[arg(long, value_name = "H")]
+    pub long_run_h: Option<f64>,
+    /// The long run's nodes n (and its ensemble's) [default: 8].
+    #[arg(long, value_name = "N")]
+    pub long_run_nodes: Option<usize>,
     /// Initial conditions of the long run's energy-trend ensemble, each run for the same
     /// steps in parallel; 0 skips it, at most 100000 [default: 12].
     #[arg(long, value_name = "N")]
@@ -572,7 +578,16 @@ pub fn run(options: BenchOptions) -> Result<()> {
                 "a trend needs at least 2 (or 0 to skip it)".into(),
             ));
         }
-        return run_long(&dir, steps, members, options.quiet);
+        let (h, n) = (
+            options.long_run_h.unwrap_or(0.5),
+            options.long_run_nodes.unwrap_or(8),
+        );
+        let settings = long_run_settings(h, n).map_err(|e| CliError::Invalid {
+            flag: "--long-run-h/--long-run-nodes",
+            value: format!("{h}, {n}"),
+            reason: e.to_string(),
+        })?;
+        return run_long(&dir, settings, steps, members, options.quiet);
     }
     let total = 2 * 2 * runs_per_case() as u64;
     let progress = crate::progress_bar(total, "bench", "runs", options.quiet);
@@ -710,23 +725,23 @@ fn invariants(t: f64, start: &State, model: &Model, state: &State) -> Invariants
     }
 }
 
-/// The settings of the long run and of its trend ensemble: h = 0.5, n = 8, exp chart (the
-/// issue's).
-fn long_run_settings() -> Result<StepSettings> {
-    Ok(StepSettings::new(0.5, 8)?.with_chart(ChartKind::Exp))
+/// The settings of the long run and of its trend ensemble: exp chart, `h` and `n` as given
+/// (the defaults, h = 0.5 and n = 8, are the issue's).
+fn long_run_settings(h: f64, n: usize) -> Result<StepSettings> {
+    Ok(StepSettings::new(h, n)?.with_chart(ChartKind::Exp))
 }
 
-/// The long run: lgsvi (case A, h = 0.5, n = 8, exp chart) for `steps` steps beside
+/// The long run: lgsvi (case A, `settings`) for `steps` steps beside
 /// DOP853 on the matrix state (tolerance 1e-13, restarted at each of the `samples`
 /// sample times: sparse output) over the same horizon; both timed. Returns the samples
 /// and the wall times `(lgsvi, DOP853)`.
 pub fn long_run(
+    settings: StepSettings,
     steps: usize,
     samples: usize,
     mut tick: impl FnMut(u64),
 ) -> Result<(Vec<Invariants>, Vec<Invariants>, f64, f64)> {
     let case = cases().remove(0);
-    let settings = long_run_settings()?;
     let h = settings.step();
     let every = (steps / samples.max(1)).max(1);
     let w0 = case.model.velocity(&case.start.momentum);
@@ -815,8 +830,9 @@ pub struct EnergyTrend {
 }
 
 /// Runs [`EnergyTrend`]: member `k` starts from case A's `Ω₀` scaled by `1 + 10⁻³k` and
-/// shifted by `10⁻³k` along the body y axis (h = 0.5, n = 8, exp chart), on rayon's pool.
+/// shifted by `10⁻³k` along the body y axis (`settings`), on rayon's pool.
 pub fn energy_trend(
+    settings: StepSettings,
     steps: usize,
     members: usize,
     tick: impl Fn(u64) + Sync,
@@ -827,7 +843,6 @@ pub fn energy_trend(
     let System::Free(system) = lgsvi_system(&case)? else {
         unreachable!("case A is the free rigid body")
     };
-    let settings = long_run_settings()?;
     let w0 = case.model.velocity(&case.start.momentum);
     let clock = Instant::now();
     let ends: Vec<(f64, f64)> = (0..members)
@@ -867,14 +882,21 @@ pub fn energy_trend(
 
 /// `lgsvi bench --long-run`: runs [`long_run`] and writes `LONG_RUN.md`, `long_run.json`
 /// and the plots `long_run_{energy,casimir,spatial_momentum,orthogonality}.svg|png`.
-fn run_long(dir: &std::path::Path, steps: usize, members: usize, quiet: bool) -> Result<()> {
+fn run_long(
+    dir: &std::path::Path,
+    settings: StepSettings,
+    steps: usize,
+    members: usize,
+    quiet: bool,
+) -> Result<()> {
+    let (h, n) = (settings.step(), settings.nodes());
     let progress = crate::progress_bar(steps as u64, "long run (lgsvi)", "steps", quiet);
-    let (lgsvi, dop, lgsvi_time, dop_time) = long_run(steps, 500, |k| progress.inc(k))?;
+    let (lgsvi, dop, lgsvi_time, dop_time) = long_run(settings, steps, 500, |k| progress.inc(k))?;
     progress.finish_and_clear();
     let trend = if members > 0 {
         let total = (members * steps) as u64;
         let progress = crate::progress_bar(total, "energy trend (ensemble)", "steps", quiet);
-        let trend = energy_trend(steps, members, |k| progress.inc(k))?;
+        let trend = energy_trend(settings, steps, members, |k| progress.inc(k))?;
         progress.finish_and_clear();
         Some(trend)
     } else {
@@ -902,9 +924,9 @@ fn run_long(dir: &std::path::Path, steps: usize, members: usize, quiet: bool) ->
         ),
         ("orthogonality", "‖RᵀR − I‖_F", |i| i.orthogonality),
     ];
-    let t_end = steps as f64 * long_run_settings()?.step();
+    let t_end = steps as f64 * h;
     let mut md = format!(
-        "# lgsvi bench --long-run\n\nCase A (free rigid body), T = {t_end}: lgsvi {steps} steps (h = 0.5, n = 8, exp chart, exact matching) in {lgsvi_time:.1} s; DOP853 on (R, Ω) at tolerance 1e-13 over the same horizon (restarted at the {} sample times) in {dop_time:.1} s.\n\n| quantity | lgsvi max, first half | lgsvi max, second half | DOP853 max, first half | DOP853 max, second half |\n|---|---|---|---|---|\n",
+        "# lgsvi bench --long-run\n\nCase A (free rigid body), T = {t_end}: lgsvi {steps} steps (h = {h}, n = {n}, exp chart, exact matching) in {lgsvi_time:.1} s; DOP853 on (R, Ω) at tolerance 1e-13 over the same horizon (restarted at the {} sample times) in {dop_time:.1} s.\n\n| quantity | lgsvi max, first half | lgsvi max, second half | DOP853 max, first half | DOP853 max, second half |\n|---|---|---|---|---|\n",
         lgsvi.len() - 1
     );
     for (name, label, f) in quantities {
@@ -926,7 +948,7 @@ fn run_long(dir: &std::path::Path, steps: usize, members: usize, quiet: bool) ->
                 x_log: false,
                 y_log: true,
                 series: vec![
-                    series("lgsvi (h = 0.5, n = 8)", &lgsvi, 0),
+                    series(&format!("lgsvi (h = {h}, n = {n})"), &lgsvi, 0),
                     series("DOP853, (R, Ω), tol 1e-13", &dop, 1),
                 ],
                 hlines: vec![],

@@ -584,6 +584,27 @@ fn bench_long_run_writes_report_data_and_plots() {
     let (code, _, err) = lgsvi(&["bench", "--long-run", "--long-run-members", "1"]);
     assert_ne!(code, 0);
     assert!(err.contains("--long-run-members"), "{err}");
+    // Other settings for the long run and its ensemble.
+    let (code, out, err) = lgsvi(&[
+        "bench",
+        "--long-run",
+        "--long-run-steps",
+        "40",
+        "--long-run-members",
+        "2",
+        "--long-run-h",
+        "0.25",
+        "--long-run-nodes",
+        "6",
+        "--quiet",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("lgsvi 40 steps (h = 0.25, n = 6"), "{out}");
+    let (code, _, err) = lgsvi(&["bench", "--long-run", "--long-run-h", "0"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--long-run-h"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
