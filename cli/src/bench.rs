@@ -412,7 +412,13 @@ fn fastest<'a>(
         .min_by(|a, b| a.time_s.total_cmp(&b.time_s))
 }
 
-fn best_error(points: &[Point], case: &str, t_end: f64, method: &str) -> f64 {
+/// The most accurate finite run of `method` (prefix) for a case and horizon.
+fn most_accurate<'a>(
+    points: &'a [Point],
+    case: &str,
+    t_end: f64,
+    method: &str,
+) -> Option<&'a Point> {
     points
         .iter()
         .filter(|p| {
@@ -421,8 +427,11 @@ fn best_error(points: &[Point], case: &str, t_end: f64, method: &str) -> f64 {
                 && p.method.starts_with(method)
                 && p.error.is_finite()
         })
-        .map(|p| p.error)
-        .fold(f64::INFINITY, f64::min)
+        .min_by(|a, b| a.error.total_cmp(&b.error))
+}
+
+fn best_error(points: &[Point], case: &str, t_end: f64, method: &str) -> f64 {
+    most_accurate(points, case, t_end, method).map_or(f64::INFINITY, |p| p.error)
 }
 
 /// The targets, measured.
@@ -495,15 +504,7 @@ pub fn dop853_ratios(points: &[Point]) -> String {
                 row.push_str(&cell);
             }
             let l = fastest(points, case, t_end, "lgsvi", 1e-13);
-            let d = points
-                .iter()
-                .filter(|p| {
-                    p.case == case
-                        && p.t_end == t_end
-                        && p.method == "DOP853 (quaternion)"
-                        && p.error.is_finite()
-                })
-                .min_by(|a, b| a.error.total_cmp(&b.error));
+            let d = most_accurate(points, case, t_end, "DOP853 (quaternion)");
             row.push_str(&match (l, d) {
                 (Some(l), Some(d)) => format!(
                     " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
