@@ -197,6 +197,13 @@ pub struct SimulateOptions {
     /// Gauss points, 1 ≤ m ≤ 1000 [default: n].
     #[arg(long)]
     pub quad: Option<usize>,
+    /// Accuracy wanted at the horizon, e.g. 1e-10: the nodes are chosen per step (5 to 30)
+    /// from each step's own error estimate so that the local errors add up to about TOL
+    /// over --t-end, and, unless --h is given, the step from the initial motion (about
+    /// 1.5 rad of rotation per step); --nodes is then the first step's count [default: 5].
+    /// Not with --quad (the Gauss points follow the nodes).
+    #[arg(long, allow_hyphen_values = true, value_name = "TOL")]
+    pub tol: Option<f64>,
     /// Natural chart [default: exp].
     #[arg(long, value_enum)]
     pub chart: Option<ChartArg>,
@@ -274,6 +281,7 @@ impl SimulateOptions {
             h,
             nodes,
             quad,
+            tol,
             chart,
             matching,
             jacobian,

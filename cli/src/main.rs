@@ -66,7 +66,21 @@ pub struct Run {
     pub max_newton_iterations: usize,
     /// Newton matrices assembled and factored (the other iterations reused one).
     pub factorizations: usize,
+    /// The integrator's error accounting: the sum of the steps' local error estimates,
+    /// the steps per node count, and (adaptive runs) the solves redone with more nodes.
+    pub estimates: Option<Estimates>,
     pub description: serde_json::Value,
+}
+
+/// What a run's error estimates say.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimates {
+    /// The sum of the local error estimates.
+    pub global: f64,
+    /// `(n, steps with n nodes)`, by increasing `n`.
+    pub nodes: Vec<(usize, usize)>,
+    /// Solves redone with more nodes (adaptive runs).
+    pub rejected: usize,
 }
 
 /// The translational part of a recorded SE(3) state.
@@ -197,6 +211,17 @@ where
     }
     progress.finish_and_clear();
     let stats = integrator.statistics();
+    let estimates = Estimates {
+        global: integrator.estimated_global_error(),
+        nodes: integrator
+            .nodes_histogram()
+            .iter()
+            .enumerate()
+            .filter(|(_, &count)| count > 0)
+            .map(|(n, &count)| (n, count))
+            .collect(),
+        rejected: stats.rejected_steps,
+    };
     let mut description = problem.description.clone();
     description["settings"] =
         Problem::settings_json(&problem.settings, problem.t_end, problem.every);
@@ -211,6 +236,7 @@ where
         newton_iterations: stats.newton_iterations,
         max_newton_iterations: stats.max_newton_iterations,
         factorizations: stats.factorizations,
+        estimates: Some(estimates),
         description,
     })
 }
@@ -253,6 +279,7 @@ fn exact_run(problem: &Problem) -> Result<Run> {
         newton_iterations: 0,
         max_newton_iterations: 0,
         factorizations: 0,
+        estimates: None,
         description,
     })
 }

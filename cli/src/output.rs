@@ -79,13 +79,23 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
             None => vector(o, s.spatial_momentum().as_slice()),
         }
     })?;
-    let stats = serde_json::json!({
+    let mut stats = serde_json::json!({
         "steps": run.steps,
         "newton_iterations": run.newton_iterations,
         "max_newton_iterations": run.max_newton_iterations,
         "factorizations": run.factorizations,
         "wall_time_s": run.wall_time_s,
     });
+    if let Some(estimates) = &run.estimates {
+        stats["estimated_error"] = estimates.global.into();
+        stats["nodes_histogram"] = estimates
+            .nodes
+            .iter()
+            .map(|(n, count)| (n.to_string(), serde_json::Value::from(*count)))
+            .collect::<serde_json::Map<_, _>>()
+            .into();
+        stats["rejected_steps"] = estimates.rejected.into();
+    }
     out.write_all(b",\"stats\":")?;
     serde_json::to_writer(&mut *out, &stats).map_err(io::Error::other)?;
     out.write_all(b",")?;

@@ -68,6 +68,53 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     Ok(steps as usize)
 }
 
+/// The rotation a `--tol` run's step takes (at the initial motion's fastest rate): the
+/// reference cases' most efficient steps turn the body 1.5–4 rad (`lgsvi bench`), a Cayley
+/// chart reaches π, and the long runs keep no measurable energy trend below ~1.5 rad.
+const TOLERANCE_STEP_ROTATION: f64 = 1.5;
+
+/// The nodes a `--tol` run starts with: the fewest; the first step adds what its estimate
+/// asks for.
+const TOLERANCE_FIRST_NODES: usize = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES.0;
+
+/// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
+/// takes [`TOLERANCE_STEP_ROTATION`] at the rate `rate` and divides `t_end`, and the
+/// nodes adapt to an error per unit time of `tol / t_end`.
+fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
+    let h = match (options.h, options.tol) {
+        (Some(h), _) => h,
+        (None, Some(_)) if t_end > 0.0 => {
+            let steps = (t_end * rate / TOLERANCE_STEP_ROTATION).ceil().max(1.0);
+            if steps > MAX_RUN_STEPS {
+                return Err(CliError::TooManySteps {
+                    t_end,
+                    h: t_end / steps,
+                    steps,
+                });
+            }
+            t_end / steps
+        }
+        _ => 0.5,
+    };
+    let first = if options.tol.is_some() {
+        TOLERANCE_FIRST_NODES
+    } else {
+        10
+    };
+    let mut settings = StepSettings::new(h, options.nodes.unwrap_or(first))?;
+    if let Some(m) = options.quad {
+        settings = settings.with_quadrature_points(m)?;
+    }
+    if let Some(tol) = options.tol {
+        settings = settings.with_tolerance(tol / t_end.max(h))?;
+    }
+    whole_steps(t_end, h)?;
+    Ok(settings
+        .with_chart(options.chart.map(Into::into).unwrap_or_default())
+        .with_matching(options.matching.map(Into::into).unwrap_or_default())
+        .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default()))
+}
+
 /// A built-in system: one type, so that studies need not be generic.
 #[derive(Debug, Clone, Copy)]
 pub enum System {
@@ -291,16 +338,6 @@ impl Problem {
             });
         }
         let drive: Drive = (BodyTorque(torque), AngularDamping(damping));
-        let h = options.h.unwrap_or(0.5);
-        let nodes = options.nodes.unwrap_or(10);
-        let mut settings = StepSettings::new(h, nodes)?;
-        if let Some(m) = options.quad {
-            settings = settings.with_quadrature_points(m)?;
-        }
-        settings = settings
-            .with_chart(options.chart.map(Into::into).unwrap_or_default())
-            .with_matching(options.matching.map(Into::into).unwrap_or_default())
-            .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default());
         let t_end = options.t_end.unwrap_or(10.0);
         if !(t_end.is_finite() && t_end >= 0.0) {
             return Err(CliError::Invalid {
@@ -309,7 +346,18 @@ impl Problem {
                 reason: "must be finite and non-negative".into(),
             });
         }
-        whole_steps(t_end, h)?;
+        if let Some(tol) = options.tol {
+            if !(tol.is_finite() && tol > 0.0) {
+                return Err(CliError::Invalid {
+                    flag: "--tol",
+                    value: tol.to_string(),
+                    reason: "the accuracy must be positive and finite, e.g. 1e-10".into(),
+                });
+            }
+            if options.quad.is_some() {
+                return Err(CliError::Conflict("--tol", "--quad"));
+            }
+        }
         let every = options.every.unwrap_or(1);
         if every == 0 {
             return Err(CliError::Invalid {
@@ -344,6 +392,8 @@ impl Problem {
         }
         description["system"] = name.into();
         let mut motion = None;
+        // The fastest natural motion besides the spin, for the step of a --tol run.
+        let mut frequency = 0.0;
         let system = match kind {
             SystemKind::RigidBody => System::Free(RigidBody::new(inertia)),
             SystemKind::Se3Body | SystemKind::OrbitingBody => {
@@ -360,6 +410,8 @@ impl Problem {
                 let inner = if orbiting {
                     let mu = options.mu.unwrap_or(1.0);
                     description["mu"] = mu.into();
+                    // The gravity-gradient libration, √3 times the orbit's mean motion.
+                    frequency = (3.0 * mu.abs() / position.norm().powi(3)).sqrt();
                     MotionSystem::Orbit(
                         OrbitingBody::new(inertia, mass, mu).map_err(input("--mass/--mu"))?,
                     )
@@ -390,6 +442,13 @@ impl Problem {
                 let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
                 let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
                 let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
+                // The small oscillations of the pendulum about its least inertia.
+                let least = inertia
+                    .principal_moments()
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                frequency = (mass * gravity * com.norm() / least).sqrt();
                 description["mass"] = mass.into();
                 description["gravity"] = gravity.into();
                 description["com"] = com.as_slice().into();
@@ -397,12 +456,14 @@ impl Problem {
                 System::Top(top)
             }
         };
+        let omega0 = Vector3::from(options.omega0.unwrap_or(d.omega0));
+        let settings = step_settings(&options, t_end, omega0.norm() + frequency)?;
         let problem = Problem {
             system: Forced::new(system, drive),
             motion,
             inertia,
             attitude0: options.attitude()?,
-            omega0: Vector3::from(options.omega0.unwrap_or(d.omega0)),
+            omega0,
             settings,
             t_end,
             every,
@@ -414,13 +475,19 @@ impl Problem {
 
     /// The settings as JSON.
     pub fn settings_json(settings: &StepSettings, t_end: f64, every: usize) -> serde_json::Value {
-        serde_json::json!({
+        let mut json = serde_json::json!({
             "h": settings.step(), "nodes": settings.nodes(), "degree": settings.degree(),
             "quadrature_points": settings.quadrature_points(), "chart": settings.chart().to_string(),
             "matching": format!("{:?}", settings.matching()).to_lowercase(),
             "jacobian": match settings.jacobian() { lgsvi_mechanics::NewtonJacobian::Exact => "exact", _ => "finite-difference" },
             "t_end": t_end, "every": every,
-        })
+        });
+        if let Some(adaptive) = settings.adaptive() {
+            json["error_per_unit_time"] = adaptive.rate.into();
+            json["tolerance"] = (adaptive.rate * t_end.max(settings.step())).into();
+            json["node_range"] = serde_json::json!([adaptive.min_nodes, adaptive.max_nodes]);
+        }
+        json
     }
 
     /// An integrator for this problem with other settings (SO(3) systems).

@@ -41,7 +41,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         SE3::identity(),
         SVector::<f64, 6>::zeros(),
     )?;
-    println!("quadrotor: from rest at the origin to the waypoint {waypoint:?}");
+    println!(
+        "quadrotor: from rest at the origin to the waypoint ({}, {}, {}) m",
+        waypoint.x, waypoint.y, waypoint.z
+    );
     println!(
         "{:>5} {:>28} {:>10} {:>10}",
         "t (s)", "position (m)", "thrust (N)", "tilt (°)"

@@ -39,8 +39,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         vee(&m) * 0.5
     };
     println!(
-        "spacecraft slew: 90° about {:.3?}, PD gains k_R = {k_r}, k_Ω = {k_w}",
-        axis.as_ref()
+        "spacecraft slew: 90° about ({:.3}, {:.3}, {:.3}), PD gains k_R = {k_r}, k_Ω = {k_w}",
+        axis.x, axis.y, axis.z
     );
     println!(
         "{:>6} {:>14} {:>14} {:>12}",

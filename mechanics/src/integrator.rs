@@ -4,7 +4,7 @@
 use crate::error::{check_finite, MechanicsError};
 use crate::flow::FlowGuess;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};
-use crate::settings::StepSettings;
+use crate::settings::{StepSettings, MAX_NODES};
 use crate::step::assembly::{Workspace, WorkspaceOf};
 use crate::step::tables::Discretisation;
 use crate::step::{StepOutcome, Stepper};
@@ -205,6 +205,9 @@ pub struct Statistics {
     /// Newton matrices assembled and factored, summed over the steps: the iterations
     /// beyond these were chord steps, which reuse the step's last factored matrix.
     pub factorizations: usize,
+    /// Adaptive runs: solves whose error estimate was above the tolerance, redone with
+    /// more nodes (their Newton iterations are counted above too).
+    pub rejected_steps: usize,
 }
 
 /// A step's Galerkin curve: `g(t) = g_k Φ(ξ(t))`, `t ∈ [0, h]` from the step's start.
@@ -330,6 +333,17 @@ pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> 
     /// compensation (`work_carry`): a long forced run adds millions of terms.
     work_done: f64,
     work_carry: f64,
+    /// The last step's estimated local error ([`Integrator::error_estimate`]).
+    estimate: f64,
+    /// The sum of the local estimates since the start (or the last reset), compensated.
+    estimate_sum: f64,
+    estimate_carry: f64,
+    /// Steps taken with `n` nodes, at index `n` (length `MAX_NODES + 1`).
+    nodes_used: Vec<usize>,
+    /// Adaptive runs: the nodes the next step starts with, when they change.
+    next_nodes: Option<usize>,
+    /// Adaptive runs: the workspaces of the node counts not in use, kept for reuse.
+    spare_work: Vec<WorkspaceOf<S, D>>,
 }
 
 impl<S: GroupLagrangian<D>, const D: usize> Integrator<S, ChartKind, D>
@@ -416,6 +430,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             statistics: Statistics::default(),
             work_done: 0.0,
             work_carry: 0.0,
+            estimate: 0.0,
+            estimate_sum: 0.0,
+            estimate_carry: 0.0,
+            nodes_used: vec![0; MAX_NODES + 1],
+            next_nodes: None,
+            spare_work: Vec::new(),
         })
     }
 
@@ -550,6 +570,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         self.step_index = 0;
         self.work_done = 0.0;
         self.work_carry = 0.0;
+        self.estimate = 0.0;
+        self.estimate_sum = 0.0;
+        self.estimate_carry = 0.0;
         self.previous_velocity = None;
         self.last_base = configuration;
         self.flow_end = None;
@@ -566,6 +589,29 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             start: self.state.time - self.settings.step(),
             group: PhantomData,
         })
+    }
+
+    /// The last step's estimated local error, from the decay of the Chebyshev coefficients
+    /// of its chart curve (0 before the first step): about the error of the step's end
+    /// configuration and velocity (max norm, in the chart's coordinates: radians and
+    /// radians per unit time on SO(3); SE(3) adds the units of the position). Calibrated on
+    /// the free body and the heavy top: typically 3× above the true local error, at most
+    /// 8× below it (`docs/tolerance.md`). Costs `4nD` multiplications per step.
+    pub fn error_estimate(&self) -> f64 {
+        self.estimate
+    }
+
+    /// The sum of the steps' local error estimates since the start (or the last reset):
+    /// an estimate of the global error where local errors accumulate linearly (the
+    /// reference cases: `docs/tolerance.md` says how well it predicted).
+    pub fn estimated_global_error(&self) -> f64 {
+        self.estimate_sum
+    }
+
+    /// How many steps took `n` nodes, at index `n` (adaptive runs change `n` per step;
+    /// a fixed run has all its steps at one index).
+    pub fn nodes_histogram(&self) -> &[usize] {
+        &self.nodes_used
     }
 
     /// Whether the next step is forced: the system has a force or the input is not zero.
@@ -746,16 +792,104 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// the continuation of the motion (checked against the system's own flow, when it
     /// has one). The state is left unchanged.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
-        let constant_velocity = self.predict(false)?;
+        let Some(adaptive) = self.settings.adaptive() else {
+            let base = self.state.configuration;
+            let outcome = self.attempt(&base)?;
+            let (estimate, _) = self.discretisation.error_estimate(&self.work.xi);
+            return self.commit(&base, outcome, estimate);
+        };
+        if let Some(n) = self.next_nodes.take() {
+            self.switch_nodes(n)?;
+        }
+        let budget = adaptive.rate * self.settings.step();
         let base = self.state.configuration;
-        let first = self.solve(&base);
+        loop {
+            let outcome = self.attempt(&base)?;
+            let (estimate, decay) = self.discretisation.error_estimate(&self.work.xi);
+            let n = self.discretisation.n;
+            if estimate > budget && n < adaptive.max_nodes {
+                // The estimate falls by about q² per node: add the nodes that bring it
+                // under the budget (at least one, at most four at a time).
+                let wanted = if decay < 1.0 && decay > 0.0 {
+                    ((budget / estimate).ln() / (decay * decay).ln()).ceil()
+                } else {
+                    2.0
+                };
+                let more = (wanted as usize).clamp(1, 4);
+                self.statistics.rejected_steps += 1;
+                self.statistics.newton_iterations += outcome.iterations;
+                self.statistics.factorizations += outcome.factorizations;
+                self.switch_nodes((n + more).min(adaptive.max_nodes))?;
+                continue;
+            }
+            let iterations = self.commit(&base, outcome, estimate)?;
+            // Each node fewer multiplies the estimate by about 1/q²: the next step takes
+            // as few as keep it under half the budget (the margin keeps n from going
+            // back and forth between neighbours).
+            if n > adaptive.min_nodes && decay > 0.0 && decay < 1.0 && estimate > 0.0 {
+                let fewer = ((0.5 * budget / estimate).ln() / (decay * decay).recip().ln())
+                    .floor()
+                    .max(0.0) as usize;
+                let next = n.saturating_sub(fewer.min(4)).max(adaptive.min_nodes);
+                if next < n {
+                    self.next_nodes = Some(next);
+                }
+            }
+            return Ok(iterations);
+        }
+    }
+
+    /// Moves the integrator to `n` nodes (tables, workspace, and the last step's curve
+    /// resampled on the new nodes for the predictor). A workspace is built the first time
+    /// a node count is used and kept for later.
+    fn switch_nodes(&mut self, n: usize) -> Result<(), MechanicsError> {
+        if n == self.discretisation.n {
+            return Ok(());
+        }
+        let settings = self.settings.with_nodes(n);
+        let tables = Discretisation::shared(&settings)?;
+        let work = match self.spare_work.iter().position(|w| w.xi.len() == n) {
+            Some(i) => self.spare_work.swap_remove(i),
+            None => Workspace::new(&tables),
+        };
+        let previous = std::mem::replace(&mut self.work, work);
+        self.spare_work.push(previous);
+        // The last curve on the new nodes: exact when n grows (a polynomial of lower
+        // degree), its interpolant when n shrinks (used only as the predictor's start).
+        let resample = self
+            .discretisation
+            .basis
+            .evaluation_matrix(tables.node_times())?;
+        let old = std::mem::take(&mut self.last_nodes);
+        self.last_nodes = (0..n)
+            .map(|i| {
+                resample
+                    .row(i)
+                    .iter()
+                    .zip(&old)
+                    .fold(SVector::zeros(), |acc, (c, x)| acc + x * *c)
+            })
+            .collect();
+        self.extrapolated = vec![SVector::zeros(); n];
+        self.discretisation = tables;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// Predicts and solves the step from `base` (the current state), without taking it.
+    fn attempt(
+        &mut self,
+        base: &ElementOf<S, D>,
+    ) -> Result<StepOutcome<ElementOf<S, D>, D>, MechanicsError> {
+        let constant_velocity = self.predict(false)?;
+        let first = self.solve(base);
         let outcome = match first {
             Ok(outcome) => outcome,
             // A poor guess (the velocity changed a lot over the last step, or the flow
             // guess led Newton astray): retry once from constant velocity before giving up.
             Err(_) if !constant_velocity => {
                 self.predict(true)?;
-                self.solve(&base)?
+                self.solve(base)?
             }
             Err(error) => return Err(error),
         };
@@ -769,9 +903,17 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 return Err(self.aliased_root(distance));
             }
         }
-        // g_k Φ(ξⁿ) is on the group up to the rounding of the product, which would
-        // accumulate over millions of steps (measured ‖RᵀR − I‖ 1e-12 after 10⁶ steps);
-        // one polar Newton step R(I + ½(I − RᵀR)) squares that deviation away.
+        Ok(outcome)
+    }
+
+    /// Takes the solved step: the new state, the work done, the statistics.
+    fn commit(
+        &mut self,
+        base: &ElementOf<S, D>,
+        outcome: StepOutcome<ElementOf<S, D>, D>,
+        estimate: f64,
+    ) -> Result<usize, MechanicsError> {
+        let base = *base;
         let configuration =
             <S::Group as ConfigurationGroup<D>>::renormalise(&outcome.configuration);
         let time = self.origin + (self.step_index + 1) as f64 * self.settings.step();
@@ -804,6 +946,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         stats.newton_iterations += outcome.iterations;
         stats.factorizations += outcome.factorizations;
         stats.max_newton_iterations = stats.max_newton_iterations.max(outcome.iterations);
+        self.nodes_used[self.discretisation.n] += 1;
+        self.estimate = estimate;
+        let term = estimate - self.estimate_carry;
+        let sum = self.estimate_sum + term;
+        self.estimate_carry = (sum - self.estimate_sum) - term;
+        self.estimate_sum = sum;
         Ok(outcome.iterations)
     }
 

@@ -90,8 +90,9 @@ pub use lagrangian::{
 pub use lgsvi_lie as lie;
 pub use rigid_motion::{BodyInField, FieldPotential, FreeBody, OrbitingBody};
 pub use settings::{
-    Matching, NewtonJacobian, StepSettings, DEFAULT_EXTRA_QUADRATURE_POINTS,
-    DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES, MAX_QUADRATURE_POINTS, STEP_RANGE,
+    AdaptiveNodes, Matching, NewtonJacobian, StepSettings, DEFAULT_ADAPTIVE_NODES,
+    DEFAULT_EXTRA_QUADRATURE_POINTS, DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES,
+    MAX_QUADRATURE_POINTS, STEP_RANGE,
 };
 pub use system::{
     AngularDamping, BodyTorque, ElementOf, ForceOfTime, Forced, Forcing, GroupLagrangian,

@@ -11,6 +11,9 @@
 //!   and derivative matrices at a set of points (`B[j][i] = φ_i(c_j)`,
 //!   `D[j][i] = φ_i'(c_j)`, row-major [`Matrix`]), and the differentiation matrix on the
 //!   nodes.
+//! - Chebyshev coefficients of the interpolant through Chebyshev–Lobatto values
+//!   ([`chebyshev_coefficients`], [`chebyshev_coefficient_matrix`]): the decay a spectral
+//!   method reads its own error from.
 //!
 //! # Conventions
 //! - `n` is the number of nodes; the degree is `n − 1`.
@@ -34,11 +37,13 @@
 #![deny(missing_docs)]
 
 mod barycentric;
+mod coefficients;
 mod error;
 mod matrix;
 mod nodes;
 
 pub use barycentric::Barycentric;
+pub use coefficients::{chebyshev_coefficient_matrix, chebyshev_coefficients};
 pub use error::SpectralError;
 pub use matrix::Matrix;
 pub use nodes::{chebyshev_first_kind, chebyshev_lobatto};

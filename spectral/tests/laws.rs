@@ -453,3 +453,65 @@ proptest! {
         );
     }
 }
+
+/// The coefficient transform inverts Clenshaw's summation: a series of degree `n − 1`
+/// sampled at the `n` Lobatto nodes (by Clenshaw, not by the code under test) gives its
+/// coefficients back. Each coefficient is a sum of `n` terms of size ≤ `2 max|f| / N`,
+/// and `max|f| ≤ Σ|c_k|`, so the error is ≤ ~`4 n ε Σ|c_k|`.
+#[test]
+fn coefficients_of_a_sampled_series_are_its_coefficients() {
+    for n in [2usize, 3, 4, 7, 12, 25, 64] {
+        for seed in 0..3 {
+            let c = coefficients(n, seed);
+            let series = ChebSeries {
+                c: c.clone(),
+                a: -0.3,
+                b: 2.1,
+            };
+            let nodes = chebyshev_lobatto(n, -0.3, 2.1).unwrap();
+            let f: Vec<f64> = nodes.iter().map(|&x| series.value(x)).collect();
+            let back = lgsvi_spectral::chebyshev_coefficients(&f).unwrap();
+            let size: f64 = c.iter().map(|c| c.abs()).sum();
+            for (k, (got, want)) in back.iter().zip(&c).enumerate() {
+                assert!(
+                    (got - want).abs() <= 4.0 * n as f64 * EPS * size,
+                    "n {n} k {k}: {got} vs {want}"
+                );
+            }
+        }
+    }
+}
+
+/// Aliasing on the Lobatto grid of `N + 1` points: `T_{2N−k}(t_j) = T_k(t_j)`, so the
+/// samples of `T_{2N−k}` (`0 < k < N`) have the single coefficient `c_k = 1`.
+#[test]
+fn lobatto_samples_alias_t_2n_minus_k_onto_t_k() {
+    for n in [3usize, 6, 11] {
+        let big_n = n - 1;
+        let nodes = chebyshev_lobatto(n, -1.0, 1.0).unwrap();
+        for k in 1..big_n {
+            let degree = 2 * big_n - k;
+            let f: Vec<f64> = nodes
+                .iter()
+                .map(|&t| (degree as f64 * t.clamp(-1.0, 1.0).acos()).cos())
+                .collect();
+            let c = lgsvi_spectral::chebyshev_coefficients(&f).unwrap();
+            for (i, ci) in c.iter().enumerate() {
+                let want = if i == k { 1.0 } else { 0.0 };
+                assert!(
+                    (ci - want).abs() <= 8.0 * n as f64 * EPS,
+                    "n {n} k {k} i {i}: {ci}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn coefficients_need_two_values() {
+    assert!(matches!(
+        lgsvi_spectral::chebyshev_coefficients(&[1.0]),
+        Err(SpectralError::TooFewNodes { n: 1, min: 2, .. })
+    ));
+    assert!(lgsvi_spectral::chebyshev_coefficient_matrix(0).is_err());
+}

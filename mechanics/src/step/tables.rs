@@ -23,6 +23,14 @@ const EXTRAPOLATION_NODES: usize = 12;
 /// nothing worse). Each table is a few kilobytes.
 const CACHED_TABLES: usize = 256;
 
+/// `C` of [`Discretisation::error_estimate`]: the true local error (the step against one
+/// with 14 more nodes from the same state) over `(n − 1)⁴ t² q²`, measured over 470 steps
+/// of the free body and the heavy top (`h = 0.25 … 1.25`, `n = 5 … 12`, every step of
+/// `T = 10` with an error above rounding) is `10^−2.06` on average, between `10^−3.5` and
+/// `10^−0.6` (standard deviation 0.46 decades). `C = 10^−2` puts the estimate near the
+/// typical error, at most 25× below the largest seen and 30× above the smallest.
+pub(crate) const ERROR_CALIBRATION: f64 = 0.01;
+
 /// The tables built so far, by `(h` bit pattern, `n`, `m)`.
 type TableCache = Mutex<HashMap<(u64, usize, usize), Arc<Discretisation>>>;
 
@@ -52,6 +60,10 @@ pub(crate) struct Discretisation {
     /// `φ_p(h + t_i)`, row-major `n × n`: the last step's polynomial continued over the
     /// next step, for the predictor.
     pub extrapolation: Vec<f64>,
+    /// The last `min(n, 4)` rows of the Chebyshev coefficient matrix (row-major, `n`
+    /// columns): the last Chebyshev coefficients of the step's curve from its nodal
+    /// values, which the error estimate reads.
+    pub tail: Vec<f64>,
 }
 
 impl Discretisation {
@@ -116,10 +128,15 @@ impl Discretisation {
                 }
             }
         }
+        let coefficients = lgsvi_spectral::chebyshev_coefficient_matrix(n)?;
+        let tail = (n.saturating_sub(4)..n)
+            .flat_map(|k| coefficients.row(k).to_vec())
+            .collect();
         Ok(Self {
             n,
             m,
             extrapolation,
+            tail,
             weights,
             times,
             values,
@@ -149,6 +166,53 @@ impl Discretisation {
     #[inline]
     pub fn slope(&self, j: usize, i: usize) -> f64 {
         self.slopes[j * self.n + i]
+    }
+
+    /// The estimated local error of a step whose curve has the nodal values `nodes`, and
+    /// the decay `q` it read:
+    /// `C (n − 1)⁴ t² q²`, where `t = max(|c_{n−1}|, |c_{n−2}|)` is the size of the curve's
+    /// last Chebyshev coefficients (max norm over the algebra), `q = √(t / t′)` their decay
+    /// per degree (`t′` the same two coefficients before, `q ≤ 1`; `q = 1` below five nodes,
+    /// where there is no decay to read) and `C` = [`ERROR_CALIBRATION`].
+    ///
+    /// Why this form: the interior of the curve is accurate to about the first neglected
+    /// coefficient `t q`; its velocity, which the action weighs, to `(n − 1)² t q`; and the
+    /// step's end point, where a variational method superconverges, to the square of that.
+    pub fn error_estimate<const D: usize>(
+        &self,
+        nodes: &[nalgebra::SVector<f64, D>],
+    ) -> (f64, f64) {
+        let n = self.n;
+        let coefficient = |row: &[f64]| {
+            row.iter()
+                .zip(nodes)
+                .fold(nalgebra::SVector::<f64, D>::zeros(), |acc, (c, x)| {
+                    acc + x * *c
+                })
+                .amax()
+        };
+        let mut sizes = [0.0; 4];
+        let mut k = 0;
+        for (size, row) in sizes.iter_mut().zip(self.tail.chunks_exact(n)) {
+            *size = coefficient(row);
+            k += 1;
+        }
+        let tail = sizes[k - 1].max(sizes[k - 2]);
+        let decay = if k == 4 {
+            let before = sizes[0].max(sizes[1]);
+            if before > 0.0 {
+                (tail / before).sqrt().min(1.0)
+            } else {
+                1.0
+            }
+        } else {
+            1.0
+        };
+        let degree = (n - 1) as f64;
+        (
+            ERROR_CALIBRATION * degree.powi(4) * (tail * decay).powi(2),
+            decay,
+        )
     }
 
     /// The node times `t_i ∈ [0, h]`.
