@@ -15,6 +15,7 @@ mod plot;
 mod problem;
 mod reproduce;
 mod study;
+mod tolerance;
 
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;

@@ -488,7 +488,13 @@ where
                 })
                 .x_label_formatter(&|v| {
                     if fig.x_log {
-                        format!("{}", v)
+                        // Decades far from 1 as powers of ten: `{}` writes 1e-13 out as
+                        // fifteen digits, and neighbouring labels run into each other.
+                        if (1e-3..=1e4).contains(&v.abs()) {
+                            format!("{}", v)
+                        } else {
+                            format!("{:.0e}", v)
+                        }
                     } else {
                         linear_tick(*v, x1 - x0)
                     }

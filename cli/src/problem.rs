@@ -68,23 +68,38 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     Ok(steps as usize)
 }
 
-/// The rotation a `--tol` run's step takes (at the initial motion's fastest rate): the
-/// reference cases' most efficient steps turn the body 1.5–4 rad (`lgsvi bench`), a Cayley
-/// chart reaches π, and the long runs keep no measurable energy trend below ~1.5 rad.
-const TOLERANCE_STEP_ROTATION: f64 = 1.5;
+/// The rotation a `--tol` run's step takes at the initial motion's fastest rate, as a
+/// fraction of what the chart can follow in one step (exp 2π, Cayley π), at most 3 rad:
+/// on the reference cases the fastest fixed `(h, n)` for errors 1e-6 … 1e-13 turn the body
+/// 2.5–4 rad per step (`lgsvi converge --study tolerance`), and a longer step also makes
+/// each node count a smaller change in the error (about 30× per node at 3 rad, 100× at
+/// 1.5 rad), so the tolerance is met more closely.
+const TOLERANCE_STEP_ROTATION: (f64, f64) = (0.5, 3.0);
 
-/// The nodes a `--tol` run starts with: the fewest; the first step adds what its estimate
-/// asks for.
-const TOLERANCE_FIRST_NODES: usize = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES.0;
+/// The nodes a `--tol` run's first step takes: `4 + ⌈−log₁₀(tol)/2⌉` (5 to 30), what the
+/// reference cases settle on at steps of about 3 rad (7 at 1e-6, 11 at 1e-13); later steps
+/// take what their estimates ask for. A first guess too low costs the first step a
+/// second solve, one too high only extra nodes on it.
+fn tolerance_first_nodes(tol: f64) -> usize {
+    let (least, most) = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES;
+    (4.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
+}
 
 /// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
 /// takes [`TOLERANCE_STEP_ROTATION`] at the rate `rate` and divides `t_end`, and the
 /// nodes adapt to an error per unit time of `tol / t_end`.
-fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
+pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
     let h = match (options.h, options.tol) {
         (Some(h), _) => h,
         (None, Some(_)) if t_end > 0.0 => {
-            let steps = (t_end * rate / TOLERANCE_STEP_ROTATION).ceil().max(1.0);
+            let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(
+                &options
+                    .chart
+                    .map(lgsvi_mechanics::lie::ChartKind::from)
+                    .unwrap_or_default(),
+            );
+            let rotation = (TOLERANCE_STEP_ROTATION.0 * reach).min(TOLERANCE_STEP_ROTATION.1);
+            let steps = (t_end * rate / rotation).ceil().max(1.0);
             if steps > MAX_RUN_STEPS {
                 return Err(CliError::TooManySteps {
                     t_end,
@@ -96,11 +111,7 @@ fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<Ste
         }
         _ => 0.5,
     };
-    let first = if options.tol.is_some() {
-        TOLERANCE_FIRST_NODES
-    } else {
-        10
-    };
+    let first = options.tol.map_or(10, tolerance_first_nodes);
     let mut settings = StepSettings::new(h, options.nodes.unwrap_or(first))?;
     if let Some(m) = options.quad {
         settings = settings.with_quadrature_points(m)?;
@@ -230,6 +241,9 @@ pub struct Problem {
     pub attitude0: SO3,
     pub omega0: Vector3<f64>,
     pub settings: StepSettings,
+    /// The initial motion's fastest rate (rad per unit time): the spin plus the system's
+    /// own natural frequency; a `--tol` run's step turns about 1.5 rad at it.
+    pub rate: f64,
     pub t_end: f64,
     pub every: usize,
     pub quiet: bool,
@@ -457,7 +471,8 @@ impl Problem {
             }
         };
         let omega0 = Vector3::from(options.omega0.unwrap_or(d.omega0));
-        let settings = step_settings(&options, t_end, omega0.norm() + frequency)?;
+        let rate = omega0.norm() + frequency;
+        let settings = step_settings(&options, t_end, rate)?;
         let problem = Problem {
             system: Forced::new(system, drive),
             motion,
@@ -465,6 +480,7 @@ impl Problem {
             attitude0: options.attitude()?,
             omega0,
             settings,
+            rate,
             t_end,
             every,
             quiet: options.quiet,

@@ -312,6 +312,12 @@ pub enum StudyKind {
     Step,
     /// Both.
     Both,
+    /// The per-step error estimate against the true local error, over a grid of `(h, n)`
+    /// (any system, SO(3) or SE(3)).
+    Estimate,
+    /// `--tol` runs over a list of tolerances against a reference and the fastest fixed
+    /// `(h, n)` as accurate (any system).
+    Tolerance,
 }
 
 fn node_range(text: &str) -> Result<[usize; 2], String> {
@@ -375,6 +381,16 @@ pub struct ConvergeOptions {
     /// Points per step at which the Galerkin curve is compared, 1 (none) to 1000 [default: 8].
     #[arg(long)]
     pub curve_samples: Option<usize>,
+    /// Tolerance study: the tolerances [default: 1e-6,1e-7,…,1e-13].
+    #[arg(long, value_parser = positive_tolerance, value_delimiter = ',', value_name = "T1,T2,...")]
+    pub tols: Option<Vec<f64>>,
+}
+
+fn positive_tolerance(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("{text:?} is not a positive tolerance like 1e-10")),
+    }
 }
 
 /// The studies' results.
@@ -599,6 +615,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             options.steps = options.steps.or(file.steps);
             options.step_nodes = options.step_nodes.or(file.step_nodes);
             options.curve_samples = options.curve_samples.or(file.curve_samples);
+            options.tols = options.tols.or(file.tols);
         }
     }
     if options.base.exact {
@@ -622,6 +639,10 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             });
         }
     }
+    let kind = options.study.unwrap_or(StudyKind::Both);
+    if matches!(kind, StudyKind::Estimate | StudyKind::Tolerance) {
+        return crate::tolerance::run(options, kind == StudyKind::Estimate);
+    }
     let (problem, base) = Problem::resolve(options.base)?;
     if problem.motion.is_some() {
         return Err(CliError::NotForSystem {
@@ -631,11 +652,10 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             } else {
                 "se3-body"
             },
-            applies:
-                "the SO(3) systems (rigid-body, heavy-top) today; run SE(3) systems with simulate",
+            applies: "the SO(3) systems (rigid-body, heavy-top) for --study nodes, step and \
+                 both; --study estimate and tolerance run every system",
         });
     }
-    let kind = options.study.unwrap_or(StudyKind::Both);
     let [first, last] = options.nodes_range.unwrap_or([2, 16]);
     // Values from a config file did not pass the flags' parsers.
     if let Some([a, b]) = options.nodes_range {
