@@ -43,9 +43,14 @@ pub struct BenchOptions {
     /// The long run's step h (and its ensemble's) [default: 0.5].
     #[arg(long, value_name = "H")]
     pub long_run_h: Option<f64>,
-    /// The long run's nodes n (and its ensemble's) [default: 8].
+    /// The long run's nodes n (and its ensemble's) [default: 8]; with --long-run-tol, the
+    /// first step's.
     #[arg(long, value_name = "N")]
     pub long_run_nodes: Option<usize>,
+    /// The long run (and its ensemble) with nodes chosen per step for this error per unit
+    /// time (`StepSettings::with_tolerance`), e.g. 1e-13.
+    #[arg(long, value_name = "RATE")]
+    pub long_run_tol: Option<f64>,
     /// Initial conditions of the long run's energy-trend ensemble, each run for the same
     /// steps in parallel; 0 skips it, at most 100000 [default: 12].
     #[arg(long, value_name = "N")]
@@ -134,9 +139,32 @@ fn cases() -> Vec<Case> {
 /// the command line's [`System`] enum every call of the Lagrangian's methods takes a
 /// `match` (measured, case A at h = 1, n = 10: 114 µs per run against 108 µs).
 fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> {
+    let settings = StepSettings::new(h, n)?.with_chart(ChartKind::Exp);
     match lgsvi_system(case)? {
-        System::Free(body) => lgsvi_run_with(body, case, t_end, h, n),
-        System::Top(top) => lgsvi_run_with(top, case, t_end, h, n),
+        System::Free(body) => lgsvi_run_with(body, case, t_end, settings),
+        System::Top(top) => lgsvi_run_with(top, case, t_end, settings),
+    }
+}
+
+/// A `--tol` run, its settings chosen as `simulate --tol` chooses them (the step from the
+/// initial motion, the first step's nodes from the tolerance), construction included.
+fn lgsvi_tolerance_run(case: &Case, t_end: f64, tol: f64) -> Result<Matrix3<f64>> {
+    let w0 = case.model.velocity(&case.start.momentum);
+    // The spin plus, for the top, its pendulum frequency √(m g |ρ| / J_min).
+    let least = case
+        .model
+        .inertia
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let rate = w0.norm() + (case.model.mg * case.model.rho.norm() / least).sqrt();
+    let h = crate::problem::tolerance_step(t_end, rate, ChartKind::Exp)?;
+    let settings = StepSettings::new(h, crate::problem::tolerance_first_nodes(tol))?
+        .with_tolerance(tol / t_end)?
+        .with_chart(ChartKind::Exp);
+    match lgsvi_system(case)? {
+        System::Free(body) => lgsvi_run_with(body, case, t_end, settings),
+        System::Top(top) => lgsvi_run_with(top, case, t_end, settings),
     }
 }
 
@@ -144,16 +172,20 @@ fn lgsvi_run_with<L: Lagrangian>(
     system: L,
     case: &Case,
     t_end: f64,
-    h: f64,
-    n: usize,
+    settings: StepSettings,
 ) -> Result<Matrix3<f64>> {
-    let settings = StepSettings::new(h, n)?.with_chart(ChartKind::Exp);
     let w0 = case.model.velocity(&case.start.momentum);
     let mut it = Integrator::new(system, settings, SO3::identity(), w0)?;
-    let steps = (t_end / h).round() as usize;
+    let steps = (t_end / settings.step()).round() as usize;
     it.run(steps, steps)?;
     Ok(*it.state().attitude().matrix())
 }
+
+/// The tolerances of the `--tol` series.
+const TOLERANCES: std::ops::RangeInclusive<i32> = 4..=13;
+
+/// The prefix of the fixed `(h, n)` lgsvi series (the `--tol` series is "lgsvi --tol").
+const LGSVI_FIXED: &str = "lgsvi (exp";
 
 /// lgsvi's sweeps: nodes at a fixed step, for five steps that divide both horizons (a
 /// longer step amortises the nodes that any step needs). At h = 1.25 case A rotates by 3.7 rad per step, past the
@@ -196,6 +228,7 @@ fn runs_per_case() -> usize {
         .map(|(_, n)| n.clone().count())
         .sum::<usize>()
         + 24
+        + TOLERANCES.count()
         + FIXED_SWEEPS
             .iter()
             .map(|&(_, _, first, octaves, per)| fixed_steps(first, octaves, per).count())
@@ -360,6 +393,12 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                     tick();
                 }
             }
+            for k in TOLERANCES {
+                let tol = 10f64.powi(-k);
+                let (r, t) = timed(repeats, || lgsvi_tolerance_run(&case, t_end, tol));
+                push("lgsvi --tol", format!("tol = 1e-{k}"), r, t);
+                tick();
+            }
             for kind in [Dop853State::Quaternion, Dop853State::Matrix] {
                 for k in 3..=14 {
                     let tol = 10f64.powi(-k);
@@ -443,12 +482,12 @@ pub fn targets(points: &[Point]) -> String {
     };
     let _ = writeln!(s, "| target | measured | met |");
     let _ = writeln!(s, "|---|---|---|");
-    let l = fastest(points, "A", 10.0, "lgsvi", 1e-12);
+    let l = fastest(points, "A", 10.0, LGSVI_FIXED, 1e-12);
     let d = fastest(points, "A", 10.0, "DOP853 (quaternion)", 1e-12);
     let met = matches!((l, d), (Some(l), Some(d)) if l.time_s <= d.time_s);
     let _ = writeln!(s, "| A, T = 10, error ≤ 1e-12: lgsvi time ≤ DOP853 (quaternion) time | lgsvi {}, DOP853 {} | {} |", ms(l), ms(d), if met { "yes" } else { "no" });
     for case in ["A", "B"] {
-        let l = fastest(points, case, 10.0, "lgsvi", 1e-10);
+        let l = fastest(points, case, 10.0, LGSVI_FIXED, 1e-10);
         let y1 = fastest(points, case, 10.0, "LGVI2-Yoshida4", 1e-10);
         let y2 = fastest(points, case, 10.0, "splitting-Yoshida4", 1e-10);
         let best = [y1, y2]
@@ -462,7 +501,7 @@ pub fn targets(points: &[Point]) -> String {
         let met = matches!((l, best), (Some(l), Some(b)) if b.time_s >= 30.0 * l.time_s);
         let _ = writeln!(s, "| {case}, T = 10, error ≤ 1e-10: lgsvi ≥ 30× faster than the best Yoshida-4 | lgsvi {}, LGVI2-Yoshida4 {}, splitting-Yoshida4 {}: {ratio} | {} |", ms(l), ms(y1), ms(y2), if met { "yes" } else { "no" });
     }
-    let l = best_error(points, "A", 100.0, "lgsvi");
+    let l = best_error(points, "A", 100.0, LGSVI_FIXED);
     let d = best_error(points, "A", 100.0, "DOP853");
     let _ = writeln!(
         s,
@@ -489,7 +528,7 @@ pub fn dop853_ratios(points: &[Point]) -> String {
         for t_end in [10.0, 100.0] {
             let mut row = format!("| case {case}, T = {t_end} |");
             for target in TARGETS {
-                let l = fastest(points, case, t_end, "lgsvi", target);
+                let l = fastest(points, case, t_end, LGSVI_FIXED, target);
                 let d = fastest(points, case, t_end, "DOP853 (quaternion)", target);
                 let cell = match (l, d) {
                     (Some(l), Some(d)) => format!(
@@ -503,7 +542,7 @@ pub fn dop853_ratios(points: &[Point]) -> String {
                 };
                 row.push_str(&cell);
             }
-            let l = fastest(points, case, t_end, "lgsvi", 1e-13);
+            let l = fastest(points, case, t_end, LGSVI_FIXED, 1e-13);
             let d = most_accurate(points, case, t_end, "DOP853 (quaternion)");
             row.push_str(&match (l, d) {
                 (Some(l), Some(d)) => format!(
@@ -517,6 +556,55 @@ pub fn dop853_ratios(points: &[Point]) -> String {
                 _ => " – |".into(),
             });
             let _ = writeln!(s, "{row}");
+        }
+    }
+    s
+}
+
+/// The `--tol` series: for each case, horizon and tolerance, the error the run reached,
+/// its time, and the time of the fastest fixed `(h, n)` and DOP853 (quaternion) runs at
+/// least as accurate (ratios above 1: the `--tol` run is slower).
+pub fn tolerance_table(points: &[Point]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| case and horizon | tol | error | error / tol | time (ms) | / fastest fixed (h, n) as accurate | / fastest DOP853 as accurate |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    for case in ["A", "B"] {
+        for t_end in [10.0, 100.0] {
+            for p in points
+                .iter()
+                .filter(|p| p.case == case && p.t_end == t_end && p.method == "lgsvi --tol")
+            {
+                let tol: f64 = p
+                    .knob
+                    .trim_start_matches("tol = ")
+                    .parse()
+                    .unwrap_or(f64::NAN);
+                if !p.error.is_finite() {
+                    let _ = writeln!(s, "| {case} at T = {t_end} | {tol:.0e} | failed | | | | |");
+                    continue;
+                }
+                let ratio = |other: Option<&Point>| {
+                    other.map_or("none as accurate".to_string(), |o| {
+                        let what = o
+                            .method
+                            .trim_start_matches("lgsvi ")
+                            .trim_start_matches("DOP853 ");
+                        format!("{:.2} ({what}, {})", p.time_s / o.time_s, o.knob)
+                    })
+                };
+                let _ = writeln!(
+                    s,
+                    "| {case} at T = {t_end} | {tol:.0e} | {:.1e} | {:.2} | {:.3} | {} | {} |",
+                    p.error,
+                    p.error / tol,
+                    1e3 * p.time_s,
+                    ratio(fastest(points, case, t_end, LGSVI_FIXED, p.error)),
+                    ratio(fastest(points, case, t_end, "DOP853 (quaternion)", p.error)),
+                );
+            }
         }
     }
     s
@@ -583,11 +671,20 @@ pub fn run(options: BenchOptions) -> Result<()> {
             options.long_run_h.unwrap_or(0.5),
             options.long_run_nodes.unwrap_or(8),
         );
-        let settings = long_run_settings(h, n).map_err(|e| CliError::Invalid {
+        let mut settings = long_run_settings(h, n).map_err(|e| CliError::Invalid {
             flag: "--long-run-h/--long-run-nodes",
             value: format!("{h}, {n}"),
             reason: e.to_string(),
         })?;
+        if let Some(rate) = options.long_run_tol {
+            settings = settings
+                .with_tolerance(rate)
+                .map_err(|e| CliError::Invalid {
+                    flag: "--long-run-tol",
+                    value: rate.to_string(),
+                    reason: e.to_string(),
+                })?;
+        }
         return run_long(&dir, settings, steps, members, options.quiet);
     }
     let total = 2 * 2 * runs_per_case() as u64;
@@ -605,6 +702,11 @@ pub fn run(options: BenchOptions) -> Result<()> {
         table,
         "## Against DOP853 (best (h, n) per target, construction included)\n\n{}",
         dop853_ratios(&points)
+    );
+    let _ = writeln!(
+        table,
+        "## lgsvi --tol (nodes chosen per step; the step and first nodes as `simulate --tol` chooses them)\n\n{}",
+        tolerance_table(&points)
     );
     let ensemble = ensemble(members, repeats)?;
     let ensemble_line = format!(
@@ -647,7 +749,11 @@ pub fn run(options: BenchOptions) -> Result<()> {
                     series.push(Series {
                         label: p.method.clone(),
                         points: vec![(p.time_s, p.error)],
-                        style: Style::LineMarkers,
+                        style: if p.method == "lgsvi --tol" {
+                            Style::DashedMarkers
+                        } else {
+                            Style::LineMarkers
+                        },
                         color,
                     });
                 }
@@ -687,6 +793,7 @@ pub fn run(options: BenchOptions) -> Result<()> {
     write("bench.json", &json)?;
     println!("{}", targets(&points));
     println!("{}", dop853_ratios(&points));
+    println!("{}", tolerance_table(&points));
     println!("{ensemble_line}");
     println!(
         "table: {}, data: {}, plots: {}/bench_*.svg|png",
@@ -741,7 +848,7 @@ pub fn long_run(
     steps: usize,
     samples: usize,
     mut tick: impl FnMut(u64),
-) -> Result<(Vec<Invariants>, Vec<Invariants>, f64, f64)> {
+) -> Result<LongRun> {
     let case = cases().remove(0);
     let h = settings.step();
     let every = (steps / samples.max(1)).max(1);
@@ -777,7 +884,30 @@ pub fn long_run(
         dop.push(invariants(t, &case.start, &case.model, &state));
     }
     let dop_time = clock.elapsed().as_secs_f64();
-    Ok((lgsvi, dop, lgsvi_time, dop_time))
+    let nodes = integrator
+        .nodes_histogram()
+        .iter()
+        .enumerate()
+        .filter(|(_, &c)| c > 0)
+        .map(|(n, &c)| (n, c))
+        .collect();
+    Ok(LongRun {
+        lgsvi,
+        dop,
+        lgsvi_time,
+        dop_time,
+        nodes,
+    })
+}
+
+/// The long run's samples and times, and the steps lgsvi took per node count.
+pub struct LongRun {
+    pub lgsvi: Vec<Invariants>,
+    pub dop: Vec<Invariants>,
+    pub lgsvi_time: f64,
+    pub dop_time: f64,
+    /// `(n, steps with n nodes)`.
+    pub nodes: Vec<(usize, usize)>,
 }
 
 /// The signed end values of an ensemble: mean, its standard error, rms.
@@ -892,7 +1022,28 @@ fn run_long(
 ) -> Result<()> {
     let (h, n) = (settings.step(), settings.nodes());
     let progress = crate::progress_bar(steps as u64, "long run (lgsvi)", "steps", quiet);
-    let (lgsvi, dop, lgsvi_time, dop_time) = long_run(settings, steps, 500, |k| progress.inc(k))?;
+    let LongRun {
+        lgsvi,
+        dop,
+        lgsvi_time,
+        dop_time,
+        nodes,
+    } = long_run(settings, steps, 500, |k| progress.inc(k))?;
+    let legend = match settings.adaptive() {
+        Some(_) => format!("lgsvi (h = {h}, n per step)"),
+        None => format!("lgsvi (h = {h}, n = {n})"),
+    };
+    let n = match settings.adaptive() {
+        Some(a) => {
+            let counts: Vec<String> = nodes.iter().map(|(n, c)| format!("{n}: {c}")).collect();
+            format!(
+                "chosen per step for an error of {:.0e} per unit time (steps per n: {})",
+                a.rate,
+                counts.join(", ")
+            )
+        }
+        None => n.to_string(),
+    };
     progress.finish_and_clear();
     let trend = if members > 0 {
         let total = (members * steps) as u64;
@@ -949,7 +1100,7 @@ fn run_long(
                 x_log: false,
                 y_log: true,
                 series: vec![
-                    series(&format!("lgsvi (h = {h}, n = {n})"), &lgsvi, 0),
+                    series(&legend, &lgsvi, 0),
                     series("DOP853, (R, Ω), tol 1e-13", &dop, 1),
                 ],
                 hlines: vec![],

@@ -91,8 +91,8 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
         stats["nodes_histogram"] = estimates
             .nodes
             .iter()
-            .map(|(n, count)| (n.to_string(), serde_json::Value::from(*count)))
-            .collect::<serde_json::Map<_, _>>()
+            .map(|&(n, count)| serde_json::json!([n, count]))
+            .collect::<Vec<_>>()
             .into();
         stats["rejected_steps"] = estimates.rejected.into();
     }

@@ -490,7 +490,7 @@ where
                     if fig.x_log {
                         // Decades far from 1 as powers of ten: `{}` writes 1e-13 out as
                         // fifteen digits, and neighbouring labels run into each other.
-                        if (1e-3..=1e4).contains(&v.abs()) {
+                        if (1e-2..=1e3).contains(&v.abs()) {
                             format!("{}", v)
                         } else {
                             format!("{:.0e}", v)

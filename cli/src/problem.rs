@@ -5,7 +5,7 @@ use crate::config::{SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::lie::{SE3, SO3};
+use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
     Integrator, Lagrangian, LagrangianDerivatives, OrbitingBody, RigidBody, RigidMotions,
@@ -80,35 +80,35 @@ const TOLERANCE_STEP_ROTATION: (f64, f64) = (0.5, 3.0);
 /// reference cases settle on at steps of about 3 rad (7 at 1e-6, 11 at 1e-13); later steps
 /// take what their estimates ask for. A first guess too low costs the first step a
 /// second solve, one too high only extra nodes on it.
-fn tolerance_first_nodes(tol: f64) -> usize {
+pub fn tolerance_first_nodes(tol: f64) -> usize {
     let (least, most) = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES;
     (4.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
+}
+
+/// A `--tol` run's step over `[0, t_end]` at the motion's rate `rate` in `chart`: the
+/// whole fraction of `t_end` that turns [`TOLERANCE_STEP_ROTATION`] or less.
+pub fn tolerance_step(t_end: f64, rate: f64, chart: ChartKind) -> Result<f64> {
+    let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(&chart);
+    let rotation = (TOLERANCE_STEP_ROTATION.0 * reach).min(TOLERANCE_STEP_ROTATION.1);
+    let steps = (t_end * rate / rotation).ceil().max(1.0);
+    if steps > MAX_RUN_STEPS {
+        return Err(CliError::TooManySteps {
+            t_end,
+            h: t_end / steps,
+            steps,
+        });
+    }
+    Ok(t_end / steps)
 }
 
 /// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
 /// takes [`TOLERANCE_STEP_ROTATION`] at the rate `rate` and divides `t_end`, and the
 /// nodes adapt to an error per unit time of `tol / t_end`.
 pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
+    let chart = options.chart.map(Into::into).unwrap_or_default();
     let h = match (options.h, options.tol) {
         (Some(h), _) => h,
-        (None, Some(_)) if t_end > 0.0 => {
-            let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(
-                &options
-                    .chart
-                    .map(lgsvi_mechanics::lie::ChartKind::from)
-                    .unwrap_or_default(),
-            );
-            let rotation = (TOLERANCE_STEP_ROTATION.0 * reach).min(TOLERANCE_STEP_ROTATION.1);
-            let steps = (t_end * rate / rotation).ceil().max(1.0);
-            if steps > MAX_RUN_STEPS {
-                return Err(CliError::TooManySteps {
-                    t_end,
-                    h: t_end / steps,
-                    steps,
-                });
-            }
-            t_end / steps
-        }
+        (None, Some(_)) if t_end > 0.0 => tolerance_step(t_end, rate, chart)?,
         _ => 0.5,
     };
     let first = options.tol.map_or(10, tolerance_first_nodes);
@@ -121,7 +121,7 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
     }
     whole_steps(t_end, h)?;
     Ok(settings
-        .with_chart(options.chart.map(Into::into).unwrap_or_default())
+        .with_chart(chart)
         .with_matching(options.matching.map(Into::into).unwrap_or_default())
         .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default()))
 }
@@ -404,6 +404,9 @@ impl Problem {
         if options.damping.is_some() {
             description["damping"] = damping.into();
         }
+        if let Some(tol) = options.tol {
+            description["tolerance"] = tol.into();
+        }
         description["system"] = name.into();
         let mut motion = None;
         // The fastest natural motion besides the spin, for the step of a --tol run.
@@ -500,7 +503,6 @@ impl Problem {
         });
         if let Some(adaptive) = settings.adaptive() {
             json["error_per_unit_time"] = adaptive.rate.into();
-            json["tolerance"] = (adaptive.rate * t_end.max(settings.step())).into();
             json["node_range"] = serde_json::json!([adaptive.min_nodes, adaptive.max_nodes]);
         }
         json

@@ -49,6 +49,7 @@ pub struct StepSettings {
     max_newton_iterations: usize,
     tolerance: Option<f64>,
     node_range: (usize, usize),
+    step_changes: bool,
 }
 
 /// Nodes chosen per step from the step's own error estimate (see
@@ -62,6 +63,8 @@ pub struct AdaptiveNodes {
     pub min_nodes: usize,
     /// The most nodes a step may take.
     pub max_nodes: usize,
+    /// Whether the step `h` may change too ([`StepSettings::with_step_changes`]).
+    pub step_changes: bool,
 }
 
 /// The default node range of adaptive runs: below 5 nodes the estimate has no decay to read
@@ -155,6 +158,7 @@ impl StepSettings {
             max_newton_iterations: DEFAULT_MAX_NEWTON_ITERATIONS,
             tolerance: None,
             node_range: DEFAULT_ADAPTIVE_NODES,
+            step_changes: false,
         })
     }
 
@@ -310,7 +314,34 @@ impl StepSettings {
             rate,
             min_nodes: self.node_range.0,
             max_nodes: self.node_range.1,
+            step_changes: self.step_changes,
         })
+    }
+
+    /// Lets an adaptive run ([`StepSettings::with_tolerance`]) change its step as well as
+    /// its nodes: a step that misses the tolerance with the most nodes allowed, or that the
+    /// chart cannot follow, is solved again at half the step; a run that needs only the
+    /// fewest nodes doubles its step (up to the step it started with). **This costs the
+    /// long-run energy behaviour:** a symplectic method keeps a modified energy of its
+    /// *fixed* step, and a step chosen from the state is no longer one map. Measured on the
+    /// heavy top over 10⁵ steps (`docs/tolerance.md` §4): a drift where fixed steps have
+    /// none. Momenta stay exact (every step is still a map of the exact matching). A run
+    /// with step changes has no fixed number of steps: [`Integrator::steps_until`] refuses
+    /// it; step until [`Integrator::state`]'s time reaches the end, or use
+    /// [`Integrator::run_until`], which shortens the last step to land on it.
+    ///
+    /// [`Integrator::steps_until`]: crate::Integrator::steps_until
+    /// [`Integrator::state`]: crate::Integrator::state
+    /// [`Integrator::run_until`]: crate::Integrator::run_until
+    pub fn with_step_changes(mut self, allowed: bool) -> Self {
+        self.step_changes = allowed;
+        self
+    }
+
+    /// These settings with step `h` (checked by the caller: halvings and doublings of a
+    /// valid step, or a shortened last step).
+    pub(crate) fn with_step_unchecked(&self, h: f64) -> Self {
+        Self { step: h, ..*self }
     }
 
     /// These settings with `n` nodes and the default `m = n` Gauss points (the nodes an
