@@ -197,11 +197,11 @@ pub struct SimulateOptions {
     /// Gauss points, 1 ≤ m ≤ 1000 [default: n].
     #[arg(long)]
     pub quad: Option<usize>,
-    /// Accuracy wanted at the horizon, e.g. 1e-10: the nodes are chosen per step (5 to 30)
-    /// from each step's own error estimate so that the local errors add up to at most TOL
-    /// over --t-end, and, unless --h is given, the step from the initial motion (3 rad of
+    /// Accuracy wanted at the horizon, e.g. 1e-10: the nodes are chosen per step (5 to 30,
+    /// rising only) from each step's own error estimate so that the local errors add up to
+    /// at most TOL over --t-end, and, unless --h is given, the step from the initial motion (3 rad of
     /// rotation per step with exp, π/2 with a Cayley chart); --nodes is then the first
-    /// step's count [default: 4 + ⌈−log₁₀(TOL)/2⌉]. Not with --quad (the Gauss points
+    /// step's count [default: 3 + ⌈−log₁₀(TOL)/2⌉]. Not with --quad (the Gauss points
     /// follow the nodes).
     #[arg(long, allow_hyphen_values = true, value_name = "TOL")]
     pub tol: Option<f64>,

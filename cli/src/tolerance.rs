@@ -586,11 +586,11 @@ pub fn run(options: crate::study::ConvergeOptions, estimate: bool) -> Result<()>
 /// `[tol/100, 10 tol]`.
 pub fn tolerance_figure(title: &str, runs: &[ToleranceRun]) -> Figure {
     let ok: Vec<&ToleranceRun> = runs.iter().filter(|r| r.failure.is_none()).collect();
-    let line = |label: &str, factor: f64| Series {
+    let line = |label: &str, factor: f64, style: Style, color: usize| Series {
         label: label.into(),
         points: ok.iter().map(|r| (r.tol, r.tol * factor)).collect(),
-        style: Style::Line,
-        color: 11,
+        style,
+        color,
     };
     Figure {
         title: title.into(),
@@ -611,8 +611,8 @@ pub fn tolerance_figure(title: &str, runs: &[ToleranceRun]) -> Figure {
                 style: Style::DashedMarkers,
                 color: 1,
             },
-            line("10 × tol", 10.0),
-            line("tol / 100", 0.01),
+            line("10 × tol", 10.0, Style::Line, 11),
+            line("tol / 100", 0.01, Style::DashedMarkers, 8),
         ],
         hlines: Vec::new(),
     }

@@ -17,3 +17,13 @@ rm -f docs/samples/orbiting_body_conservation.png docs/samples/forced_energy_bal
 # ensemble, about 5 minutes on 2 cores).
 cargo run --release --bin lgsvi -- bench --long-run --long-run-members 36 --quiet --out "$out/long-run"
 cp "$out/long-run/long_run_energy.svg" docs/samples/
+# Tolerance-driven runs (docs/tolerance.md): the heavy top's estimate against the true
+# local error, its --tol runs at T = 10, and the long run with nodes chosen per step.
+cargo run --release --bin lgsvi -- converge --quiet --study estimate --system heavy-top \
+    --plot docs/samples/estimate_vs_truth_heavy_top
+cargo run --release --bin lgsvi -- converge --quiet --study tolerance --system heavy-top \
+    --plot docs/samples/tolerance_heavy_top
+rm -f docs/samples/estimate_vs_truth_heavy_top.png docs/samples/tolerance_heavy_top.png
+cargo run --release --bin lgsvi -- bench --long-run --long-run-tol 1e-13 --long-run-members 36 \
+    --quiet --out "$out/long-run-tol"
+cp "$out/long-run-tol/long_run_energy.svg" docs/samples/long_run_energy_adaptive.svg

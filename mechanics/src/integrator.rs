@@ -923,7 +923,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             self.hold_nodes = self.hold_nodes.saturating_sub(1);
             if expected > budget && n < adaptive.max_nodes {
                 self.next_nodes = Some(n + 1);
-            } else if self.hold_nodes == 0
+            } else if adaptive.falling_nodes
+                && self.hold_nodes == 0
                 && n > adaptive.min_nodes
                 && decay > 0.0
                 && decay < 1.0
