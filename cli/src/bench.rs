@@ -884,13 +884,7 @@ pub fn long_run(
         dop.push(invariants(t, &case.start, &case.model, &state));
     }
     let dop_time = clock.elapsed().as_secs_f64();
-    let nodes = integrator
-        .nodes_histogram()
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c > 0)
-        .map(|(n, &c)| (n, c))
-        .collect();
+    let nodes = integrator.nodes_used().collect();
     Ok(LongRun {
         lgsvi,
         dop,

@@ -214,13 +214,7 @@ where
     let stats = integrator.statistics();
     let estimates = Estimates {
         global: integrator.estimated_global_error(),
-        nodes: integrator
-            .nodes_histogram()
-            .iter()
-            .enumerate()
-            .filter(|(_, &count)| count > 0)
-            .map(|(n, &count)| (n, count))
-            .collect(),
+        nodes: integrator.nodes_used().collect(),
         rejected: stats.rejected_steps,
     };
     let mut description = problem.description.clone();

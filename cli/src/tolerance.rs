@@ -38,15 +38,14 @@ trait Observe {
     fn observe(&self) -> Vec<f64>;
 }
 
+/// `R`'s entries, row by row.
+fn rows(r: &SO3) -> Vec<f64> {
+    r.matrix().transpose().iter().copied().collect()
+}
+
 impl Observe for State<SO3, 3> {
     fn observe(&self) -> Vec<f64> {
-        let mut v: Vec<f64> = self
-            .attitude()
-            .matrix()
-            .transpose()
-            .iter()
-            .copied()
-            .collect();
+        let mut v = rows(self.attitude());
         v.extend(self.velocity.iter());
         v
     }
@@ -54,13 +53,7 @@ impl Observe for State<SO3, 3> {
 
 impl Observe for State<SE3, 6> {
     fn observe(&self) -> Vec<f64> {
-        let mut v: Vec<f64> = self
-            .attitude()
-            .matrix()
-            .transpose()
-            .iter()
-            .copied()
-            .collect();
+        let mut v = rows(self.attitude());
         v.extend(self.angular_velocity().iter());
         v.extend(self.position().iter());
         v.extend(self.linear_velocity().iter());
@@ -256,7 +249,7 @@ where
                 run.error = distance(&end, &truth);
                 run.estimated_error = integrator.estimated_global_error();
                 run.wall_time_s = time;
-                run.nodes = histogram(integrator.nodes_histogram());
+                run.nodes = integrator.nodes_used().collect();
                 run.rejected_steps = integrator.statistics().rejected_steps;
                 run.best_fixed = fixed
                     .iter()
@@ -269,15 +262,6 @@ where
         runs.push(run);
     }
     Ok((describe, runs, fixed))
-}
-
-fn histogram(counts: &[usize]) -> Vec<(usize, usize)> {
-    counts
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c > 0)
-        .map(|(n, &c)| (n, c))
-        .collect()
 }
 
 /// The estimate study of `problem`.

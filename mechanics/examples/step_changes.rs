@@ -55,13 +55,7 @@ fn run(
             energy.push((s.time, (s.energy(&top) - e0) / e0.abs()));
         }
     }
-    let nodes = it
-        .nodes_histogram()
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c > 0)
-        .map(|(n, &c)| (n, c))
-        .collect();
+    let nodes = it.nodes_used().collect();
     Ok(Record {
         label,
         energy,

@@ -661,6 +661,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         &self.nodes_used
     }
 
+    /// The node counts used so far with their steps, `(n, steps)` by increasing `n`: the
+    /// non-zero entries of [`Integrator::nodes_histogram`].
+    pub fn nodes_used(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.nodes_used
+            .iter()
+            .enumerate()
+            .filter(|(_, &count)| count > 0)
+            .map(|(n, &count)| (n, count))
+    }
+
     /// Whether the next step is forced: the system has a force or the input is not zero.
     fn forcing(&self) -> Option<SVector<f64, D>> {
         (self.system.is_forced() || self.input.iter().any(|&u| u != 0.0)).then_some(self.input)

@@ -83,14 +83,16 @@ fn stepping_does_not_allocate() {
 }
 
 /// A run choosing its nodes per step allocates only the first time it uses a node count
-/// (that count's workspace): once warm, changing nodes allocates nothing. The heavy top at
-/// this tolerance moves between 7 and 8 nodes (measured: 287 and 1713 steps of 2000).
+/// (that count's workspace): once warm, changing nodes allocates nothing. With falling
+/// nodes allowed, the heavy top at this tolerance moves between 7 and 8 nodes all along
+/// (measured: 323 and 1677 steps of 2000).
 fn adaptive_steps_do_not_allocate_once_warm() {
     let top = HeavyTop::paper(Inertia::from_paper_jd([1.0, 2.8, 2.0]).unwrap()).unwrap();
     let settings = StepSettings::new(0.5, 6)
         .unwrap()
         .with_tolerance(6e-13)
-        .unwrap();
+        .unwrap()
+        .with_falling_nodes(true);
     let mut it =
         Integrator::new(top, settings, SO3::identity(), Vector3::new(0.5, -0.5, 0.4)).unwrap();
     for _ in 0..500 {
