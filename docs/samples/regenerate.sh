@@ -24,6 +24,8 @@ cargo run --release --bin lgsvi -- converge --quiet --study estimate --system he
 cargo run --release --bin lgsvi -- converge --quiet --study tolerance --system heavy-top \
     --plot docs/samples/tolerance_heavy_top
 rm -f docs/samples/estimate_vs_truth_heavy_top.png docs/samples/tolerance_heavy_top.png
+cargo run --release --bin lgsvi -- bench --quiet --out "$out/bench"
+cp "$out/bench/bench_B_T100.svg" docs/samples/
 cargo run --release --bin lgsvi -- bench --long-run --long-run-tol 1e-13 --long-run-members 36 \
     --quiet --out "$out/long-run-tol"
 cp "$out/long-run-tol/long_run_energy.svg" docs/samples/long_run_energy_adaptive.svg
