@@ -150,14 +150,12 @@ fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> 
 /// initial motion, the first step's nodes from the tolerance), construction included.
 fn lgsvi_tolerance_run(case: &Case, t_end: f64, tol: f64) -> Result<Matrix3<f64>> {
     let w0 = case.model.velocity(&case.start.momentum);
-    // The spin plus, for the top, its pendulum frequency √(m g |ρ| / J_min).
-    let least = case
-        .model
-        .inertia
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min);
-    let rate = w0.norm() + (case.model.mg * case.model.rho.norm() / least).sqrt();
+    // The spin plus, for the top, its pendulum frequency, as `simulate --tol` takes it.
+    let rate = w0.norm()
+        + crate::problem::pendulum_frequency(
+            case.model.inertia,
+            case.model.mg * case.model.rho.norm(),
+        );
     let h = crate::problem::tolerance_step(t_end, rate, ChartKind::Exp)?;
     let settings = StepSettings::new(h, crate::problem::tolerance_first_nodes(tol))?
         .with_tolerance(tol / t_end)?

@@ -86,6 +86,13 @@ pub fn tolerance_first_nodes(tol: f64) -> usize {
     (3.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
 }
 
+/// The heavy top's small-oscillation frequency `√(m g |ρ| / J_min)` about its least
+/// principal moment, from the moments and the weight's lever `m g |ρ|` (0 for a free body).
+pub fn pendulum_frequency(moments: [f64; 3], weight_lever: f64) -> f64 {
+    let least = moments.iter().copied().fold(f64::INFINITY, f64::min);
+    (weight_lever / least).sqrt()
+}
+
 /// A `--tol` run's step over `[0, t_end]` at the motion's rate `rate` in `chart`: the
 /// whole fraction of `t_end` that turns [`TOLERANCE_STEP_ROTATION`] or less.
 pub fn tolerance_step(t_end: f64, rate: f64, chart: ChartKind) -> Result<f64> {
@@ -243,7 +250,7 @@ pub struct Problem {
     pub omega0: Vector3<f64>,
     pub settings: StepSettings,
     /// The initial motion's fastest rate (rad per unit time): the spin plus the system's
-    /// own natural frequency; a `--tol` run's step turns about 1.5 rad at it.
+    /// own natural frequency; a `--tol` run's step turns [`TOLERANCE_STEP_ROTATION`] at it.
     pub rate: f64,
     pub t_end: f64,
     pub every: usize,
@@ -460,13 +467,8 @@ impl Problem {
                 let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
                 let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
                 let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
-                // The small oscillations of the pendulum about its least inertia.
-                let least = inertia
-                    .principal_moments()
-                    .iter()
-                    .copied()
-                    .fold(f64::INFINITY, f64::min);
-                frequency = (mass * gravity * com.norm() / least).sqrt();
+                frequency =
+                    pendulum_frequency(inertia.principal_moments(), mass * gravity * com.norm());
                 description["mass"] = mass.into();
                 description["gravity"] = gravity.into();
                 description["com"] = com.as_slice().into();

@@ -340,8 +340,9 @@ impl StepSettings {
 
     /// Lets an adaptive run ([`StepSettings::with_tolerance`]) change its step as well as
     /// its nodes: a step that misses the tolerance with the most nodes allowed, or that the
-    /// chart cannot follow, is solved again at half the step; a run that needs only the
-    /// fewest nodes doubles its step (up to the step it started with). **This costs the
+    /// chart cannot follow, is solved again at half the step; where the estimate leaves
+    /// room for twice the step (the local error grows by about `2^(2n−1)`), the next step
+    /// doubles, up to the step the run started with. **This costs the
     /// long-run energy behaviour:** a symplectic method keeps a modified energy of its
     /// *fixed* step, and a step chosen from the state is no longer one map. Measured on the
     /// heavy top over 10⁵ steps (`docs/tolerance.md` §4): a drift where fixed steps have
