@@ -15,6 +15,7 @@
 
 use crate::group::{GroupChart, Rotations};
 use crate::lagrangian::Lagrangian;
+use crate::system::FlowStart;
 use lgsvi_lie::so3::vee;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
@@ -28,38 +29,57 @@ const SUBSTEP_ANGLE: f64 = 0.25;
 /// continued Galerkin curve is used instead).
 const MAX_SUBSTEPS: usize = 64;
 
-/// `(q̇, μ̇)` at `(q, μ)`: `q̇ = ½ q ⊗ (0, Ω)` and `μ̇ = μ × Ω + p`, with `Ω` from the
-/// system's closed-form inverse Legendre transform at `R = B R(q)` and `p` the
-/// left-trivialised configuration force `p_c = ⟨Rᵀ ∂ℓ/∂R, ê_c⟩`. `None` where `Ω` has no
-/// closed form or a value is not finite.
-fn rate<L: Lagrangian>(
-    system: &L,
-    base: &Matrix3<f64>,
-    q: &Quaternion<f64>,
-    mu: &Vector3<f64>,
-) -> Option<(Quaternion<f64>, Vector3<f64>)> {
-    // A left-invariant ℓ does not depend on R, nor does its Ω(μ): skip the attitude.
-    let left_invariant = system.is_left_invariant();
-    let r = if left_invariant {
-        *base
-    } else {
-        // R(q/|q|): the Runge–Kutta stages leave the unit sphere by O(dt⁵).
-        base * UnitQuaternion::from_quaternion(*q)
-            .to_rotation_matrix()
-            .matrix()
-    };
-    let omega = system.velocity_from_momentum(&r, mu)?;
-    let q_dot = q * Quaternion::from_imag(omega * 0.5);
-    let mut mu_dot = mu.cross(&omega);
-    if !left_invariant {
-        mu_dot += configuration_force(system, &r, &omega);
+/// The flow's equations at one time: the system, the step's start and its total force.
+struct Flow<'a, L, C> {
+    system: &'a L,
+    chart: &'a C,
+    base: &'a Matrix3<f64>,
+    start: &'a FlowStart<'a, Rotations, 3>,
+}
+
+impl<L: Lagrangian, C> Flow<'_, L, C> {
+    /// `(q̇, μ̇)` at `(q, μ)`, `t` into the step: `q̇ = ½ q ⊗ (0, Ω)` and
+    /// `μ̇ = μ × Ω + p + F`, with `Ω` from the system's closed-form inverse Legendre
+    /// transform at `R = B R(q)`, `p` the left-trivialised configuration force
+    /// `p_c = ⟨Rᵀ ∂ℓ/∂R, ê_c⟩` and `F` the step's force. `None` where `Ω` has no closed
+    /// form or a value is not finite.
+    fn rate(
+        &self,
+        t: f64,
+        q: &Quaternion<f64>,
+        mu: &Vector3<f64>,
+    ) -> Option<(Quaternion<f64>, Vector3<f64>)> {
+        let system = self.system;
+        // A left-invariant ℓ does not depend on R, nor does its Ω(μ): skip the attitude
+        // unless the force reads it.
+        let left_invariant = system.is_left_invariant();
+        let force_reads_attitude =
+            self.start.force.is_some() && self.start.force_reads_configuration;
+        let r = if left_invariant && !force_reads_attitude {
+            *self.base
+        } else {
+            // R(q/|q|): the Runge–Kutta stages leave the unit sphere by O(dt⁵).
+            self.base
+                * UnitQuaternion::from_quaternion(*q)
+                    .to_rotation_matrix()
+                    .matrix()
+        };
+        let omega = system.velocity_from_momentum(&r, mu)?;
+        let q_dot = q * Quaternion::from_imag(omega * 0.5);
+        let mut mu_dot = mu.cross(&omega);
+        if !left_invariant {
+            mu_dot += configuration_force(system, &r, &omega);
+        }
+        if let Some(force) = self.start.force {
+            mu_dot += force(self.start.time + t, &SO3::from_matrix_unchecked(r), &omega).value;
+        }
+        (q_dot
+            .coords
+            .iter()
+            .chain(mu_dot.iter())
+            .all(|x| x.is_finite()))
+        .then_some((q_dot, mu_dot))
     }
-    (q_dot
-        .coords
-        .iter()
-        .chain(mu_dot.iter())
-        .all(|x| x.is_finite()))
-    .then_some((q_dot, mu_dot))
 }
 
 /// `p_c = ⟨Rᵀ ∂ℓ/∂R, ê_c⟩`, the left-trivialised force of an attitude-dependent `ℓ`.
@@ -73,28 +93,48 @@ fn configuration_force<L: Lagrangian>(
 }
 
 /// The flow's angular frequency at the step's start, for the substep size: `|Ω|` (the
-/// rotation itself) plus, for an attitude-dependent `ℓ`, `2√|ΔΩ|` with
-/// `ΔΩ = Ω(μ + p) − Ω(μ)` the change of velocity the configuration force makes in unit
-/// time (`√|ΔΩ|` is a pendulum's `√(mgl/J)` at a right angle). Measured on the paper's
-/// heavy top at `h = 2`: sized by `|Ω|` alone, the guess's relative residual was 1e-3 and
-/// every step needed a second Newton matrix; with `√|ΔΩ|` added once, 1.3e-4 to 2e-4, just
-/// above the solver's chord threshold (1e-4); added twice, 2e-5 to 5e-5 and one Newton
-/// matrix per step after the first (where the top starts upright and `p = 0`).
+/// rotation itself) plus, where forces act, `2√|ΔΩ|` with `ΔΩ = Ω(μ + p + F) − Ω(μ)` the
+/// change of velocity the configuration force `p` and the step's force `F` make in unit
+/// time (`√|ΔΩ|` is a pendulum's `√(mgl/J)` at a right angle), plus the rate
+/// `|Ω(F_ξ)|` (Frobenius) at which a velocity-dependent force (damping) relaxes the
+/// motion. Measured on the paper's heavy top at `h = 2`: sized by `|Ω|` alone, the guess's
+/// relative residual was 1e-3 and every step needed a second Newton matrix; with `√|ΔΩ|`
+/// added once, 1.3e-4 to 2e-4, just above the solver's chord threshold (1e-4); added
+/// twice, 2e-5 to 5e-5 and one Newton matrix per step after the first (where the top
+/// starts upright and `p = 0`).
 fn frequency<L: Lagrangian>(
     system: &L,
+    start: &FlowStart<'_, Rotations, 3>,
     base: &Matrix3<f64>,
-    mu: &Vector3<f64>,
-    omega: &Vector3<f64>,
 ) -> f64 {
+    let (mu, omega) = (start.momentum, start.velocity);
     let rotation = omega.norm();
-    if system.is_left_invariant() {
+    let mut push = Vector3::zeros();
+    let mut relaxation = 0.0;
+    if !system.is_left_invariant() {
+        push += configuration_force(system, base, omega);
+    }
+    if let Some(force) = start.force {
+        let jet = force(start.time, &SO3::from_matrix_unchecked(*base), omega);
+        push += jet.value;
+        // Ω(μ) is linear for the built-in systems: the columns of Ω(F_ξ).
+        let zero = system.velocity_from_momentum(base, &Vector3::zeros());
+        for c in 0..3 {
+            let column = jet.velocity.column(c).into_owned();
+            match (system.velocity_from_momentum(base, &column), zero) {
+                (Some(moved), Some(zero)) => relaxation += (moved - zero).norm_squared(),
+                _ => relaxation = f64::INFINITY,
+            }
+        }
+    }
+    if push == Vector3::zeros() && relaxation == 0.0 {
         return rotation;
     }
-    let p = configuration_force(system, base, omega);
-    match system.velocity_from_momentum(base, &(mu + p)) {
-        Some(pushed) => rotation + 2.0 * (pushed - omega).norm().sqrt(),
-        None => rotation,
-    }
+    let pushed = match system.velocity_from_momentum(base, &(mu + push)) {
+        Some(pushed) => 2.0 * (pushed - omega).norm().sqrt(),
+        None => 0.0,
+    };
+    rotation + pushed + relaxation.sqrt()
 }
 
 /// What a flow predictor ([`crate::GroupLagrangian::flow_guess`]) found.
@@ -123,36 +163,40 @@ fn continuous_angle(q: &Quaternion<f64>) -> f64 {
     2.0 * q.imag().norm().atan2(q.w)
 }
 
-/// Writes into `out[i]` the chart coordinates at `times[i]` (ascending, in `[0, h]`) of
-/// the flow from `(base, μ)` with initial velocity `omega`: classical RK4 on `(q, μ)` with
-/// substeps of at most [`SUBSTEP_ANGLE`] of rotation, cubic Hermite interpolation of `q`
-/// between substeps (the same order), each node's coordinates on the chart's branch
-/// nearest the node before (`ξ¹ = 0`). The rotation is followed continuously (the
-/// quaternion's angle): where it reaches the chart's maximal rotation angle the
-/// step cannot be represented ([`FlowGuess::LeavesChart`]); a Cayley chart's inverse
-/// would silently return the aliased rotation. `out` may be partly written unless the
-/// result is [`FlowGuess::Written`].
-#[allow(clippy::too_many_arguments)]
+/// Writes into `out[i]` the chart coordinates at `start.times[i]` (ascending, in
+/// `[0, h]`) of the flow from `(start.base, start.momentum)` with initial velocity
+/// `start.velocity`, under the step's force: classical RK4 on `(q, μ)` with substeps of
+/// at most [`SUBSTEP_ANGLE`] of rotation, cubic Hermite interpolation of `q` between
+/// substeps (the same order), each node's coordinates on the chart's branch nearest the
+/// node before (`ξ¹ = 0`). The rotation is followed continuously (the quaternion's
+/// angle): where it reaches the chart's maximal rotation angle the step cannot be
+/// represented ([`FlowGuess::LeavesChart`]); a Cayley chart's inverse would silently
+/// return the aliased rotation. `out` may be partly written unless the result is
+/// [`FlowGuess::Written`].
 pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
     chart: &C,
-    base: &Matrix3<f64>,
-    mu: &Vector3<f64>,
-    omega: &Vector3<f64>,
-    h: f64,
-    times: &[f64],
+    start: &FlowStart<'_, Rotations, 3>,
     out: &mut [Vector3<f64>],
 ) -> FlowGuess<SO3> {
     use FlowGuess::Unavailable;
-    let wanted = (h * frequency(system, base, mu, omega) / SUBSTEP_ANGLE).ceil();
+    let (h, times) = (start.h, start.times);
+    let base = start.base.matrix();
+    let wanted = (h * frequency(system, start, base) / SUBSTEP_ANGLE).ceil();
     if wanted.is_nan() || wanted > MAX_SUBSTEPS as f64 {
         return Unavailable;
     }
-    let limit = chart.max_rotation_angle();
+    let flow = Flow {
+        system,
+        chart,
+        base,
+        start,
+    };
+    let limit = flow.chart.max_rotation_angle();
     let substeps = (wanted as usize).max(2);
     let dt = h / substeps as f64;
-    let (mut q, mut mu) = (Quaternion::identity(), *mu);
-    let Some((mut q_dot, mut mu_dot)) = rate(system, base, &q, &mu) else {
+    let (mut q, mut mu) = (Quaternion::identity(), *start.momentum);
+    let Some((mut q_dot, mut mu_dot)) = flow.rate(0.0, &q, &mu) else {
         return Unavailable;
     };
     let mut near = Vector3::zeros();
@@ -160,7 +204,7 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     for s in 0..substeps {
         let t0 = s as f64 * dt;
         let stage = |k: &(Quaternion<f64>, Vector3<f64>), c: f64| {
-            rate(system, base, &(q + k.0 * c), &(mu + k.1 * c))
+            flow.rate(t0 + c, &(q + k.0 * c), &(mu + k.1 * c))
         };
         let k1 = (q_dot, mu_dot);
         let Some(k2) = stage(&k1, 0.5 * dt) else {
@@ -174,7 +218,7 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         };
         let q1 = q + (k1.0 + (k2.0 + k3.0) * 2.0 + k4.0) * (dt / 6.0);
         let mu1 = mu + (k1.1 + (k2.1 + k3.1) * 2.0 + k4.1) * (dt / 6.0);
-        let Some((q1_dot, mu1_dot)) = rate(system, base, &q1, &mu1) else {
+        let Some((q1_dot, mu1_dot)) = flow.rate(t0 + dt, &q1, &mu1) else {
             return Unavailable;
         };
         let angle = continuous_angle(&q1);

@@ -19,8 +19,10 @@
 
 use crate::group::{GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
+use crate::step::points::add_force_terms;
+use crate::system::GaussPoint;
 use lgsvi_lie::so3::{hat, vee};
-use lgsvi_lie::RodriguesCoefficients;
+use lgsvi_lie::{RodriguesCoefficients, SO3};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
 
@@ -185,20 +187,18 @@ fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
 }
 
 /// Writes `ℓ̃`'s derivatives by the chain rule into `out` (its Hessian only if
-/// `with_hessian`, else left as it was); false (`out` untouched) if the chart has no
-/// Rodrigues form. In place: the 90 floats are written once, not returned and copied
-/// (the copies were 10% of a step, measured).
-#[allow(clippy::too_many_arguments)]
+/// `point.with_hessian`, else left as it was), with the force terms of `point.force`;
+/// false (`out` untouched) if the chart has no Rodrigues form. In place: the 90 floats
+/// are written once, not returned and copied (the copies were 10% of a step, measured).
 pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
     chart: &C,
-    base: &Matrix3<f64>,
-    x: &Vector3<f64>,
-    v: &Vector3<f64>,
-    with_configuration: bool,
-    with_hessian: bool,
+    point: &GaussPoint<'_, Rotations, 3>,
     out: &mut Stacked<9>,
 ) -> bool {
+    let (x, v) = (point.x, point.v);
+    let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
+    let base = point.base.matrix();
     // The coefficients' second derivatives in s enter only the Hessian: for a gradient,
     // a first-order dual number does.
     let s = x.norm_squared();
@@ -214,7 +214,10 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         };
         MatrixJet::from_rodrigues_first_order(&c, x)
     };
-    let attitude_free = system.is_left_invariant();
+    // The attitude is needed by ℓ unless it is left-invariant, and by a force that
+    // depends on it.
+    let force_needs_attitude = point.force.is_some_and(|f| f.depends_on_configuration());
+    let attitude_free = system.is_left_invariant() && !force_needs_attitude;
     let phi = if attitude_free {
         None
     } else if with_hessian {
@@ -269,67 +272,81 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         }
     }
 
-    let Some(p) = phi else {
-        return true;
-    };
-    // ⟨G, B M⟩ = ⟨BᵀG, M⟩ and ⟨G, R S⟩ = ⟨RᵀG, S⟩.
-    let g_base = base.transpose() * l.attitude_gradient;
-    let g_r = r.transpose() * l.attitude_gradient;
-    let first = p.first_contracted(&g_base);
-    for k in 0..3 {
-        gradient[k] += first[k];
-    }
-    if with_configuration {
-        // ⟨G, ê_c⟩ = γ_c, the axial vector of G − Gᵀ.
-        let gamma = axial(&g_r);
-        for c in 0..3 {
-            gradient[6 + c] = gamma[c];
-        }
-    }
-    if !with_hessian {
-        return true;
-    }
-    let second = p.second_contracted(&g_base);
-    for k in 0..3 {
-        for m in 0..3 {
-            hessian[(k, m)] += second[(k, m)];
-        }
-    }
-    if with_configuration {
-        let trace = g_r.trace();
-        for c in 0..3 {
-            // ⟨G, ∂_kΦ ê_c⟩ = ⟨G ê_cᵀ, ∂_kΦ⟩.
-            let mixed = p.first_contracted(&(g_base * unit_hat(c).transpose()));
-            for k in 0..3 {
-                hessian[(k, 6 + c)] += mixed[k];
-                hessian[(6 + c, k)] += mixed[k];
-            }
-            // ½⟨G, ê_c ê_d + ê_d ê_c⟩ with ê_c ê_d = e_d e_cᵀ − δ_cd I.
-            for d in 0..3 {
-                let delta = if c == d { trace } else { 0.0 };
-                hessian[(6 + c, 6 + d)] += 0.5 * (g_r[(d, c)] + g_r[(c, d)]) - delta;
-            }
-        }
-    }
-    if l.attitude_hessian.is_some() || l.mixed_hessian.is_some() {
-        // ∂R/∂u for u = (x, v, ζ), flattened: columns x (B ∂_kΦ) and ζ (R ê_c).
-        let e_hat = [unit_hat(0), unit_hat(1), unit_hat(2)];
-        let mut jr = SMatrix::<f64, 9, 9>::zeros();
-        for (k, first) in p.first().iter().enumerate() {
-            jr.set_column(k, &flatten(&(base * first)));
+    // ℓ's attitude terms (none for a left-invariant ℓ, whose Φ(x), if formed, serves the
+    // force alone).
+    'attitude: {
+        let Some(p) = phi.filter(|_| !system.is_left_invariant()) else {
+            break 'attitude;
+        };
+        // ⟨G, B M⟩ = ⟨BᵀG, M⟩ and ⟨G, R S⟩ = ⟨RᵀG, S⟩.
+        let g_base = base.transpose() * l.attitude_gradient;
+        let g_r = r.transpose() * l.attitude_gradient;
+        let first = p.first_contracted(&g_base);
+        for k in 0..3 {
+            gradient[k] += first[k];
         }
         if with_configuration {
-            for (c, e) in e_hat.iter().enumerate() {
-                jr.set_column(6 + c, &flatten(&(r * e)));
+            // ⟨G, ê_c⟩ = γ_c, the axial vector of G − Gᵀ.
+            let gamma = axial(&g_r);
+            for c in 0..3 {
+                gradient[6 + c] += gamma[c];
             }
         }
-        if let Some(h_rr) = l.attitude_hessian {
-            *hessian += jr.transpose() * h_rr * jr;
+        if !with_hessian {
+            break 'attitude;
         }
-        if let Some(h_rw) = l.mixed_hessian {
-            let t = jr.transpose() * h_rw * jw;
-            *hessian += t + t.transpose();
+        let second = p.second_contracted(&g_base);
+        for k in 0..3 {
+            for m in 0..3 {
+                hessian[(k, m)] += second[(k, m)];
+            }
         }
+        if with_configuration {
+            let trace = g_r.trace();
+            for c in 0..3 {
+                // ⟨G, ∂_kΦ ê_c⟩ = ⟨G ê_cᵀ, ∂_kΦ⟩.
+                let mixed = p.first_contracted(&(g_base * unit_hat(c).transpose()));
+                for k in 0..3 {
+                    hessian[(k, 6 + c)] += mixed[k];
+                    hessian[(6 + c, k)] += mixed[k];
+                }
+                // ½⟨G, ê_c ê_d + ê_d ê_c⟩ with ê_c ê_d = e_d e_cᵀ − δ_cd I.
+                for d in 0..3 {
+                    let delta = if c == d { trace } else { 0.0 };
+                    hessian[(6 + c, 6 + d)] += 0.5 * (g_r[(d, c)] + g_r[(c, d)]) - delta;
+                }
+            }
+        }
+        if l.attitude_hessian.is_some() || l.mixed_hessian.is_some() {
+            // ∂R/∂u for u = (x, v, ζ), flattened: columns x (B ∂_kΦ) and ζ (R ê_c).
+            let e_hat = [unit_hat(0), unit_hat(1), unit_hat(2)];
+            let mut jr = SMatrix::<f64, 9, 9>::zeros();
+            for (k, first) in p.first().iter().enumerate() {
+                jr.set_column(k, &flatten(&(base * first)));
+            }
+            if with_configuration {
+                for (c, e) in e_hat.iter().enumerate() {
+                    jr.set_column(6 + c, &flatten(&(r * e)));
+                }
+            }
+            if let Some(h_rr) = l.attitude_hessian {
+                *hessian += jr.transpose() * h_rr * jr;
+            }
+            if let Some(h_rw) = l.mixed_hessian {
+                let t = jr.transpose() * h_rw * jw;
+                *hessian += t + t.transpose();
+            }
+        }
+    }
+    if let Some(force) = point.force {
+        let jet = force.jet(&SO3::from_matrix_unchecked(r), &omega);
+        // ∂(AᵀF)_b/∂x_k = Fᵀ ∂_k A e_b.
+        let k = if with_hessian {
+            a.first_transposed_times(&jet.value).transpose()
+        } else {
+            Matrix3::zeros()
+        };
+        add_force_terms(out, &jet, &a.value, &dw_dx, &k, with_hessian);
     }
     true
 }

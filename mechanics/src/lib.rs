@@ -66,6 +66,7 @@ pub mod ensemble;
 mod error;
 pub mod exact;
 mod flow;
+mod force_jet;
 pub mod group;
 mod inertia;
 mod integrator;
@@ -78,6 +79,7 @@ mod system;
 
 pub use error::MechanicsError;
 pub use flow::FlowGuess;
+pub use force_jet::ForceJet;
 pub use group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations};
 pub use inertia::Inertia;
 pub use integrator::{
@@ -95,6 +97,6 @@ pub use settings::{
     MAX_QUADRATURE_POINTS, STEP_RANGE,
 };
 pub use system::{
-    AngularDamping, BodyTorque, ElementOf, ForceOfTime, Forced, Forcing, GroupLagrangian,
-    SpaceForce,
+    AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime, Forced, Forcing,
+    GaussPoint, GroupLagrangian, LocalDerivatives, PointForce, SpaceForce,
 };

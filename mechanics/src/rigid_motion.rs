@@ -11,9 +11,10 @@ use crate::error::{check_finite, MechanicsError};
 use crate::group::RigidMotions;
 use crate::inertia::Inertia;
 use crate::lagrangian::kinetic;
-use crate::system::GroupLagrangian;
+use crate::system::{GroupLagrangian, LocalDerivatives};
 use lgsvi_lie::SE3;
-use nalgebra::{Matrix3, RealField, SVector, Vector3};
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
+use num_dual::{Dual2SVec64, DualSVec64};
 
 fn check_mass(mass: f64) -> Result<(), MechanicsError> {
     check_finite("mass", &[mass])?;
@@ -41,6 +42,98 @@ fn velocity6(inertia: &Inertia, mass: f64, mu: &SVector<f64, 6>) -> SVector<f64,
     let w = inertia.velocity(&mu.fixed_rows::<3>(0).into_owned());
     let v = mu.fixed_rows::<3>(3) / mass;
     SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z)
+}
+
+/// A potential of the pose, generic over the scalar: what [`local_derivatives`]
+/// differentiates.
+trait PosePotential {
+    fn eval<T: RealField + Copy>(
+        &self,
+        time: f64,
+        attitude: &Matrix3<T>,
+        position: &Vector3<T>,
+    ) -> T;
+}
+
+/// No potential (the free body): [`local_derivatives`] skips the dual numbers.
+struct NoPotential;
+impl PosePotential for NoPotential {
+    fn eval<T: RealField + Copy>(&self, _t: f64, _r: &Matrix3<T>, _x: &Vector3<T>) -> T {
+        T::zero()
+    }
+}
+
+/// `L(η, ξ) = ½ΩᵀJΩ + ½m|v|² − V(t, R', x')` at `η = 0` with `(R', x') = (R, x) exp(η)`
+/// to second order, `R' = R(I + ω̂ + ½ω̂²)`, `x' = x + R(u + ½ ω × u)` for `η = (ω, u)`:
+/// the kinetic part in closed form (`μ = (JΩ, m v)`, `∂²/∂ξ² = diag(J, m I)`), the
+/// potential's by a dual number over the six `η` alone (second order with the Hessian,
+/// first order without), through `V` and nothing else.
+fn local_derivatives<P: PosePotential>(
+    potential: Option<&P>,
+    inertia: &Inertia,
+    mass: f64,
+    time: f64,
+    g: &SE3,
+    xi: &SVector<f64, 6>,
+    with_hessian: bool,
+) -> LocalDerivatives<6> {
+    let w = Vector3::new(xi[0], xi[1], xi[2]);
+    let jw = inertia.momentum(&w);
+    let momentum =
+        SVector::<f64, 6>::new(jw.x, jw.y, jw.z, mass * xi[3], mass * xi[4], mass * xi[5]);
+    fn moved<T: RealField + Copy, P: PosePotential>(
+        potential: &P,
+        time: f64,
+        g: &SE3,
+        eta: &SVector<T, 6>,
+    ) -> T {
+        let r: Matrix3<T> = g.rotation().matrix().map(nalgebra::convert);
+        let x: Vector3<T> = g.translation().map(nalgebra::convert);
+        let w = Vector3::new(eta[0], eta[1], eta[2]);
+        let u = Vector3::new(eta[3], eta[4], eta[5]);
+        let half: T = nalgebra::convert(0.5);
+        let w_hat = lgsvi_lie::so3::hat(&w);
+        let attitude = r * (Matrix3::identity() + w_hat + w_hat * w_hat * half);
+        let position = x + r * (u + w.cross(&u) * half);
+        -potential.eval(time, &attitude, &position)
+    }
+    let origin = SVector::<f64, 6>::zeros();
+    let mut kinetic = SMatrix::<f64, 6, 6>::zeros();
+    if with_hessian {
+        kinetic
+            .fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&inertia.matrix());
+        for i in 3..6 {
+            kinetic[(i, i)] = mass;
+        }
+    }
+    let Some(potential) = potential else {
+        return LocalDerivatives {
+            configuration_gradient: origin,
+            momentum,
+            configuration_hessian: SMatrix::zeros(),
+            velocity_hessian: kinetic,
+        };
+    };
+    let (configuration_gradient, configuration_hessian) = if with_hessian {
+        let (_, gradient, hessian) = num_dual::hessian(
+            |eta: SVector<Dual2SVec64<6>, 6>| moved(potential, time, g, &eta),
+            &origin,
+        );
+        (gradient, hessian)
+    } else {
+        let (_, gradient) = num_dual::gradient(
+            |eta: SVector<DualSVec64<6>, 6>| moved(potential, time, g, &eta),
+            &origin,
+        );
+        (gradient, SMatrix::zeros())
+    };
+    LocalDerivatives {
+        configuration_gradient,
+        momentum,
+        configuration_hessian,
+        velocity_hessian: kinetic,
+    }
 }
 
 /// A free rigid body in space: `ℓ = ½ΩᵀJΩ + ½m|v|²`. The rotation is the free rigid
@@ -77,6 +170,23 @@ impl GroupLagrangian<6> for FreeBody {
     type Group = RigidMotions;
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, _g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
+    }
+    fn local_derivatives(
+        &self,
+        time: f64,
+        g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<6>> {
+        Some(local_derivatives(
+            None::<&NoPotential>,
+            &self.inertia,
+            self.mass,
+            time,
+            g,
+            xi,
+            with_hessian,
+        ))
     }
     fn is_left_invariant(&self) -> bool {
         true
@@ -161,6 +271,29 @@ impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
             - self
                 .potential
                 .potential(t, g.rotation().matrix(), g.translation())
+    }
+    fn local_derivatives(
+        &self,
+        time: f64,
+        g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<6>> {
+        struct Field<'a, V>(&'a V);
+        impl<V: FieldPotential> PosePotential for Field<'_, V> {
+            fn eval<T: RealField + Copy>(&self, t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
+                self.0.potential(t, r, x)
+            }
+        }
+        Some(local_derivatives(
+            Some(&Field(&self.potential)),
+            &self.inertia,
+            self.mass,
+            time,
+            g,
+            xi,
+            with_hessian,
+        ))
     }
     fn velocity_from_momentum(
         &self,
@@ -263,6 +396,29 @@ impl GroupLagrangian<6> for OrbitingBody {
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
             - self.potential(g.rotation().matrix(), g.translation())
+    }
+    fn local_derivatives(
+        &self,
+        time: f64,
+        g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<6>> {
+        struct MacCullagh<'a>(&'a OrbitingBody);
+        impl PosePotential for MacCullagh<'_> {
+            fn eval<T: RealField + Copy>(&self, _t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
+                self.0.potential(r, x)
+            }
+        }
+        Some(local_derivatives(
+            Some(&MacCullagh(self)),
+            &self.inertia,
+            self.mass,
+            time,
+            g,
+            xi,
+            with_hessian,
+        ))
     }
     fn velocity_from_momentum(
         &self,

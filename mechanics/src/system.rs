@@ -15,10 +15,11 @@
 //! unforced one, bit for bit (the force terms are skipped, not added as zeros).
 
 use crate::flow::FlowGuess;
+use crate::force_jet::{ForceFunction, ForceJet};
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
 use lgsvi_lie::{LieGroup, SE3, SO3};
-use nalgebra::{RealField, SVector, Vector3};
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
 /// The element type of a system's group over the scalar `T`.
 pub type ElementOf<S, const D: usize, T = f64> =
@@ -98,54 +99,182 @@ pub trait GroupLagrangian<const D: usize> {
         SVector::zeros()
     }
 
+    /// [`GroupLagrangian::force`] and its first derivatives at `(t, g, ξ)` ([`ForceJet`]).
+    /// The default takes them by first-order dual numbers through `force` alone;
+    /// [`Forced`] forwards to its force's closed form.
+    fn force_jet(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D>,
+        velocity: &SVector<f64, D>,
+    ) -> ForceJet<D>
+    where
+        Self: Sized,
+    {
+        ForceJet::by_dual_numbers(
+            &SystemForce(self),
+            time,
+            configuration,
+            velocity,
+            !self.force_depends_on_configuration(),
+        )
+    }
+
+    /// Whether [`GroupLagrangian::force`] depends on the configuration (else the
+    /// integrator need not form it at the Gauss points). The default `true` is always
+    /// correct.
+    fn force_depends_on_configuration(&self) -> bool {
+        true
+    }
+
+    /// The first and second derivatives of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0`
+    /// ([`LocalDerivatives`]), which the generic chain rule composes with the chart's
+    /// derivatives; `None` (the default) has them taken by a second-order dual number over
+    /// the `2D` variables `(η, ξ)` through `ℓ`. Only `L`'s derivatives at `η = 0` are read,
+    /// so `exp(η)` may be taken to second order ([`ConfigurationGroup::exp_second_order`]).
+    /// The mixed block `∂²L/∂η∂ξ` must be zero (a kinetic energy that does not depend on
+    /// the configuration), as it is for the built-in SE(3) systems.
+    fn local_derivatives(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D>,
+        velocity: &SVector<f64, D>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<D>> {
+        let _ = (time, configuration, velocity, with_hessian);
+        None
+    }
+
     /// A closed-form path for one Gauss point's derivatives of
-    /// `ℓ̃(x, v, ζ) = ℓ(t, base Φ(x) exp(ζ), A(x) v)` (see [`crate::group::PointJet`]):
+    /// `ℓ̃(x, v, ζ) = ℓ(t, base Φ(x) exp(ζ), A(x) v)` at the point `point` (see
+    /// [`crate::group::PointJet`]), with the force terms of [`GaussPoint::force`] added
+    /// when it is `Some` (its jet through the chart: [`crate::ForceJet`]'s documentation):
     /// write them into `out` and return `true`, or return `false` (the default) to have
-    /// them taken by dual numbers. The SO(3) systems use their chart's Rodrigues form.
-    #[allow(clippy::too_many_arguments)]
+    /// them taken by the generic chain rule. The SO(3) systems use their chart's
+    /// Rodrigues form. An implementation that returns `true` must add the force.
     fn point_derivatives<C: GroupChart<Self::Group, D>>(
         &self,
         chart: &C,
-        time: f64,
-        base: &ElementOf<Self, D>,
-        x: &SVector<f64, D>,
-        v: &SVector<f64, D>,
-        with_configuration: bool,
-        with_hessian: bool,
+        point: &GaussPoint<'_, Self::Group, D>,
         out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
     ) -> bool {
-        let _ = (
-            chart,
-            time,
-            base,
-            x,
-            v,
-            with_configuration,
-            with_hessian,
-            out,
-        );
+        let _ = (chart, point, out);
         false
     }
 
-    /// A predictor from the system's own flow over the step: write the chart coordinates
-    /// at `times` into `out` ([`FlowGuess::Written`], with the flow's end relative to its
-    /// start, which the converged step is checked against), or report that the flow
-    /// leaves the chart. The default has none ([`FlowGuess::Unavailable`]): the
-    /// integrator then continues the last step's curve.
-    #[allow(clippy::too_many_arguments)]
+    /// A predictor from the system's own flow over the step from `start`: write the chart
+    /// coordinates at `start.times` into `out` ([`FlowGuess::Written`], with the flow's end
+    /// relative to its start, which the converged step is checked against), or report that
+    /// the flow leaves the chart. [`FlowStart::force`] is the total force of the step (the
+    /// system's and the control input), to be included in the flow. The default has none
+    /// ([`FlowGuess::Unavailable`]): the integrator then continues the last step's curve.
     fn flow_guess<C: GroupChart<Self::Group, D>>(
         &self,
         chart: &C,
-        time: f64,
-        base: &ElementOf<Self, D>,
-        momentum: &SVector<f64, D>,
-        velocity: &SVector<f64, D>,
-        h: f64,
-        times: &[f64],
+        start: &FlowStart<'_, Self::Group, D>,
         out: &mut [SVector<f64, D>],
     ) -> FlowGuess<ElementOf<Self, D>> {
-        let _ = (chart, time, base, momentum, velocity, h, times, out);
+        let _ = (chart, start, out);
         FlowGuess::Unavailable
+    }
+}
+
+/// The total force along a step, `(t, g, ξ) ↦` its [`ForceJet`] (the system's force and
+/// the control input), as a flow predictor receives it.
+pub type ForceAlongStep<'a, G, const D: usize> =
+    &'a dyn Fn(f64, &<G as ConfigurationGroup<D>>::Element<f64>, &SVector<f64, D>) -> ForceJet<D>;
+
+/// The start of a step, as [`GroupLagrangian::flow_guess`] receives it.
+pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
+    /// The step's start time `t_k`.
+    pub time: f64,
+    /// The configuration `g_k`.
+    pub base: &'a G::Element<f64>,
+    /// The body momentum `μ_k`.
+    pub momentum: &'a SVector<f64, D>,
+    /// The body velocity `ξ_k`.
+    pub velocity: &'a SVector<f64, D>,
+    /// The step `h`.
+    pub h: f64,
+    /// The node times in `[0, h]`, ascending.
+    pub times: &'a [f64],
+    /// The total force of a forced step (`None` for an unforced one): `F(t, g, ξ)` at the
+    /// absolute time `t`.
+    pub force: Option<ForceAlongStep<'a, G, D>>,
+    /// Whether that force depends on the configuration (if not, it may be given any).
+    pub force_reads_configuration: bool,
+}
+
+/// The derivatives of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0` for a Lagrangian whose
+/// kinetic energy does not depend on the configuration (`∂²L/∂η∂ξ = 0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalDerivatives<const D: usize> {
+    /// `p = ∂L/∂η`, the left-trivialised configuration force.
+    pub configuration_gradient: SVector<f64, D>,
+    /// `μ = ∂L/∂ξ`, the body momentum.
+    pub momentum: SVector<f64, D>,
+    /// `∂²L/∂η²` (zero when the Hessian was not asked for).
+    pub configuration_hessian: SMatrix<f64, D, D>,
+    /// `∂²L/∂ξ²` (zero when the Hessian was not asked for).
+    pub velocity_hessian: SMatrix<f64, D, D>,
+}
+
+/// One Gauss point of a step, as [`GroupLagrangian::point_derivatives`] receives it.
+pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
+    /// The point's time `t_k + c_j h`.
+    pub time: f64,
+    /// The step's start `g_k`.
+    pub base: &'a G::Element<f64>,
+    /// The chart coordinates `x` of the point.
+    pub x: &'a SVector<f64, D>,
+    /// Their time derivative `v` (the body velocity is `A(x) v`).
+    pub v: &'a SVector<f64, D>,
+    /// Whether the `ζ` rows (the configuration force) are wanted.
+    pub with_configuration: bool,
+    /// Whether the Hessian is wanted (else only the gradient).
+    pub with_hessian: bool,
+    /// The force acting at the point, when the step is forced: add `A(x)ᵀF` to the `x`
+    /// rows and `F` to the `ζ` rows, with their derivatives.
+    pub force: Option<&'a dyn PointForce<G, D>>,
+}
+
+/// The force acting at a step's Gauss points (the system's force plus the control input),
+/// evaluated where a closed-form point path needs it.
+pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
+    /// The force's jet at the configuration `g` and body velocity `ξ`.
+    fn jet(&self, configuration: &G::Element<f64>, velocity: &SVector<f64, D>) -> ForceJet<D>;
+    /// Whether the force depends on the configuration (if not, [`PointForce::jet`] may be
+    /// given any configuration, and its `configuration` derivative is zero).
+    fn depends_on_configuration(&self) -> bool;
+}
+
+/// A system's own force, as a function for [`ForceJet::by_dual_numbers`].
+struct SystemForce<'a, S>(&'a S);
+
+impl<S: GroupLagrangian<D>, const D: usize> ForceFunction<S::Group, D> for SystemForce<'_, S> {
+    fn eval<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &ElementOf<S, D, T>,
+        velocity: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        self.0.force(time, configuration, velocity)
+    }
+}
+
+/// A [`Forcing`], as a function for [`ForceJet::by_dual_numbers`].
+struct ForcingFunction<'a, F>(&'a F);
+
+impl<G: ConfigurationGroup<D>, F: Forcing<G, D>, const D: usize> ForceFunction<G, D>
+    for ForcingFunction<'_, F>
+{
+    fn eval<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &G::Element<T>,
+        velocity: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        self.0.force(time, configuration, velocity)
     }
 }
 
@@ -169,46 +298,18 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
     fn point_derivatives<C: GroupChart<Rotations, 3>>(
         &self,
         chart: &C,
-        _time: f64,
-        base: &SO3,
-        x: &Vector3<f64>,
-        v: &Vector3<f64>,
-        with_configuration: bool,
-        with_hessian: bool,
+        point: &GaussPoint<'_, Rotations, 3>,
         out: &mut Stacked<9>,
     ) -> bool {
-        crate::jet::point_derivatives(
-            self,
-            chart,
-            base.matrix(),
-            x,
-            v,
-            with_configuration,
-            with_hessian,
-            out,
-        )
+        crate::jet::point_derivatives(self, chart, point, out)
     }
     fn flow_guess<C: GroupChart<Rotations, 3>>(
         &self,
         chart: &C,
-        _time: f64,
-        base: &SO3,
-        momentum: &Vector3<f64>,
-        velocity: &Vector3<f64>,
-        h: f64,
-        times: &[f64],
+        start: &FlowStart<'_, Rotations, 3>,
         out: &mut [Vector3<f64>],
     ) -> FlowGuess<SO3> {
-        crate::flow::flow_guess(
-            self,
-            chart,
-            base.matrix(),
-            momentum,
-            velocity,
-            h,
-            times,
-            out,
-        )
+        crate::flow::flow_guess(self, chart, start, out)
     }
 }
 
@@ -229,6 +330,34 @@ pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
     fn is_zero(&self) -> bool {
         false
     }
+
+    /// The force and its first derivatives at `(t, g, ξ)` ([`ForceJet`]), which Newton's
+    /// exact matrix is built from. The default takes them by first-order dual numbers
+    /// through [`Forcing::force`] alone (exact); the built-in forces give them in closed
+    /// form.
+    fn jet(
+        &self,
+        time: f64,
+        configuration: &G::Element<f64>,
+        velocity: &SVector<f64, D>,
+    ) -> ForceJet<D>
+    where
+        Self: Sized,
+    {
+        ForceJet::by_dual_numbers(
+            &ForcingFunction(self),
+            time,
+            configuration,
+            velocity,
+            !self.depends_on_configuration(),
+        )
+    }
+
+    /// Whether the force depends on the configuration `g`. The default `true` is always
+    /// correct; `false` spares the integrator forming `g` at every Gauss point.
+    fn depends_on_configuration(&self) -> bool {
+        true
+    }
 }
 
 impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D>
@@ -244,6 +373,12 @@ impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usiz
     }
     fn is_zero(&self) -> bool {
         self.0.is_zero() && self.1.is_zero()
+    }
+    fn jet(&self, time: f64, g: &G::Element<f64>, xi: &SVector<f64, D>) -> ForceJet<D> {
+        self.0.jet(time, g, xi) + self.1.jet(time, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        self.0.depends_on_configuration() || self.1.depends_on_configuration()
     }
 }
 
@@ -277,6 +412,12 @@ impl<G: ConfigurationGroup<D>, F: Fn(f64) -> SVector<f64, D>, const D: usize> Fo
         _xi: &SVector<T, D>,
     ) -> SVector<T, D> {
         (self.0)(time).map(nalgebra::convert)
+    }
+    fn jet(&self, time: f64, _g: &G::Element<f64>, _xi: &SVector<f64, D>) -> ForceJet<D> {
+        ForceJet::constant((self.0)(time))
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
     }
 }
 
@@ -319,6 +460,12 @@ impl Forcing<Rotations, 3> for BodyTorque {
     fn is_zero(&self) -> bool {
         self.0 == Vector3::zeros()
     }
+    fn jet(&self, _t: f64, _g: &SO3, _w: &Vector3<f64>) -> ForceJet<3> {
+        ForceJet::constant(self.0)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
+    }
 }
 
 impl Forcing<Rotations, 3> for AngularDamping {
@@ -327,6 +474,16 @@ impl Forcing<Rotations, 3> for AngularDamping {
     }
     fn is_zero(&self) -> bool {
         self.0 == 0.0
+    }
+    fn jet(&self, _t: f64, _g: &SO3, w: &Vector3<f64>) -> ForceJet<3> {
+        ForceJet {
+            value: w * -self.0,
+            velocity: Matrix3::identity() * -self.0,
+            configuration: Matrix3::zeros(),
+        }
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
     }
 }
 
@@ -350,12 +507,39 @@ fn on_rotation<F: Forcing<Rotations, 3>, T: RealField + Copy>(
     )
 }
 
+/// The jet of [`on_rotation`]: the SO(3) jet in the rotational rows and columns (a
+/// torque that depends on `R` and `Ω` alone).
+fn jet_on_rotation<F: Forcing<Rotations, 3>>(
+    forcing: &F,
+    time: f64,
+    g: &SE3,
+    xi: &SVector<f64, 6>,
+) -> ForceJet<6> {
+    let omega = Vector3::new(xi[0], xi[1], xi[2]);
+    let jet = forcing.jet(time, g.rotation(), &omega);
+    let mut out = ForceJet::<6>::constant(SVector::zeros());
+    out.value.fixed_rows_mut::<3>(0).copy_from(&jet.value);
+    out.velocity
+        .fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&jet.velocity);
+    out.configuration
+        .fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&jet.configuration);
+    out
+}
+
 impl Forcing<RigidMotions, 6> for BodyTorque {
     fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
         on_rotation(self, t, g, xi)
     }
     fn is_zero(&self) -> bool {
         Forcing::<Rotations, 3>::is_zero(self)
+    }
+    fn jet(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> ForceJet<6> {
+        jet_on_rotation(self, t, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
     }
 }
 
@@ -365,6 +549,12 @@ impl Forcing<RigidMotions, 6> for AngularDamping {
     }
     fn is_zero(&self) -> bool {
         Forcing::<Rotations, 3>::is_zero(self)
+    }
+    fn jet(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> ForceJet<6> {
+        jet_on_rotation(self, t, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
     }
 }
 
@@ -381,13 +571,24 @@ impl Forcing<RigidMotions, 6> for SpaceForce {
     fn is_zero(&self) -> bool {
         self.0 == Vector3::zeros()
     }
+    /// `b = Rᵀf`; under `R ↦ R exp(ω̂)`, `b ↦ exp(−ω̂) b = b + b̂ ω + O(ω²)`: the
+    /// configuration derivative is `b̂` in the force rows and rotation columns.
+    fn jet(&self, _t: f64, g: &SE3, _xi: &SVector<f64, 6>) -> ForceJet<6> {
+        let body = g.rotation().matrix().transpose() * self.0;
+        let mut out = ForceJet::<6>::constant(SVector::zeros());
+        out.value.fixed_rows_mut::<3>(3).copy_from(&body);
+        out.configuration
+            .fixed_view_mut::<3, 3>(3, 0)
+            .copy_from(&lgsvi_lie::so3::hat(&body));
+        out
+    }
 }
 
 /// A system with a generalised force added ([`Forcing`]): `Forced::new(body, BodyTorque(τ))`.
-/// Everything else (the closed-form derivatives of `ℓ`) is the inner system's; the flow
-/// predictor is not (it does not know the force), so the integrator continues the last
-/// step's curve instead. Under a force that [`Forcing::is_zero`], the steps are the inner
-/// system's, bit for bit.
+/// Everything else (the closed-form derivatives of `ℓ`, the flow predictor, which the
+/// integrator hands the step's total force) is the inner system's; the force's own
+/// derivatives come from [`Forcing::jet`] (closed form for the built-in forces). Under a
+/// force that [`Forcing::is_zero`], the steps are the inner system's, bit for bit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Forced<S, F> {
     /// The unforced system.
@@ -438,44 +639,46 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
     ) -> SVector<T, D> {
         self.system.force(time, g, xi) + self.forcing.force(time, g, xi)
     }
+    fn force_jet(&self, time: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>) -> ForceJet<D> {
+        let own = self.forcing.jet(time, g, xi);
+        if self.system.is_forced() {
+            self.system.force_jet(time, g, xi) + own
+        } else {
+            own
+        }
+    }
+    fn force_depends_on_configuration(&self) -> bool {
+        (self.system.is_forced() && self.system.force_depends_on_configuration())
+            || self.forcing.depends_on_configuration()
+    }
+    fn local_derivatives(
+        &self,
+        time: f64,
+        g: &ElementOf<S, D>,
+        xi: &SVector<f64, D>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<D>> {
+        self.system.local_derivatives(time, g, xi, with_hessian)
+    }
     fn point_derivatives<C: GroupChart<Self::Group, D>>(
         &self,
         chart: &C,
-        time: f64,
-        base: &ElementOf<S, D>,
-        x: &SVector<f64, D>,
-        v: &SVector<f64, D>,
-        with_configuration: bool,
-        with_hessian: bool,
+        point: &GaussPoint<'_, Self::Group, D>,
         out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
     ) -> bool {
-        self.system.point_derivatives(
-            chart,
-            time,
-            base,
-            x,
-            v,
-            with_configuration,
-            with_hessian,
-            out,
-        )
+        self.system.point_derivatives(chart, point, out)
     }
-    /// The inner system's flow when the force is zero; none otherwise.
+    /// The inner system's flow, under the step's total force ([`FlowStart::force`]); none
+    /// for a forced step whose force is not given.
     fn flow_guess<C: GroupChart<Self::Group, D>>(
         &self,
         chart: &C,
-        time: f64,
-        base: &ElementOf<S, D>,
-        momentum: &SVector<f64, D>,
-        velocity: &SVector<f64, D>,
-        h: f64,
-        times: &[f64],
+        start: &FlowStart<'_, Self::Group, D>,
         out: &mut [SVector<f64, D>],
     ) -> FlowGuess<ElementOf<S, D>> {
-        if self.is_forced() {
+        if self.is_forced() && start.force.is_none() {
             return FlowGuess::Unavailable;
         }
-        self.system
-            .flow_guess(chart, time, base, momentum, velocity, h, times, out)
+        self.system.flow_guess(chart, start, out)
     }
 }

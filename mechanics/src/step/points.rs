@@ -5,9 +5,15 @@
 //! left-invariant: `p = ∂ℓ̃/∂ζ` is the left-trivialised configuration force. A system
 //! either writes the derivatives itself ([`GroupLagrangian::point_derivatives`]: the SO(3)
 //! systems' chain rule through the chart's Rodrigues form, `crate::jet`) or they come from
-//! the generic chain rule below (any group, any chart). A force `F(t, g, ξ)` then adds
+//! the generic chain rule below (any group, any chart). A force `F(t, g, ξ)` adds
 //! `A(x)ᵀF` to the `x` rows and `F` to the `ζ` rows (discrete Lagrange–d'Alembert,
-//! [`crate::system`]), with its Jacobian by first-order dual numbers.
+//! [`crate::system`]); its derivatives come from the force's own jet ([`ForceJet`]: closed
+//! form for the built-in forces) and the chart's derivatives, which either path has at
+//! hand: with `J = ∂(A(x)v)/∂x` and `K_F = ∂(A(x)ᵀF)/∂x` at fixed `F`,
+//! `∂F/∂x = F_η A + F_ξ J`, `∂F/∂v = F_ξ A`, so the `x` rows gain `K_F + Aᵀ ∂F/∂x` and
+//! `Aᵀ ∂F/∂v`, the `ζ` rows `∂F/∂x` and `∂F/∂v` ([`add_force_terms`]). The dual-number
+//! path through the whole point ([`crate::group::PointJet::add_force`]) is the tests'
+//! independent reference.
 //!
 //! # The generic chain rule
 //! At `g₀ = g_k Φ(x)`, `ξ₀ = A(x) v`, let `L(η, ξ) = ℓ(t, g₀ exp(η), ξ)` with gradient
@@ -29,8 +35,9 @@
 //! than one second-order dual number over all `3D` variables through `ℓ̃`, which the tests
 //! keep as the independent reference.
 
-use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction, StackedMap};
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::force_jet::{jacobian_of, seeded, ForceJet};
+use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction};
+use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
 use lgsvi_lie::LieGroup;
 use nalgebra::{RealField, SMatrix, SVector};
 use num_dual::{Dual2SVec64, DualSVec64};
@@ -61,13 +68,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StackedF
 }
 
 /// The force terms of one Gauss point: `(x, v) ↦ (A(x)ᵀ F, F)`, `F = F(t, g_k Φ(x), A(x) v)`
-/// plus the constant control input.
-struct ForceTerms<'a, S: GroupLagrangian<D>, C, const D: usize> {
-    ell: &'a EllTilde<'a, S, C, D>,
-    input: &'a SVector<f64, D>,
+/// plus the constant control input: the tests' reference (dual numbers through the whole
+/// point, chart included).
+#[cfg(test)]
+pub(super) struct ForceTerms<'a, S: GroupLagrangian<D>, C, const D: usize> {
+    pub ell: &'a EllTilde<'a, S, C, D>,
+    pub input: &'a SVector<f64, D>,
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StackedMap
+#[cfg(test)]
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> crate::group::StackedMap
     for ForceTerms<'_, S, C, D>
 {
     fn eval<T: RealField + Copy>(&self, y: &[T], out: &mut [T]) {
@@ -88,9 +98,31 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StackedM
     }
 }
 
-/// Writes one Gauss point's derivatives into `out` (the Hessian only if `with_hessian`,
-/// on the closed-form path; the dual-number path always writes it), adding the force
-/// terms when `forced` (the system's force and `input`).
+/// The force at a step's Gauss points: the system's (when it has one) plus the constant
+/// control input.
+pub(crate) struct StepForce<'a, S, const D: usize> {
+    pub system: &'a S,
+    pub time: f64,
+    pub input: &'a SVector<f64, D>,
+}
+
+impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForce<'_, S, D> {
+    fn jet(&self, configuration: &ElementOf<S, D>, velocity: &SVector<f64, D>) -> ForceJet<D> {
+        let mut jet = if self.system.is_forced() {
+            self.system.force_jet(self.time, configuration, velocity)
+        } else {
+            ForceJet::constant(SVector::zeros())
+        };
+        jet.value += self.input;
+        jet
+    }
+    fn depends_on_configuration(&self) -> bool {
+        self.system.is_forced() && self.system.force_depends_on_configuration()
+    }
+}
+
+/// Writes one Gauss point's derivatives into `out` (the Hessian only if `with_hessian`),
+/// with the force terms when `forced` (the system's force and `input`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn point_derivatives<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
@@ -104,20 +136,70 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     S: GroupLagrangian<D>,
     C: GroupChart<S::Group, D>,
 {
-    if !ell.system.point_derivatives(
-        ell.chart,
-        ell.time,
-        ell.base,
+    let force = forced.map(|input| StepForce {
+        system: ell.system,
+        time: ell.time,
+        input,
+    });
+    let point = GaussPoint {
+        time: ell.time,
+        base: ell.base,
         x,
         v,
         with_configuration,
         with_hessian,
-        out,
-    ) {
-        chain_rule(ell, x, v, with_configuration, with_hessian, out);
+        force: force.as_ref().map(|f| f as &dyn PointForce<S::Group, D>),
+    };
+    if !ell.system.point_derivatives(ell.chart, &point, out) {
+        chain_rule(ell, &point, out);
     }
-    if let Some(input) = forced {
-        out.add_force(&ForceTerms { ell, input }, x.as_slice(), v.as_slice());
+}
+
+/// Adds a force's terms to a point's derivatives (module documentation): `a = A(x)`,
+/// `j = ∂(A(x)v)/∂x`, `k = ∂(A(x)ᵀF)/∂x` at fixed `F` (entry `(row, x component)`).
+pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
+    out: &mut J,
+    jet: &ForceJet<D>,
+    a: &SMatrix<f64, D, D>,
+    j: &SMatrix<f64, D, D>,
+    k: &SMatrix<f64, D, D>,
+    with_hessian: bool,
+) {
+    let projected = a.transpose() * jet.value;
+    let gradient = out.gradient_mut();
+    for c in 0..D {
+        gradient[c] += projected[c];
+        gradient[2 * D + c] += jet.value[c];
+    }
+    if !with_hessian {
+        return;
+    }
+    if jet
+        .velocity
+        .iter()
+        .chain(jet.configuration.iter())
+        .all(|&e| e == 0.0)
+    {
+        // A force constant at the point (a torque, a profile in time, the input): only
+        // the chart's K_F.
+        for r in 0..D {
+            for c in 0..D {
+                out.add_hessian(r, c, k[(r, c)]);
+            }
+        }
+        return;
+    }
+    let df_dx = jet.configuration * a + jet.velocity * j;
+    let df_dv = jet.velocity * a;
+    let xx = k + a.transpose() * df_dx;
+    let xv = a.transpose() * df_dv;
+    for r in 0..D {
+        for c in 0..D {
+            out.add_hessian(r, c, xx[(r, c)]);
+            out.add_hessian(r, D + c, xv[(r, c)]);
+            out.add_hessian(2 * D + r, c, df_dx[(r, c)]);
+            out.add_hessian(2 * D + r, D + c, df_dv[(r, c)]);
+        }
     }
 }
 
@@ -139,36 +221,17 @@ impl<S: GroupLagrangian<D>, const D: usize> StackedFunction for Local<'_, S, D> 
     }
 }
 
-/// `x` as `D` first-order dual numbers, one direction each.
-fn seeded<const D: usize>(x: &SVector<f64, D>) -> SVector<DualSVec64<D>, D> {
-    SVector::from_fn(|i, _| {
-        DualSVec64::<D>::new(
-            x[i],
-            num_dual::Derivative::some(SVector::from_fn(|j, _| if i == j { 1.0 } else { 0.0 })),
-        )
-    })
-}
-
-/// The `D × D` matrix `∂y_r/∂x_a` of first-order dual numbers `y` seeded by [`seeded`].
-fn jacobian_of<const D: usize>(y: &SVector<DualSVec64<D>, D>) -> SMatrix<f64, D, D> {
-    SMatrix::from_fn(|r, a| {
-        y[r].eps
-            .unwrap_generic(nalgebra::Const::<D>, nalgebra::Const::<1>)[a]
-    })
-}
-
 /// The generic chain rule (module documentation).
 pub(super) fn chain_rule<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
-    x: &SVector<f64, D>,
-    v: &SVector<f64, D>,
-    with_configuration: bool,
-    with_hessian: bool,
+    point: &GaussPoint<'_, S::Group, D>,
     out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
 ) where
     S: GroupLagrangian<D>,
     C: GroupChart<S::Group, D>,
 {
+    let (x, v) = (point.x, point.v);
+    let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
     let chart = ell.chart;
     let at = ell.base.compose(&chart.to_group(x));
     let a = chart.left_differential(x);
@@ -184,7 +247,16 @@ pub(super) fn chain_rule<S, C, const D: usize>(
     let mut l_ex = SMatrix::<f64, D, D>::zeros();
     let l_xx;
     let (p, mu);
-    if ell.system.is_left_invariant() {
+    if let Some(local) = ell
+        .system
+        .local_derivatives(ell.time, &at, &xi, with_hessian)
+    {
+        // The system's own closed form of L's derivatives.
+        p = local.configuration_gradient;
+        mu = local.momentum;
+        l_ee = local.configuration_hessian;
+        l_xx = local.velocity_hessian;
+    } else if ell.system.is_left_invariant() {
         p = SVector::<f64, D>::zeros();
         if with_hessian {
             let (_, gradient, hessian) = num_dual::hessian(
@@ -287,5 +359,14 @@ pub(super) fn chain_rule<S, C, const D: usize>(
         g[2 * D..3 * D].copy_from_slice(p.as_slice());
     } else {
         g[2 * D..3 * D].fill(0.0);
+    }
+    if let Some(force) = point.force {
+        let jet = force.jet(&at, &xi);
+        let k = if with_hessian {
+            jacobian_of(&(a_dual.transpose() * convert(&jet.value)))
+        } else {
+            SMatrix::zeros()
+        };
+        add_force_terms(out, &jet, &a, &j, &k, with_hessian);
     }
 }

@@ -76,6 +76,26 @@ fn base() -> Matrix3<f64> {
     *SO3::exp(&Vector3::new(0.4, -0.7, 0.2)).matrix()
 }
 
+/// A Gauss point at time 0.7 from `base`.
+fn gauss_point<'a, G: crate::ConfigurationGroup<D>, const D: usize>(
+    base: &'a G::Element<f64>,
+    x: &'a SVector<f64, D>,
+    v: &'a SVector<f64, D>,
+    with_configuration: bool,
+    with_hessian: bool,
+    force: Option<&'a dyn crate::PointForce<G, D>>,
+) -> crate::GaussPoint<'a, G, D> {
+    crate::GaussPoint {
+        time: 0.7,
+        base,
+        x,
+        v,
+        with_configuration,
+        with_hessian,
+        force,
+    }
+}
+
 /// The chain-rule path alone ([`jet::point_derivatives`]), as a value.
 fn chain_rule_at<L: Lagrangian>(
     system: &L,
@@ -86,17 +106,9 @@ fn chain_rule_at<L: Lagrangian>(
     with_hessian: bool,
 ) -> PointDerivatives {
     let mut out = PointDerivatives::zeros();
-    let b = base();
-    let done = jet::point_derivatives(
-        system,
-        &chart,
-        &b,
-        x,
-        v,
-        with_configuration,
-        with_hessian,
-        &mut out,
-    );
+    let b = SO3::from_matrix_unchecked(base());
+    let point = gauss_point(&b, x, v, with_configuration, with_hessian, None);
+    let done = jet::point_derivatives(system, &chart, &point, &mut out);
     assert!(done, "{chart} has a Rodrigues form");
     out
 }
@@ -395,9 +407,11 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                 time: 0.7,
             };
             let mut fast = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
-            super::points::chain_rule(&ell, x, v, with_configuration, true, &mut fast);
+            let point = gauss_point(base, x, v, with_configuration, true, None);
+            super::points::chain_rule(&ell, &point, &mut fast);
             let mut gradient_only = fast.clone();
-            super::points::chain_rule(&ell, x, v, with_configuration, false, &mut gradient_only);
+            let point = gauss_point(base, x, v, with_configuration, false, None);
+            super::points::chain_rule(&ell, &point, &mut gradient_only);
             let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
             slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), with_configuration);
             let n = fast.size();
@@ -480,4 +494,265 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
         }
     }
     let _ = RigidMotions;
+}
+
+/// Every closed-form force path (the built-in forces' jets through the SO(3) Rodrigues
+/// path and through the generic chain rule, the control input, a user force whose jet
+/// comes by dual numbers on the force alone) against dual numbers through the whole
+/// point: `ℓ̃` by a second-order dual number and the force terms `(A(x)ᵀF, F)` by
+/// first-order dual numbers through chart and force together
+/// ([`crate::group::PointJet::add_force`]). Every chart, points from `x = 0` to large
+/// rotations. Both are exact up to rounding: 1e-12 relative to the largest entry. The
+/// `ζζ` block and the `ζ` columns are not read by the solver and are skipped.
+#[test]
+fn force_terms_match_dual_numbers_through_the_whole_point() {
+    use super::points::{point_derivatives, ForceTerms};
+    use crate::group::{RigidMotions, Rotations};
+    use crate::system::{ElementOf, Forced, Forcing};
+    use crate::{AngularDamping, BodyTorque, ForceOfTime, RigidBody, SpaceForce};
+    use lgsvi_lie::{CayleyChart, ExpChart, SE3};
+
+    fn compare<S, C, const D: usize>(
+        system: &S,
+        chart: C,
+        base: &ElementOf<S, D>,
+        x: &SVector<f64, D>,
+        v: &SVector<f64, D>,
+        input: &SVector<f64, D>,
+        name: &str,
+    ) where
+        S: crate::GroupLagrangian<D>,
+        C: crate::GroupChart<S::Group, D>,
+    {
+        let ell = EllTilde {
+            system,
+            chart: &chart,
+            base,
+            time: 0.7,
+        };
+        let mut fast = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+        point_derivatives(&ell, x, v, true, true, Some(input), &mut fast);
+        let mut gradient_only = fast.clone();
+        point_derivatives(&ell, x, v, true, false, Some(input), &mut gradient_only);
+        let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+        slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), true);
+        slow.add_force(&ForceTerms { ell: &ell, input }, x.as_slice(), v.as_slice());
+        let n = fast.size();
+        let mut scale = 1.0f64;
+        for r in 0..n {
+            scale = scale.max(slow.gradient()[r].abs());
+            for c in 0..2 * D {
+                scale = scale.max(slow.hessian(r, c).abs());
+            }
+        }
+        let mut worst = 0.0f64;
+        for r in 0..n {
+            worst = worst.max((fast.gradient()[r] - slow.gradient()[r]).abs());
+            worst = worst.max((gradient_only.gradient()[r] - slow.gradient()[r]).abs());
+            for c in 0..2 * D {
+                worst = worst.max((fast.hessian(r, c) - slow.hessian(r, c)).abs());
+            }
+        }
+        assert!(worst <= 1e-12 * scale, "{name}: {worst:e} of {scale:e}");
+    }
+
+    /// A force of the attitude and velocity with no closed form: its jet comes from
+    /// first-order dual numbers on the force alone (the default [`Forcing::jet`]).
+    #[derive(Clone, Copy)]
+    struct Magnetic;
+    impl Forcing<Rotations, 3> for Magnetic {
+        fn force<T: RealField + Copy>(&self, t: f64, g: &SO3<T>, w: &Vector3<T>) -> Vector3<T> {
+            // A body dipole m = e₁ in a field b = (0.2, −0.1, 1 + sin t)ᵀ, plus drag ∝ |Ω|Ω.
+            let field = Vector3::new(
+                nalgebra::convert(0.2),
+                nalgebra::convert(-0.1),
+                nalgebra::convert(1.0 + t.sin()),
+            );
+            let body_field = g.matrix().transpose() * field;
+            Vector3::x()
+                .map(nalgebra::convert::<f64, T>)
+                .cross(&body_field)
+                - w * (w.norm() * nalgebra::convert::<f64, T>(0.05))
+        }
+    }
+    impl Forcing<RigidMotions, 6> for Magnetic {
+        fn force<T: RealField + Copy>(
+            &self,
+            t: f64,
+            g: &SE3<T>,
+            xi: &SVector<T, 6>,
+        ) -> SVector<T, 6> {
+            let w = Vector3::new(xi[0], xi[1], xi[2]);
+            let torque = Forcing::<Rotations, 3>::force(self, t, g.rotation(), &w);
+            // A spring to the origin in the world frame, as a body force Rᵀ(−k x).
+            let pull = g.rotation().matrix().transpose()
+                * g.translation()
+                * nalgebra::convert::<f64, T>(-0.3);
+            SVector::<T, 6>::new(torque.x, torque.y, torque.z, pull.x, pull.y, pull.z)
+        }
+    }
+
+    let body = RigidBody::new(Inertia::from_paper_jd([1.3, 2.1, 1.2]).unwrap());
+    let torque = BodyTorque(Vector3::new(0.1, -0.2, 0.05));
+    let profile = ForceOfTime(|t: f64| Vector3::new(0.3 * t.sin(), -0.1, 0.2 * t.cos()));
+    let input3 = Vector3::new(0.02, 0.5, -0.3);
+    let b = SO3::from_matrix_unchecked(base());
+    // SO(3) through the generic path: a wrapper that hides the closed form.
+    struct Generic<L>(L);
+    impl<L: Lagrangian> crate::GroupLagrangian<3> for Generic<L> {
+        type Group = Rotations;
+        fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
+            Lagrangian::lagrangian(&self.0, g.matrix(), w)
+        }
+    }
+    for chart in ChartKind::ALL {
+        for (x, v) in [
+            (Vector3::zeros(), Vector3::new(1.1, 0.4, -0.6)),
+            (Vector3::new(0.3, -0.1, 0.25), Vector3::new(1.1, 0.4, -0.6)),
+            (Vector3::new(1.5, -2.2, 1.1), Vector3::new(2.0, 0.7, -1.0)),
+        ] {
+            let zero = Vector3::zeros();
+            compare(
+                &Forced::new(body, torque),
+                chart,
+                &b,
+                &x,
+                &v,
+                &zero,
+                "torque",
+            );
+            compare(
+                &Forced::new(body, AngularDamping(0.7)),
+                chart,
+                &b,
+                &x,
+                &v,
+                &zero,
+                "damping",
+            );
+            compare(
+                &Forced::new(body, profile),
+                chart,
+                &b,
+                &x,
+                &v,
+                &zero,
+                "profile",
+            );
+            compare(
+                &Forced::new(body, Magnetic),
+                chart,
+                &b,
+                &x,
+                &v,
+                &zero,
+                "user force",
+            );
+            compare(
+                &Forced::new(top(), (torque, AngularDamping(0.2))),
+                chart,
+                &b,
+                &x,
+                &v,
+                &zero,
+                "top",
+            );
+            compare(
+                &Forced::new(top(), Magnetic),
+                chart,
+                &b,
+                &x,
+                &v,
+                &input3,
+                "top, user force, input",
+            );
+            compare(&body, chart, &b, &x, &v, &input3, "input alone");
+            compare(
+                &Forced::new(Generic(top()), (Magnetic, torque)),
+                chart,
+                &b,
+                &x,
+                &v,
+                &input3,
+                "generic",
+            );
+        }
+    }
+    let b6 = SE3::new(
+        SO3::exp(&Vector3::new(0.4, -0.7, 0.2)),
+        Vector3::new(1.0, -2.0, 0.5),
+    );
+    let orbit = crate::OrbitingBody::new(
+        Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap(),
+        1.3,
+        2.0,
+    )
+    .unwrap();
+    let free = crate::FreeBody::new(
+        Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap(),
+        1.7,
+    )
+    .unwrap();
+    let input6 = SVector::<f64, 6>::new(0.02, 0.5, -0.3, 0.1, 0.0, -0.2);
+    let space = SpaceForce(Vector3::new(0.3, -1.0, 0.4));
+    for (x, v) in [
+        (
+            SVector::<f64, 6>::zeros(),
+            SVector::<f64, 6>::new(1.1, 0.4, -0.6, 0.3, 0.2, -0.1),
+        ),
+        (
+            SVector::<f64, 6>::new(1.5, -2.2, 1.1, -0.4, 0.9, 0.3),
+            SVector::<f64, 6>::new(2.0, 0.7, -1.0, 0.2, 0.0, 0.6),
+        ),
+    ] {
+        for (chart, name) in [(ChartKind::Exp, "exp"), (ChartKind::Cayley, "cayley")] {
+            let zero = SVector::<f64, 6>::zeros();
+            compare(&Forced::new(free, space), chart, &b6, &x, &v, &zero, name);
+            compare(
+                &Forced::new(free, (torque, AngularDamping(0.4))),
+                chart,
+                &b6,
+                &x,
+                &v,
+                &input6,
+                name,
+            );
+            compare(
+                &Forced::new(orbit, Magnetic),
+                chart,
+                &b6,
+                &x,
+                &v,
+                &input6,
+                name,
+            );
+            compare(
+                &Forced::new(orbit, (space, torque)),
+                chart,
+                &b6,
+                &x,
+                &v,
+                &zero,
+                name,
+            );
+        }
+        compare(
+            &Forced::new(orbit, space),
+            ExpChart,
+            &b6,
+            &x,
+            &v,
+            &input6,
+            "exp type",
+        );
+        compare(
+            &Forced::new(orbit, space),
+            CayleyChart,
+            &b6,
+            &x,
+            &v,
+            &input6,
+            "cayley type",
+        );
+    }
 }

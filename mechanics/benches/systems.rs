@@ -1,0 +1,142 @@
+//! Per-step cost of every built-in system, side by side in one run: the same body
+//! (`J = diag(0.5, 0.9, 0.7)`, `Ω₀ = (0.6, 0.1, −0.4)`), `h = 0.5`, `n = 8`, the exp
+//! chart and the exact matching. Each iteration restarts from the same state and takes
+//! [`STEPS`] steps (so a damped or forced body does not drift into an easier regime as
+//! criterion repeats it); divide the reported time by [`STEPS`] for one step.
+//!
+//! `cargo bench -p lgsvi-mechanics --bench systems` (add `-- --quick` for a short run).
+use criterion::{criterion_group, criterion_main, Criterion};
+use lgsvi_mechanics::lie::ChartKind;
+use lgsvi_mechanics::lie::{SE3, SO3};
+use lgsvi_mechanics::{
+    AngularDamping, BodyInField, BodyTorque, FieldPotential, ForceOfTime, Forced, FreeBody,
+    GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody, Potential, RigidBody,
+    RigidBodyInPotential, SpaceForce, StepSettings,
+};
+use nalgebra::{Matrix3, RealField, SVector, Vector3};
+
+/// Steps per measured iteration.
+const STEPS: usize = 20;
+
+fn inertia() -> Inertia {
+    Inertia::from_principal_moments([0.5, 0.9, 0.7]).unwrap()
+}
+
+fn omega0() -> Vector3<f64> {
+    Vector3::new(0.6, 0.1, -0.4)
+}
+
+fn settings() -> StepSettings {
+    StepSettings::new(0.5, 8).unwrap()
+}
+
+/// A dipole along body x in a field along world z: `V = −0.3 (R e₁)·e₃`.
+struct Dipole;
+impl Potential for Dipole {
+    fn potential<T: RealField + Copy>(&self, r: &Matrix3<T>) -> T {
+        -r[(2, 0)] * nalgebra::convert::<f64, T>(0.3)
+    }
+}
+
+/// Uniform gravity on the centre of mass and a dipole: `V = 9.81 m x_z − 0.3 (R e₁)·e₃`.
+struct GravityAndDipole;
+impl FieldPotential for GravityAndDipole {
+    fn potential<T: RealField + Copy>(&self, _t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
+        x.z * nalgebra::convert::<f64, T>(9.81) - r[(2, 0)] * nalgebra::convert::<f64, T>(0.3)
+    }
+}
+
+fn bench_steps<S: GroupLagrangian<D>, const D: usize>(
+    c: &mut Criterion,
+    name: &str,
+    mut integrator: Integrator<S, ChartKind, D>,
+) where
+    ChartKind: lgsvi_mechanics::GroupChart<S::Group, D>,
+{
+    let start = *integrator.state();
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            integrator
+                .reset(0.0, start.configuration, start.velocity)
+                .unwrap();
+            for _ in 0..STEPS {
+                integrator.step().unwrap();
+            }
+        })
+    });
+}
+
+fn so3<S: GroupLagrangian<3>>(system: S) -> Integrator<S, ChartKind, 3>
+where
+    ChartKind: lgsvi_mechanics::GroupChart<S::Group, 3>,
+{
+    let start = <S::Group as lgsvi_mechanics::ConfigurationGroup<3>>::exp(&Vector3::zeros());
+    Integrator::new(system, settings(), start, omega0()).unwrap()
+}
+
+fn bench(c: &mut Criterion) {
+    let body = RigidBody::new(inertia());
+    let torque = Vector3::new(0.001, 0.002, -0.001);
+    bench_steps(c, "so3_free", so3(body));
+    bench_steps(c, "so3_torque", so3(Forced::new(body, BodyTorque(torque))));
+    bench_steps(
+        c,
+        "so3_damping",
+        so3(Forced::new(body, AngularDamping(0.01))),
+    );
+    bench_steps(
+        c,
+        "so3_force_of_time",
+        so3(Forced::new(
+            body,
+            ForceOfTime(|t: f64| Vector3::new(0.001 * t.sin(), 0.002, -0.001 * t.cos())),
+        )),
+    );
+    let mut controlled = so3(body);
+    controlled.set_input(torque).unwrap();
+    bench_steps(c, "so3_control_input", controlled);
+    let top = HeavyTop::new(inertia(), 1.0, 0.3, Vector3::z(), Vector3::z()).unwrap();
+    bench_steps(c, "so3_heavy_top", so3(top));
+    bench_steps(
+        c,
+        "so3_user_potential",
+        so3(RigidBodyInPotential::new(inertia(), Dipole)),
+    );
+
+    let w = omega0();
+    let xi = SVector::<f64, 6>::new(w.x, w.y, w.z, 0.1, -0.2, 0.05);
+    let free = FreeBody::new(inertia(), 1.0).unwrap();
+    bench_steps(
+        c,
+        "space_free_body",
+        Integrator::new(free, settings(), SE3::identity(), xi).unwrap(),
+    );
+    bench_steps(
+        c,
+        "space_free_body_space_force",
+        Integrator::new(
+            Forced::new(free, SpaceForce(Vector3::new(0.0, 0.0, -0.1))),
+            settings(),
+            SE3::identity(),
+            xi,
+        )
+        .unwrap(),
+    );
+    let orbit = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
+    let orbit_start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
+    let orbit_xi = SVector::<f64, 6>::new(w.x, w.y, w.z, 0.0, 0.55, 0.05);
+    bench_steps(
+        c,
+        "space_orbiting_body",
+        Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
+    );
+    let field = BodyInField::new(inertia(), 1.0, GravityAndDipole).unwrap();
+    bench_steps(
+        c,
+        "space_user_potential",
+        Integrator::new(field, settings(), SE3::identity(), xi).unwrap(),
+    );
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
