@@ -25,7 +25,7 @@ fn omega_dot(model: &Model, r: &Matrix3<f64>, w: &Vector3<f64>) -> Vector3<f64> 
     (mu.cross(w) + model.torque(r)).component_div(&j)
 }
 
-fn quaternion_matrix(q: &[f64]) -> Matrix3<f64> {
+pub(crate) fn quaternion_matrix(q: &[f64]) -> Matrix3<f64> {
     let unit = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
     unit.to_rotation_matrix().into_inner()
 }
@@ -71,7 +71,7 @@ impl ode_solvers::System<f64, SVector<f64, 12>> for MatrixState {
 
 /// DOP853 with sparse output from `y0` over `[0, t_end]`: the final state and the number
 /// of right-hand-side evaluations.
-fn solve<const N: usize, S: ode_solvers::System<f64, SVector<f64, N>>>(
+pub(crate) fn solve<const N: usize, S: ode_solvers::System<f64, SVector<f64, N>>>(
     system: S,
     y0: SVector<f64, N>,
     t_end: f64,

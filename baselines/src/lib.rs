@@ -9,7 +9,8 @@
 //!   between potential kicks `V(h/2)` for the heavy top.
 //! - [`Yoshida4`]: the fourth-order triple-jump composition of either.
 //! - [`dop853`]: DOP853 (the `ode_solvers` crate) on the unit-quaternion state or the
-//!   `(R, Ω)` state, sparse output only.
+//!   `(R, Ω)` state, sparse output only; [`dop853_in_space`] on a body in space
+//!   (`(q, Ω, x, ẋ)`, MacCullagh's gravity, a body torque).
 //!
 //! The system is a rigid body with `ℓ = ½ΩᵀJΩ + m g e₃ᵀRρ` ([`Model`]; `m g = 0` is the
 //! free body), `Π = JΩ`, `J Ω̇ = (JΩ) × Ω + m g ρ × Rᵀe₃`.
@@ -17,7 +18,9 @@
 use nalgebra::{Matrix3, Vector3};
 
 mod dop;
+mod space;
 pub use dop::{dop853, Dop853State};
+pub use space::{dop853_in_space, SpaceModel, SpaceState};
 
 /// Why a baseline failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

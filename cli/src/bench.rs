@@ -91,7 +91,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// Times `run` `repeats` times; returns the last result and the median time.
-fn timed<T>(repeats: usize, mut run: impl FnMut() -> T) -> (T, f64) {
+pub(crate) fn timed<T>(repeats: usize, mut run: impl FnMut() -> T) -> (T, f64) {
     let mut times = Vec::with_capacity(repeats);
     let mut last = None;
     for _ in 0..repeats.max(1) {
@@ -434,7 +434,7 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
 }
 
 /// The fastest run of `method` (prefix) at or below `error` for a case and horizon.
-fn fastest<'a>(
+pub(crate) fn fastest<'a>(
     points: &'a [Point],
     case: &str,
     t_end: f64,
@@ -450,7 +450,7 @@ fn fastest<'a>(
 }
 
 /// The most accurate finite run of `method` (prefix) for a case and horizon.
-fn most_accurate<'a>(
+pub(crate) fn most_accurate<'a>(
     points: &'a [Point],
     case: &str,
     t_end: f64,
@@ -685,9 +685,10 @@ pub fn run(options: BenchOptions) -> Result<()> {
         }
         return run_long(&dir, settings, steps, members, options.quiet);
     }
-    let total = 2 * 2 * runs_per_case() as u64;
+    let total = (2 * 2 * runs_per_case() + crate::bench_space::runs()) as u64;
     let progress = crate::progress_bar(total, "bench", "runs", options.quiet);
     let points = sweep(repeats, || progress.inc(1));
+    let space_points = crate::bench_space::sweep(repeats, || progress.inc(1));
     progress.finish_and_clear();
     let mut table = String::new();
     let _ = writeln!(
@@ -705,6 +706,11 @@ pub fn run(options: BenchOptions) -> Result<()> {
         table,
         "## lgsvi --tol (nodes chosen per step; the step and first nodes as `simulate --tol` chooses them)\n\n{}",
         tolerance_table(&points)
+    );
+    let _ = writeln!(
+        table,
+        "## The orbiting body O1 and the torqued body F1 against DOP853 (best (h, n) per target, construction included; errors: O1 max(‖R − R_ref‖_F, ‖x − x_ref‖), F1 ‖R − R_ref‖_F)\n\n{}",
+        crate::bench_space::ratios(&space_points)
     );
     let ensemble = ensemble(members, repeats)?;
     let ensemble_line = format!(

@@ -5,6 +5,7 @@
 //! and/or a TOML config and writes JSON or CSV. Errors are one line on standard error and a non-zero exit.
 
 mod bench;
+mod bench_space;
 mod cases;
 mod config;
 mod error;

@@ -11,7 +11,7 @@ use lgsvi_mechanics::lie::{SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyInField, BodyTorque, FieldPotential, ForceOfTime, Forced, FreeBody,
     GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody, Potential, RigidBody,
-    RigidBodyInPotential, SpaceForce, StepSettings,
+    RigidBodyInPotential, Screw, SpaceForce, StepSettings,
 };
 use nalgebra::{Matrix3, RealField, SVector, Vector3};
 
@@ -46,13 +46,15 @@ impl FieldPotential for GravityAndDipole {
     }
 }
 
-fn bench_steps<S: GroupLagrangian<D>, const D: usize>(
+fn bench_steps<
+    S: GroupLagrangian<D>,
+    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    const D: usize,
+>(
     c: &mut Criterion,
     name: &str,
-    mut integrator: Integrator<S, ChartKind, D>,
-) where
-    ChartKind: lgsvi_mechanics::GroupChart<S::Group, D>,
-{
+    mut integrator: Integrator<S, C, D>,
+) {
     let start = *integrator.state();
     c.bench_function(name, |b| {
         b.iter(|| {
@@ -129,6 +131,26 @@ fn bench(c: &mut Criterion) {
         c,
         "space_orbiting_body",
         Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
+    );
+    // SE(3)'s own (screw-motion) chart, for comparison with the default
+    // rotation–translation chart.
+    bench_steps(
+        c,
+        "space_free_body_screw",
+        Integrator::with_chart(free, Screw(ChartKind::Exp), settings(), SE3::identity(), xi)
+            .unwrap(),
+    );
+    bench_steps(
+        c,
+        "space_orbiting_body_screw",
+        Integrator::with_chart(
+            orbit,
+            Screw(ChartKind::Exp),
+            settings(),
+            orbit_start,
+            orbit_xi,
+        )
+        .unwrap(),
     );
     let field = BodyInField::new(inertia(), 1.0, GravityAndDipole).unwrap();
     bench_steps(

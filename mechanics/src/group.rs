@@ -21,9 +21,10 @@
 //! integrator then runs any [`crate::GroupLagrangian`] on it unchanged; the test
 //! `tests/tests/generic_group.rs` does this for the torus `SO(2) × SO(2)`.
 
+use crate::jet::MatrixJet;
 use lgsvi_lie::{Chart, LieError, LieGroup, RodriguesCoefficients, So3Chart, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
-use num_dual::{Dual2SVec64, DualSVec64};
+use num_dual::{Dual2SVec64, Dual2_64, Dual64, DualSVec64};
 use std::fmt::Debug;
 
 /// A function of the stacked variables of one Gauss point, generic over the scalar so
@@ -350,6 +351,94 @@ impl ConfigurationGroup<6> for RigidMotions {
     }
 }
 
+/// A chart's derivatives at one point `x`, contracted as the generic chain rule
+/// ([`crate::step`]'s points) reads them: `A(x)`, `∂(A(x)v)/∂x`, `∂(A(x)ᵀg)/∂x` and
+/// `∇²_x(μᵀA(x)v)`. Every [`GroupChart`] has them by dual numbers in `x` alone
+/// ([`GroupChart::with_derivatives`]'s default); the SE(3) charts of this crate in closed
+/// form.
+pub trait ChartDerivatives<const D: usize> {
+    /// `A(x)`.
+    fn differential(&self) -> SMatrix<f64, D, D>;
+    /// `∂(A(x) v)/∂x`, entry `(component, component of x)`.
+    fn differential_times(&self, v: &SVector<f64, D>) -> SMatrix<f64, D, D>;
+    /// `∂(A(x)ᵀ g)/∂x`, entry `(component, component of x)`.
+    fn transpose_times(&self, g: &SVector<f64, D>) -> SMatrix<f64, D, D>;
+    /// `∇²_x (μᵀ A(x) v)` (only asked for when [`GroupChart::with_derivatives`] was
+    /// called with `second`).
+    fn second(&self, mu: &SVector<f64, D>, v: &SVector<f64, D>) -> SMatrix<f64, D, D>;
+}
+
+/// [`ChartDerivatives`] by dual numbers: `A` at first-order dual numbers in `x` (one
+/// evaluation, contracted three ways), the second derivatives by a second-order dual
+/// number through `μᵀA(x)v`.
+struct DualDerivatives<'a, G, C, const D: usize> {
+    chart: &'a C,
+    x: &'a SVector<f64, D>,
+    a: SMatrix<f64, D, D>,
+    a_dual: SMatrix<DualSVec64<D>, D, D>,
+    group: std::marker::PhantomData<G>,
+}
+
+impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> DualDerivatives<'_, G, C, D> {
+    fn contract(&self, u: &SVector<f64, D>, transposed: bool) -> SMatrix<f64, D, D> {
+        let u = u.map(nalgebra::convert::<f64, DualSVec64<D>>);
+        let y = if transposed {
+            self.a_dual.transpose() * u
+        } else {
+            self.a_dual * u
+        };
+        crate::force_jet::jacobian_of(&y)
+    }
+}
+
+impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> ChartDerivatives<D>
+    for DualDerivatives<'_, G, C, D>
+{
+    fn differential(&self) -> SMatrix<f64, D, D> {
+        self.a
+    }
+    fn differential_times(&self, v: &SVector<f64, D>) -> SMatrix<f64, D, D> {
+        self.contract(v, false)
+    }
+    fn transpose_times(&self, g: &SVector<f64, D>) -> SMatrix<f64, D, D> {
+        self.contract(g, true)
+    }
+    fn second(&self, mu: &SVector<f64, D>, v: &SVector<f64, D>) -> SMatrix<f64, D, D> {
+        let chart = self.chart;
+        let (_, _, h) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<D>, D>| {
+                let a = chart.left_differential(&y);
+                let v = v.map(nalgebra::convert::<f64, Dual2SVec64<D>>);
+                let mu = mu.map(nalgebra::convert::<f64, Dual2SVec64<D>>);
+                mu.dot(&(a * v))
+            },
+            self.x,
+        );
+        h
+    }
+}
+
+/// Calls `f` with the dual-number [`ChartDerivatives`] of `chart` at `x`: the default of
+/// [`GroupChart::with_derivatives`], and the reference the closed forms are tested against.
+pub fn dual_number_derivatives<G, C, R, const D: usize>(
+    chart: &C,
+    x: &SVector<f64, D>,
+    f: impl FnOnce(&dyn ChartDerivatives<D>) -> R,
+) -> R
+where
+    G: ConfigurationGroup<D>,
+    C: GroupChart<G, D>,
+{
+    let derivatives = DualDerivatives::<G, C, D> {
+        chart,
+        x,
+        a: chart.left_differential(x),
+        a_dual: chart.left_differential(&crate::force_jet::seeded(x)),
+        group: std::marker::PhantomData,
+    };
+    f(&derivatives)
+}
+
 /// A chart `Φ: ℝ^D → G` as the integrator uses it. Every [`So3Chart`] is one on both
 /// [`Rotations`] and [`RigidMotions`]; implement it directly for a group of your own.
 ///
@@ -404,6 +493,21 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
         let _ = s;
         None
     }
+    /// Calls `f` with the chart's derivatives at `x` ([`ChartDerivatives`]; with `second`,
+    /// the second derivatives are asked for too). The default takes them by dual numbers
+    /// in `x` alone ([`dual_number_derivatives`]); override it with a closed form.
+    fn with_derivatives<R>(
+        &self,
+        x: &SVector<f64, D>,
+        second: bool,
+        f: impl FnOnce(&dyn ChartDerivatives<D>) -> R,
+    ) -> R
+    where
+        Self: Sized,
+    {
+        let _ = second;
+        dual_number_derivatives::<G, Self, R, D>(self, x, f)
+    }
 }
 
 /// What to suggest besides a smaller step: the Cayley charts reach half a turn, exp two.
@@ -453,21 +557,119 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
     }
 }
 
+/// `[[a, b], [c, d]]` from four 3×3 blocks.
+fn blocks<T: RealField + Copy>(
+    a: &Matrix3<T>,
+    b: &Matrix3<T>,
+    c: &Matrix3<T>,
+    d: &Matrix3<T>,
+) -> SMatrix<T, 6, 6> {
+    let mut m = SMatrix::<T, 6, 6>::zeros();
+    m.fixed_view_mut::<3, 3>(0, 0).copy_from(a);
+    m.fixed_view_mut::<3, 3>(0, 3).copy_from(b);
+    m.fixed_view_mut::<3, 3>(3, 0).copy_from(c);
+    m.fixed_view_mut::<3, 3>(3, 3).copy_from(d);
+    m
+}
+
+/// `(ω, u)` of a tangent `(ω, u)`.
+fn halves<T: RealField + Copy>(xi: &SVector<T, 6>) -> (Vector3<T>, Vector3<T>) {
+    (
+        Vector3::new(xi[0], xi[1], xi[2]),
+        Vector3::new(xi[3], xi[4], xi[5]),
+    )
+}
+
+/// The derivatives of SE(3)'s rotation–translation chart (`A = diag(A_ω(ω), Φ(ω)ᵀ)`) in
+/// closed form, from the Rodrigues jets of `A_ω` and `Φ` (which depend on `ω` alone):
+/// with `x = (ω, u)`, `v = (v_ω, v_u)`,
+/// `∂(Av)/∂ω = [∂_kA_ω v_ω ; ∂_kΦᵀ v_u]_k`, `∂(Aᵀg)/∂ω = [∂_kA_ωᵀ g_ω ; ∂_kΦ g_u]_k`,
+/// `∇²_ω(μᵀAv) = ⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²Φ⟩`, nothing in `u`.
+struct RotationTranslationDerivatives {
+    a: MatrixJet,
+    phi: MatrixJet,
+}
+
+impl ChartDerivatives<6> for RotationTranslationDerivatives {
+    fn differential(&self) -> SMatrix<f64, 6, 6> {
+        let zero = Matrix3::zeros();
+        blocks(&self.a.value, &zero, &zero, &self.phi.value.transpose())
+    }
+    fn differential_times(&self, v: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        let (vw, vu) = halves(v);
+        let zero = Matrix3::zeros();
+        blocks(
+            &self.a.first_times(&vw),
+            &zero,
+            &self.phi.first_transposed_times(&vu).transpose(),
+            &zero,
+        )
+    }
+    fn transpose_times(&self, g: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        let (gw, gu) = halves(g);
+        let zero = Matrix3::zeros();
+        blocks(
+            &self.a.first_transposed_times(&gw).transpose(),
+            &zero,
+            &self.phi.first_times(&gu),
+            &zero,
+        )
+    }
+    fn second(&self, mu: &SVector<f64, 6>, v: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        let (mw, mu_u) = halves(mu);
+        let (vw, vu) = halves(v);
+        let ww = self.a.second_contracted(&(mw * vw.transpose()))
+            + self.phi.second_contracted(&(vu * mu_u.transpose()));
+        let zero = Matrix3::zeros();
+        blocks(&ww, &zero, &zero, &zero)
+    }
+}
+
+/// The rotation–translation chart of SE(3), the default for every [`So3Chart`] on
+/// [`RigidMotions`]: `Φ(ω, u) = (Φ(ω), u)`, so that the natural chart at `g_k = (R_k, x_k)`
+/// is `(R_k Φ(ω), x_k + R_k u)`: the attitude in the SO(3) chart, the centre of mass
+/// moving in the world frame (`R_k` is fixed over the step), not along a screw. A step's
+/// curve is then a polynomial in the world frame for the centre of mass, as on the
+/// product SO(3) × ℝ³ with the trivial chart on ℝ³ — the same family of curves, so the
+/// same discrete Lagrangian and discrete map — while states, velocities `(Ω, v)` and
+/// momenta keep SE(3)'s conventions. `A(ω, u) = diag(A(ω), Φ(ω)ᵀ)`: its derivatives come
+/// in closed form from the Rodrigues form of `A(ω)` and `Φ(ω)`, and the translational
+/// kinetic energy `½m|v|² = ½m|u̇|²` has a constant Hessian. SE(3)'s own charts (screw
+/// motions, `x = M(ω)u`) are [`Screw`].
 impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
     fn name(&self) -> &'static str {
         self.chart_name()
     }
+    /// `(Φ(ω), u)`.
     fn to_group<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SE3<T> {
-        Chart::<SE3<T>>::to_group(self, xi)
+        let (w, u) = halves(xi);
+        SE3::new(SO3::from_matrix_unchecked(self.rotation_matrix(&w)), u)
     }
+    /// `diag(A(ω), Φ(ω)ᵀ)`.
     fn left_differential<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SMatrix<T, 6, 6> {
-        Chart::<SE3<T>>::left_differential(self, xi)
+        let (w, _) = halves(xi);
+        let zero = Matrix3::zeros();
+        blocks(
+            &self.rotation_left_differential(&w),
+            &zero,
+            &zero,
+            &self.rotation_matrix(&w).transpose(),
+        )
     }
+    /// `diag(A(ω)⁻¹, Φ(ω))`.
     fn left_differential_inverse(
         &self,
         xi: &SVector<f64, 6>,
     ) -> Result<SMatrix<f64, 6, 6>, LieError> {
-        Chart::<SE3>::left_differential_inverse(self, xi)
+        GroupChart::<RigidMotions, 6>::check_domain(self, xi)?;
+        let (w, _) = halves(xi);
+        let zero = Matrix3::zeros();
+        Ok(blocks(
+            &self.rotation_left_differential_inverse(&w),
+            &zero,
+            &zero,
+            &self.rotation_matrix(&w),
+        ))
     }
     fn to_algebra_near(
         &self,
@@ -476,16 +678,106 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
     ) -> Result<SVector<f64, 6>, LieError> {
         let w = self
             .rotation_vector_near(g.rotation().matrix(), &near.fixed_rows::<3>(0).into_owned())?;
-        let v = self.translation_map_inverse(&w) * g.translation();
-        Ok(SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z))
+        let x = g.translation();
+        Ok(SVector::<f64, 6>::new(w.x, w.y, w.z, x.x, x.y, x.z))
     }
     fn check_domain(&self, xi: &SVector<f64, 6>) -> Result<(), LieError> {
-        Chart::<SE3>::check_domain(self, xi)
+        let (w, u) = halves(xi);
+        self.check_rotation_domain(&w)?;
+        if u.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(LieError::NonFinite {
+                what: "chart coordinates",
+            })
+        }
     }
     fn max_rotation_angle(&self) -> f64 {
         So3Chart::max_rotation_angle(self)
     }
     fn advice(&self) -> &'static str {
         so3_advice(self)
+    }
+    fn with_derivatives<R>(
+        &self,
+        x: &SVector<f64, 6>,
+        second: bool,
+        f: impl FnOnce(&dyn ChartDerivatives<6>) -> R,
+    ) -> R {
+        let (w, _) = halves(x);
+        let s = w.norm_squared();
+        let jets = if second {
+            let s2 = Dual2_64::new(s, 1.0, 0.0);
+            self.rotation_left_differential_coefficients(s2)
+                .zip(self.rotation_matrix_coefficients(s2))
+                .map(|(a, phi)| {
+                    (
+                        MatrixJet::from_rodrigues(&a, &w),
+                        MatrixJet::from_rodrigues(&phi, &w),
+                    )
+                })
+        } else {
+            let s1 = Dual64::new(s, 1.0);
+            self.rotation_left_differential_coefficients(s1)
+                .zip(self.rotation_matrix_coefficients(s1))
+                .map(|(a, phi)| {
+                    (
+                        MatrixJet::from_rodrigues_first_order(&a, &w),
+                        MatrixJet::from_rodrigues_first_order(&phi, &w),
+                    )
+                })
+        };
+        match jets {
+            Some((a, phi)) => f(&RotationTranslationDerivatives { a, phi }),
+            None => dual_number_derivatives::<RigidMotions, Self, R, 6>(self, x, f),
+        }
+    }
+}
+
+/// SE(3)'s own charts, screw motions: `Φ(ω, v) = (Φ(ω), M(ω)v)` with the SO(3) chart's
+/// translation map `M` (for exp, SE(3)'s exponential), as in `lgsvi_lie`. The translation
+/// of a step's curve turns with its rotation. Choose it with
+/// [`crate::Integrator::with_chart`]: `Screw(ChartKind::Exp)`. The default SE(3) chart of
+/// every [`So3Chart`] is the rotation–translation one (the `GroupChart` impl for `C`),
+/// whose derivatives are in closed form; both give variational, SE(3)-equivariant maps
+/// (`docs/design.md` §6).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Screw<C>(pub C);
+
+impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for Screw<C> {
+    fn name(&self) -> &'static str {
+        self.0.chart_name()
+    }
+    fn to_group<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SE3<T> {
+        Chart::<SE3<T>>::to_group(&self.0, xi)
+    }
+    fn left_differential<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SMatrix<T, 6, 6> {
+        Chart::<SE3<T>>::left_differential(&self.0, xi)
+    }
+    fn left_differential_inverse(
+        &self,
+        xi: &SVector<f64, 6>,
+    ) -> Result<SMatrix<f64, 6, 6>, LieError> {
+        Chart::<SE3>::left_differential_inverse(&self.0, xi)
+    }
+    fn to_algebra_near(
+        &self,
+        g: &SE3,
+        near: &SVector<f64, 6>,
+    ) -> Result<SVector<f64, 6>, LieError> {
+        let w = self
+            .0
+            .rotation_vector_near(g.rotation().matrix(), &near.fixed_rows::<3>(0).into_owned())?;
+        let v = self.0.translation_map_inverse(&w) * g.translation();
+        Ok(SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z))
+    }
+    fn check_domain(&self, xi: &SVector<f64, 6>) -> Result<(), LieError> {
+        Chart::<SE3>::check_domain(&self.0, xi)
+    }
+    fn max_rotation_angle(&self) -> f64 {
+        So3Chart::max_rotation_angle(&self.0)
+    }
+    fn advice(&self) -> &'static str {
+        so3_advice(&self.0)
     }
 }

@@ -80,7 +80,10 @@ mod system;
 pub use error::MechanicsError;
 pub use flow::FlowGuess;
 pub use force_jet::ForceJet;
-pub use group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations};
+pub use group::{
+    dual_number_derivatives, ChartDerivatives, ConfigurationGroup, GroupChart, RigidMotions,
+    Rotations, Screw,
+};
 pub use inertia::Inertia;
 pub use integrator::{
     body_momentum, body_velocity, GalerkinCurve, Integrator, State, Statistics, Trajectory,

@@ -44,6 +44,21 @@ fn velocity6(inertia: &Inertia, mass: f64, mu: &SVector<f64, 6>) -> SVector<f64,
     SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z)
 }
 
+/// `[[a, b], [c, d]]` from four 3×3 blocks.
+fn blocks6(
+    a: &Matrix3<f64>,
+    b: &Matrix3<f64>,
+    c: &Matrix3<f64>,
+    d: &Matrix3<f64>,
+) -> SMatrix<f64, 6, 6> {
+    let mut m = SMatrix::<f64, 6, 6>::zeros();
+    m.fixed_view_mut::<3, 3>(0, 0).copy_from(a);
+    m.fixed_view_mut::<3, 3>(0, 3).copy_from(b);
+    m.fixed_view_mut::<3, 3>(3, 0).copy_from(c);
+    m.fixed_view_mut::<3, 3>(3, 3).copy_from(d);
+    m
+}
+
 /// A potential of the pose, generic over the scalar: what [`local_derivatives`]
 /// differentiates.
 trait PosePotential {
@@ -81,22 +96,6 @@ fn local_derivatives<P: PosePotential>(
     let jw = inertia.momentum(&w);
     let momentum =
         SVector::<f64, 6>::new(jw.x, jw.y, jw.z, mass * xi[3], mass * xi[4], mass * xi[5]);
-    fn moved<T: RealField + Copy, P: PosePotential>(
-        potential: &P,
-        time: f64,
-        g: &SE3,
-        eta: &SVector<T, 6>,
-    ) -> T {
-        let r: Matrix3<T> = g.rotation().matrix().map(nalgebra::convert);
-        let x: Vector3<T> = g.translation().map(nalgebra::convert);
-        let w = Vector3::new(eta[0], eta[1], eta[2]);
-        let u = Vector3::new(eta[3], eta[4], eta[5]);
-        let half: T = nalgebra::convert(0.5);
-        let w_hat = lgsvi_lie::so3::hat(&w);
-        let attitude = r * (Matrix3::identity() + w_hat + w_hat * w_hat * half);
-        let position = x + r * (u + w.cross(&u) * half);
-        -potential.eval(time, &attitude, &position)
-    }
     let origin = SVector::<f64, 6>::zeros();
     let mut kinetic = SMatrix::<f64, 6, 6>::zeros();
     if with_hessian {
@@ -115,17 +114,21 @@ fn local_derivatives<P: PosePotential>(
             velocity_hessian: kinetic,
         };
     };
+    let (r, x) = (g.rotation().matrix(), g.translation());
     let (configuration_gradient, configuration_hessian) = if with_hessian {
-        let (_, gradient, hessian) = num_dual::hessian(
-            |eta: SVector<Dual2SVec64<6>, 6>| moved(potential, time, g, &eta),
-            &origin,
-        );
-        (gradient, hessian)
+        let (attitude, position) = seeded_pose(r, x);
+        let v = -potential.eval(time, &attitude, &position);
+        let gradient =
+            v.v1.unwrap_generic(nalgebra::Const::<1>, nalgebra::Const::<6>);
+        let hessian =
+            v.v2.unwrap_generic(nalgebra::Const::<6>, nalgebra::Const::<6>);
+        (gradient.transpose(), hessian)
     } else {
-        let (_, gradient) = num_dual::gradient(
-            |eta: SVector<DualSVec64<6>, 6>| moved(potential, time, g, &eta),
-            &origin,
-        );
+        let (attitude, position) = seeded_pose_first_order(r, x);
+        let v = -potential.eval(time, &attitude, &position);
+        let gradient = v
+            .eps
+            .unwrap_generic(nalgebra::Const::<6>, nalgebra::Const::<1>);
         (gradient, SMatrix::zeros())
     };
     LocalDerivatives {
@@ -134,6 +137,76 @@ fn local_derivatives<P: PosePotential>(
         configuration_hessian,
         velocity_hessian: kinetic,
     }
+}
+
+/// `(R', x') = (R, x) exp(η)` to second order as second-order dual numbers in the six
+/// `η = (ω, u)`, written from their known derivatives rather than multiplied out:
+/// `R' = R(I + ω̂ + ½ω̂²)` has `∂R'/∂ω_c = R ê_c`, `∂²R'/∂ω_c∂ω_d = ½R(ê_c ê_d + ê_d ê_c)`;
+/// `x' = x + R(u + ½ ω × u)` has `∂x'/∂u_d = R e_d`, `∂²x'/∂ω_c∂u_d = ½R(e_c × e_d)`.
+fn seeded_pose(
+    r: &Matrix3<f64>,
+    x: &Vector3<f64>,
+) -> (Matrix3<Dual2SVec64<6>>, Vector3<Dual2SVec64<6>>) {
+    let e_hat: [Matrix3<f64>; 3] =
+        std::array::from_fn(|c| lgsvi_lie::so3::hat(&Vector3::ith(c, 1.0)));
+    let r_e: [Matrix3<f64>; 3] = std::array::from_fn(|c| r * e_hat[c]);
+    let attitude = Matrix3::from_fn(|i, j| {
+        let mut gradient = SMatrix::<f64, 1, 6>::zeros();
+        let mut hessian = SMatrix::<f64, 6, 6>::zeros();
+        for c in 0..3 {
+            gradient[c] = r_e[c][(i, j)];
+            for d in 0..3 {
+                hessian[(c, d)] = 0.5 * (r_e[c] * e_hat[d] + r_e[d] * e_hat[c])[(i, j)];
+            }
+        }
+        Dual2SVec64::<6>::new(
+            r[(i, j)],
+            num_dual::Derivative::some(gradient),
+            num_dual::Derivative::some(hessian),
+        )
+    });
+    let position = Vector3::from_fn(|i, _| {
+        let mut gradient = SMatrix::<f64, 1, 6>::zeros();
+        let mut hessian = SMatrix::<f64, 6, 6>::zeros();
+        for d in 0..3 {
+            gradient[3 + d] = r[(i, d)];
+            for c in 0..3 {
+                // (R (e_c × e_d))_i = Σ_k R_ik ε_kcd.
+                let cross = Vector3::ith(c, 1.0).cross(&Vector3::ith(d, 1.0));
+                let value = 0.5 * r.row(i).dot(&cross.transpose());
+                hessian[(c, 3 + d)] = value;
+                hessian[(3 + d, c)] = value;
+            }
+        }
+        Dual2SVec64::<6>::new(
+            x[i],
+            num_dual::Derivative::some(gradient),
+            num_dual::Derivative::some(hessian),
+        )
+    });
+    (attitude, position)
+}
+
+/// [`seeded_pose`] to first order (a gradient-only assembly).
+fn seeded_pose_first_order(
+    r: &Matrix3<f64>,
+    x: &Vector3<f64>,
+) -> (Matrix3<DualSVec64<6>>, Vector3<DualSVec64<6>>) {
+    let attitude = Matrix3::from_fn(|i, j| {
+        let mut gradient = SVector::<f64, 6>::zeros();
+        for c in 0..3 {
+            gradient[c] = (r * lgsvi_lie::so3::hat(&Vector3::ith(c, 1.0)))[(i, j)];
+        }
+        DualSVec64::<6>::new(r[(i, j)], num_dual::Derivative::some(gradient))
+    });
+    let position = Vector3::from_fn(|i, _| {
+        let mut gradient = SVector::<f64, 6>::zeros();
+        for d in 0..3 {
+            gradient[3 + d] = r[(i, d)];
+        }
+        DualSVec64::<6>::new(x[i], num_dual::Derivative::some(gradient))
+    });
+    (attitude, position)
 }
 
 /// A free rigid body in space: `ℓ = ½ΩᵀJΩ + ½m|v|²`. The rotation is the free rigid
@@ -397,35 +470,72 @@ impl GroupLagrangian<6> for OrbitingBody {
         kinetic6(&self.inertia, self.mass, xi)
             - self.potential(g.rotation().matrix(), g.translation())
     }
+    /// MacCullagh's potential through the body-frame position `b = Rᵀx`, in closed form:
+    /// `W(b) = −μm/r − (μ tr J)/(2r³) + (3μ/2) bᵀJb/r⁵` (`r = |b|`), and under
+    /// `(R, x) exp(η)`, `η = (ω, u)`, `b ↦ b + u − ω × b − ½ ω × u + ½ ω × (ω × b)` to second
+    /// order: `∂b/∂η = [b̂, I]`, and the second derivatives of `b` contracted with `∇W`
+    /// are `½(g bᵀ + b gᵀ − 2(g·b) I)` (ωω) and `½ ĝ` (ωu), `g = ∇W`. The tests compare it
+    /// with dual numbers through the whole point.
     fn local_derivatives(
         &self,
-        time: f64,
+        _time: f64,
         g: &SE3,
         xi: &SVector<f64, 6>,
         with_hessian: bool,
     ) -> Option<LocalDerivatives<6>> {
-        struct MacCullagh<'a>(&'a OrbitingBody);
-        impl PosePotential for MacCullagh<'_> {
-            fn eval<T: RealField + Copy>(&self, _t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
-                self.0.potential(r, x)
-            }
-        }
-        Some(local_derivatives(
-            Some(&MacCullagh(self)),
+        let mut local = local_derivatives(
+            None::<&NoPotential>,
             &self.inertia,
             self.mass,
-            time,
+            0.0,
             g,
             xi,
             with_hessian,
-        ))
-    }
-    fn velocity_from_momentum(
-        &self,
-        _t: f64,
-        _g: &SE3,
-        mu: &SVector<f64, 6>,
-    ) -> Option<SVector<f64, 6>> {
-        Some(velocity6(&self.inertia, self.mass, mu))
+        );
+        let (mu, m) = (self.gravitational_parameter, self.mass);
+        let j = self.inertia.matrix();
+        let b = g.rotation().matrix().transpose() * g.translation();
+        let r2 = b.norm_squared();
+        let r = r2.sqrt();
+        let (r3, r5) = (r2 * r, r2 * r2 * r);
+        let r7 = r5 * r2;
+        let jb = j * b;
+        let q = b.dot(&jb);
+        let trace = j.trace();
+        // ∇W.
+        let grad =
+            b * (mu * m / r3 + 1.5 * mu * trace / r5 - 7.5 * mu * q / r7) + jb * (3.0 * mu / r5);
+        let b_hat = lgsvi_lie::so3::hat(&b);
+        // p = −∂W(b(η))/∂η = −[b̂, I]ᵀ∇W = (−b̂ᵀ∇W, −∇W) = (b̂∇W, −∇W)... b̂ᵀ = −b̂.
+        let p_w = b_hat * grad;
+        local.configuration_gradient =
+            SVector::<f64, 6>::new(p_w.x, p_w.y, p_w.z, -grad.x, -grad.y, -grad.z);
+        if !with_hessian {
+            return Some(local);
+        }
+        let r9 = r7 * r2;
+        let bb = b * b.transpose();
+        let identity = Matrix3::identity();
+        let hessian = (identity / r3 - bb * (3.0 / r5)) * (mu * m)
+            + (identity / r5 - bb * (5.0 / r7)) * (1.5 * mu * trace)
+            + (j * (2.0 / r5)
+                - (jb * b.transpose() + b * jb.transpose()) * (10.0 / r7)
+                - identity * (5.0 * q / r7)
+                + bb * (35.0 * q / r9))
+                * (1.5 * mu);
+        // Bᵀ ∇²W B with B = [b̂, I].
+        let ww = b_hat.transpose() * hessian * b_hat;
+        let wu = b_hat.transpose() * hessian;
+        // Σ_i g_i ∂²b_i/∂η².
+        let curvature_ww =
+            (grad * b.transpose() + b * grad.transpose()) * 0.5 - identity * grad.dot(&b);
+        let curvature_wu = lgsvi_lie::so3::hat(&grad) * 0.5;
+        local.configuration_hessian = -blocks6(
+            &(ww + curvature_ww),
+            &(wu + curvature_wu),
+            &(wu + curvature_wu).transpose(),
+            &hessian,
+        );
+        Some(local)
     }
 }

@@ -12,7 +12,7 @@
 use lgsvi_lie::{CayleyChart, ExpChart, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, Inertia, Integrator, OrbitingBody, RigidBody,
-    SpaceForce, StepSettings,
+    Screw, SpaceForce, StepSettings,
 };
 use nalgebra::{Matrix3, SVector, Vector3};
 
@@ -163,6 +163,14 @@ fn orbiting_body_matches_the_reference_in_both_charts() {
         Integrator::with_chart(body, CayleyChart, settings, start, xi).unwrap(),
         "cayley",
     );
+    check(
+        Integrator::with_chart(body, Screw(ExpChart), settings, start, xi).unwrap(),
+        "screw exp",
+    );
+    check(
+        Integrator::with_chart(body, Screw(CayleyChart), settings, start, xi).unwrap(),
+        "screw cayley",
+    );
 }
 
 /// Discrete Noether over 10⁴ steps (exact matching): the orbiting body's total angular
@@ -172,52 +180,10 @@ fn orbiting_body_matches_the_reference_in_both_charts() {
 /// random walk (√10⁴ · 4ε · |π| ≈ 1e-13 · |π|). Energy stays bounded (no drift).
 #[test]
 fn discrete_noether_holds_for_every_symmetry_over_ten_thousand_steps() {
-    let inertia = Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap();
-    let orbit = OrbitingBody::new(inertia, 1.0, 1.0).unwrap();
-    let xi = SVector::<f64, 6>::new(0.2, -0.3, 0.5, 0.0, 0.55, 0.05);
-    let start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
-    let mut it = Integrator::new(orbit, StepSettings::new(0.5, 6).unwrap(), start, xi).unwrap();
-    let (pi0, e0) = (it.state().spatial_momentum(), it.state().energy(&orbit));
-    let mut worst_energy = 0.0f64;
-    for _ in 0..100 {
-        it.run(100, 100).unwrap();
-        worst_energy = worst_energy.max((it.state().energy(&orbit) - e0).abs());
-    }
-    let drift = (it.state().spatial_momentum() - pi0)
-        .fixed_rows::<3>(0)
-        .amax();
-    let size = pi0.fixed_rows::<3>(0).amax();
-    assert!(
-        drift < 1e-13 * size.max(1.0),
-        "angular momentum drift {drift:e}"
-    );
-    // h = 0.5, n = 6 on an orbit of period ~30: the energy error is the method's
-    // (bounded, oscillating), measured ~1e-9.
-    assert!(worst_energy < 1e-7, "energy error {worst_energy:e}");
-
-    let free = FreeBody::new(Inertia::from_tensor(full_tensor()).unwrap(), 2.0).unwrap();
-    let xi = SVector::<f64, 6>::new(-2.0, 1.9, -1.0, 0.3, -0.1, 0.2);
-    let mut it = Integrator::new(
-        free,
-        StepSettings::new(0.5, 8).unwrap(),
-        SE3::identity(),
-        xi,
-    )
-    .unwrap();
-    let pi0 = it.state().spatial_momentum();
-    it.run(10_000, 10_000).unwrap();
-    let st = it.state();
-    let drift = (st.spatial_momentum() - pi0).amax();
-    // The angular part x × mẋ grows with the distance travelled (|x| ~ 2500 after
-    // 10⁴ steps): rounding is relative to |x|·m|ẋ|, not to the initial momentum.
-    let scale = pi0
-        .amax()
-        .max(st.position().norm() * 2.0 * st.linear_velocity().norm());
-    assert!(
-        drift < 1e-13 * scale,
-        "free SE(3) body momentum drift {drift:e} of {scale:e}"
-    );
-
+    // Both SE(3) charts: the default rotation–translation one and SE(3)'s own screw chart
+    // (both discrete maps are SE(3)-equivariant).
+    noether_in_space(ExpChart, "rotation-translation");
+    noether_in_space(Screw(ExpChart), "screw");
     let body = RigidBody::new(Inertia::from_tensor(full_tensor()).unwrap());
     let mut it = Integrator::new(
         body,
@@ -476,4 +442,60 @@ fn forced_steps_take_the_iterations_of_the_unforced_step() {
              the unforced step {unforced:?}"
         );
     }
+}
+
+/// Discrete Noether in space, in the SE(3) chart `chart` (see
+/// [`discrete_noether_holds_for_every_symmetry_over_ten_thousand_steps`]).
+fn noether_in_space<C: lgsvi_mechanics::GroupChart<lgsvi_mechanics::RigidMotions, 6>>(
+    chart: C,
+    name: &str,
+) {
+    let inertia = Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap();
+    let orbit = OrbitingBody::new(inertia, 1.0, 1.0).unwrap();
+    let xi = SVector::<f64, 6>::new(0.2, -0.3, 0.5, 0.0, 0.55, 0.05);
+    let start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
+    let mut it =
+        Integrator::with_chart(orbit, chart, StepSettings::new(0.5, 6).unwrap(), start, xi)
+            .unwrap();
+    let (pi0, e0) = (it.state().spatial_momentum(), it.state().energy(&orbit));
+    let mut worst_energy = 0.0f64;
+    for _ in 0..100 {
+        it.run(100, 100).unwrap();
+        worst_energy = worst_energy.max((it.state().energy(&orbit) - e0).abs());
+    }
+    let drift = (it.state().spatial_momentum() - pi0)
+        .fixed_rows::<3>(0)
+        .amax();
+    let size = pi0.fixed_rows::<3>(0).amax();
+    assert!(
+        drift < 1e-13 * size.max(1.0),
+        "{name}: angular momentum drift {drift:e}"
+    );
+    // h = 0.5, n = 6 on an orbit of period ~30: the energy error is the method's
+    // (bounded, oscillating), measured ~1e-9.
+    assert!(worst_energy < 1e-7, "{name}: energy error {worst_energy:e}");
+
+    let free = FreeBody::new(Inertia::from_tensor(full_tensor()).unwrap(), 2.0).unwrap();
+    let xi = SVector::<f64, 6>::new(-2.0, 1.9, -1.0, 0.3, -0.1, 0.2);
+    let mut it = Integrator::with_chart(
+        free,
+        chart,
+        StepSettings::new(0.5, 8).unwrap(),
+        SE3::identity(),
+        xi,
+    )
+    .unwrap();
+    let pi0 = it.state().spatial_momentum();
+    it.run(10_000, 10_000).unwrap();
+    let st = it.state();
+    let drift = (st.spatial_momentum() - pi0).amax();
+    // The angular part x × mẋ grows with the distance travelled (|x| ~ 2500 after
+    // 10⁴ steps): rounding is relative to |x|·m|ẋ|, not to the initial momentum.
+    let scale = pi0
+        .amax()
+        .max(st.position().norm() * 2.0 * st.linear_velocity().norm());
+    assert!(
+        drift < 1e-13 * scale,
+        "{name}: free SE(3) body momentum drift {drift:e} of {scale:e}"
+    );
 }

@@ -35,7 +35,7 @@
 //! than one second-order dual number over all `3D` variables through `ℓ̃`, which the tests
 //! keep as the independent reference.
 
-use crate::force_jet::{jacobian_of, seeded, ForceJet};
+use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction};
 use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
 use lgsvi_lie::LieGroup;
@@ -232,141 +232,134 @@ pub(super) fn chain_rule<S, C, const D: usize>(
 {
     let (x, v) = (point.x, point.v);
     let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
-    let chart = ell.chart;
-    let at = ell.base.compose(&chart.to_group(x));
-    let a = chart.left_differential(x);
-    let xi = a * v;
-    let local = Local {
-        system: ell.system,
-        at: &at,
-        time: ell.time,
-    };
-    // L's gradient (p, μ) and Hessian blocks: over ξ alone for a left-invariant ℓ (p = 0),
-    // else over (η, ξ) in the group's 2D-variable storage.
-    let mut l_ee = SMatrix::<f64, D, D>::zeros();
-    let mut l_ex = SMatrix::<f64, D, D>::zeros();
-    let l_xx;
-    let (p, mu);
-    if let Some(local) = ell
-        .system
-        .local_derivatives(ell.time, &at, &xi, with_hessian)
-    {
-        // The system's own closed form of L's derivatives.
-        p = local.configuration_gradient;
-        mu = local.momentum;
-        l_ee = local.configuration_hessian;
-        l_xx = local.velocity_hessian;
-    } else if ell.system.is_left_invariant() {
-        p = SVector::<f64, D>::zeros();
-        if with_hessian {
-            let (_, gradient, hessian) = num_dual::hessian(
-                |w: SVector<Dual2SVec64<D>, D>| {
-                    let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
-                    ell.system.lagrangian(ell.time, &g, &w)
-                },
-                &xi,
-            );
-            mu = gradient;
-            l_xx = hessian;
-        } else {
-            // A gradient-only assembly: first-order dual numbers, no Hessian.
-            let (_, gradient) = num_dual::gradient(
-                |w: SVector<DualSVec64<D>, D>| {
-                    let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
-                    ell.system.lagrangian(ell.time, &g, &w)
-                },
-                &xi,
-            );
-            mu = gradient;
-            l_xx = SMatrix::zeros();
-        }
-    } else {
-        let origin = SVector::<f64, D>::zeros();
-        let mut jet = <<S::Group as ConfigurationGroup<D>>::LocalJet as PointJet>::zeros();
-        if with_hessian {
-            jet.set_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
-            let block = |r0: usize, c0: usize| {
-                SMatrix::<f64, D, D>::from_fn(|r, c| jet.hessian(r0 + r, c0 + c))
-            };
-            l_ee = block(0, 0);
-            l_ex = block(0, D);
-            l_xx = block(D, D);
-        } else {
-            jet.set_gradient_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
-            l_xx = SMatrix::zeros();
-        }
-        p = SVector::<f64, D>::from_column_slice(&jet.gradient()[..D]);
-        mu = SVector::<f64, D>::from_column_slice(&jet.gradient()[D..2 * D]);
-    }
-    // A's first derivatives, contracted three ways, from one dual evaluation of A(x).
-    let a_dual = chart.left_differential(&seeded(x));
-    let convert = |u: &SVector<f64, D>| u.map(nalgebra::convert::<f64, DualSVec64<D>>);
-    let j = jacobian_of(&(a_dual * convert(v)));
-    let gradient_x = a.transpose() * p + j.transpose() * mu;
-    let gradient_v = a.transpose() * mu;
-    if with_hessian {
-        let l_xe = l_ex.transpose();
-        // K(b, a) = ∂(Aᵀp)_b/∂x_a = pᵀ∂_aA e_b, the transpose of K_ab; M likewise.
-        let k = jacobian_of(&(a_dual.transpose() * convert(&p))).transpose();
-        let m = jacobian_of(&(a_dual.transpose() * convert(&mu))).transpose();
-        let (_, _, h) = num_dual::hessian(
-            |y: SVector<Dual2SVec64<D>, D>| {
-                let a = chart.left_differential(&y);
-                let v = v.map(nalgebra::convert::<f64, Dual2SVec64<D>>);
-                let mu = mu.map(nalgebra::convert::<f64, Dual2SVec64<D>>);
-                mu.dot(&(a * v))
-            },
-            x,
-        );
-        let at_ = a.transpose();
-        let jt = j.transpose();
-        let h_xx = at_ * l_ee * a
-            + at_ * l_ex * j
-            + jt * l_xe * a
-            + jt * l_xx * j
-            + (k + k.transpose()) * 0.5
-            + h;
-        let h_xv = at_ * l_ex * a + jt * l_xx * a + m;
-        let h_vv = at_ * l_xx * a;
-        let mut put = |r0: usize, c0: usize, b: &SMatrix<f64, D, D>| {
-            for r in 0..D {
-                for c in 0..D {
-                    out.set_hessian(r0 + r, c0 + c, b[(r, c)]);
-                    out.set_hessian(c0 + c, r0 + r, b[(r, c)]);
-                }
+    ell.chart.with_derivatives(x, with_hessian, |derivatives| {
+        let chart = ell.chart;
+        let at = ell.base.compose(&chart.to_group(x));
+        let a = derivatives.differential();
+        let xi = a * v;
+        let local = Local {
+            system: ell.system,
+            at: &at,
+            time: ell.time,
+        };
+        // L's gradient (p, μ) and Hessian blocks: over ξ alone for a left-invariant ℓ (p = 0),
+        // else over (η, ξ) in the group's 2D-variable storage.
+        let mut l_ee = SMatrix::<f64, D, D>::zeros();
+        let mut l_ex = SMatrix::<f64, D, D>::zeros();
+        let l_xx;
+        let (p, mu);
+        if let Some(local) = ell
+            .system
+            .local_derivatives(ell.time, &at, &xi, with_hessian)
+        {
+            // The system's own closed form of L's derivatives.
+            p = local.configuration_gradient;
+            mu = local.momentum;
+            l_ee = local.configuration_hessian;
+            l_xx = local.velocity_hessian;
+        } else if ell.system.is_left_invariant() {
+            p = SVector::<f64, D>::zeros();
+            if with_hessian {
+                let (_, gradient, hessian) = num_dual::hessian(
+                    |w: SVector<Dual2SVec64<D>, D>| {
+                        let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
+                        ell.system.lagrangian(ell.time, &g, &w)
+                    },
+                    &xi,
+                );
+                mu = gradient;
+                l_xx = hessian;
+            } else {
+                // A gradient-only assembly: first-order dual numbers, no Hessian.
+                let (_, gradient) = num_dual::gradient(
+                    |w: SVector<DualSVec64<D>, D>| {
+                        let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
+                        ell.system.lagrangian(ell.time, &g, &w)
+                    },
+                    &xi,
+                );
+                mu = gradient;
+                l_xx = SMatrix::zeros();
             }
-        };
-        put(0, 0, &h_xx);
-        put(0, D, &h_xv);
-        put(D, D, &h_vv);
-        if with_configuration {
-            let coadjoint = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
-            let h_xz = at_ * l_ee + jt * l_xe + (coadjoint * a).transpose() * 0.5;
-            let h_vz = at_ * l_xe;
-            put(0, 2 * D, &h_xz);
-            put(D, 2 * D, &h_vz);
-            put(2 * D, 2 * D, &l_ee);
         } else {
-            put(0, 2 * D, &SMatrix::zeros());
-            put(D, 2 * D, &SMatrix::zeros());
-            put(2 * D, 2 * D, &SMatrix::zeros());
+            let origin = SVector::<f64, D>::zeros();
+            let mut jet = <<S::Group as ConfigurationGroup<D>>::LocalJet as PointJet>::zeros();
+            if with_hessian {
+                jet.set_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
+                let block = |r0: usize, c0: usize| {
+                    SMatrix::<f64, D, D>::from_fn(|r, c| jet.hessian(r0 + r, c0 + c))
+                };
+                l_ee = block(0, 0);
+                l_ex = block(0, D);
+                l_xx = block(D, D);
+            } else {
+                jet.set_gradient_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
+                l_xx = SMatrix::zeros();
+            }
+            p = SVector::<f64, D>::from_column_slice(&jet.gradient()[..D]);
+            mu = SVector::<f64, D>::from_column_slice(&jet.gradient()[D..2 * D]);
         }
-    }
-    let g = out.gradient_mut();
-    g[..D].copy_from_slice(gradient_x.as_slice());
-    g[D..2 * D].copy_from_slice(gradient_v.as_slice());
-    if with_configuration {
-        g[2 * D..3 * D].copy_from_slice(p.as_slice());
-    } else {
-        g[2 * D..3 * D].fill(0.0);
-    }
-    if let Some(force) = point.force {
-        let jet = force.jet(&at, &xi);
-        let k = if with_hessian {
-            jacobian_of(&(a_dual.transpose() * convert(&jet.value)))
+        // A's first derivatives, contracted three ways (closed form, or one dual evaluation of
+        // A(x)).
+        let j = derivatives.differential_times(v);
+        let gradient_x = a.transpose() * p + j.transpose() * mu;
+        let gradient_v = a.transpose() * mu;
+        if with_hessian {
+            let l_xe = l_ex.transpose();
+            // K(b, a) = ∂(Aᵀp)_b/∂x_a = pᵀ∂_aA e_b, the transpose of K_ab; M likewise.
+            let k = derivatives.transpose_times(&p).transpose();
+            let m = derivatives.transpose_times(&mu).transpose();
+            let h = derivatives.second(&mu, v);
+            let at_ = a.transpose();
+            let jt = j.transpose();
+            let h_xx = at_ * l_ee * a
+                + at_ * l_ex * j
+                + jt * l_xe * a
+                + jt * l_xx * j
+                + (k + k.transpose()) * 0.5
+                + h;
+            let h_xv = at_ * l_ex * a + jt * l_xx * a + m;
+            let h_vv = at_ * l_xx * a;
+            let mut put = |r0: usize, c0: usize, b: &SMatrix<f64, D, D>| {
+                for r in 0..D {
+                    for c in 0..D {
+                        out.set_hessian(r0 + r, c0 + c, b[(r, c)]);
+                        out.set_hessian(c0 + c, r0 + r, b[(r, c)]);
+                    }
+                }
+            };
+            put(0, 0, &h_xx);
+            put(0, D, &h_xv);
+            put(D, D, &h_vv);
+            if with_configuration {
+                let coadjoint = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
+                let h_xz = at_ * l_ee + jt * l_xe + (coadjoint * a).transpose() * 0.5;
+                let h_vz = at_ * l_xe;
+                put(0, 2 * D, &h_xz);
+                put(D, 2 * D, &h_vz);
+                put(2 * D, 2 * D, &l_ee);
+            } else {
+                put(0, 2 * D, &SMatrix::zeros());
+                put(D, 2 * D, &SMatrix::zeros());
+                put(2 * D, 2 * D, &SMatrix::zeros());
+            }
+        }
+        let g = out.gradient_mut();
+        g[..D].copy_from_slice(gradient_x.as_slice());
+        g[D..2 * D].copy_from_slice(gradient_v.as_slice());
+        if with_configuration {
+            g[2 * D..3 * D].copy_from_slice(p.as_slice());
         } else {
-            SMatrix::zeros()
-        };
-        add_force_terms(out, &jet, &a, &j, &k, with_hessian);
-    }
+            g[2 * D..3 * D].fill(0.0);
+        }
+        if let Some(force) = point.force {
+            let jet = force.jet(&at, &xi);
+            let k = if with_hessian {
+                derivatives.transpose_times(&jet.value)
+            } else {
+                SMatrix::zeros()
+            };
+            add_force_terms(out, &jet, &a, &j, &k, with_hessian);
+        }
+    });
 }

@@ -1,0 +1,237 @@
+//! `lgsvi bench`'s bodies beyond the free body and the top: the orbiting body O1 (SE(3),
+//! MacCullagh's potential) and the torqued body F1 (SO(3), a constant body torque), from
+//! `tests/data/se3_forced_refs.json`, against DOP853 on `(q, Ω, x, ẋ)` (or `(q, Ω)`) —
+//! the same protocol as the SO(3) table: a sweep of `(h, n)` and of tolerances, each run
+//! timed whole (construction included, median of the repeats), the best run per error
+//! target. Errors: O1 `max(‖R − R_ref‖_F, ‖x − x_ref‖)`, F1 `‖R − R_ref‖_F`, at `T`.
+
+use crate::bench::{fastest, most_accurate, timed, Point};
+use crate::error::{CliError, Result};
+use lgsvi_baselines::{dop853_in_space, SpaceModel, SpaceState};
+use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
+use lgsvi_mechanics::{
+    BodyTorque, Forced, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
+};
+use nalgebra::{Matrix3, SVector, Vector3};
+use std::fmt::Write;
+
+const REFERENCES: &str = include_str!("../../tests/data/se3_forced_refs.json");
+
+/// lgsvi's sweeps: `(h, nodes)`.
+const SWEEPS: [(f64, std::ops::RangeInclusive<usize>); 3] =
+    [(0.5, 4..=14), (1.0, 6..=20), (2.0, 8..=20)];
+
+/// DOP853's tolerances `10^-k`.
+const TOLERANCES: std::ops::RangeInclusive<i32> = 3..=14;
+
+const CASES: [&str; 2] = ["O1", "F1"];
+const HORIZONS: [f64; 2] = [10.0, 100.0];
+
+/// The runs of the sweep (for the progress bar).
+pub fn runs() -> usize {
+    let lgsvi: usize = SWEEPS.iter().map(|(_, n)| n.clone().count()).sum();
+    CASES.len() * HORIZONS.len() * (lgsvi + TOLERANCES.count())
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_str().and_then(|s| s.parse().ok()).unwrap_or(f64::NAN)
+}
+
+fn vec3(v: &serde_json::Value) -> Vector3<f64> {
+    let a: Vec<f64> = v
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    if a.len() == 3 {
+        Vector3::from_row_slice(&a)
+    } else {
+        Vector3::from_element(f64::NAN)
+    }
+}
+
+/// A case: the model both integrators share, its start and the reference at each horizon.
+struct Case {
+    model: SpaceModel,
+    start: SpaceState,
+    /// `(t, R, x)` at 10 and 100.
+    references: Vec<(f64, Matrix3<f64>, Vector3<f64>)>,
+}
+
+fn case(name: &str) -> Case {
+    let data: serde_json::Value =
+        serde_json::from_str(REFERENCES).expect("the committed references parse");
+    let c = &data["cases"][name];
+    let orbit = name == "O1";
+    let j = vec3(&c["J"]);
+    let model = SpaceModel {
+        inertia: [j.x, j.y, j.z],
+        mass: if orbit { num(&c["m"]) } else { 1.0 },
+        mu: if orbit { num(&c["mu"]) } else { 0.0 },
+        torque: if orbit {
+            Vector3::zeros()
+        } else {
+            vec3(&c["tau_const"])
+        },
+    };
+    let start = SpaceState {
+        attitude: Matrix3::identity(),
+        omega: vec3(&c["omega0"]),
+        position: if orbit {
+            vec3(&c["x0"])
+        } else {
+            Vector3::zeros()
+        },
+        velocity: if orbit {
+            vec3(&c["v0"])
+        } else {
+            Vector3::zeros()
+        },
+    };
+    let references = c["states"]
+        .as_array()
+        .map(|states| {
+            states
+                .iter()
+                .filter(|s| HORIZONS.contains(&num(&s["t"])))
+                .map(|s| {
+                    let r: Vec<f64> = s["R"]
+                        .as_array()
+                        .map(|a| a.iter().map(num).collect())
+                        .unwrap_or_default();
+                    let position = if orbit {
+                        vec3(&s["position"])
+                    } else {
+                        Vector3::zeros()
+                    };
+                    (num(&s["t"]), Matrix3::from_row_slice(&r), position)
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    Case {
+        model,
+        start,
+        references,
+    }
+}
+
+/// One lgsvi run to `t_end`: `(R, x)` at the end.
+fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<(Matrix3<f64>, Vector3<f64>)> {
+    let settings = StepSettings::new(h, n)?.with_chart(ChartKind::Exp);
+    let steps = (t_end / h).round() as usize;
+    let inertia = Inertia::from_principal_moments(case.model.inertia)?;
+    let w = case.start.omega;
+    if case.model.mu != 0.0 {
+        let body = OrbitingBody::new(inertia, case.model.mass, case.model.mu)?;
+        let start = SE3::new(SO3::identity(), case.start.position);
+        let v = case.start.velocity;
+        let xi = SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z);
+        let mut it = Integrator::new(body, settings, start, xi)?;
+        it.run(steps, steps)?;
+        Ok((*it.state().attitude().matrix(), it.state().position()))
+    } else {
+        let body = Forced::new(RigidBody::new(inertia), BodyTorque(case.model.torque));
+        let mut it = Integrator::new(body, settings, SO3::identity(), w)?;
+        it.run(steps, steps)?;
+        Ok((*it.state().attitude().matrix(), Vector3::zeros()))
+    }
+}
+
+/// The sweep: every case, horizon, `(h, n)` and DOP853 tolerance.
+pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
+    let mut points = Vec::new();
+    for name in CASES {
+        let case = case(name);
+        for (t_end, r_ref, x_ref) in case.references.clone() {
+            let mut push = |method: &str,
+                            knob: String,
+                            result: Result<(Matrix3<f64>, Vector3<f64>)>,
+                            time_s: f64| {
+                let (error, failure) = match result {
+                    Ok((r, x)) => ((r - r_ref).norm().max((x - x_ref).norm()), None),
+                    Err(e) => (f64::NAN, Some(e.to_string())),
+                };
+                points.push(Point {
+                    case: name.into(),
+                    t_end,
+                    method: method.into(),
+                    knob,
+                    error,
+                    time_s,
+                    failure,
+                });
+            };
+            for (h, nodes) in SWEEPS {
+                for n in nodes {
+                    let (r, t) = timed(repeats, || lgsvi_run(&case, t_end, h, n));
+                    push(&format!("lgsvi (exp, h = {h})"), format!("n = {n}"), r, t);
+                    tick();
+                }
+            }
+            for k in TOLERANCES {
+                let tol = 10f64.powi(-k);
+                let (r, t) = timed(repeats, || {
+                    dop853_in_space(&case.model, &case.start, t_end, tol)
+                        .map(|(s, _)| (s.attitude, s.position))
+                        .map_err(CliError::from)
+                });
+                push("DOP853 (quaternion)", format!("tol = 1e-{k}"), r, t);
+                tick();
+            }
+        }
+    }
+    points
+}
+
+/// The ratio table: per case and horizon, the fastest lgsvi run at or below each error
+/// target over the fastest DOP853 run at or below it, and where DOP853 does not go,
+/// lgsvi's fastest run at ≤ 1e-12 and ≤ 1e-13 over DOP853's most accurate run.
+pub fn ratios(points: &[Point]) -> String {
+    const TARGETS: [f64; 3] = [1e-8, 1e-10, 1e-12];
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| time lgsvi / time DOP853 | ≤ 1e-8 | ≤ 1e-10 | ≤ 1e-12 | lgsvi ≤ 1e-12 / DOP853's most accurate run |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for name in CASES {
+        for t_end in HORIZONS {
+            let mut row = format!("| {name}, T = {t_end} |");
+            for target in TARGETS {
+                let l = fastest(points, name, t_end, "lgsvi", target);
+                let d = fastest(points, name, t_end, "DOP853", target);
+                row.push_str(&match (l, d) {
+                    (Some(l), Some(d)) => format!(
+                        " {:.2} ({:.3} / {:.3} ms; {}) |",
+                        l.time_s / d.time_s,
+                        1e3 * l.time_s,
+                        1e3 * d.time_s,
+                        l.method
+                            .trim_start_matches("lgsvi (exp, ")
+                            .trim_end_matches(')')
+                            .to_string()
+                            + ", "
+                            + &l.knob
+                    ),
+                    (Some(_), None) => " DOP853 does not reach it |".into(),
+                    (None, _) => " lgsvi does not reach it |".into(),
+                });
+            }
+            let l = fastest(points, name, t_end, "lgsvi", 1e-12);
+            let d = most_accurate(points, name, t_end, "DOP853");
+            row.push_str(&match (l, d) {
+                (Some(l), Some(d)) => format!(
+                    " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
+                    l.time_s / d.time_s,
+                    l.error,
+                    1e3 * l.time_s,
+                    d.error,
+                    1e3 * d.time_s
+                ),
+                _ => " – |".into(),
+            });
+            let _ = writeln!(s, "{row}");
+        }
+    }
+    s
+}
