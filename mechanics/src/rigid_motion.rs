@@ -470,6 +470,14 @@ impl GroupLagrangian<6> for OrbitingBody {
         kinetic6(&self.inertia, self.mass, xi)
             - self.potential(g.rotation().matrix(), g.translation())
     }
+    fn velocity_from_momentum(
+        &self,
+        _t: f64,
+        _g: &SE3,
+        mu: &SVector<f64, 6>,
+    ) -> Option<SVector<f64, 6>> {
+        Some(velocity6(&self.inertia, self.mass, mu))
+    }
     /// MacCullagh's potential through the body-frame position `b = Rᵀx`, in closed form:
     /// `W(b) = −μm/r − (μ tr J)/(2r³) + (3μ/2) bᵀJb/r⁵` (`r = |b|`), and under
     /// `(R, x) exp(η)`, `η = (ω, u)`, `b ↦ b + u − ω × b − ½ ω × u + ½ ω × (ω × b)` to second
