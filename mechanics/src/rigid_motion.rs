@@ -150,13 +150,17 @@ fn seeded_pose(
     let e_hat: [Matrix3<f64>; 3] =
         std::array::from_fn(|c| lgsvi_lie::so3::hat(&Vector3::ith(c, 1.0)));
     let r_e: [Matrix3<f64>; 3] = std::array::from_fn(|c| r * e_hat[c]);
+    // ½R(ê_c ê_d + ê_d ê_c), formed once for every (c, d).
+    let second: [[Matrix3<f64>; 3]; 3] = std::array::from_fn(|c| {
+        std::array::from_fn(|d| (r_e[c] * e_hat[d] + r_e[d] * e_hat[c]) * 0.5)
+    });
     let attitude = Matrix3::from_fn(|i, j| {
         let mut gradient = SMatrix::<f64, 1, 6>::zeros();
         let mut hessian = SMatrix::<f64, 6, 6>::zeros();
         for c in 0..3 {
             gradient[c] = r_e[c][(i, j)];
             for d in 0..3 {
-                hessian[(c, d)] = 0.5 * (r_e[c] * e_hat[d] + r_e[d] * e_hat[c])[(i, j)];
+                hessian[(c, d)] = second[c][d][(i, j)];
             }
         }
         Dual2SVec64::<6>::new(
@@ -165,15 +169,14 @@ fn seeded_pose(
             num_dual::Derivative::some(hessian),
         )
     });
+    // ½R(e_c × e_d) = ½R ê_c e_d, column d of ½ R ê_c.
     let position = Vector3::from_fn(|i, _| {
         let mut gradient = SMatrix::<f64, 1, 6>::zeros();
         let mut hessian = SMatrix::<f64, 6, 6>::zeros();
         for d in 0..3 {
             gradient[3 + d] = r[(i, d)];
             for c in 0..3 {
-                // (R (e_c × e_d))_i = Σ_k R_ik ε_kcd.
-                let cross = Vector3::ith(c, 1.0).cross(&Vector3::ith(d, 1.0));
-                let value = 0.5 * r.row(i).dot(&cross.transpose());
+                let value = 0.5 * r_e[c][(i, d)];
                 hessian[(c, 3 + d)] = value;
                 hessian[(3 + d, c)] = value;
             }
