@@ -6,7 +6,7 @@
 //! `F_η = ∂F(t, g exp(η), ξ)/∂η` at `η = 0`. At a Gauss point `g = g_k Φ(x)`,
 //! `ξ = A(x) v`, so (a node variation moves `g` by `exp(A δx)` to first order)
 //! `∂F/∂x = F_η A + F_ξ ∂(A v)/∂x` and `∂F/∂v = F_ξ A`: the chart's part comes from the
-//! chart's own derivatives ([`crate::step`]), the force's from this jet.
+//! chart's own derivatives (the integrator's point derivatives), the force's from this jet.
 
 use crate::group::ConfigurationGroup;
 use lgsvi_lie::LieGroup;

@@ -9,7 +9,7 @@
 //! | group | `D` | marker | element | charts |
 //! |---|---|---|---|---|
 //! | SO(3) | 3 | [`Rotations`] | [`SO3`] | every [`So3Chart`]: exp, Cayley, the paper's Cayley, [`lgsvi_lie::ChartKind`] |
-//! | SE(3) | 6 | [`RigidMotions`] | [`SE3`] (tangent `(ω, v)`, body velocities) | every [`So3Chart`], acting on SE(3) as in `lgsvi_lie` |
+//! | SE(3) | 6 | [`RigidMotions`] | [`SE3`] (tangent `(ω, v)`, body velocities) | every [`So3Chart`] as the rotation–translation chart `(Φ(ω), u)` (the default: SO(3) × ℝ³'s discrete map, derivatives in closed form); [`Screw`]`(chart)`, SE(3)'s own screw-motion charts as in `lgsvi_lie` |
 //!
 //! # Adding a group or a chart
 //! A chart of SO(3) or SE(3) of your own: implement [`So3Chart`] (the lie crate's law
@@ -352,7 +352,7 @@ impl ConfigurationGroup<6> for RigidMotions {
 }
 
 /// A chart's derivatives at one point `x`, contracted as the generic chain rule
-/// ([`crate::step`]'s points) reads them: `A(x)`, `∂(A(x)v)/∂x`, `∂(A(x)ᵀg)/∂x` and
+/// (the integrator's Gauss points) reads them: `A(x)`, `∂(A(x)v)/∂x`, `∂(A(x)ᵀg)/∂x` and
 /// `∇²_x(μᵀA(x)v)`. Every [`GroupChart`] has them by dual numbers in `x` alone
 /// ([`GroupChart::with_derivatives`]'s default); the SE(3) charts of this crate in closed
 /// form.

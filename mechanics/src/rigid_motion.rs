@@ -6,6 +6,12 @@
 //! kinetic energy splits, `ℓ = ½ΩᵀJΩ + ½m|v|² − V(R, x)` (`|v| = |ẋ|`). The body momentum
 //! is `μ = (JΩ, m v)`; the spatial momentum `Ad_{g⁻¹}ᵀ μ = (RJΩ + x × mẋ, mẋ)` is the
 //! angular momentum about the world origin and the linear momentum.
+//!
+//! A step runs by default in SE(3)'s rotation–translation chart (every `So3Chart`, e.g.
+//! `ChartKind::Exp`): the attitude in the SO(3) chart and the centre of mass a polynomial
+//! in the world frame, the discrete map of SO(3) × ℝ³; `Screw(chart)` takes SE(3)'s own
+//! screw-motion chart instead (`crate::group`). Both conserve the spatial momenta of every
+//! symmetry of `ℓ` exactly.
 
 use crate::error::{check_finite, MechanicsError};
 use crate::group::RigidMotions;
