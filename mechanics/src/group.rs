@@ -558,7 +558,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
 }
 
 /// `[[a, b], [c, d]]` from four 3×3 blocks.
-fn blocks<T: RealField + Copy>(
+pub(crate) fn blocks<T: RealField + Copy>(
     a: &Matrix3<T>,
     b: &Matrix3<T>,
     c: &Matrix3<T>,

@@ -14,7 +14,7 @@
 //! symmetry of `ℓ` exactly.
 
 use crate::error::{check_finite, MechanicsError};
-use crate::group::RigidMotions;
+use crate::group::{blocks, RigidMotions};
 use crate::inertia::Inertia;
 use crate::lagrangian::kinetic;
 use crate::system::{GroupLagrangian, LocalDerivatives};
@@ -48,21 +48,6 @@ fn velocity6(inertia: &Inertia, mass: f64, mu: &SVector<f64, 6>) -> SVector<f64,
     let w = inertia.velocity(&mu.fixed_rows::<3>(0).into_owned());
     let v = mu.fixed_rows::<3>(3) / mass;
     SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z)
-}
-
-/// `[[a, b], [c, d]]` from four 3×3 blocks.
-fn blocks6(
-    a: &Matrix3<f64>,
-    b: &Matrix3<f64>,
-    c: &Matrix3<f64>,
-    d: &Matrix3<f64>,
-) -> SMatrix<f64, 6, 6> {
-    let mut m = SMatrix::<f64, 6, 6>::zeros();
-    m.fixed_view_mut::<3, 3>(0, 0).copy_from(a);
-    m.fixed_view_mut::<3, 3>(0, 3).copy_from(b);
-    m.fixed_view_mut::<3, 3>(3, 0).copy_from(c);
-    m.fixed_view_mut::<3, 3>(3, 3).copy_from(d);
-    m
 }
 
 /// A potential of the pose, generic over the scalar: what [`local_derivatives`]
@@ -547,7 +532,7 @@ impl GroupLagrangian<6> for OrbitingBody {
         let curvature_ww =
             (grad * b.transpose() + b * grad.transpose()) * 0.5 - identity * grad.dot(&b);
         let curvature_wu = lgsvi_lie::so3::hat(&grad) * 0.5;
-        local.configuration_hessian = -blocks6(
+        local.configuration_hessian = -blocks(
             &(ww + curvature_ww),
             &(wu + curvature_wu),
             &(wu + curvature_wu).transpose(),
