@@ -820,7 +820,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             force_reads_configuration: system.is_forced()
                 && system.force_depends_on_configuration(),
         };
-        let done = system.flow_guess(&self.chart, &start, &mut self.work.xi);
+        let mut done = system.flow_guess(&self.chart, &start, &mut self.work.xi);
+        // Without a flow of its own, the flow in the chart where forces act (a potential
+        // or a force): measured on the orbiting body O1 (h = 2, n = 8) 3.0 iterations and
+        // 1.0 Newton matrices per step against 4.0 and 2.0 for the continued curve. A free
+        // body keeps the continued curve, the better guess on its smooth motion (2.0
+        // iterations per step against 3.0 at h = 0.5).
+        if done == FlowGuess::Unavailable && (!system.is_left_invariant() || start.force.is_some())
+        {
+            done = crate::flow::chart_flow(system, &self.chart, &start, &mut self.work.xi);
+        }
         self.work.xi[0] = SVector::zeros();
         done
     }
