@@ -22,6 +22,7 @@
 //! `tests/tests/generic_group.rs` does this for the torus `SO(2) × SO(2)`.
 
 use crate::jet::MatrixJet;
+use lgsvi_lie::se3::{blocks, split};
 use lgsvi_lie::{Chart, LieError, LieGroup, RodriguesCoefficients, So3Chart, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, Dual2_64, Dual64, DualSVec64};
@@ -341,13 +342,9 @@ impl ConfigurationGroup<6> for RigidMotions {
     /// With `p = (p_ω, p_v)`: `ad_(ω,v)ᵀ p = (−ω̂ p_ω − v̂ p_v, −ω̂ p_v)`, i.e.
     /// `[[p̂_ω, p̂_v], [p̂_v, 0]]` applied to `(ω, v)`.
     fn coadjoint_generator(p: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
-        let pw = lgsvi_lie::so3::hat(&p.fixed_rows::<3>(0).into_owned());
-        let pv = lgsvi_lie::so3::hat(&p.fixed_rows::<3>(3).into_owned());
-        let mut m = SMatrix::<f64, 6, 6>::zeros();
-        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&pw);
-        m.fixed_view_mut::<3, 3>(0, 3).copy_from(&pv);
-        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&pv);
-        m
+        let (pw, pv) = split(p);
+        let (pw, pv) = (lgsvi_lie::so3::hat(&pw), lgsvi_lie::so3::hat(&pv));
+        blocks(&pw, &pv, &pv, &Matrix3::zeros())
     }
 }
 
@@ -557,29 +554,6 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
     }
 }
 
-/// `[[a, b], [c, d]]` from four 3×3 blocks.
-pub(crate) fn blocks<T: RealField + Copy>(
-    a: &Matrix3<T>,
-    b: &Matrix3<T>,
-    c: &Matrix3<T>,
-    d: &Matrix3<T>,
-) -> SMatrix<T, 6, 6> {
-    let mut m = SMatrix::<T, 6, 6>::zeros();
-    m.fixed_view_mut::<3, 3>(0, 0).copy_from(a);
-    m.fixed_view_mut::<3, 3>(0, 3).copy_from(b);
-    m.fixed_view_mut::<3, 3>(3, 0).copy_from(c);
-    m.fixed_view_mut::<3, 3>(3, 3).copy_from(d);
-    m
-}
-
-/// `(ω, u)` of a tangent `(ω, u)`.
-fn halves<T: RealField + Copy>(xi: &SVector<T, 6>) -> (Vector3<T>, Vector3<T>) {
-    (
-        Vector3::new(xi[0], xi[1], xi[2]),
-        Vector3::new(xi[3], xi[4], xi[5]),
-    )
-}
-
 /// The derivatives of SE(3)'s rotation–translation chart (`A = diag(A_ω(ω), Φ(ω)ᵀ)`) in
 /// closed form, from the Rodrigues jets of `A_ω` and `Φ` (which depend on `ω` alone):
 /// with `x = (ω, u)`, `v = (v_ω, v_u)`,
@@ -596,7 +570,7 @@ impl ChartDerivatives<6> for RotationTranslationDerivatives {
         blocks(&self.a.value, &zero, &zero, &self.phi.value.transpose())
     }
     fn differential_times(&self, v: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
-        let (vw, vu) = halves(v);
+        let (vw, vu) = split(v);
         let zero = Matrix3::zeros();
         blocks(
             &self.a.first_times(&vw),
@@ -606,7 +580,7 @@ impl ChartDerivatives<6> for RotationTranslationDerivatives {
         )
     }
     fn transpose_times(&self, g: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
-        let (gw, gu) = halves(g);
+        let (gw, gu) = split(g);
         let zero = Matrix3::zeros();
         blocks(
             &self.a.first_transposed_times(&gw).transpose(),
@@ -616,8 +590,8 @@ impl ChartDerivatives<6> for RotationTranslationDerivatives {
         )
     }
     fn second(&self, mu: &SVector<f64, 6>, v: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
-        let (mw, mu_u) = halves(mu);
-        let (vw, vu) = halves(v);
+        let (mw, mu_u) = split(mu);
+        let (vw, vu) = split(v);
         let ww = self.a.second_contracted(&(mw * vw.transpose()))
             + self.phi.second_contracted(&(vu * mu_u.transpose()));
         let zero = Matrix3::zeros();
@@ -642,12 +616,12 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
     }
     /// `(Φ(ω), u)`.
     fn to_group<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SE3<T> {
-        let (w, u) = halves(xi);
+        let (w, u) = split(xi);
         SE3::new(SO3::from_matrix_unchecked(self.rotation_matrix(&w)), u)
     }
     /// `diag(A(ω), Φ(ω)ᵀ)`.
     fn left_differential<T: RealField + Copy>(&self, xi: &SVector<T, 6>) -> SMatrix<T, 6, 6> {
-        let (w, _) = halves(xi);
+        let (w, _) = split(xi);
         let zero = Matrix3::zeros();
         blocks(
             &self.rotation_left_differential(&w),
@@ -662,7 +636,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         xi: &SVector<f64, 6>,
     ) -> Result<SMatrix<f64, 6, 6>, LieError> {
         GroupChart::<RigidMotions, 6>::check_domain(self, xi)?;
-        let (w, _) = halves(xi);
+        let (w, _) = split(xi);
         let zero = Matrix3::zeros();
         Ok(blocks(
             &self.rotation_left_differential_inverse(&w),
@@ -682,7 +656,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         Ok(SVector::<f64, 6>::new(w.x, w.y, w.z, x.x, x.y, x.z))
     }
     fn check_domain(&self, xi: &SVector<f64, 6>) -> Result<(), LieError> {
-        let (w, u) = halves(xi);
+        let (w, u) = split(xi);
         self.check_rotation_domain(&w)?;
         if u.iter().all(|x| x.is_finite()) {
             Ok(())
@@ -704,7 +678,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         second: bool,
         f: impl FnOnce(&dyn ChartDerivatives<6>) -> R,
     ) -> R {
-        let (w, _) = halves(x);
+        let (w, _) = split(x);
         let s = w.norm_squared();
         let jets = if second {
             let s2 = Dual2_64::new(s, 1.0, 0.0);

@@ -14,10 +14,11 @@
 //! symmetry of `ℓ` exactly.
 
 use crate::error::{check_finite, MechanicsError};
-use crate::group::{blocks, RigidMotions};
+use crate::group::RigidMotions;
 use crate::inertia::Inertia;
 use crate::lagrangian::kinetic;
 use crate::system::{GroupLagrangian, LocalDerivatives};
+use lgsvi_lie::se3::blocks;
 use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};

@@ -18,6 +18,7 @@ use crate::flow::FlowGuess;
 use crate::force_jet::{ForceFunction, ForceJet};
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
+use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
@@ -515,17 +516,14 @@ fn jet_on_rotation<F: Forcing<Rotations, 3>>(
     g: &SE3,
     xi: &SVector<f64, 6>,
 ) -> ForceJet<6> {
-    let omega = Vector3::new(xi[0], xi[1], xi[2]);
+    let (omega, _) = split(xi);
     let jet = forcing.jet(time, g.rotation(), &omega);
-    let mut out = ForceJet::<6>::constant(SVector::zeros());
-    out.value.fixed_rows_mut::<3>(0).copy_from(&jet.value);
-    out.velocity
-        .fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&jet.velocity);
-    out.configuration
-        .fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&jet.configuration);
-    out
+    let zero = Matrix3::zeros();
+    ForceJet {
+        value: join(&jet.value, &Vector3::zeros()),
+        velocity: blocks(&jet.velocity, &zero, &zero, &zero),
+        configuration: blocks(&jet.configuration, &zero, &zero, &zero),
+    }
 }
 
 impl Forcing<RigidMotions, 6> for BodyTorque {
@@ -575,12 +573,12 @@ impl Forcing<RigidMotions, 6> for SpaceForce {
     /// configuration derivative is `b̂` in the force rows and rotation columns.
     fn jet(&self, _t: f64, g: &SE3, _xi: &SVector<f64, 6>) -> ForceJet<6> {
         let body = g.rotation().matrix().transpose() * self.0;
-        let mut out = ForceJet::<6>::constant(SVector::zeros());
-        out.value.fixed_rows_mut::<3>(3).copy_from(&body);
-        out.configuration
-            .fixed_view_mut::<3, 3>(3, 0)
-            .copy_from(&lgsvi_lie::so3::hat(&body));
-        out
+        let zero = Matrix3::zeros();
+        ForceJet {
+            value: join(&Vector3::zeros(), &body),
+            velocity: SMatrix::zeros(),
+            configuration: blocks(&zero, &zero, &lgsvi_lie::so3::hat(&body), &zero),
+        }
     }
 }
 

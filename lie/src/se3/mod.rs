@@ -105,21 +105,39 @@ impl<T: RealField + Copy> SE3<T> {
     }
 }
 
-/// Splits `(ω, v)`.
-pub(crate) fn split<T: RealField + Copy>(xi: &Vector6<T>) -> (Vector3<T>, Vector3<T>) {
+/// Splits a tangent `(ω, v)` into its rotational and translational parts.
+///
+/// ```
+/// use lgsvi_lie::se3::{join, split};
+/// use nalgebra::{Vector3, Vector6};
+/// let xi = Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+/// let (w, v) = split(&xi);
+/// assert_eq!((w, v), (Vector3::new(1.0, 2.0, 3.0), Vector3::new(4.0, 5.0, 6.0)));
+/// assert_eq!(join(&w, &v), xi);
+/// ```
+pub fn split<T: RealField + Copy>(xi: &Vector6<T>) -> (Vector3<T>, Vector3<T>) {
     (
         xi.fixed_rows::<3>(0).into_owned(),
         xi.fixed_rows::<3>(3).into_owned(),
     )
 }
 
-/// Builds `(ω, v)`.
-pub(crate) fn join<T: RealField + Copy>(w: &Vector3<T>, v: &Vector3<T>) -> Vector6<T> {
+/// Builds a tangent `(ω, v)` from its parts ([`split`] inverts it).
+pub fn join<T: RealField + Copy>(w: &Vector3<T>, v: &Vector3<T>) -> Vector6<T> {
     Vector6::new(w.x, w.y, w.z, v.x, v.y, v.z)
 }
 
-/// The block matrix `[[a, b], [c, d]]`.
-pub(crate) fn blocks<T: RealField + Copy>(
+/// The 6×6 block matrix `[[a, b], [c, d]]` of four 3×3 blocks (rows and columns ordered
+/// `(ω, v)`, as the tangent).
+///
+/// ```
+/// use lgsvi_lie::se3::blocks;
+/// use nalgebra::Matrix3;
+/// let (i, z) = (Matrix3::<f64>::identity(), Matrix3::zeros());
+/// let m = blocks(&i, &z, &(i * 2.0), &i);
+/// assert_eq!((m[(0, 0)], m[(3, 0)], m[(0, 3)]), (1.0, 2.0, 0.0));
+/// ```
+pub fn blocks<T: RealField + Copy>(
     a: &Matrix3<T>,
     b: &Matrix3<T>,
     c: &Matrix3<T>,
