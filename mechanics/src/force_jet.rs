@@ -9,8 +9,9 @@
 //! chart's own derivatives (the integrator's point derivatives), the force's from this jet.
 
 use crate::group::ConfigurationGroup;
+use crate::system::Forcing;
 use lgsvi_lie::LieGroup;
-use nalgebra::{RealField, SMatrix, SVector};
+use nalgebra::{SMatrix, SVector};
 use num_dual::DualSVec64;
 
 /// A left-trivialised force and its first derivatives at one point `(t, g, ξ)`.
@@ -46,7 +47,7 @@ impl<const D: usize> ForceJet<D> {
 
     /// The jet of `f` at `(t, g, ξ)` by first-order dual numbers (`D` directions, one
     /// pass for `ξ` and, unless `velocity_only`, one for `η`).
-    pub(crate) fn by_dual_numbers<G: ConfigurationGroup<D>, F: ForceFunction<G, D>>(
+    pub(crate) fn by_dual_numbers<G: ConfigurationGroup<D>, F: Forcing<G, D>>(
         f: &F,
         time: f64,
         configuration: &G::Element<f64>,
@@ -54,7 +55,7 @@ impl<const D: usize> ForceJet<D> {
         velocity_only: bool,
     ) -> Self {
         let g = G::lift::<DualSVec64<D>>(configuration);
-        let by_velocity = f.eval(time, &g, &seeded(velocity));
+        let by_velocity = f.force(time, &g, &seeded(velocity));
         let value = by_velocity.map(|d| d.re);
         let velocity_jacobian = jacobian_of(&by_velocity);
         let configuration_jacobian = if velocity_only {
@@ -62,7 +63,7 @@ impl<const D: usize> ForceJet<D> {
         } else {
             // g exp(η) to first order is all a first derivative reads.
             let moved = g.compose(&G::exp_second_order(&seeded(&SVector::zeros())));
-            jacobian_of(&f.eval(time, &moved, &velocity.map(nalgebra::convert)))
+            jacobian_of(&f.force(time, &moved, &velocity.map(nalgebra::convert)))
         };
         Self {
             value,
@@ -81,17 +82,6 @@ impl<const D: usize> std::ops::Add for ForceJet<D> {
             configuration: self.configuration + other.configuration,
         }
     }
-}
-
-/// A force `F(t, g, ξ)` written generically over the scalar (what
-/// [`ForceJet::by_dual_numbers`] differentiates).
-pub(crate) trait ForceFunction<G: ConfigurationGroup<D>, const D: usize> {
-    fn eval<T: RealField + Copy>(
-        &self,
-        time: f64,
-        configuration: &G::Element<T>,
-        velocity: &SVector<T, D>,
-    ) -> SVector<T, D>;
 }
 
 /// `x` as `D` first-order dual numbers, one direction each.

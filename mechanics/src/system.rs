@@ -15,7 +15,7 @@
 //! unforced one, bit for bit (the force terms are skipped, not added as zeros).
 
 use crate::flow::FlowGuess;
-use crate::force_jet::{ForceFunction, ForceJet};
+use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
 use lgsvi_lie::se3::{blocks, join, split};
@@ -249,30 +249,14 @@ pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
     fn depends_on_configuration(&self) -> bool;
 }
 
-/// A system's own force, as a function for [`ForceJet::by_dual_numbers`].
+/// A system's own force as a [`Forcing`], for [`ForceJet::by_dual_numbers`].
 struct SystemForce<'a, S>(&'a S);
 
-impl<S: GroupLagrangian<D>, const D: usize> ForceFunction<S::Group, D> for SystemForce<'_, S> {
-    fn eval<T: RealField + Copy>(
+impl<S: GroupLagrangian<D>, const D: usize> Forcing<S::Group, D> for SystemForce<'_, S> {
+    fn force<T: RealField + Copy>(
         &self,
         time: f64,
         configuration: &ElementOf<S, D, T>,
-        velocity: &SVector<T, D>,
-    ) -> SVector<T, D> {
-        self.0.force(time, configuration, velocity)
-    }
-}
-
-/// A [`Forcing`], as a function for [`ForceJet::by_dual_numbers`].
-struct ForcingFunction<'a, F>(&'a F);
-
-impl<G: ConfigurationGroup<D>, F: Forcing<G, D>, const D: usize> ForceFunction<G, D>
-    for ForcingFunction<'_, F>
-{
-    fn eval<T: RealField + Copy>(
-        &self,
-        time: f64,
-        configuration: &G::Element<T>,
         velocity: &SVector<T, D>,
     ) -> SVector<T, D> {
         self.0.force(time, configuration, velocity)
@@ -346,7 +330,7 @@ pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
         Self: Sized,
     {
         ForceJet::by_dual_numbers(
-            &ForcingFunction(self),
+            self,
             time,
             configuration,
             velocity,
