@@ -3,13 +3,13 @@
 
 use crate::error::{check_finite, MechanicsError};
 use crate::flow::FlowGuess;
-use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};
 use crate::settings::{StepSettings, MAX_NODES};
 use crate::step::assembly::{Workspace, WorkspaceOf};
+use crate::step::points::StepForce;
 use crate::step::tables::Discretisation;
 use crate::step::{StepOutcome, Stepper};
-use crate::system::{ElementOf, FlowStart, ForceAlongStep, GroupLagrangian};
+use crate::system::{ElementOf, FlowStart, ForceAlongStep, GroupLagrangian, PointForce};
 use lgsvi_lie::{ChartKind, LieGroup, SE3, SO3};
 use nalgebra::{SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
@@ -838,15 +838,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         self.work.guess_changed();
         let system = &self.system;
         let input = self.input;
-        let total_force = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| {
-            let mut jet = if system.is_forced() {
-                system.force_jet(t, g, xi)
-            } else {
-                ForceJet::constant(SVector::zeros())
-            };
-            jet.value += input;
-            jet
+        // The force the Gauss points see (the system's and the input), along the step.
+        let at = |time: f64| StepForce {
+            system,
+            time,
+            input: &input,
         };
+        let total_force = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| at(t).jet(g, xi);
         let start = FlowStart {
             time: self.state.time,
             base: &self.state.configuration,
@@ -857,8 +855,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             force: self
                 .forcing()
                 .map(|_| &total_force as ForceAlongStep<'_, S::Group, D>),
-            force_reads_configuration: system.is_forced()
-                && system.force_depends_on_configuration(),
+            force_reads_configuration: at(self.state.time).depends_on_configuration(),
         };
         let done = if in_chart {
             crate::flow::chart_flow(system, &self.chart, &start, &mut self.work.xi)
