@@ -20,6 +20,7 @@ use lgsvi_lie::so3::vee;
 use lgsvi_lie::LieGroup;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3};
+use std::ops::{Add, Mul};
 
 /// The largest rotation one Runge–Kutta substep takes (radians). The guess is accurate to
 /// about `(angle)⁴/100` relative, so 0.25 rad gives ~1e-5 on the paper's bodies: below
@@ -31,14 +32,13 @@ const SUBSTEP_ANGLE: f64 = 0.25;
 const MAX_SUBSTEPS: usize = 64;
 
 /// The flow's equations at one time: the system, the step's start and its total force.
-struct Flow<'a, L, C> {
+struct Flow<'a, L> {
     system: &'a L,
-    chart: &'a C,
     base: &'a Matrix3<f64>,
     start: &'a FlowStart<'a, Rotations, 3>,
 }
 
-impl<L: Lagrangian, C> Flow<'_, L, C> {
+impl<L: Lagrangian> Flow<'_, L> {
     /// `(q̇, μ̇)` at `(q, μ)`, `t` into the step: `q̇ = ½ q ⊗ (0, Ω)` and
     /// `μ̇ = μ × Ω + p + F`, with `Ω` from the system's closed-form inverse Legendre
     /// transform at `R = B R(q)`, `p` the left-trivialised configuration force
@@ -138,6 +138,43 @@ fn frequency<L: Lagrangian>(
     rotation + pushed + relaxation.sqrt()
 }
 
+/// One classical RK4 step of `rate` over `[t0, t0 + dt]` from `(y, μ)` with the slopes
+/// `k1` there (the substeps' end slopes are reused as the next start's); `None` where a
+/// stage is not defined. Both flows use it: on `(q, μ)` and in the chart on `(y, μ)`.
+fn rk4_step<Y, M>(
+    rate: impl Fn(f64, &Y, &M) -> Option<(Y, M)>,
+    t0: f64,
+    dt: f64,
+    (y, mu): (Y, M),
+    k1: (Y, M),
+) -> Option<(Y, M)>
+where
+    Y: Copy + Add<Output = Y> + Mul<f64, Output = Y>,
+    M: Copy + Add<Output = M> + Mul<f64, Output = M>,
+{
+    let stage = |k: &(Y, M), c: f64| rate(t0 + c, &(y + k.0 * c), &(mu + k.1 * c));
+    let k2 = stage(&k1, 0.5 * dt)?;
+    let k3 = stage(&k2, 0.5 * dt)?;
+    let k4 = stage(&k3, dt)?;
+    Some((
+        y + (k1.0 + (k2.0 + k3.0) * 2.0 + k4.0) * (dt / 6.0),
+        mu + (k1.1 + (k2.1 + k3.1) * 2.0 + k4.1) * (dt / 6.0),
+    ))
+}
+
+/// The cubic Hermite interpolant between `(y₀, ẏ₀)` and `(y₁, ẏ₁)` a substep `dt` apart,
+/// at the fraction `u` of it (fourth order, as RK4).
+fn hermite<Y>((y0, d0): (Y, Y), (y1, d1): (Y, Y), u: f64, dt: f64) -> Y
+where
+    Y: Add<Output = Y> + Mul<f64, Output = Y>,
+{
+    let (u2, u3) = (u * u, u * u * u);
+    y0 * (2.0 * u3 - 3.0 * u2 + 1.0)
+        + d0 * ((u3 - 2.0 * u2 + u) * dt)
+        + y1 * (3.0 * u2 - 2.0 * u3)
+        + d1 * ((u3 - u2) * dt)
+}
+
 /// What a flow predictor ([`crate::GroupLagrangian::flow_guess`]) found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FlowGuess<E> {
@@ -189,11 +226,10 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     }
     let flow = Flow {
         system,
-        chart,
         base,
         start,
     };
-    let limit = flow.chart.max_rotation_angle();
+    let limit = chart.max_rotation_angle();
     let substeps = (wanted as usize).max(2);
     let dt = h / substeps as f64;
     let (mut q, mut mu) = (Quaternion::identity(), *start.momentum);
@@ -204,21 +240,10 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     let mut next_node = 0;
     for s in 0..substeps {
         let t0 = s as f64 * dt;
-        let stage = |k: &(Quaternion<f64>, Vector3<f64>), c: f64| {
-            flow.rate(t0 + c, &(q + k.0 * c), &(mu + k.1 * c))
-        };
-        let k1 = (q_dot, mu_dot);
-        let Some(k2) = stage(&k1, 0.5 * dt) else {
+        let rate = |t: f64, q: &Quaternion<f64>, mu: &Vector3<f64>| flow.rate(t, q, mu);
+        let Some((q1, mu1)) = rk4_step(rate, t0, dt, (q, mu), (q_dot, mu_dot)) else {
             return Unavailable;
         };
-        let Some(k3) = stage(&k2, 0.5 * dt) else {
-            return Unavailable;
-        };
-        let Some(k4) = stage(&k3, dt) else {
-            return Unavailable;
-        };
-        let q1 = q + (k1.0 + (k2.0 + k3.0) * 2.0 + k4.0) * (dt / 6.0);
-        let mu1 = mu + (k1.1 + (k2.1 + k3.1) * 2.0 + k4.1) * (dt / 6.0);
         let Some((q1_dot, mu1_dot)) = flow.rate(t0 + dt, &q1, &mu1) else {
             return Unavailable;
         };
@@ -232,11 +257,7 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         let last = s + 1 == substeps;
         while next_node < times.len() && (last || times[next_node] <= t0 + dt) {
             let u = ((times[next_node] - t0) / dt).clamp(0.0, 1.0);
-            let (u2, u3) = (u * u, u * u * u);
-            let qi = q * (2.0 * u3 - 3.0 * u2 + 1.0)
-                + q_dot * ((u3 - 2.0 * u2 + u) * dt)
-                + q1 * (3.0 * u2 - 2.0 * u3)
-                + q1_dot * ((u3 - u2) * dt);
+            let qi = hermite((q, q_dot), (q1, q1_dot), u, dt);
             let rotation = UnitQuaternion::from_quaternion(qi).to_rotation_matrix();
             match chart.to_algebra_near(&SO3::from_matrix_unchecked(*rotation.matrix()), &near) {
                 Ok(xi) if xi.iter().all(|x| x.is_finite()) => {
@@ -314,32 +335,16 @@ where
     let mut next_node = 0;
     for s in 0..substeps {
         let t0 = s as f64 * dt;
-        let stage = |k: &(SVector<f64, D>, SVector<f64, D>), c: f64| {
-            rate(t0 + c, &(y + k.0 * c), &(mu + k.1 * c))
-        };
-        let k1 = (y_dot, mu_dot);
-        let Some(k2) = stage(&k1, 0.5 * dt) else {
+        let Some((y1, mu1)) = rk4_step(rate, t0, dt, (y, mu), (y_dot, mu_dot)) else {
             return Unavailable;
         };
-        let Some(k3) = stage(&k2, 0.5 * dt) else {
-            return Unavailable;
-        };
-        let Some(k4) = stage(&k3, dt) else {
-            return Unavailable;
-        };
-        let y1 = y + (k1.0 + (k2.0 + k3.0) * 2.0 + k4.0) * (dt / 6.0);
-        let mu1 = mu + (k1.1 + (k2.1 + k3.1) * 2.0 + k4.1) * (dt / 6.0);
         let Some((y1_dot, mu1_dot)) = rate(t0 + dt, &y1, &mu1) else {
             return Unavailable;
         };
         let last = s + 1 == substeps;
         while next_node < times.len() && (last || times[next_node] <= t0 + dt) {
             let u = ((times[next_node] - t0) / dt).clamp(0.0, 1.0);
-            let (u2, u3) = (u * u, u * u * u);
-            out[next_node] = y * (2.0 * u3 - 3.0 * u2 + 1.0)
-                + y_dot * ((u3 - 2.0 * u2 + u) * dt)
-                + y1 * (3.0 * u2 - 2.0 * u3)
-                + y1_dot * ((u3 - u2) * dt);
+            out[next_node] = hermite((y, y_dot), (y1, y1_dot), u, dt);
             next_node += 1;
         }
         (y, mu, y_dot, mu_dot) = (y1, mu1, y1_dot, mu1_dot);
