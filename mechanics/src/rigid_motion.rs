@@ -18,7 +18,7 @@ use crate::group::RigidMotions;
 use crate::inertia::Inertia;
 use crate::lagrangian::kinetic;
 use crate::system::{GroupLagrangian, LocalDerivatives};
-use lgsvi_lie::se3::blocks;
+use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
@@ -51,7 +51,7 @@ fn velocity6(inertia: &Inertia, mass: f64, mu: &SVector<f64, 6>) -> SVector<f64,
     SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z)
 }
 
-/// A potential of the pose, generic over the scalar: what [`local_derivatives`]
+/// A potential of the pose, generic over the scalar: what [`with_potential`]
 /// differentiates.
 trait PosePotential {
     fn eval<T: RealField + Copy>(
@@ -62,73 +62,63 @@ trait PosePotential {
     ) -> T;
 }
 
-/// No potential (the free body): [`local_derivatives`] skips the dual numbers.
-struct NoPotential;
-impl PosePotential for NoPotential {
-    fn eval<T: RealField + Copy>(&self, _t: f64, _r: &Matrix3<T>, _x: &Vector3<T>) -> T {
-        T::zero()
-    }
-}
-
-/// `L(η, ξ) = ½ΩᵀJΩ + ½m|v|² − V(t, R', x')` at `η = 0` with `(R', x') = (R, x) exp(η)`
-/// to second order, `R' = R(I + ω̂ + ½ω̂²)`, `x' = x + R(u + ½ ω × u)` for `η = (ω, u)`:
-/// the kinetic part in closed form (`μ = (JΩ, m v)`, `∂²/∂ξ² = diag(J, m I)`), the
-/// potential's by a dual number over the six `η` alone (second order with the Hessian,
-/// first order without), through `V` and nothing else.
-fn local_derivatives<P: PosePotential>(
-    potential: Option<&P>,
+/// `L(η, ξ) = ½ΩᵀJΩ + ½m|v|²` at `η = 0`: `μ = (JΩ, m v)`, `∂²/∂ξ² = diag(J, m I)` (zero
+/// without the Hessian), no configuration terms. A potential adds its own
+/// ([`with_potential`], or `OrbitingBody`'s closed form).
+fn kinetic_local(
     inertia: &Inertia,
     mass: f64,
-    time: f64,
-    g: &SE3,
     xi: &SVector<f64, 6>,
     with_hessian: bool,
 ) -> LocalDerivatives<6> {
-    let w = Vector3::new(xi[0], xi[1], xi[2]);
-    let jw = inertia.momentum(&w);
-    let momentum =
-        SVector::<f64, 6>::new(jw.x, jw.y, jw.z, mass * xi[3], mass * xi[4], mass * xi[5]);
-    let origin = SVector::<f64, 6>::zeros();
-    let mut kinetic = SMatrix::<f64, 6, 6>::zeros();
-    if with_hessian {
-        kinetic
-            .fixed_view_mut::<3, 3>(0, 0)
-            .copy_from(&inertia.matrix());
-        for i in 3..6 {
-            kinetic[(i, i)] = mass;
-        }
-    }
-    let Some(potential) = potential else {
-        return LocalDerivatives {
-            configuration_gradient: origin,
-            momentum,
-            configuration_hessian: SMatrix::zeros(),
-            velocity_hessian: kinetic,
-        };
+    let (w, v) = split(xi);
+    let velocity_hessian = if with_hessian {
+        let zero = Matrix3::zeros();
+        blocks(
+            &inertia.matrix(),
+            &zero,
+            &zero,
+            &(Matrix3::identity() * mass),
+        )
+    } else {
+        SMatrix::zeros()
     };
+    LocalDerivatives {
+        configuration_gradient: SVector::zeros(),
+        momentum: join(&inertia.momentum(&w), &(v * mass)),
+        configuration_hessian: SMatrix::zeros(),
+        velocity_hessian,
+    }
+}
+
+/// `local` with the terms of `−V(t, R', x')` added, `(R', x') = (R, x) exp(η)` to second
+/// order, `R' = R(I + ω̂ + ½ω̂²)`, `x' = x + R(u + ½ ω × u)` for `η = (ω, u)`: `V`'s
+/// derivatives by a dual number over the six `η` alone (second order with the Hessian,
+/// first order without), through `V` and nothing else.
+fn with_potential<P: PosePotential>(
+    mut local: LocalDerivatives<6>,
+    potential: &P,
+    time: f64,
+    g: &SE3,
+    with_hessian: bool,
+) -> LocalDerivatives<6> {
     let (r, x) = (g.rotation().matrix(), g.translation());
-    let (configuration_gradient, configuration_hessian) = if with_hessian {
+    if with_hessian {
         let (attitude, position) = seeded_pose(r, x);
         let v = -potential.eval(time, &attitude, &position);
-        let gradient =
-            v.v1.unwrap_generic(nalgebra::Const::<1>, nalgebra::Const::<6>);
-        let hessian =
+        local.configuration_gradient =
+            v.v1.unwrap_generic(nalgebra::Const::<1>, nalgebra::Const::<6>)
+                .transpose();
+        local.configuration_hessian =
             v.v2.unwrap_generic(nalgebra::Const::<6>, nalgebra::Const::<6>);
-        (gradient.transpose(), hessian)
     } else {
         let (attitude, position) = seeded_pose_first_order(r, x);
         let v = -potential.eval(time, &attitude, &position);
-        let gradient = v
+        local.configuration_gradient = v
             .eps
             .unwrap_generic(nalgebra::Const::<6>, nalgebra::Const::<1>);
-        (gradient, SMatrix::zeros())
-    };
-    LocalDerivatives {
-        configuration_gradient,
-        momentum,
-        configuration_hessian,
-        velocity_hessian: kinetic,
     }
+    local
 }
 
 /// `(R', x') = (R, x) exp(η)` to second order as second-order dual numbers in the six
@@ -241,20 +231,12 @@ impl GroupLagrangian<6> for FreeBody {
     }
     fn local_derivatives(
         &self,
-        time: f64,
-        g: &SE3,
+        _time: f64,
+        _g: &SE3,
         xi: &SVector<f64, 6>,
         with_hessian: bool,
     ) -> Option<LocalDerivatives<6>> {
-        Some(local_derivatives(
-            None::<&NoPotential>,
-            &self.inertia,
-            self.mass,
-            time,
-            g,
-            xi,
-            with_hessian,
-        ))
+        Some(kinetic_local(&self.inertia, self.mass, xi, with_hessian))
     }
     fn is_left_invariant(&self) -> bool {
         true
@@ -353,13 +335,11 @@ impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
                 self.0.potential(t, r, x)
             }
         }
-        Some(local_derivatives(
-            Some(&Field(&self.potential)),
-            &self.inertia,
-            self.mass,
+        Some(with_potential(
+            kinetic_local(&self.inertia, self.mass, xi, with_hessian),
+            &Field(&self.potential),
             time,
             g,
-            xi,
             with_hessian,
         ))
     }
@@ -486,15 +466,7 @@ impl GroupLagrangian<6> for OrbitingBody {
         xi: &SVector<f64, 6>,
         with_hessian: bool,
     ) -> Option<LocalDerivatives<6>> {
-        let mut local = local_derivatives(
-            None::<&NoPotential>,
-            &self.inertia,
-            self.mass,
-            0.0,
-            g,
-            xi,
-            with_hessian,
-        );
+        let mut local = kinetic_local(&self.inertia, self.mass, xi, with_hessian);
         let (mu, m) = (self.gravitational_parameter, self.mass);
         let j = self.inertia.matrix();
         let b = g.rotation().matrix().transpose() * g.translation();
@@ -509,10 +481,8 @@ impl GroupLagrangian<6> for OrbitingBody {
         let grad =
             b * (mu * m / r3 + 1.5 * mu * trace / r5 - 7.5 * mu * q / r7) + jb * (3.0 * mu / r5);
         let b_hat = lgsvi_lie::so3::hat(&b);
-        // p = −∂W(b(η))/∂η = −[b̂, I]ᵀ∇W = (−b̂ᵀ∇W, −∇W) = (b̂∇W, −∇W)... b̂ᵀ = −b̂.
-        let p_w = b_hat * grad;
-        local.configuration_gradient =
-            SVector::<f64, 6>::new(p_w.x, p_w.y, p_w.z, -grad.x, -grad.y, -grad.z);
+        // p = −∂W(b(η))/∂η = −[b̂, I]ᵀ∇W = (b̂∇W, −∇W) (b̂ᵀ = −b̂).
+        local.configuration_gradient = join(&(b_hat * grad), &-grad);
         if !with_hessian {
             return Some(local);
         }
