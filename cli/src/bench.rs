@@ -85,6 +85,33 @@ pub struct Point {
     pub failure: Option<String>,
 }
 
+impl Point {
+    /// A run of `method` at `knob` on `case` to `t_end` that took `time_s`: its error, or
+    /// the error that stopped it (error NaN, the message kept).
+    pub(crate) fn new(
+        case: &str,
+        t_end: f64,
+        method: &str,
+        knob: String,
+        error: Result<f64>,
+        time_s: f64,
+    ) -> Self {
+        let (error, failure) = match error {
+            Ok(error) => (error, None),
+            Err(e) => (f64::NAN, Some(e.to_string())),
+        };
+        Self {
+            case: case.into(),
+            t_end,
+            method: method.into(),
+            knob,
+            error,
+            time_s,
+            failure,
+        }
+    }
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -370,19 +397,8 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
             let r_ref = reference(case.name, t_end);
             let mut push =
                 |method: &str, knob: String, result: Result<Matrix3<f64>>, time_s: f64| {
-                    let (error, failure) = match result {
-                        Ok(r) => ((r - r_ref).norm(), None),
-                        Err(e) => (f64::NAN, Some(e.to_string())),
-                    };
-                    points.push(Point {
-                        case: case.name.into(),
-                        t_end,
-                        method: method.into(),
-                        knob,
-                        error,
-                        time_s,
-                        failure,
-                    });
+                    let error = result.map(|r| (r - r_ref).norm());
+                    points.push(Point::new(case.name, t_end, method, knob, error, time_s));
                 };
             for (h, nodes) in LGSVI_SWEEPS {
                 for n in nodes {

@@ -147,19 +147,8 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                             knob: String,
                             result: Result<(Matrix3<f64>, Vector3<f64>)>,
                             time_s: f64| {
-                let (error, failure) = match result {
-                    Ok((r, x)) => ((r - r_ref).norm().max((x - x_ref).norm()), None),
-                    Err(e) => (f64::NAN, Some(e.to_string())),
-                };
-                points.push(Point {
-                    case: name.into(),
-                    t_end,
-                    method: method.into(),
-                    knob,
-                    error,
-                    time_s,
-                    failure,
-                });
+                let error = result.map(|(r, x)| (r - r_ref).norm().max((x - x_ref).norm()));
+                points.push(Point::new(name, t_end, method, knob, error, time_s));
             };
             for (h, nodes) in SWEEPS {
                 for n in nodes {

@@ -32,6 +32,26 @@ fn vec3(v: &serde_json::Value) -> Vector3<f64> {
     Vector3::from_row_slice(&nums(v))
 }
 
+/// O1: the orbiting body, its start and its initial velocity `(Ω, v)` (`R₀ = I`, so
+/// `v = ẋ`).
+fn o1() -> (OrbitingBody, SE3, SVector<f64, 6>) {
+    let case = &data()["cases"]["O1"];
+    let j = nums(&case["J"]);
+    let body = OrbitingBody::new(
+        Inertia::from_principal_moments([j[0], j[1], j[2]]).unwrap(),
+        num(&case["m"]),
+        num(&case["mu"]),
+    )
+    .unwrap();
+    let start = SE3::new(SO3::identity(), vec3(&case["x0"]));
+    let (w0, v0) = (vec3(&case["omega0"]), vec3(&case["v0"]));
+    (
+        body,
+        start,
+        SVector::<f64, 6>::new(w0.x, w0.y, w0.z, v0.x, v0.y, v0.z),
+    )
+}
+
 /// The reference states at `t ≤ 10`.
 fn states(case: &str) -> Vec<serde_json::Value> {
     data()["cases"][case]["states"]
@@ -120,17 +140,7 @@ fn constant_torque_matches_the_reference_and_balances_energy() {
 /// O1 on SE(3), in both charts: R, Ω, x, ẋ to 1e-12 at every reference time.
 #[test]
 fn orbiting_body_matches_the_reference_in_both_charts() {
-    let case = &data()["cases"]["O1"];
-    let j = nums(&case["J"]);
-    let body = OrbitingBody::new(
-        Inertia::from_principal_moments([j[0], j[1], j[2]]).unwrap(),
-        num(&case["m"]),
-        num(&case["mu"]),
-    )
-    .unwrap();
-    let start = SE3::new(SO3::identity(), vec3(&case["x0"]));
-    let (w0, v0) = (vec3(&case["omega0"]), vec3(&case["v0"]));
-    let xi = SVector::<f64, 6>::new(w0.x, w0.y, w0.z, v0.x, v0.y, v0.z);
+    let (body, start, xi) = o1();
     let settings = StepSettings::new(0.5, 12).unwrap();
     fn check<C: lgsvi_mechanics::GroupChart<lgsvi_mechanics::RigidMotions, 6>>(
         mut it: Integrator<OrbitingBody, C, 6>,
@@ -506,17 +516,7 @@ fn noether_in_space<C: lgsvi_mechanics::GroupChart<lgsvi_mechanics::RigidMotions
 /// of the flow fails here.
 #[test]
 fn orbiting_steps_are_predicted_by_the_flow() {
-    let case = &data()["cases"]["O1"];
-    let j = nums(&case["J"]);
-    let body = OrbitingBody::new(
-        Inertia::from_principal_moments([j[0], j[1], j[2]]).unwrap(),
-        num(&case["m"]),
-        num(&case["mu"]),
-    )
-    .unwrap();
-    let start = SE3::new(SO3::identity(), vec3(&case["x0"]));
-    let (w0, v0) = (vec3(&case["omega0"]), vec3(&case["v0"]));
-    let xi = SVector::<f64, 6>::new(w0.x, w0.y, w0.z, v0.x, v0.y, v0.z);
+    let (body, start, xi) = o1();
     let mut it = Integrator::new(body, StepSettings::new(2.0, 8).unwrap(), start, xi).unwrap();
     it.run(50, 50).unwrap();
     let s = it.statistics();
