@@ -214,11 +214,10 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         };
         MatrixJet::from_rodrigues_first_order(&c, x)
     };
-    // The attitude is needed by ℓ unless it is left-invariant, and by a force that
-    // depends on it.
-    let force_needs_attitude = point.force.is_some_and(|f| f.depends_on_configuration());
-    let attitude_free = system.is_left_invariant() && !force_needs_attitude;
-    let phi = if attitude_free {
+    // Φ's jet for an attitude-dependent ℓ. A left-invariant ℓ does not depend on R (the
+    // trait's contract): any attitude will do, and the base saves evaluating Φ(x) — unless
+    // a force reads the attitude, which needs Φ(x)'s value alone.
+    let phi = if system.is_left_invariant() {
         None
     } else if with_hessian {
         let Some(c) = chart.rotation_coefficients(s2) else {
@@ -231,9 +230,13 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         };
         Some(MatrixJet::from_rodrigues_first_order(&c, x))
     };
-    // A left-invariant ℓ does not depend on R (the trait's contract): any attitude will
-    // do, and the base saves evaluating Φ(x).
-    let r = phi.as_ref().map_or(*base, |p| base * p.value);
+    let r = match &phi {
+        Some(p) => base * p.value,
+        None if point.force.is_some_and(|f| f.depends_on_configuration()) => {
+            base * chart.to_group(x).matrix()
+        }
+        None => *base,
+    };
     let omega = a.value * v;
     let l = system.derivatives(&r, &omega);
     let g = l.velocity_gradient;
@@ -272,10 +275,9 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         }
     }
 
-    // ℓ's attitude terms (none for a left-invariant ℓ, whose Φ(x), if formed, serves the
-    // force alone).
+    // ℓ's attitude terms (none for a left-invariant ℓ).
     'attitude: {
-        let Some(p) = phi.filter(|_| !system.is_left_invariant()) else {
+        let Some(p) = phi else {
             break 'attitude;
         };
         // ⟨G, B M⟩ = ⟨BᵀG, M⟩ and ⟨G, R S⟩ = ⟨RᵀG, S⟩.
