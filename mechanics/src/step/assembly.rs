@@ -12,7 +12,7 @@ use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
-use crate::settings::NewtonJacobian;
+use crate::settings::{Matching, NewtonJacobian};
 use crate::system::GroupLagrangian;
 use faer::dyn_stack::MemBuffer;
 use faer::linalg::lu::partial_pivoting::factor;
@@ -32,6 +32,9 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// matching rows).
     pub(super) dq_dx: Vec<SMatrix<f64, D, D>>,
     pub(super) dq_dv: Vec<SMatrix<f64, D, D>>,
+    /// `∂w/∂ξᵏ` (index `k`, `k ≥ 1`) from the last Newton matrix with configuration
+    /// terms: carries `w` through a last chord step without another assembly.
+    pub(super) dw_dxi: Vec<SMatrix<f64, D, D>>,
     pub(super) x: Vec<SVector<f64, D>>,
     pub(super) v: Vec<SVector<f64, D>>,
     /// The matching's `w` and `A(ξⁿ)ᵀ Ad_{Φ(ξⁿ)}ᵀ`, from the last assembly.
@@ -73,6 +76,7 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             points: vec![J::zeros(); d.m],
             dq_dx: vec![SMatrix::zeros(); d.m],
             dq_dv: vec![SMatrix::zeros(); d.m],
+            dw_dxi: vec![SMatrix::zeros(); d.n],
             x: vec![SVector::zeros(); d.m],
             v: vec![SVector::zeros(); d.m],
             matching: MatchingTerms::default(),
@@ -241,11 +245,17 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             }
         }
         // One product for the D component rows (D would pay faer's dispatch D times).
+        // Column 0 (the equation of ξ¹) enters only the paper's matching: the exact
+        // matching skips it (one column in n of the product).
+        let first = match self.settings.matching() {
+            Matching::Exact => 1,
+            Matching::Paper => 0,
+        };
         matmul(
-            work.action_hessian.as_mut(),
+            work.action_hessian.as_mut().subcols_mut(first, n - first),
             Accum::Replace,
             work.hessian_times_basis.as_ref(),
-            d.weighted_basis.as_ref(),
+            d.weighted_basis.as_ref().subcols(first, n - first),
             1.0,
             Par::Seq,
         );

@@ -108,6 +108,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                             dw += (work.dq_dx[j] * d.value(j, k) + work.dq_dv[j] * d.slope(j, k))
                                 * d.weights[j];
                         }
+                        work.dw_dxi[k] = dw;
                         block += transport * dw;
                     }
                     put_block(&mut work.jacobian, last, D * (k - 1), &block);
@@ -120,6 +121,24 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 }
             }
         }
+    }
+
+    /// Carries the matching's `w` through a step `δ` of the unknowns (`work.delta`, just
+    /// added to `work.xi`) to first order, with the `∂w/∂ξ` of the last Newton matrix:
+    /// `w += Σ_k ∂w/∂ξᵏ δᵏ`. Used after a last chord step from the rounding floor, where
+    /// `|δ|` is itself at the floor and the neglected terms (`|δ|²`, and the matrix's
+    /// staleness `r_f |δ|`) are far below rounding; a symmetry of `ℓ` that makes a
+    /// component of `Ad_{g_k⁻¹}ᵀ w` independent of `ξ` keeps it, since every `∂w/∂ξᵏ` then
+    /// has that component zero.
+    pub(super) fn carry_matching(&self, work: &mut WorkspaceOf<S, D>) {
+        if !self.needs_configuration() {
+            return;
+        }
+        let mut w = work.matching.w;
+        for (dw, delta) in work.dw_dxi[1..].iter().zip(work.delta.chunks_exact(D)) {
+            w += dw * SVector::<f64, D>::from_column_slice(delta);
+        }
+        work.matching.w = w;
     }
 
     /// `∂/∂y [A(y)ᵀ Ad_{Φ(y)}ᵀ w]` at `y`, by dual numbers.

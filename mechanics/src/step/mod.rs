@@ -82,10 +82,11 @@ impl<S: GroupLagrangian<D>, C, const D: usize> Stepper<'_, S, C, D> {
             && (!self.system.is_left_invariant() || self.forcing.is_some())
     }
 
-    /// Whether the momentum update reads nothing from an assembly at the final iterate:
-    /// exact matching without configuration terms, where `w = μ_k`.
+    /// Whether the momentum update needs no assembly at the final iterate: the exact
+    /// matching, whose `w` is `μ_k` without configuration terms and is carried through a
+    /// last chord step with them ([`Stepper::carry_matching`]).
     fn momentum_is_assembly_free(&self) -> bool {
-        self.settings.matching() == Matching::Exact && !self.needs_configuration()
+        self.settings.matching() == Matching::Exact
     }
 }
 

@@ -217,13 +217,15 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             iterations += 1;
             // A chord step from an iterate at the rounding floor whose predicted remainder
             // is below CHORD_REMAINDER leaves nothing for another assembly to show but the
-            // floor again; where the momentum update needs no assembly at the new iterate
-            // (exact matching of a left-invariant ℓ: w = μ_k), accept it now (the
-            // simplified Newton stopping rule of implicit Runge–Kutta codes: stop when the
-            // estimated error after the step is below tolerance). Saves one of the four
+            // floor again: accept it now (the simplified Newton stopping rule of implicit
+            // Runge–Kutta codes: stop when the estimated error after the step is below
+            // tolerance). The exact matching's momentum update reads `w`, which is `μ_k`
+            // for a left-invariant, unforced ℓ and otherwise is carried through the step
+            // to first order ([`Stepper::carry_matching`]). Saves one of the four
             // assemblies of a typical step.
             if chord.is_some() && pending == 0.0 && at_floor && self.momentum_is_assembly_free() {
                 self.check_domain(work, step, time)?;
+                self.carry_matching(work);
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
         }

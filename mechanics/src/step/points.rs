@@ -305,21 +305,37 @@ pub(super) fn chain_rule<S, C, const D: usize>(
         let gradient_x = a.transpose() * p + j.transpose() * mu;
         let gradient_v = a.transpose() * mu;
         if with_hessian {
-            let l_xe = l_ex.transpose();
             // K(b, a) = ∂(Aᵀp)_b/∂x_a = pᵀ∂_aA e_b, the transpose of K_ab; M likewise.
             let k = derivatives.transpose_times(&p).transpose();
             let m = derivatives.transpose_times(&mu).transpose();
             let h = derivatives.second(&mu, v);
             let at_ = a.transpose();
             let jt = j.transpose();
-            let h_xx = at_ * l_ee * a
-                + at_ * l_ex * j
-                + jt * l_xe * a
-                + jt * l_xx * j
-                + (k + k.transpose()) * 0.5
-                + h;
-            let h_xv = at_ * l_ex * a + jt * l_xx * a + m;
-            let h_vv = at_ * l_xx * a;
+            // The products grouped (L_ηη, L_ξξ symmetric, L_ξη = L_ηξᵀ):
+            // T₁ = L_ηη A + L_ηξ J, T₂ = L_ξη A + L_ξξ J; then H_xx = AᵀT₁ + JᵀT₂ + …,
+            // H_xv = T₂ᵀA + M, H_xζ = T₁ᵀ + …, H_vζ = (L_ηξ A)ᵀ: 12 products of D × D
+            // matrices where the formula has 18, and fewer where ℓ's own derivatives have
+            // no mixed block (L_ηξ = 0: every system with local_derivatives) or no
+            // configuration block (L_ηη = 0: a free body).
+            let mixed = l_ex.iter().any(|&e| e != 0.0);
+            let configured = l_ee.iter().any(|&e| e != 0.0);
+            let mut t1 = SMatrix::<f64, D, D>::zeros();
+            let mut t2 = l_xx * j;
+            if configured {
+                t1 = l_ee * a;
+            }
+            let mut l_ex_a = SMatrix::<f64, D, D>::zeros();
+            if mixed {
+                t1 += l_ex * j;
+                t2 += l_ex.transpose() * a;
+                l_ex_a = l_ex * a;
+            }
+            let mut h_xx = jt * t2 + (k + k.transpose()) * 0.5 + h;
+            if configured || mixed {
+                h_xx += at_ * t1;
+            }
+            let h_xv = t2.transpose() * a + m;
+            let h_vv = at_ * (l_xx * a);
             let mut put = |r0: usize, c0: usize, b: &SMatrix<f64, D, D>| {
                 for r in 0..D {
                     for c in 0..D {
@@ -333,8 +349,8 @@ pub(super) fn chain_rule<S, C, const D: usize>(
             put(D, D, &h_vv);
             if with_configuration {
                 let coadjoint = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
-                let h_xz = at_ * l_ee + jt * l_xe + (coadjoint * a).transpose() * 0.5;
-                let h_vz = at_ * l_xe;
+                let h_xz = t1.transpose() + (coadjoint * a).transpose() * 0.5;
+                let h_vz = l_ex_a.transpose();
                 put(0, 2 * D, &h_xz);
                 put(D, 2 * D, &h_vz);
                 put(2 * D, 2 * D, &l_ee);
