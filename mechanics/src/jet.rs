@@ -16,6 +16,19 @@
 //! `R = B Φ(x)(I + ζ̂ + ½ζ̂²) + O(ζ³)` and `Ω = A(x) v`. This replaces a 6- or 9-variable
 //! second-order dual number through the whole chart (≈ 90 floats per operation) by a few
 //! hundred floating-point operations per Gauss point.
+//!
+//! # Attitude terms
+//! `Φ`'s derivatives are not needed beyond `A`'s: `A` is `Φ`'s left-trivialised
+//! differential, `Φ⁻¹ ∂_kΦ = û_k` with `u_k = A e_k`, so `∂_k∂_lΦ = Φ(û_k û_l + (∂_kA e_l)^)`.
+//! With `G = ∂ℓ/∂R`, `M = RᵀG`, `γ` the axial vector of `M − Mᵀ` (`⟨M, ŷ⟩ = γ·y`) and
+//! `â b̂ = b aᵀ − (a·b) I`:
+//!
+//! - `∂ℓ/∂x_k = ⟨G, B ∂_kΦ⟩ = γ·u_k`, i.e. `Aᵀγ`; `∂ℓ/∂ζ = γ`;
+//! - `⟨G, B ∂_k∂_lΦ⟩ = u_lᵀ M u_k − (u_k·u_l) tr M + γᵀ ∂_kA e_l`, i.e.
+//!   `Aᵀ(Mᵀ − tr M I)A` plus `γ` contracted with `A`'s first derivatives;
+//! - `⟨G, B ∂_kΦ ê_c⟩ = ⟨M, û_k ê_c⟩ = ((M − tr M I) A)_ck`.
+//!
+//! Only `Φ(x)`'s value is formed; `A`'s jet serves both.
 
 use crate::group::{GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
@@ -27,9 +40,9 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
 
 /// A 3×3 matrix function `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` of `x ∈ ℝ³` with the
-/// derivatives of its coefficients in `s`: its first partial derivatives `∂_k M` as
-/// matrices ([`MatrixJet::first`]) or, cheaper, contracted with a vector
-/// ([`MatrixJet::first_times`], [`MatrixJet::first_transposed_times`]); second
+/// derivatives of its coefficients in `s`: its first partial derivatives `∂_k M`
+/// contracted with a vector ([`MatrixJet::first_times`],
+/// [`MatrixJet::first_transposed_times`]); second
 /// derivatives are only ever needed contracted with a matrix, `⟨G, ∂_k∂_l M⟩`, which
 /// [`MatrixJet::second_contracted`] forms directly.
 #[derive(Debug, Clone, Copy)]
@@ -87,29 +100,6 @@ impl MatrixJet {
         )
     }
 
-    /// `∂_k M = 2e′x_k I + 2a′x_k x̂ + a ê_k + 2b′x_k x̂² + b D_k` for `k = 0, 1, 2`.
-    pub fn first(&self) -> [Matrix3<f64>; 3] {
-        let x = &self.x;
-        let [_, a, b] = self.c0;
-        let [e1, a1, b1] = self.c1;
-        let xh = hat(x);
-        let xh2 = x * x.transpose() - Matrix3::from_diagonal_element(x.norm_squared());
-        std::array::from_fn(|k| {
-            let xk = x[k];
-            // D_k = ∂_k x̂² = e_k xᵀ + x e_kᵀ − 2x_k I.
-            let mut dk = Matrix3::from_diagonal_element(-2.0 * xk);
-            for i in 0..3 {
-                dk[(k, i)] += x[i];
-                dk[(i, k)] += x[i];
-            }
-            let mut f = xh * (2.0 * a1 * xk) + unit_hat(k) * a + xh2 * (2.0 * b1 * xk) + dk * b;
-            for i in 0..3 {
-                f[(i, i)] += 2.0 * e1 * xk;
-            }
-            f
-        })
-    }
-
     /// The matrix with columns `∂_k M v`: `u xᵀ − a v̂ + b (x·v) I + b x vᵀ` with
     /// `u = 2e′v + 2a′ x×v + 2b′ x̂²v − 2b v` (the formula for `∂_k M` applied to `v`,
     /// `D_k v = e_k (x·v) + x v_k − 2x_k v`), without forming the three matrices.
@@ -139,20 +129,6 @@ impl MatrixJet {
             out[(i, i)] += b * xv;
         }
         out
-    }
-
-    /// `[⟨G, ∂_k M⟩]_k = x (2e′ tr G + 2a′ γ·x + 2b′ (xᵀGx − s tr G)) + a γ
-    /// + b ((G + Gᵀ)x − 2 tr G x)`, from the contractions listed at
-    /// [`MatrixJet::second_contracted`], without forming the three matrices.
-    pub fn first_contracted(&self, g: &Matrix3<f64>) -> Vector3<f64> {
-        let x = &self.x;
-        let [_, a, b] = self.c0;
-        let [e1, a1, b1] = self.c1;
-        let t = g.trace();
-        let gamma = axial(g);
-        let q = x.dot(&(g * x)) - x.norm_squared() * t;
-        let u = (g + g.transpose()) * x - x * (2.0 * t);
-        x * (2.0 * (e1 * t + a1 * gamma.dot(x) + b1 * q)) + gamma * a + u * b
     }
 
     /// `[⟨G, ∂_k∂_l M⟩]_kl`, from the formula in the module's documentation with
@@ -214,28 +190,14 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         };
         MatrixJet::from_rodrigues_first_order(&c, x)
     };
-    // Φ's jet for an attitude-dependent ℓ. A left-invariant ℓ does not depend on R (the
-    // trait's contract): any attitude will do, and the base saves evaluating Φ(x) — unless
-    // a force reads the attitude, which needs Φ(x)'s value alone.
-    let phi = if system.is_left_invariant() {
-        None
-    } else if with_hessian {
-        let Some(c) = chart.rotation_coefficients(s2) else {
-            return false;
-        };
-        Some(MatrixJet::from_rodrigues(&c, x))
+    // Φ(x)'s value for an attitude-dependent ℓ or a force that reads the attitude: its
+    // derivatives follow from A's (module documentation, "Attitude terms"). A
+    // left-invariant ℓ does not depend on R (the trait's contract): any attitude will do.
+    let attitude = !system.is_left_invariant();
+    let r = if attitude || point.force.is_some_and(|f| f.depends_on_configuration()) {
+        base * chart.to_group(x).matrix()
     } else {
-        let Some(c) = chart.rotation_coefficients(s1) else {
-            return false;
-        };
-        Some(MatrixJet::from_rodrigues_first_order(&c, x))
-    };
-    let r = match &phi {
-        Some(p) => base * p.value,
-        None if point.force.is_some_and(|f| f.depends_on_configuration()) => {
-            base * chart.to_group(x).matrix()
-        }
-        None => *base,
+        *base
     };
     let omega = a.value * v;
     let l = system.derivatives(&r, &omega);
@@ -275,68 +237,70 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         }
     }
 
-    // ℓ's attitude terms (none for a left-invariant ℓ).
-    'attitude: {
-        let Some(p) = phi else {
-            break 'attitude;
-        };
-        // ⟨G, B M⟩ = ⟨BᵀG, M⟩ and ⟨G, R S⟩ = ⟨RᵀG, S⟩.
-        let g_base = base.transpose() * l.attitude_gradient;
-        let g_r = r.transpose() * l.attitude_gradient;
-        let first = p.first_contracted(&g_base);
+    // ℓ's attitude terms (none for a left-invariant ℓ), with M = Rᵀ ∂ℓ/∂R and
+    // u_k = A e_k (module documentation, "Attitude terms").
+    if attitude {
+        let m = r.transpose() * l.attitude_gradient;
+        let gamma = axial(&m);
+        let a_value = a.value;
+        let gradient_x = a_value.transpose() * gamma;
         for k in 0..3 {
-            gradient[k] += first[k];
+            gradient[k] += gradient_x[k];
         }
         if with_configuration {
-            // ⟨G, ê_c⟩ = γ_c, the axial vector of G − Gᵀ.
-            let gamma = axial(&g_r);
             for c in 0..3 {
                 gradient[6 + c] += gamma[c];
             }
         }
-        if !with_hessian {
-            break 'attitude;
-        }
-        let second = p.second_contracted(&g_base);
-        for k in 0..3 {
-            for m in 0..3 {
-                hessian[(k, m)] += second[(k, m)];
+        if with_hessian {
+            let trace = m.trace();
+            let mut m_t = m.transpose();
+            let mut m_shifted = m;
+            for i in 0..3 {
+                m_t[(i, i)] -= trace;
+                m_shifted[(i, i)] -= trace;
             }
-        }
-        if with_configuration {
-            let trace = g_r.trace();
-            for c in 0..3 {
-                // ⟨G, ∂_kΦ ê_c⟩ = ⟨G ê_cᵀ, ∂_kΦ⟩.
-                let mixed = p.first_contracted(&(g_base * unit_hat(c).transpose()));
-                for k in 0..3 {
-                    hessian[(k, 6 + c)] += mixed[k];
-                    hessian[(6 + c, k)] += mixed[k];
+            // ⟨M, û_k û_l⟩ + γᵀ ∂_kA e_l.
+            let second = a_value.transpose() * m_t * a_value + a.first_transposed_times(&gamma);
+            for k in 0..3 {
+                for l in 0..3 {
+                    hessian[(k, l)] += second[(k, l)];
                 }
-                // ½⟨G, ê_c ê_d + ê_d ê_c⟩ with ê_c ê_d = e_d e_cᵀ − δ_cd I.
-                for d in 0..3 {
-                    let delta = if c == d { trace } else { 0.0 };
-                    hessian[(6 + c, 6 + d)] += 0.5 * (g_r[(d, c)] + g_r[(c, d)]) - delta;
-                }
-            }
-        }
-        if l.attitude_hessian.is_some() || l.mixed_hessian.is_some() {
-            // ∂R/∂u for u = (x, v, ζ), flattened: columns x (B ∂_kΦ) and ζ (R ê_c).
-            let e_hat = [unit_hat(0), unit_hat(1), unit_hat(2)];
-            let mut jr = SMatrix::<f64, 9, 9>::zeros();
-            for (k, first) in p.first().iter().enumerate() {
-                jr.set_column(k, &flatten(&(base * first)));
             }
             if with_configuration {
-                for (c, e) in e_hat.iter().enumerate() {
-                    jr.set_column(6 + c, &flatten(&(r * e)));
+                // ⟨M, û_k ê_c⟩ = ((M − tr M) A)_ck.
+                let mixed = m_shifted * a_value;
+                for c in 0..3 {
+                    for k in 0..3 {
+                        hessian[(k, 6 + c)] += mixed[(c, k)];
+                        hessian[(6 + c, k)] += mixed[(c, k)];
+                    }
+                    // ½⟨M, ê_c ê_d + ê_d ê_c⟩ with ê_c ê_d = e_d e_cᵀ − δ_cd I.
+                    for d in 0..3 {
+                        let delta = if c == d { trace } else { 0.0 };
+                        hessian[(6 + c, 6 + d)] += 0.5 * (m[(d, c)] + m[(c, d)]) - delta;
+                    }
                 }
             }
-            if let Some(h_rr) = l.attitude_hessian {
-                *hessian += jr.transpose() * h_rr * jr;
-            }
-            if let Some(h_rw) = l.mixed_hessian {
-                let t = jr.transpose() * h_rw * jw;
-                *hessian += t + t.transpose();
+            if l.attitude_hessian.is_some() || l.mixed_hessian.is_some() {
+                // ∂R/∂y for y = (x, v, ζ), flattened: columns x (R û_k) and ζ (R ê_c).
+                let mut jr = SMatrix::<f64, 9, 9>::zeros();
+                for k in 0..3 {
+                    let u = a_value.column(k).into_owned();
+                    jr.set_column(k, &flatten(&(r * hat(&u))));
+                }
+                if with_configuration {
+                    for c in 0..3 {
+                        jr.set_column(6 + c, &flatten(&(r * unit_hat(c))));
+                    }
+                }
+                if let Some(h_rr) = l.attitude_hessian {
+                    *hessian += jr.transpose() * h_rr * jr;
+                }
+                if let Some(h_rw) = l.mixed_hessian {
+                    let t = jr.transpose() * h_rw * jw;
+                    *hessian += t + t.transpose();
+                }
             }
         }
     }
