@@ -25,6 +25,7 @@ use crate::settings::Matching;
 use crate::system::GroupLagrangian;
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
+#[cfg(test)]
 use num_dual::DualSVec64;
 
 /// `Ad_{Φ(x)⁻¹}ᵀ`: takes a configuration force at a Gauss point to the step's start.
@@ -141,8 +142,27 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         work.matching.w = w;
     }
 
-    /// `∂/∂y [A(y)ᵀ Ad_{Φ(y)}ᵀ w]` at `y`, by dual numbers.
-    fn matching_map_jacobian(
+    /// `∂/∂y [A(y)ᵀ Ad_{Φ(y)}ᵀ w]` at `y`: with `z = Ad_{Φ(y)}ᵀ w` and
+    /// `Φ(y + t e_a) = Φ(y) exp(t A e_a + O(t²))`, `∂_a z = ad_{A e_a}ᵀ z = C(z) A e_a`,
+    /// so the Jacobian is `∂(Aᵀz)/∂y` at fixed `z` plus `Aᵀ C(z) A`, from the chart's
+    /// derivatives (closed form where the chart has them).
+    pub(super) fn matching_map_jacobian(
+        &self,
+        y: &SVector<f64, D>,
+        w: &SVector<f64, D>,
+    ) -> SMatrix<f64, D, D> {
+        let z = self.chart.to_group(y).adjoint().transpose() * w;
+        self.chart.with_derivatives(y, false, |derivatives| {
+            let a = derivatives.differential();
+            derivatives.transpose_times(&z)
+                + a.transpose() * <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&z) * a
+        })
+    }
+
+    /// [`Stepper::matching_map_jacobian`] by dual numbers through the chart and the
+    /// group's adjoint: the tests' reference.
+    #[cfg(test)]
+    pub(super) fn matching_map_jacobian_by_dual_numbers(
         &self,
         y: &SVector<f64, D>,
         w: &SVector<f64, D>,
