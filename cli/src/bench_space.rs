@@ -18,7 +18,7 @@ use std::fmt::Write;
 const REFERENCES: &str = include_str!("../../tests/data/se3_forced_refs.json");
 
 /// lgsvi's sweeps: `(h, nodes)`, steps that divide both horizons (the orbiting body's
-/// best runs take steps of a fifth of its 12-unit orbit).
+/// best runs take steps of about a sixth of its orbit).
 const SWEEPS: [(f64, std::ops::RangeInclusive<usize>); 5] = [
     (0.5, 4..=14),
     (1.0, 6..=20),
