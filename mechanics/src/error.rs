@@ -119,6 +119,39 @@ pub enum MechanicsError {
         /// What the chart said.
         source: LieError,
     },
+    /// A tolerance-driven step whose error estimate stays above its share of the
+    /// tolerance with every remedy the settings allow spent (the most nodes, and the
+    /// most halvings of the step where the step may change): accepting it would end the
+    /// run further from the truth than the tolerance asked.
+    #[error(
+        "step {step} (t = {time}): the error estimate {estimate:e} stays above the step's share \
+         {budget:e} of the tolerance at {nodes} nodes{halved}; {advice}"
+    )]
+    ToleranceNotMet {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// The step's error estimate.
+        estimate: f64,
+        /// Its share of the tolerance (`rate · h`).
+        budget: f64,
+        /// The nodes it was solved with (the most allowed).
+        nodes: usize,
+        /// ", after halving the step to …" where the step was halved.
+        halved: String,
+        /// What to change.
+        advice: &'static str,
+    },
+    /// A starting configuration that is not on the group (an attitude that is not a
+    /// rotation).
+    #[error("{what}: {source}")]
+    NotOnGroup {
+        /// Which configuration ("initial configuration", "reset configuration").
+        what: &'static str,
+        /// Why it is not on the group.
+        source: LieError,
+    },
     /// An invalid attitude or other geometric input.
     #[error(transparent)]
     Lie(#[from] LieError),

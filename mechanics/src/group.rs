@@ -241,6 +241,18 @@ pub trait ConfigurationGroup<const D: usize>:
     fn renormalise(g: &Self::Element<f64>) -> Self::Element<f64>;
     /// Whether every entry of `g` is finite.
     fn is_finite(g: &Self::Element<f64>) -> bool;
+    /// Checks that `g` lies on the group to the group's tolerance (a starting state that
+    /// does not would have its error dropped silently by the first step's
+    /// renormalisation). The default accepts every element: a group whose elements
+    /// cannot leave it.
+    ///
+    /// # Errors
+    /// Why `g` is not on the group (for SO(3): [`LieError::NotOrthogonal`] beyond
+    /// `‖RᵀR − I‖_F ≤ 1e-9`, [`LieError::NotProperRotation`] for a reflection).
+    fn check_on_group(g: &Self::Element<f64>) -> Result<(), LieError> {
+        let _ = g;
+        Ok(())
+    }
     /// The matrix of `η ↦ ad_ηᵀ p`: the coadjoint term of the Euler–Poincaré equations
     /// (`μ̇ = ad_ξᵀ μ + p`) and of the derivative of `Ad_{Φ(x)⁻¹}ᵀ p` in `x`.
     fn coadjoint_generator(p: &SVector<f64, D>) -> SMatrix<f64, D, D>;
@@ -296,6 +308,9 @@ impl ConfigurationGroup<3> for Rotations {
     fn is_finite(g: &SO3) -> bool {
         g.matrix().iter().all(|x| x.is_finite())
     }
+    fn check_on_group(g: &SO3) -> Result<(), LieError> {
+        SO3::try_from_matrix(*g.matrix()).map(|_| ())
+    }
     fn coadjoint_generator(p: &Vector3<f64>) -> Matrix3<f64> {
         lgsvi_lie::so3::hat(p)
     }
@@ -338,6 +353,9 @@ impl ConfigurationGroup<6> for RigidMotions {
     }
     fn is_finite(g: &SE3) -> bool {
         Rotations::is_finite(g.rotation()) && g.translation().iter().all(|x| x.is_finite())
+    }
+    fn check_on_group(g: &SE3) -> Result<(), LieError> {
+        Rotations::check_on_group(g.rotation())
     }
     /// With `p = (p_ω, p_v)`: `ad_(ω,v)ᵀ p = (−ω̂ p_ω − v̂ p_v, −ω̂ p_v)`, i.e.
     /// `[[p̂_ω, p̂_v], [p̂_v, 0]]` applied to `(ω, v)`.

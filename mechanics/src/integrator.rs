@@ -243,12 +243,23 @@ impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> GalerkinCurv
         *self.basis.nodes().last().unwrap_or(&0.0)
     }
 
-    /// `(g(t), ξ(t))` at `t` seconds after the step's start (`0 ≤ t ≤ h`; outside,
-    /// the polynomial is extrapolated).
+    /// `(g(t), ξ(t))` at `t` seconds after the step's start, `0 ≤ t ≤ h` (up to a
+    /// rounding slack of `1e-12 h` at either end).
     ///
     /// # Errors
-    /// [`MechanicsError::Spectral`] for a non-finite `t`.
+    /// [`MechanicsError::InvalidSetting`] for a `t` outside the step (the polynomial
+    /// describes the motion within its step only) or not finite.
     pub fn at(&self, t: f64) -> Result<(G::Element<f64>, SVector<f64, D>), MechanicsError> {
+        let h = self.step();
+        let slack = 1e-12 * h;
+        if !(t >= -slack && t <= h + slack) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "t",
+                value: format!("{t:?}"),
+                reason: "outside the step [0, h] the Galerkin curve is an extrapolation,                          not the motion: take the curve of the step that contains the time",
+            });
+        }
+        let t = t.clamp(0.0, h);
         let n = self.nodes.len();
         let mut phi = vec![0.0; n];
         let mut dphi = vec![0.0; n];
@@ -422,7 +433,9 @@ where
     /// the chart the settings name.
     ///
     /// # Errors
-    /// [`MechanicsError::NonFinite`] for a non-finite `ξ₀` or `g₀`; errors of the
+    /// [`MechanicsError::NonFinite`] for a non-finite `ξ₀` or `g₀`;
+    /// [`MechanicsError::NotOnGroup`] for a `g₀` off the group (an attitude that is not a
+    /// rotation to `‖RᵀR − I‖_F ≤ 1e-9`, or a reflection); errors of the
     /// quadrature or basis construction (not expected for valid settings).
     pub fn new(
         system: S,
@@ -471,6 +484,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 value: format!("{configuration:?}"),
             });
         }
+        <S::Group as ConfigurationGroup<D>>::check_on_group(&configuration).map_err(|source| {
+            MechanicsError::NotOnGroup {
+                what: "initial configuration",
+                source,
+            }
+        })?;
         let discretisation = Discretisation::shared(&settings)?;
         let work = Workspace::new(&discretisation);
         let momentum = body_momentum(&system, 0.0, &configuration, &velocity);
@@ -629,8 +648,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// The tables, the workspace, the input and the statistics are kept.
     ///
     /// # Errors
-    /// [`MechanicsError::NonFinite`] for a non-finite time, configuration or velocity
-    /// (the integrator is then unchanged).
+    /// [`MechanicsError::NonFinite`] for a non-finite time, configuration or velocity,
+    /// [`MechanicsError::NotOnGroup`] for a configuration off the group (the integrator
+    /// is then unchanged).
     pub fn reset(
         &mut self,
         time: f64,
@@ -645,6 +665,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 value: format!("{configuration:?}"),
             });
         }
+        <S::Group as ConfigurationGroup<D>>::check_on_group(&configuration).map_err(|source| {
+            MechanicsError::NotOnGroup {
+                what: "reset configuration",
+                source,
+            }
+        })?;
         let momentum = body_momentum(&self.system, time, &configuration, &velocity);
         self.state = State {
             time,
@@ -991,6 +1017,34 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 self.switch_step(0.5 * self.settings.step())?;
                 continue;
             }
+            if estimate > budget {
+                // Every remedy spent: accepting the step would miss the tolerance quietly.
+                let (halved, advice) = if adaptive.step_changes {
+                    (
+                        format!(
+                            ", after halving the step {halvings} times to {:e}",
+                            self.settings.step()
+                        ),
+                        "the tolerance is below what this motion allows in double precision: \
+                         raise it",
+                    )
+                } else {
+                    (
+                        String::new(),
+                        "raise the tolerance, allow more nodes, shorten the step h, or let the \
+                         step change",
+                    )
+                };
+                return Err(MechanicsError::ToleranceNotMet {
+                    step: self.step_index,
+                    time: self.state.time,
+                    estimate,
+                    budget,
+                    nodes: n,
+                    halved,
+                    advice,
+                });
+            }
             let iterations = self.commit(&base, outcome, estimate)?;
             if std::mem::take(&mut self.lowered) {
                 // The fall held: the next wait starts short again.
@@ -1264,15 +1318,18 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         Ok(trajectory)
     }
 
-    /// The number of steps from the current time to reach `t_end` (the last one may
-    /// overshoot by less than `h`: the method has a fixed step).
+    /// The number of steps of length `h` from the current time to reach `t_end` or pass
+    /// it by less than `h` ([`Integrator::run_until`] shortens the last one to land on
+    /// `t_end`).
     ///
     /// # Errors
-    /// [`MechanicsError::InvalidSetting`] for a non-finite or negative `t_end`, and for a
-    /// run whose step may change ([`StepSettings::with_step_changes`]): it has no fixed
-    /// number of steps ([`Integrator::run_until`] takes it to `t_end`).
+    /// [`MechanicsError::InvalidSetting`] for a non-finite or negative `t_end`, a `t_end`
+    /// before the current time, more than 2⁵³ steps (beyond what the step count can hold
+    /// exactly as a time), and a run whose step may change
+    /// ([`StepSettings::with_step_changes`]): it has no fixed number of steps
+    /// ([`Integrator::run_until`] takes it to `t_end`).
     pub fn steps_until(&self, t_end: f64) -> Result<usize, MechanicsError> {
-        check_horizon(t_end)?;
+        self.check_end(t_end)?;
         if self.settings.adaptive().is_some_and(|a| a.step_changes) {
             return Err(MechanicsError::InvalidSetting {
                 name: "step changes",
@@ -1284,26 +1341,71 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let remaining = (t_end - self.state.time).max(0.0);
         // A relative slack of 1e-9 steps keeps t_end = k·h from taking a (k+1)-th step
         // because of rounding in the division.
-        Ok((remaining / self.settings.step() - 1e-9).ceil().max(0.0) as usize)
+        let steps = (remaining / self.settings.step() - 1e-9).ceil().max(0.0);
+        Self::check_step_count(t_end, steps)?;
+        Ok(steps as usize)
     }
 
-    /// Steps until `t_end` (the last step may overshoot by less than `h`: the method has
-    /// a fixed step), recording as [`Integrator::run`]. A run whose step may change
-    /// ([`StepSettings::with_step_changes`]) shortens its last step to end on `t_end`.
+    /// A horizon must be finite, non-negative and not before the current time (within a
+    /// billionth of a step: the rounding of the time's sums).
+    fn check_end(&self, t_end: f64) -> Result<(), MechanicsError> {
+        check_horizon(t_end)?;
+        if t_end < self.state.time - 1e-9 * self.settings.step() {
+            return Err(MechanicsError::InvalidSetting {
+                name: "t-end",
+                value: format!("{t_end:?}"),
+                reason: "is before the current time (state().time): the integrator steps \
+                         forward only; reset it to an earlier state to go back",
+            });
+        }
+        Ok(())
+    }
+
+    /// At most 2⁵³ steps: the time `t₀ + k h` is formed from the step count `k`.
+    fn check_step_count(t_end: f64, steps: f64) -> Result<(), MechanicsError> {
+        if steps > 2f64.powi(53) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "t-end",
+                value: format!("{t_end:?}"),
+                reason: "needs more than 2^53 steps of h from the current time: take a \
+                         longer step or a nearer end",
+            });
+        }
+        Ok(())
+    }
+
+    /// Steps until exactly `t_end`, recording as [`Integrator::run`]: steps of `h`, then
+    /// one shorter step (itself a variational step, of its own length) where `t_end` is
+    /// not a whole number of steps away; `h` is kept for the steps after. A run whose
+    /// step may change ([`StepSettings::with_step_changes`]) likewise shortens its last
+    /// step to end on `t_end`.
     ///
     /// # Errors
-    /// As [`Integrator::run`]; [`MechanicsError::InvalidSetting`] for a non-finite or
-    /// negative `t_end`.
+    /// As [`Integrator::run`]; as [`Integrator::steps_until`] for `t_end` (a `t_end`
+    /// before the current time included).
     pub fn run_until(
         &mut self,
         t_end: f64,
         every: usize,
     ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError> {
         if !self.settings.adaptive().is_some_and(|a| a.step_changes) {
-            let steps = self.steps_until(t_end)?;
-            return self.run(steps, every);
+            self.check_end(t_end)?;
+            let h = self.settings.step();
+            let whole = ((t_end - self.state.time).max(0.0) / h + 1e-9).floor();
+            Self::check_step_count(t_end, whole)?;
+            let mut trajectory = self.run(whole as usize, every)?;
+            let left = t_end - self.state.time;
+            if left > 1e-9 * h {
+                self.switch_step(left)?;
+                let last = self.step();
+                self.switch_step(h)?;
+                let iterations = last?;
+                trajectory.states.push(self.state);
+                trajectory.newton_iterations.push(iterations);
+            }
+            return Ok(trajectory);
         }
-        check_horizon(t_end)?;
+        self.check_end(t_end)?;
         let every = every.max(1);
         let mut trajectory = Trajectory {
             states: vec![self.state],

@@ -1,0 +1,197 @@
+//! The integrator's edges: starting states off the group, horizons in the past or out of
+//! reach, ends between steps, dense output outside its step, and tolerances no step can
+//! meet. Each is an error that says what to change, or (an end between steps) exactly
+//! what was asked.
+
+use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::lie::{LieError, SE3, SO3};
+use lgsvi_mechanics::{FreeBody, Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
+use nalgebra::{Matrix3, SVector, Vector3};
+
+fn inertia() -> Inertia {
+    Inertia::from_principal_moments([0.5, 0.9, 0.7]).unwrap()
+}
+
+fn omega0() -> Vector3<f64> {
+    Vector3::new(0.6, 0.1, -0.4)
+}
+
+fn integrator(h: f64, n: usize) -> Integrator<RigidBody> {
+    Integrator::new(
+        RigidBody::new(inertia()),
+        StepSettings::new(h, n).unwrap(),
+        SO3::identity(),
+        omega0(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn an_attitude_that_is_not_a_rotation_is_refused_at_start_and_reset() {
+    let body = RigidBody::new(inertia());
+    let settings = StepSettings::new(0.1, 6).unwrap();
+    let scaled = SO3::from_matrix_unchecked(Matrix3::identity() * 2.0);
+    let reflection =
+        SO3::from_matrix_unchecked(Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0)));
+    for (bad, orthogonal) in [(scaled, false), (reflection, true)] {
+        let Err(error) = Integrator::new(body, settings, bad, omega0()) else {
+            panic!("accepted")
+        };
+        match (&error, orthogonal) {
+            (
+                MechanicsError::NotOnGroup {
+                    source: LieError::NotOrthogonal { .. },
+                    ..
+                },
+                false,
+            )
+            | (
+                MechanicsError::NotOnGroup {
+                    source: LieError::NotProperRotation { .. },
+                    ..
+                },
+                true,
+            ) => {}
+            _ => panic!("{error}"),
+        }
+        assert!(error
+            .to_string()
+            .starts_with("initial configuration: not a rotation"));
+        let mut it = integrator(0.1, 6);
+        let before = *it.state();
+        let error = it.reset(0.0, bad, omega0()).unwrap_err();
+        assert!(
+            matches!(error, MechanicsError::NotOnGroup { .. }),
+            "{error}"
+        );
+        assert_eq!(*it.state(), before, "a refused reset changes nothing");
+    }
+    // A body in space: the attitude block is checked.
+    let free = FreeBody::new(inertia(), 1.0).unwrap();
+    let pose = SE3::new(scaled, Vector3::zeros());
+    let xi = SVector::<f64, 6>::zeros();
+    assert!(matches!(
+        Integrator::new(free, settings, pose, xi),
+        Err(MechanicsError::NotOnGroup { .. })
+    ));
+    // Rounding of a rotation given to ten digits (‖RᵀR − I‖ ~ 1e-10) is accepted.
+    let r = SO3::exp(&Vector3::new(0.3, -0.2, 0.9)).matrix() * (1.0 + 3e-11);
+    assert!(Integrator::new(body, settings, SO3::from_matrix_unchecked(r), omega0()).is_ok());
+}
+
+/// `run_until` lands on the requested time with a last, shorter step, and the steps after
+/// it take `h` again. The shorter step is a variational step of its own: the state at
+/// 0.35 agrees with the exact solution as the whole steps do (the method's error at
+/// `h = 0.1`, `n = 8` on this slow body is at rounding, ~1e-15; 1e-13 leaves room for the
+/// rounding of 4 steps).
+#[test]
+fn run_until_lands_on_the_time_asked() {
+    let exact = FreeRigidBodyExact::new(inertia(), SO3::identity(), omega0()).unwrap();
+    let mut it = integrator(0.1, 8);
+    let trajectory = it.run_until(0.35, 1).unwrap();
+    assert_eq!(it.state().time, 0.35);
+    assert_eq!(trajectory.states.last().unwrap().time, 0.35);
+    assert_eq!(trajectory.states.len(), 5, "0, 0.1, 0.2, 0.3, 0.35");
+    let reference = exact.state(0.35).unwrap();
+    let error = (it.state().configuration.matrix() - reference.configuration.matrix()).amax();
+    assert!(error < 1e-13, "{error:e}");
+    it.step().unwrap();
+    assert!(
+        (it.state().time - 0.45).abs() < 1e-15,
+        "{}",
+        it.state().time
+    );
+    assert_eq!(it.settings().step(), 0.1);
+    // A whole number of steps away: no extra step.
+    let mut it = integrator(0.1, 8);
+    let trajectory = it.run_until(0.3, 1).unwrap();
+    assert_eq!(trajectory.states.len(), 4);
+    assert!((it.state().time - 0.3).abs() < 1e-15);
+}
+
+#[test]
+fn horizons_in_the_past_or_out_of_reach_are_refused() {
+    let mut it = integrator(0.5, 6);
+    it.run_until(5.0, 1).unwrap();
+    let before = *it.state();
+    for error in [
+        it.run_until(2.0, 1).unwrap_err(),
+        it.steps_until(2.0).unwrap_err(),
+    ] {
+        assert!(
+            error.to_string().contains("before the current time"),
+            "{error}"
+        );
+    }
+    assert_eq!(*it.state(), before);
+    for error in [
+        it.steps_until(1e300).unwrap_err(),
+        it.run_until(1e300, 1).unwrap_err(),
+    ] {
+        assert!(error.to_string().contains("2^53 steps"), "{error}");
+    }
+    // The current time itself is no step at all.
+    assert_eq!(it.steps_until(5.0).unwrap(), 0);
+    assert_eq!(it.run_until(5.0, 1).unwrap().states.len(), 1);
+}
+
+#[test]
+fn the_galerkin_curve_answers_within_its_step_only() {
+    let mut it = integrator(0.5, 6);
+    it.step().unwrap();
+    let curve = it.last_curve().unwrap();
+    let (end, _) = curve.at(0.5).unwrap();
+    assert!((end.matrix() - it.state().configuration.matrix()).amax() < 1e-14);
+    assert!(curve.at(0.0).is_ok());
+    for t in [1e300, -1e-3, 0.5 + 1e-6, f64::NAN, f64::INFINITY] {
+        let error = curve.at(t).unwrap_err();
+        assert!(
+            matches!(error, MechanicsError::InvalidSetting { name: "t", .. }),
+            "{t}: {error}"
+        );
+    }
+}
+
+/// A tolerance no step can meet ends the run with an error naming the step, the time and
+/// what to change, instead of accepting steps above their share of it: with the nodes
+/// capped (no step changes), at the first step; with step changes, after the bounded
+/// halvings of that step (before: every step halved 30 times, accepted anyway, and grew
+/// back, 10⁵ steps to cross a nanosecond).
+#[test]
+fn an_unreachable_tolerance_is_an_error_not_a_quiet_miss() {
+    let body = RigidBody::new(inertia());
+    // h = 2: at 6 nodes the error is ~1e-9, far above the step's share of 1e-14.
+    let capped = StepSettings::new(2.0, 6)
+        .unwrap()
+        .with_node_range(5, 6)
+        .unwrap()
+        .with_tolerance(1e-14)
+        .unwrap();
+    let mut it = Integrator::new(body, capped, SO3::identity(), omega0()).unwrap();
+    let error = it.run_until(4.0, 1).unwrap_err();
+    match &error {
+        MechanicsError::ToleranceNotMet {
+            step: 0, nodes: 6, ..
+        } => {}
+        _ => panic!("{error}"),
+    }
+    assert!(error.to_string().contains("raise the tolerance"), "{error}");
+    assert_eq!(it.state().time, 0.0, "the last good state is kept");
+
+    let halving = StepSettings::new(0.5, 6)
+        .unwrap()
+        .with_tolerance(1e-300)
+        .unwrap()
+        .with_step_changes(true);
+    let mut it = Integrator::new(body, halving, SO3::identity(), omega0()).unwrap();
+    let error = it.run_until(1.0, 1).unwrap_err();
+    assert!(
+        matches!(error, MechanicsError::ToleranceNotMet { step: 0, .. }),
+        "{error}"
+    );
+    assert!(
+        error.to_string().contains("halving the step 30 times"),
+        "{error}"
+    );
+    assert!(it.statistics().steps == 0);
+}
