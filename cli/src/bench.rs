@@ -842,7 +842,7 @@ pub struct Invariants {
 
 fn invariants(t: f64, start: &State, model: &Model, state: &State) -> Invariants {
     // Case A, a free body: all of Rμ is conserved.
-    let tracker = Tracker::new(model.energy(start), &start.attitude, &start.momentum, true);
+    let tracker = Tracker::new(model.energy(start), &start.attitude, &start.momentum, None);
     let drift = tracker.drift(model.energy(state), &state.attitude, &state.momentum);
     Invariants {
         t,

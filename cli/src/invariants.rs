@@ -10,9 +10,10 @@ pub struct Tracker {
     energy: f64,
     casimir: f64,
     spatial_momentum: Vector3<f64>,
-    /// A free (left-invariant) body conserves all of `Rμ`; the heavy top only its
-    /// component along gravity, `e₃·Rμ` (and not `|μ|²`).
-    free: bool,
+    /// The conserved part of `Rμ`: all of it for a free (left-invariant) body (`None`);
+    /// for the heavy top only its component along the system's own gravity direction
+    /// `d` (a unit vector), `d·Rμ` (and not `|μ|²`).
+    axis: Option<Vector3<f64>>,
 }
 
 /// Relative drifts from the initial state.
@@ -22,7 +23,8 @@ pub struct Drift {
     pub energy: f64,
     /// `||μ|² − |μ₀|²|/|μ₀|²`.
     pub casimir: f64,
-    /// `|Rμ − R₀μ₀|/|R₀μ₀|` for a free body, `|e₃·(Rμ − R₀μ₀)|/|R₀μ₀|` otherwise.
+    /// `|Rμ − R₀μ₀|/|R₀μ₀|` for a free body, `|d·(Rμ − R₀μ₀)|/|R₀μ₀|` along the
+    /// conserved axis `d` otherwise.
     pub spatial_momentum: f64,
 }
 
@@ -32,13 +34,19 @@ fn nonzero(x: f64) -> f64 {
 }
 
 impl Tracker {
-    /// From the initial energy, attitude and body momentum.
-    pub fn new(energy: f64, attitude: &Matrix3<f64>, momentum: &Vector3<f64>, free: bool) -> Self {
+    /// From the initial energy, attitude and body momentum, and the conserved axis of the
+    /// spatial momentum (`None`: all of it is conserved; the axis is normalised here).
+    pub fn new(
+        energy: f64,
+        attitude: &Matrix3<f64>,
+        momentum: &Vector3<f64>,
+        axis: Option<Vector3<f64>>,
+    ) -> Self {
         Self {
             energy,
             casimir: momentum.norm_squared(),
             spatial_momentum: attitude * momentum,
-            free,
+            axis: axis.map(|d| d.normalize()),
         }
     }
 
@@ -48,8 +56,10 @@ impl Tracker {
         Drift {
             energy: (energy - self.energy).abs() / nonzero(self.energy.abs()),
             casimir: (momentum.norm_squared() - self.casimir).abs() / nonzero(self.casimir),
-            spatial_momentum: if self.free { d.norm() } else { d.z.abs() }
-                / nonzero(self.spatial_momentum.norm()),
+            spatial_momentum: match self.axis {
+                None => d.norm(),
+                Some(axis) => axis.dot(&d).abs(),
+            } / nonzero(self.spatial_momentum.norm()),
         }
     }
 }
@@ -61,7 +71,7 @@ mod tests {
     #[test]
     fn drifts_are_relative_and_respect_the_symmetry() {
         let (r, mu) = (Matrix3::identity(), Vector3::new(3.0, 0.0, 4.0));
-        let free = Tracker::new(2.0, &r, &mu, true);
+        let free = Tracker::new(2.0, &r, &mu, None);
         assert_eq!(
             free.drift(2.0, &r, &mu),
             Drift {
@@ -75,7 +85,7 @@ mod tests {
         assert_eq!(d.energy, 0.5);
         assert!((d.casimir - 1.0 / 25.0).abs() < 1e-15);
         // Only e₃·Rμ counts for the top: a change in x is no drift.
-        let top = Tracker::new(2.0, &r, &mu, false);
+        let top = Tracker::new(2.0, &r, &mu, Some(Vector3::z()));
         assert_eq!(
             top.drift(2.0, &r, &Vector3::new(5.0, 0.0, 4.0))
                 .spatial_momentum,
@@ -86,8 +96,22 @@ mod tests {
                 .spatial_momentum,
             0.4
         );
+        // Gravity along x: only x·Rμ counts, whatever its length was given as.
+        let sideways = Tracker::new(2.0, &r, &mu, Some(Vector3::new(2.0, 0.0, 0.0)));
+        assert_eq!(
+            sideways
+                .drift(2.0, &r, &Vector3::new(3.0, 1.0, 0.0))
+                .spatial_momentum,
+            0.0
+        );
+        assert_eq!(
+            sideways
+                .drift(2.0, &r, &Vector3::new(4.0, 0.0, 4.0))
+                .spatial_momentum,
+            0.2
+        );
         // A body at rest: no division by zero.
-        let rest = Tracker::new(0.0, &r, &Vector3::zeros(), true);
+        let rest = Tracker::new(0.0, &r, &Vector3::zeros(), None);
         assert!(rest.drift(0.0, &r, &Vector3::zeros()).energy == 0.0);
     }
 }

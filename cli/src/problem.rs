@@ -521,13 +521,23 @@ impl Problem {
         )?)
     }
 
-    /// The invariant tracker from `state` (the run's start), with this system's symmetry.
+    /// The invariant tracker from `state` (the run's start), with this system's symmetry:
+    /// all of `Rμ` for a free body, the component along the heavy top's own gravity
+    /// direction for the top.
     pub fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
+        let axis = if self.is_free() {
+            None
+        } else {
+            match &self.system.system {
+                System::Top(top) => Some(*top.gravity_direction()),
+                System::Free(_) => Some(Vector3::z()),
+            }
+        };
         Tracker::new(
             state.energy(&self.system),
             state.attitude().matrix(),
             &state.momentum,
-            self.is_free(),
+            axis,
         )
     }
 
