@@ -308,7 +308,29 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
     } else {
         integrate(&problem)?
     };
+    if let Some(warning) = run
+        .estimates
+        .as_ref()
+        .and_then(|e| estimate_warning(e.global))
+    {
+        eprintln!("{warning}");
+    }
     Ok((run, options))
+}
+
+/// The attitude's scale (`R`'s entries are at most 1), against which a run's estimated
+/// error is read: past [`ESTIMATE_WARNING`] of it, the run is not the motion to the
+/// digits a user of this integrator expects, and says so.
+const ESTIMATE_WARNING: f64 = 1e-6;
+
+/// The one-line warning of a run whose estimated error exceeds [`ESTIMATE_WARNING`].
+fn estimate_warning(estimated: f64) -> Option<String> {
+    (estimated > ESTIMATE_WARNING).then(|| {
+        format!(
+            "warning: the run's estimated error {estimated:.1e} exceeds {ESTIMATE_WARNING:e} of \
+             the attitude's scale: shorten --h, add --nodes, or give --tol"
+        )
+    })
 }
 
 /// The conservation figure of a run: `|E − E₀ − W|/|E₀|` (the energy balance; `W = 0`

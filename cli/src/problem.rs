@@ -9,7 +9,7 @@ use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
     Integrator, Lagrangian, LagrangianDerivatives, OrbitingBody, RigidBody, RigidMotions,
-    StepSettings,
+    StepSettings, DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
 };
 use nalgebra::{Matrix3, RealField, SVector, Vector3};
 
@@ -125,6 +125,31 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
         settings = settings.with_quadrature_points(m)?;
     }
     if let Some(tol) = options.tol {
+        let (least, most) = DEFAULT_ADAPTIVE_NODES;
+        if let Some(n) = options.nodes.filter(|n| !(least..=most).contains(n)) {
+            return Err(CliError::Invalid {
+                flag: "--nodes",
+                value: n.to_string(),
+                reason: format!(
+                    "with --tol, --nodes is the first step's count within the adaptive \
+                     range {least} to {most}"
+                ),
+            });
+        }
+        // Each step rounds by about 4ε, whatever its nodes: the run's floor.
+        let steps = (t_end.max(h) / h).round().max(1.0);
+        let floor = steps * ROUNDING_FLOOR;
+        if tol < floor {
+            return Err(CliError::Invalid {
+                flag: "--tol",
+                value: format!("{tol:e}"),
+                reason: format!(
+                    "below what double precision can deliver over this run: {steps} steps of \
+                     h = {h} round to about {floor:.1e} (4ε each); ask for at least that, or \
+                     take longer steps (--h)"
+                ),
+            });
+        }
         settings = settings.with_tolerance(tol / t_end.max(h))?;
     }
     whole_steps(t_end, h)?;

@@ -689,6 +689,17 @@ fn adversarial_inputs_are_refused_in_one_line() {
         (vec!["simulate", "--nodes", "5000"], "at most 100 nodes"),
         // Tolerances: not positive, not finite, or with Gauss points fixed by hand.
         (vec!["simulate", "--tol", "0"], "positive and finite"),
+        // Tolerances double precision cannot deliver, and node counts the adaptive range
+        // would have capped silently.
+        (
+            vec!["simulate", "--tol", "1e-16"],
+            "below what double precision can deliver",
+        ),
+        (vec!["simulate", "--tol", "1e-300"], "ask for at least"),
+        (
+            vec!["simulate", "--tol", "1e-10", "--nodes", "100"],
+            "adaptive range 5 to 30",
+        ),
         (vec!["simulate", "--tol", "-1e-10"], "positive and finite"),
         (vec!["simulate", "--tol", "nan"], "positive and finite"),
         (
@@ -1122,4 +1133,25 @@ fn the_top_s_conserved_momentum_follows_its_gravity_direction() {
         // 20 steps of the exact matching: Noether to rounding, a few ulps per step.
         assert!(drift < 1e-13, "{row}");
     }
+}
+
+/// A fixed-(h, n) run reports its estimate, and warns in one line on stderr when the
+/// estimate exceeds 1e-6 of the attitude's scale (h = 1 with 4 nodes on case A: 3e-3);
+/// the default run (1.8e-14) says nothing.
+#[test]
+fn a_coarse_fixed_run_warns_about_its_estimate() {
+    let (code, out, err) = lgsvi(&["simulate", "--quiet", "--h", "1", "--nodes", "4"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("warning: the run's estimated error"),
+        "{err}"
+    );
+    let run: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(run["stats"]["estimated_error"].as_f64().unwrap() > 1e-6);
+    let (code, out, err) = lgsvi(&["simulate", "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.trim().is_empty(), "{err}");
+    let run: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(run["stats"]["estimated_error"].as_f64().unwrap() < 1e-12);
 }

@@ -4,7 +4,7 @@
 use crate::error::{check_finite, MechanicsError};
 use crate::flow::FlowGuess;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};
-use crate::settings::{StepSettings, MAX_NODES};
+use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
 use crate::step::assembly::{Workspace, WorkspaceOf};
 use crate::step::points::StepForce;
 use crate::step::tables::Discretisation;
@@ -710,7 +710,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// configuration and velocity (max norm, in the chart's coordinates: radians and
     /// radians per unit time on SO(3); SE(3) adds the units of the position). Calibrated on
     /// the free body and the heavy top: near the true local error on average, between 25×
-    /// below and 30× above it on the steps measured (`docs/tolerance.md` §2). Costs `4nD`
+    /// below and 30× above it on the steps measured (`docs/tolerance.md` §2), and never
+    /// below the rounding of one step, [`crate::ROUNDING_FLOOR`] (`4ε`). Costs `4nD`
     /// multiplications per step.
     pub fn error_estimate(&self) -> f64 {
         self.estimate
@@ -961,7 +962,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             let base = self.state.configuration;
             let outcome = self.attempt(&base)?;
             let (estimate, _) = self.discretisation.error_estimate(&self.work.xi);
-            return self.commit(&base, outcome, estimate);
+            return self.commit(&base, outcome, estimate.max(ROUNDING_FLOOR));
         };
         if let Some(h) = self.next_step.take() {
             self.switch_step(h)?;
@@ -985,9 +986,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 }
                 Err(error) => return Err(error),
             };
+            // Whether the step meets its share reads the estimate floored at the rounding
+            // of a step (no nodes make it smaller); the choice of the next nodes and step
+            // reads the spectral estimate itself.
             let (estimate, decay) = self.discretisation.error_estimate(&self.work.xi);
+            let floored = estimate.max(ROUNDING_FLOOR);
             let n = self.discretisation.n;
-            if estimate > budget && n < adaptive.max_nodes {
+            if floored > budget && n < adaptive.max_nodes {
                 // A step that lowered its nodes and failed doubles the wait before the
                 // next try (where the error varies along the motion, a fall that fails
                 // once tends to fail again soon).
@@ -1010,14 +1015,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 self.switch_nodes((n + more).min(adaptive.max_nodes))?;
                 continue;
             }
-            if estimate > budget && adaptive.step_changes && halvings < MAX_HALVINGS {
+            if floored > budget && adaptive.step_changes && halvings < MAX_HALVINGS {
                 // The most nodes allowed do not reach the tolerance: half the step.
                 halvings += 1;
                 self.count_redone(&outcome);
                 self.switch_step(0.5 * self.settings.step())?;
                 continue;
             }
-            if estimate > budget {
+            if floored > budget {
                 // Every remedy spent: accepting the step would miss the tolerance quietly.
                 let (halved, advice) = if adaptive.step_changes {
                     (
@@ -1038,14 +1043,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 return Err(MechanicsError::ToleranceNotMet {
                     step: self.step_index,
                     time: self.state.time,
-                    estimate,
+                    estimate: floored,
                     budget,
                     nodes: n,
                     halved,
                     advice,
                 });
             }
-            let iterations = self.commit(&base, outcome, estimate)?;
+            let iterations = self.commit(&base, outcome, floored)?;
             if std::mem::take(&mut self.lowered) {
                 // The fall held: the next wait starts short again.
                 self.hold_length = NODES_HOLD;

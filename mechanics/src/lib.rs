@@ -97,7 +97,7 @@ pub use rigid_motion::{BodyInField, FieldPotential, FreeBody, OrbitingBody};
 pub use settings::{
     AdaptiveNodes, Matching, NewtonJacobian, StepSettings, DEFAULT_ADAPTIVE_NODES,
     DEFAULT_EXTRA_QUADRATURE_POINTS, DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES,
-    MAX_QUADRATURE_POINTS, STEP_RANGE,
+    MAX_QUADRATURE_POINTS, ROUNDING_FLOOR, STEP_RANGE,
 };
 pub use system::{
     AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime, Forced, Forcing,

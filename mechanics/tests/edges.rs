@@ -178,9 +178,13 @@ fn an_unreachable_tolerance_is_an_error_not_a_quiet_miss() {
     assert!(error.to_string().contains("raise the tolerance"), "{error}");
     assert_eq!(it.state().time, 0.0, "the last good state is kept");
 
-    let halving = StepSettings::new(0.5, 6)
+    // A rate allowed at h = 2 (its share 2e-15 is above the rounding floor 4ε) but not
+    // reachable at 6 nodes there, nor at the shorter steps, whose shares fall below 4ε.
+    let halving = StepSettings::new(2.0, 6)
         .unwrap()
-        .with_tolerance(1e-300)
+        .with_node_range(5, 6)
+        .unwrap()
+        .with_tolerance(1e-15)
         .unwrap()
         .with_step_changes(true);
     let mut it = Integrator::new(body, halving, SO3::identity(), omega0()).unwrap();
@@ -194,4 +198,27 @@ fn an_unreachable_tolerance_is_an_error_not_a_quiet_miss() {
         "{error}"
     );
     assert!(it.statistics().steps == 0);
+}
+
+/// A tolerance whose share of a step is below the rounding of one step (4ε) is refused
+/// up front, with the least rate this step can reach; and the estimate never claims less
+/// than that rounding (the spectral estimate alone reads 1e-24 at 8 nodes here, against a
+/// true error of 5e-16).
+#[test]
+fn tolerances_below_the_rounding_floor_are_refused_and_estimates_floored() {
+    let settings = StepSettings::new(0.5, 8).unwrap();
+    for rate in [1e-16, 1e-20, 1e-300] {
+        let error = settings.with_tolerance(rate).unwrap_err();
+        let text = error.to_string();
+        assert!(
+            text.contains("below what double precision can deliver"),
+            "{text}"
+        );
+        assert!(text.contains("at least 1.7763568394002505e-15"), "{text}");
+    }
+    assert!(settings.with_tolerance(2e-15).is_ok());
+    let mut it = integrator(0.5, 8);
+    it.run(10, 10).unwrap();
+    assert_eq!(it.error_estimate(), lgsvi_mechanics::ROUNDING_FLOOR);
+    assert!(it.estimated_global_error() >= 10.0 * lgsvi_mechanics::ROUNDING_FLOOR * 0.999);
 }
