@@ -174,6 +174,20 @@ pub enum CliError {
         /// Why.
         source: std::io::Error,
     },
+    /// Two outputs of one run on the same file.
+    #[error(
+        "{first} and {second} would both write {}: the later would replace the earlier; give \
+         them different paths",
+        path.display()
+    )]
+    Collision {
+        /// The first flag.
+        first: &'static str,
+        /// The second flag.
+        second: &'static str,
+        /// The file.
+        path: PathBuf,
+    },
     /// An output file that cannot be written.
     #[error("cannot write {}: {source}", path.display())]
     Write {

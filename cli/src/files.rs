@@ -1,10 +1,16 @@
 //! Output files that are never left half-written.
 //!
-//! Every file `lgsvi` writes goes first to a temporary file in the same directory (so the
-//! final rename stays on one file system), is flushed and synced, and only then renamed
-//! over the destination. A full disk, an error or an interrupt leaves the previous file
-//! (if any) intact and at worst a `.partial-…` file beside it, never a truncated result
-//! under the real name.
+//! Every regular file `lgsvi` writes goes first to a temporary file in the destination's
+//! directory (so the final rename stays on one file system), is flushed and synced, and
+//! only then renamed over the destination. A full disk, an error or an interrupt leaves the
+//! previous file (if any) intact and no temporary file behind (it is removed on every
+//! error), never a truncated result under the real name.
+//!
+//! A symbolic link at the destination is written through: the temporary file goes beside
+//! the link's target and is renamed onto it, so the link stays a link and its target is
+//! the new file. A destination that exists and is not a regular file (a FIFO, a terminal,
+//! `/dev/null`) is written directly, as a shell redirection would: renaming over it would
+//! replace it and its reader would get nothing.
 
 use crate::error::{CliError, Result};
 use std::fs::File;
@@ -21,18 +27,79 @@ pub fn partial_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".partial-{}-{name}", std::process::id()))
 }
 
-/// Renames the finished `partial` over `path` (or removes it and reports the error).
-pub fn commit(partial: &Path, path: &Path) -> Result<()> {
-    std::fs::rename(partial, path).map_err(|source| {
-        let _ = std::fs::remove_file(partial);
-        CliError::Write {
-            path: path.to_path_buf(),
-            source,
+/// Where a write to `path` lands: through symbolic links (at most 40, as the kernel
+/// allows) to the file they name.
+pub fn resolve(path: &Path) -> PathBuf {
+    let mut current = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => match std::fs::read_link(&current) {
+                Ok(target) => {
+                    current = match current.parent() {
+                        Some(dir) if target.is_relative() => dir.join(target),
+                        _ => target,
+                    };
+                }
+                Err(_) => return current,
+            },
+            _ => return current,
         }
-    })
+    }
+    current
 }
 
-/// Writes `path` atomically through `write`, buffered.
+/// Whether `path` (resolved) exists and is not a regular file: written directly.
+fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|meta| !meta.is_file() && !meta.is_dir())
+}
+
+/// A temporary file removed when dropped, unless [`Partial::commit`] renamed it.
+pub struct Partial {
+    path: PathBuf,
+    target: PathBuf,
+    done: bool,
+}
+
+impl Partial {
+    /// The temporary file for a write to `path` (through links).
+    pub fn new(path: &Path) -> Self {
+        let target = resolve(path);
+        Self {
+            path: partial_path(&target),
+            target,
+            done: false,
+        }
+    }
+
+    /// The temporary file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Renames the finished temporary file onto the destination.
+    ///
+    /// # Errors
+    /// [`CliError::Write`] naming `shown` (the path as the user gave it).
+    pub fn commit(mut self, shown: &Path) -> Result<()> {
+        std::fs::rename(&self.path, &self.target).map_err(|source| CliError::Write {
+            path: shown.to_path_buf(),
+            source,
+        })?;
+        self.done = true;
+        Ok(())
+    }
+}
+
+impl Drop for Partial {
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Writes `path` atomically through `write`, buffered (directly where `path` is not a
+/// regular file).
 ///
 /// # Errors
 /// A one-line message naming `path` if the temporary file cannot be created, written,
@@ -41,23 +108,28 @@ pub fn write_with(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<()> {
-    let partial = partial_path(path);
+    let failed = |source| CliError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let target = resolve(path);
+    if is_special(&target) {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(&target)
+            .map_err(failed)?;
+        let mut out = BufWriter::new(file);
+        return write(&mut out).and_then(|()| out.flush()).map_err(failed);
+    }
+    let partial = Partial::new(path);
     let result = (|| {
-        let mut out = BufWriter::new(File::create(&partial)?);
+        let mut out = BufWriter::new(File::create(partial.path())?);
         write(&mut out)?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()
     })();
-    match result {
-        Ok(()) => commit(&partial, path),
-        Err(source) => {
-            let _ = std::fs::remove_file(&partial);
-            Err(CliError::Write {
-                path: path.to_path_buf(),
-                source,
-            })
-        }
-    }
+    result.map_err(failed)?;
+    partial.commit(path)
 }
 
 /// Writes `contents` to `path` atomically.
@@ -66,6 +138,29 @@ pub fn write_with(
 /// As [`write_with`].
 pub fn write(path: &Path, contents: &[u8]) -> Result<()> {
     write_with(path, |out| out.write_all(contents))
+}
+
+/// Refuses a run whose outputs would land on one file twice (`--out p.svg --plot p`
+/// writes `p.svg` from both): the later write would replace the earlier, and the run
+/// would exit 0 with an output lost. `outputs` are `(flag, path)` pairs; paths are
+/// compared through links, relative to the working directory.
+///
+/// # Errors
+/// [`CliError::Collision`] naming both flags and the file.
+pub fn check_distinct(outputs: &[(&'static str, PathBuf)]) -> Result<()> {
+    let key = |p: &Path| std::path::absolute(resolve(p)).unwrap_or_else(|_| p.to_path_buf());
+    for (i, (first, a)) in outputs.iter().enumerate() {
+        for (second, b) in &outputs[i + 1..] {
+            if key(a) == key(b) {
+                return Err(CliError::Collision {
+                    first,
+                    second,
+                    path: a.clone(),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -97,5 +192,77 @@ mod tests {
         write(&path, b"new\n").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new\n");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("lgsvi-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// A link at the destination stays a link, and its target is the new file.
+    #[cfg(unix)]
+    #[test]
+    fn a_link_is_written_through() {
+        let dir = scratch("link");
+        std::fs::create_dir(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("sub/real.json"), b"old").unwrap();
+        std::os::unix::fs::symlink("sub/real.json", dir.join("link.json")).unwrap();
+        write(&dir.join("link.json"), b"new").unwrap();
+        let meta = std::fs::symlink_metadata(dir.join("link.json")).unwrap();
+        assert!(meta.file_type().is_symlink());
+        assert_eq!(std::fs::read(dir.join("sub/real.json")).unwrap(), b"new");
+        // A dangling link: the file it names is created.
+        std::os::unix::fs::symlink("sub/new.json", dir.join("dangling.json")).unwrap();
+        write(&dir.join("dangling.json"), b"made").unwrap();
+        assert_eq!(std::fs::read(dir.join("sub/new.json")).unwrap(), b"made");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A destination that is not a regular file is written directly (`/dev/null` here:
+    /// renaming over it would need to replace it, and a FIFO's reader would get nothing).
+    #[cfg(unix)]
+    #[test]
+    fn a_special_file_is_written_directly() {
+        let null = Path::new("/dev/null");
+        write(null, b"anything").unwrap();
+        assert!(is_special(null));
+        assert!(!std::fs::symlink_metadata(null).unwrap().is_file());
+    }
+
+    /// A temporary file that is not committed is removed (a plot failing half-drawn).
+    #[test]
+    fn an_uncommitted_partial_is_removed() {
+        let dir = scratch("partial");
+        let partial = Partial::new(&dir.join("fig.svg"));
+        std::fs::write(partial.path(), b"<svg").unwrap();
+        let path = partial.path().to_path_buf();
+        assert!(path.exists());
+        drop(partial);
+        assert!(!path.exists());
+        let partial = Partial::new(&dir.join("fig.svg"));
+        std::fs::write(partial.path(), b"<svg/>").unwrap();
+        partial.commit(&dir.join("fig.svg")).unwrap();
+        assert_eq!(std::fs::read(dir.join("fig.svg")).unwrap(), b"<svg/>");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn outputs_on_one_file_are_refused() {
+        let outputs = [
+            ("--out", PathBuf::from("p.svg")),
+            ("--plot", PathBuf::from("./p.svg")),
+        ];
+        let error = check_distinct(&outputs).unwrap_err().to_string();
+        assert!(
+            error.contains("--out and --plot would both write"),
+            "{error}"
+        );
+        assert!(check_distinct(&[
+            ("--out", PathBuf::from("p.json")),
+            ("--plot", PathBuf::from("p.svg")),
+        ])
+        .is_ok());
     }
 }

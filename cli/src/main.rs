@@ -318,6 +318,20 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
     Ok((run, options))
 }
 
+/// Refuses outputs of one run that land on one file (`--out p.svg --plot p`).
+fn check_outputs(options: &SimulateOptions) -> Result<()> {
+    let mut outputs = Vec::new();
+    if let Some(out) = &options.out {
+        outputs.push(("--out", out.clone()));
+    }
+    if let Some(base) = &options.plot {
+        let (svg, png) = plot::plot_paths(base);
+        outputs.push(("--plot", svg));
+        outputs.push(("--plot", png));
+    }
+    files::check_distinct(&outputs)
+}
+
 /// The attitude's scale (`R`'s entries are at most 1), against which a run's estimated
 /// error is read: past [`ESTIMATE_WARNING`] of it, the run is not the motion to the
 /// digits a user of this integrator expects, and says so.
@@ -411,6 +425,7 @@ fn conservation_figure(run: &Run, problem_name: &str) -> plot::Figure {
 }
 
 fn run_simulate(options: SimulateOptions) -> Result<()> {
+    check_outputs(&options)?;
     let (run, options) = simulate(options)?;
     if let Some(base) = &options.plot {
         let name = run.description["system"]
@@ -463,7 +478,9 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Some(Command::Simulate(options)) => run_simulate(options),
-        Some(Command::Converge(options)) => study::run_converge(options),
+        Some(Command::Converge(options)) => {
+            check_outputs(&options.base).and_then(|()| study::run_converge(options))
+        }
         Some(Command::Reproduce(options)) => reproduce::run(options),
         Some(Command::Bench(options)) => bench::run(options),
         None => reproduce::run(reproduce::ReproduceOptions::default()),

@@ -2,11 +2,11 @@
 //! (plotters), and a 3D plot of curves on a sphere.
 
 use crate::error::CliError;
-use crate::files::{commit, partial_path};
+use crate::files::Partial;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -630,16 +630,24 @@ fn render(
     svg: impl FnOnce(DrawingArea<SVGBackend, Shift>) -> Result<(), String>,
     png: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Result<(), String>,
 ) -> Result<(), CliError> {
-    let (svg_path, png_path) = (base.with_extension("svg"), base.with_extension("png"));
-    let (svg_partial, png_partial) = (partial_path(&svg_path), partial_path(&png_path));
+    let (svg_path, png_path) = plot_paths(base);
+    // Removed on every error: no `.partial-*` file is left behind.
+    let (svg_partial, png_partial) = (Partial::new(&svg_path), Partial::new(&png_path));
     let failed = |path: &Path| {
         let path = path.to_path_buf();
         move |message| CliError::Plot { path, message }
     };
-    svg(SVGBackend::new(&svg_partial, size).into_drawing_area()).map_err(failed(&svg_path))?;
-    png(BitMapBackend::new(&png_partial, size).into_drawing_area()).map_err(failed(&png_path))?;
-    commit(&svg_partial, &svg_path)?;
-    commit(&png_partial, &png_path)
+    svg(SVGBackend::new(svg_partial.path(), size).into_drawing_area())
+        .map_err(failed(&svg_path))?;
+    png(BitMapBackend::new(png_partial.path(), size).into_drawing_area())
+        .map_err(failed(&png_path))?;
+    svg_partial.commit(&svg_path)?;
+    png_partial.commit(&png_path)
+}
+
+/// The two files a figure with base `base` writes: `base.svg` and `base.png`.
+pub fn plot_paths(base: &Path) -> (PathBuf, PathBuf) {
+    (base.with_extension("svg"), base.with_extension("png"))
 }
 
 /// Writes `base.svg` and `base.png`.

@@ -689,6 +689,17 @@ fn adversarial_inputs_are_refused_in_one_line() {
         (vec!["simulate", "--nodes", "5000"], "at most 100 nodes"),
         // Tolerances: not positive, not finite, or with Gauss points fixed by hand.
         (vec!["simulate", "--tol", "0"], "positive and finite"),
+        // Two outputs on one file: the plot's SVG would have replaced the data.
+        (
+            vec![
+                "simulate",
+                "--out",
+                "lgsvi-collision.svg",
+                "--plot",
+                "lgsvi-collision",
+            ],
+            "would both write",
+        ),
         // Tolerances double precision cannot deliver, and node counts the adaptive range
         // would have capped silently.
         (
