@@ -123,7 +123,18 @@ pub fn write_with(
     }
     let partial = Partial::new(path);
     let result = (|| {
-        let mut out = BufWriter::new(File::create(partial.path())?);
+        let file = File::create(partial.path()).map_err(|e| {
+            let dir = partial.path().parent().unwrap_or(Path::new("."));
+            std::io::Error::new(
+                e.kind(),
+                format!(
+                    "cannot create a file in {} to write it and rename it into place ({e}); \
+                     write elsewhere",
+                    dir.display()
+                ),
+            )
+        })?;
+        let mut out = BufWriter::new(file);
         write(&mut out)?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()

@@ -34,11 +34,16 @@ use std::time::Instant;
     long_about = "Lie group spectral variational integrators (Hall & Leok) for rotating bodies on SO(3) \
                   and moving ones on SE(3).\n\n\
                   Without a command, runs `lgsvi reproduce` on embedded defaults: the paper's nine figures \
-                  (rigid body and 3D pendulum) with their data and a report, into ./lgsvi-reproduce."
+                  (rigid body and 3D pendulum) with their data and a report, into ./lgsvi-reproduce \
+                  (`lgsvi --quiet`, `lgsvi --out DIR` take reproduce's flags).",
+    args_conflicts_with_subcommands = true
 )]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// The main job's flags (`lgsvi` without a command is `lgsvi reproduce`).
+    #[command(flatten)]
+    reproduce: reproduce::ReproduceOptions,
 }
 
 #[derive(Debug, Subcommand)]
@@ -483,7 +488,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Reproduce(options)) => reproduce::run(options),
         Some(Command::Bench(options)) => bench::run(options),
-        None => reproduce::run(reproduce::ReproduceOptions::default()),
+        None => reproduce::run(cli.reproduce),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

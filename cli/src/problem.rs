@@ -460,8 +460,28 @@ impl Problem {
                 let inner = if orbiting {
                     let mu = options.mu.unwrap_or(1.0);
                     description["mu"] = mu.into();
+                    // At (or next to) the attracting centre the potential −μm/r and its
+                    // gradient-gradient terms ~ μm/r³ are singular or overflow.
+                    // |x| without underflow (1e-300 squared is zero).
+                    let scale = position.amax();
+                    let r = if scale > 0.0 {
+                        scale * (position / scale).norm()
+                    } else {
+                        0.0
+                    };
+                    if mu != 0.0 && !(r > 0.0 && (mu * mass / r.powi(3)).is_finite()) {
+                        return Err(CliError::Invalid {
+                            flag: "--position0",
+                            value: format!("{:?}", position.as_slice()),
+                            reason: format!(
+                                "the orbiting body starts at the attracting centre (r = {r:e}), \
+                                 where the potential −μm/r and its gravity gradient are \
+                                 singular: start it away from the origin"
+                            ),
+                        });
+                    }
                     // The gravity-gradient libration, √3 times the orbit's mean motion.
-                    frequency = (3.0 * mu.abs() / position.norm().powi(3)).sqrt();
+                    frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
                     MotionSystem::Orbit(
                         OrbitingBody::new(inertia, mass, mu).map_err(input("--mass/--mu"))?,
                     )

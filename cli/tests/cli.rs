@@ -689,6 +689,37 @@ fn adversarial_inputs_are_refused_in_one_line() {
         (vec!["simulate", "--nodes", "5000"], "at most 100 nodes"),
         // Tolerances: not positive, not finite, or with Gauss points fixed by hand.
         (vec!["simulate", "--tol", "0"], "positive and finite"),
+        // The orbiting body at (or next to) the attracting centre: the cause, not overflow
+        // advice or an infinite step count.
+        (
+            vec![
+                "simulate",
+                "--system",
+                "orbiting-body",
+                "--position0",
+                "0,0,0",
+            ],
+            "attracting centre",
+        ),
+        (
+            vec![
+                "simulate",
+                "--system",
+                "orbiting-body",
+                "--position0",
+                "1e-300,0,0",
+                "--tol",
+                "1e-8",
+                "--t-end",
+                "1",
+            ],
+            "attracting centre",
+        ),
+        // An output path whose directory takes no new files.
+        (
+            vec!["simulate", "--out", "/proc/version"],
+            "write elsewhere",
+        ),
         // Two outputs on one file: the plot's SVG would have replaced the data.
         (
             vec![
@@ -1165,4 +1196,15 @@ fn a_coarse_fixed_run_warns_about_its_estimate() {
     assert!(err.trim().is_empty(), "{err}");
     let run: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(run["stats"]["estimated_error"].as_f64().unwrap() < 1e-12);
+}
+
+/// `lgsvi --quiet` and `lgsvi --out DIR` are the main job with reproduce's flags.
+#[test]
+fn the_main_job_takes_reproduce_s_flags() {
+    let dir = std::env::temp_dir().join(format!("lgsvi-main-job-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (code, _, err) = lgsvi(&["--quiet", "--out", dir.to_str().expect("UTF-8")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("REPORT.md").exists());
+    std::fs::remove_dir_all(&dir).ok();
 }
