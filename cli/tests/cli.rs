@@ -715,6 +715,11 @@ fn adversarial_inputs_are_refused_in_one_line() {
             ],
             "attracting centre",
         ),
+        // A body thinner than double precision: the cause, not "lower the inertia".
+        (
+            vec!["simulate", "--inertia-tensor", "1,0,0,0,1,0,0,0,1e-300"],
+            "below ε times the largest",
+        ),
         // An output path whose directory takes no new files.
         (
             vec!["simulate", "--out", "/proc/version"],

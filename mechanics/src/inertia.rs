@@ -47,7 +47,7 @@ impl Inertia {
     ///
     /// # Errors
     /// [`MechanicsError::NonFinite`] or [`MechanicsError::InvalidInertia`] (a moment not
-    /// positive, or `J_i > J_j + J_k`).
+    /// positive, `J_i > J_j + J_k`, or a moment below `ε` times the largest).
     pub fn from_principal_moments(moments: [f64; 3]) -> Result<Self, MechanicsError> {
         crate::error::check_finite("inertia", &moments)?;
         if moments.iter().any(|&m| m <= 0.0) {
@@ -75,6 +75,23 @@ impl Inertia {
                     ),
                 });
             }
+        }
+        // A moment below ε times the largest is zero to double precision: the spin about
+        // that axis, J⁻¹μ, has no scale the others can be compared with (the step's
+        // equations overflow or lose every digit), which no smaller step mends.
+        let (least, most) = moments
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(l, m), &x| (l.min(x), m.max(x)));
+        if least < f64::EPSILON * most {
+            return Err(MechanicsError::InvalidInertia {
+                moments,
+                reason: format!(
+                    "the smallest principal moment {least:e} is below ε times the largest \
+                     ({most:e}): double precision cannot resolve the spin about that axis; \
+                     give it at least {:e}, or model the body without that rotation",
+                    f64::EPSILON * most
+                ),
+            });
         }
         Ok(Self {
             moments,

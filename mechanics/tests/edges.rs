@@ -222,3 +222,18 @@ fn tolerances_below_the_rounding_floor_are_refused_and_estimates_floored() {
     assert_eq!(it.error_estimate(), lgsvi_mechanics::ROUNDING_FLOOR);
     assert!(it.estimated_global_error() >= 10.0 * lgsvi_mechanics::ROUNDING_FLOOR * 0.999);
 }
+
+/// A principal moment below ε times the largest is refused with its cause (before: the
+/// run overflowed at its first step and advised lowering the inertia, the wrong way).
+#[test]
+fn an_inertia_thinner_than_double_precision_is_refused() {
+    for moments in [[1.0, 1.0, 1e-300], [1e-17, 1.0, 1.0]] {
+        let error = Inertia::from_principal_moments(moments).unwrap_err();
+        let text = error.to_string();
+        assert!(text.contains("below ε times the largest"), "{text}");
+    }
+    let tensor = Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1e-300);
+    assert!(Inertia::from_tensor(tensor).is_err());
+    // Thin but resolvable: accepted.
+    assert!(Inertia::from_principal_moments([1.0, 1.0, 1e-12]).is_ok());
+}
