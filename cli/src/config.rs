@@ -340,7 +340,29 @@ impl SimulateOptions {
 fn read_config(path: &Path) -> Result<SimulateOptions, CliError> {
     let (mut table, _) = read_config_table(path)?;
     table.remove("converge");
-    SimulateOptions::deserialize(table).map_err(|e| config_error(path, e.message()))
+    deserialize_naming_the_key::<SimulateOptions>(table, path, "")
+}
+
+/// Deserializes a config table; a refused value's message names its key (`prefix` before
+/// it, e.g. `[converge] `): the first entry that fails on its own. A table read into a
+/// value carries no positions, and "invalid type: floating point `8.0`, expected usize"
+/// alone does not say which of twenty keys holds it.
+pub fn deserialize_naming_the_key<T: serde::de::DeserializeOwned>(
+    table: toml::Table,
+    path: &Path,
+    prefix: &str,
+) -> Result<T, CliError> {
+    T::deserialize(table.clone()).map_err(|e| {
+        let key = table.iter().find_map(|(key, value)| {
+            let mut alone = toml::Table::new();
+            alone.insert(key.clone(), value.clone());
+            T::deserialize(alone).is_err().then_some(key)
+        });
+        match key {
+            Some(key) => config_error(path, &format!("{prefix}{key}: {}", e.message())),
+            None => config_error(path, &format!("{prefix}{}", e.message())),
+        }
+    })
 }
 
 /// A parser's message about a config file, on one line.

@@ -1,7 +1,7 @@
 //! Convergence studies: n-refinement and h-refinement against the exact free-body solution
 //! or a high-accuracy run, with fitted rates; `lgsvi converge`.
 
-use crate::config::{config_error, Format, SimulateOptions};
+use crate::config::{Format, SimulateOptions};
 use crate::error::{CliError, Result};
 use crate::problem::{whole_steps, Problem};
 use clap::{Args, ValueEnum};
@@ -608,8 +608,8 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     if let Some(path) = options.base.config.clone() {
         let (_, table) = crate::config::read_config_table(&path)?;
         if let Some(table) = table {
-            let file = ConvergeOptions::deserialize(table)
-                .map_err(|e| config_error(&path, &format!("[converge]: {}", e.message())))?;
+            let file: ConvergeOptions =
+                crate::config::deserialize_naming_the_key(table, &path, "[converge] ")?;
             options.study = options.study.or(file.study);
             options.nodes_range = options.nodes_range.or(file.nodes_range);
             options.steps = options.steps.or(file.steps);

@@ -143,6 +143,19 @@ pub enum MechanicsError {
         /// What to change.
         advice: &'static str,
     },
+    /// A step whose result is not finite (a user's force or Lagrangian returning NaN or
+    /// infinity there, or an overflow).
+    #[error("step {step} (t = {time}): {what} is not finite; {hint}")]
+    NonFiniteStep {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// The quantity.
+        what: &'static str,
+        /// Where to look.
+        hint: &'static str,
+    },
     /// A starting configuration that is not on the group (an attitude that is not a
     /// rotation).
     #[error("{what}: {source}")]

@@ -1225,7 +1225,21 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             &outcome.momentum,
             &self.state.velocity,
         )?;
-        check_finite("momentum after the step", outcome.momentum.as_slice())?;
+        if !outcome.momentum.iter().all(|x| x.is_finite()) {
+            return Err(MechanicsError::NonFiniteStep {
+                step: self.step_index,
+                time: self.state.time,
+                what: "the momentum after the step",
+                hint: if self.forcing().is_some() {
+                    "the force (the system's or the input) or the Lagrangian gave a non-finite \
+                     value within this step, or the inputs overflow double precision: check \
+                     them at this time"
+                } else {
+                    "the Lagrangian or its derivatives gave a non-finite value within this \
+                     step, or the inputs overflow double precision: check them at this state"
+                },
+            });
+        }
         if let Some(input) = self.forcing() {
             let work = self.step_work(base, self.state.time, &input);
             compensated_add(&mut self.work_done, &mut self.work_carry, work);

@@ -237,3 +237,36 @@ fn an_inertia_thinner_than_double_precision_is_refused() {
     // Thin but resolvable: accepted.
     assert!(Inertia::from_principal_moments([1.0, 1.0, 1e-12]).is_ok());
 }
+
+/// A user's force that returns NaN from t = 1 on: the error names the step, its time and
+/// the force (before: "momentum after the step is not finite", nothing else).
+#[test]
+fn a_non_finite_force_is_named_with_its_step() {
+    use lgsvi_mechanics::{ForceOfTime, Forced};
+    let force = ForceOfTime(|t: f64| {
+        if t > 1.0 {
+            Vector3::new(f64::NAN, 0.0, 0.0)
+        } else {
+            Vector3::zeros()
+        }
+    });
+    let body = Forced::new(RigidBody::new(inertia()), force);
+    let mut it = Integrator::new(
+        body,
+        StepSettings::new(0.5, 6).unwrap(),
+        SO3::identity(),
+        omega0(),
+    )
+    .unwrap();
+    let error = it.run(10, 1).unwrap_err();
+    let text = error.to_string();
+    assert!(
+        matches!(error, MechanicsError::NonFiniteStep { step: 2, .. }),
+        "{text}"
+    );
+    assert!(
+        text.contains("(t = 1)") && text.contains("the force"),
+        "{text}"
+    );
+    assert_eq!(it.state().time, 1.0, "the last good state is kept");
+}
