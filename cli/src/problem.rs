@@ -335,8 +335,15 @@ impl Problem {
             applies,
         };
         if kind == SystemKind::RigidBody {
+            // The mass is the heavy top's and the bodies in space's (its help says so).
+            if options.mass.is_some() {
+                return Err(not_for(
+                    "--mass",
+                    "heavy-top, se3-body and orbiting-body (a free rotating body's motion does \
+                     not depend on its mass)",
+                ));
+            }
             for (flag, given) in [
-                ("--mass", options.mass.is_some()),
                 ("--gravity", options.gravity.is_some()),
                 ("--com", options.com.is_some()),
                 ("--gravity-direction", options.gravity_direction.is_some()),
@@ -550,6 +557,10 @@ impl Problem {
             "t_end": t_end, "every": every,
         });
         if let Some(adaptive) = settings.adaptive() {
+            // The nodes vary per step: the first step's count is only where the run began
+            // (the steps per count are `stats.nodes_histogram`).
+            json["first_nodes"] = settings.nodes().into();
+            json["nodes"] = "per step: stats.nodes_histogram".into();
             json["error_per_unit_time"] = adaptive.rate.into();
             json["node_range"] = serde_json::json!([adaptive.min_nodes, adaptive.max_nodes]);
         }

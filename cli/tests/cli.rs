@@ -671,7 +671,7 @@ fn adversarial_inputs_are_refused_in_one_line() {
         // Flags that do not apply were ignored.
         (
             vec!["simulate", "--mass", "2"],
-            "--mass applies to the heavy top",
+            "--mass does not apply to --system rigid-body",
         ),
         (vec!["simulate", "--gravity", "-5"], "--gravity applies"),
         (
@@ -1078,6 +1078,12 @@ fn simulate_with_a_tolerance_chooses_step_and_nodes() {
         // |Ω(0)| ≈ 2.93: 3 rad per step is h = 1 over T = 10.
         assert_eq!(run["description"]["settings"]["h"], 1.0);
         assert_eq!(run["description"]["tolerance"], tol);
+        // The nodes vary per step: the description says so and where to find them.
+        assert!(run["description"]["settings"]["first_nodes"].is_u64());
+        assert_eq!(
+            run["description"]["settings"]["nodes"],
+            "per step: stats.nodes_histogram"
+        );
         let stats = &run["stats"];
         // [n, steps with n nodes] pairs, by increasing n.
         let histogram: Vec<(u64, u64)> = stats["nodes_histogram"]
