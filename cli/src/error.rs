@@ -102,7 +102,8 @@ pub enum CliError {
     /// A horizon that is not a whole number of steps.
     #[error(
         "--t-end {t_end:?} is not a whole number of steps h = {h:?}: the method takes fixed \
-         steps, so end at {below:?} or {above:?}, or take h = {fitted:?} ({steps} steps)"
+         steps, so end at {below:?} or {above:?}, or take h = {fitted:?} ({steps} step{})",
+        if *steps == 1.0 { "" } else { "s" }
     )]
     NotWholeSteps {
         /// The horizon.

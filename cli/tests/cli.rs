@@ -720,6 +720,8 @@ fn adversarial_inputs_are_refused_in_one_line() {
             vec!["simulate", "--inertia-tensor", "1,0,0,0,1,0,0,0,1e-300"],
             "below ε times the largest",
         ),
+        // Counted in words that agree with their number.
+        (vec!["simulate", "--t-end", "0.3", "--h", "0.5"], "(1 step)"),
         // An output path whose directory takes no new files.
         (
             vec!["simulate", "--out", "/proc/version"],
