@@ -304,6 +304,25 @@ fn substitution_on_faer_factors_solves_the_system() {
     }
 }
 
+/// A workspace holding a curve that is not a solution (constant velocity plus a wobble),
+/// assembled with its Newton matrix at the step's start `b` with momentum `μ`.
+fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+    stepper: &Stepper<'_, S, ChartKind, 3>,
+    d: &Discretisation,
+) -> (Workspace<Stacked<9>, 3>, SO3, Vector3<f64>) {
+    let mut work = Workspace::<Stacked<9>, 3>::new(d);
+    let omega = Vector3::new(0.5, -0.8, 0.3);
+    for (i, t) in d.node_times().iter().enumerate() {
+        work.xi[i] = omega * *t + Vector3::new(0.02, -0.01, 0.03) * (t * t);
+    }
+    work.xi[0] = Vector3::zeros();
+    let mu = Vector3::new(2.4, -1.5, 1.52);
+    let b = SO3::from_matrix_unchecked(base());
+    stepper.assemble(&b, &mu, &mut work, true);
+    stepper.fill_jacobian(&mut work);
+    (work, b, mu)
+}
+
 /// The exact Newton matrix (both matchings, a configuration-dependent system, every
 /// chart) against forward differences of the residual away from the solution. Forward
 /// differences with step √ε·max(1, |z|) are accurate to ~√ε·|F''| ≈ 1e-7 relative.
@@ -325,17 +344,7 @@ fn exact_newton_matrix_matches_differences_of_the_residual() {
                 time: 0.0,
                 forcing: None,
             };
-            let mut work = Workspace::<Stacked<9>, 3>::new(&d);
-            let omega = Vector3::new(0.5, -0.8, 0.3);
-            for (i, t) in d.node_times().iter().enumerate() {
-                // A curve that is not a solution: constant velocity plus a wobble.
-                work.xi[i] = omega * *t + Vector3::new(0.02, -0.01, 0.03) * (t * t);
-            }
-            work.xi[0] = Vector3::zeros();
-            let mu = Vector3::new(2.4, -1.5, 1.52);
-            let b = SO3::from_matrix_unchecked(base());
-            stepper.assemble(&b, &mu, &mut work, true);
-            stepper.fill_jacobian(&mut work);
+            let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
             let exact = work.jacobian.clone();
             stepper.fill_jacobian_by_differences(&b, &mu, &mut work);
             let mut worst = 0.0f64;
@@ -375,16 +384,7 @@ fn carried_matching_momentum_agrees_with_a_new_assembly() {
             time: 0.0,
             forcing: Some(input),
         };
-        let mut work = Workspace::<Stacked<9>, 3>::new(&d);
-        let omega = Vector3::new(0.5, -0.8, 0.3);
-        for (i, t) in d.node_times().iter().enumerate() {
-            work.xi[i] = omega * *t + Vector3::new(0.02, -0.01, 0.03) * (t * t);
-        }
-        work.xi[0] = Vector3::zeros();
-        let mu = Vector3::new(2.4, -1.5, 1.52);
-        let b = SO3::from_matrix_unchecked(base());
-        stepper.assemble(&b, &mu, &mut work, true);
-        stepper.fill_jacobian(&mut work);
+        let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
         let before = work.matching.w;
         for (k, delta) in work.delta.iter_mut().enumerate() {
             *delta = 1e-5 * ((k as f64 * 0.7).sin() + 0.3);
