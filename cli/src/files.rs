@@ -17,7 +17,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-/// The temporary path beside `path` that [`commit`] renames over it: a hidden name that
+/// The temporary path beside `path` that [`Partial::commit`] renames over it: a hidden name that
 /// keeps the extension (plotters picks the image format from it).
 pub fn partial_path(path: &Path) -> PathBuf {
     let name = path
@@ -231,15 +231,37 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A destination that is not a regular file is written directly (`/dev/null` here:
-    /// renaming over it would need to replace it, and a FIFO's reader would get nothing).
+    /// A destination that is not a regular file is written directly: a FIFO stays a FIFO
+    /// and its reader gets the whole output (renaming over it would have replaced it, and
+    /// the reader would have got nothing).
     #[cfg(unix)]
     #[test]
-    fn a_special_file_is_written_directly() {
-        let null = Path::new("/dev/null");
-        write(null, b"anything").unwrap();
-        assert!(is_special(null));
-        assert!(!std::fs::symlink_metadata(null).unwrap().is_file());
+    fn a_fifo_is_written_directly() {
+        use std::io::Read;
+        use std::os::unix::fs::FileTypeExt;
+        let dir = scratch("fifo");
+        let fifo = dir.join("out.json");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .expect("mkfifo runs");
+        assert!(made.success());
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || {
+                let mut text = String::new();
+                File::open(&fifo)
+                    .unwrap()
+                    .read_to_string(&mut text)
+                    .unwrap();
+                text
+            })
+        };
+        write(&fifo, b"{\"through\": \"the pipe\"}").unwrap();
+        assert_eq!(reader.join().unwrap(), "{\"through\": \"the pipe\"}");
+        let meta = std::fs::symlink_metadata(&fifo).unwrap();
+        assert!(meta.file_type().is_fifo(), "the FIFO was replaced");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// A temporary file that is not committed is removed (a plot failing half-drawn).
