@@ -175,6 +175,27 @@ pub enum CliError {
         /// Why.
         source: std::io::Error,
     },
+    /// A `--tol` run whose step cannot meet its share of the tolerance (the library's
+    /// `ToleranceNotMet`, with the command line's remedies).
+    #[error(
+        "step {step} (t = {time}): the error estimate {estimate:.1e} stays above the step's \
+         share {budget:.1e} of --tol at {nodes} nodes, the most a --tol run takes: raise \
+         --tol, or shorten the step (--h {shorter:?} or less)"
+    )]
+    ToleranceNotMet {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// Its error estimate.
+        estimate: f64,
+        /// Its share of the tolerance.
+        budget: f64,
+        /// The nodes it was solved with.
+        nodes: usize,
+        /// A step a tenth as long.
+        shorter: f64,
+    },
     /// Two outputs of one run on the same file.
     #[error(
         "{first} and {second} would both write {}: the later would replace the earlier; give \

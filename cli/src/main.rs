@@ -311,7 +311,24 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
     let run = if options.exact {
         exact_run(&problem)?
     } else {
-        integrate(&problem)?
+        integrate(&problem).map_err(|error| match error {
+            CliError::Mechanics(lgsvi_mechanics::MechanicsError::ToleranceNotMet {
+                step,
+                time,
+                estimate,
+                budget,
+                nodes,
+                ..
+            }) => CliError::ToleranceNotMet {
+                step,
+                time,
+                estimate,
+                budget,
+                nodes,
+                shorter: problem.settings.step() / 10.0,
+            },
+            other => other,
+        })?
     };
     if let Some(warning) = run
         .estimates

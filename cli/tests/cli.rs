@@ -720,6 +720,20 @@ fn adversarial_inputs_are_refused_in_one_line() {
             vec!["simulate", "--inertia-tensor", "1,0,0,0,1,0,0,0,1e-300"],
             "below ε times the largest",
         ),
+        // A --tol run no step of which can meet its share: an error naming the step and
+        // the command line's remedies (before: 9,000x over the tolerance, exit 0).
+        (
+            vec![
+                "simulate",
+                "--damping",
+                "1000",
+                "--tol",
+                "1e-8",
+                "--t-end",
+                "2",
+            ],
+            "stays above the step's share",
+        ),
         // Counted in words that agree with their number.
         (vec!["simulate", "--t-end", "0.3", "--h", "0.5"], "(1 step)"),
         // An output path whose directory takes no new files.
