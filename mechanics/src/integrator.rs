@@ -256,7 +256,8 @@ impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> GalerkinCurv
             return Err(MechanicsError::InvalidSetting {
                 name: "t",
                 value: format!("{t:?}"),
-                reason: "outside the step [0, h] the Galerkin curve is an extrapolation,                          not the motion: take the curve of the step that contains the time",
+                reason: "outside the step [0, h] the Galerkin curve is an extrapolation, not the \
+                         motion: take the curve of the step that contains the time",
             });
         }
         let t = t.clamp(0.0, h);

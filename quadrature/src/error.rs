@@ -15,15 +15,15 @@ pub enum QuadratureError {
         min: usize,
     },
     /// An end of the interval is NaN or infinite.
-    #[error("the interval [{a}, {b}] has a non-finite end; give finite a < b")]
+    #[error("the interval [{a}, {b}] has a non-finite end; give finite ends")]
     NonFiniteInterval {
         /// Left end.
         a: f64,
         /// Right end.
         b: f64,
     },
-    /// The interval is empty or reversed.
-    #[error("the interval [{a}, {b}] is empty or reversed; give a < b")]
+    /// The interval is empty (`a = b`).
+    #[error("the interval [{a}, {b}] is empty; give a ≠ b (a > b integrates backwards)")]
     EmptyInterval {
         /// Left end.
         a: f64,

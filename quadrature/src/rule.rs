@@ -66,24 +66,29 @@ impl Rule {
         }
     }
 
-    /// The same rule mapped to `[a, b]`.
+    /// The same rule mapped to `[a, b]`. With `a > b` the rule integrates backwards, as
+    /// `∫_a^b = −∫_b^a` in calculus: its nodes run from `a` down to `b` and its weights are
+    /// negative (each the negated weight of the forward rule's node at the same place).
     ///
     /// # Errors
     /// [`QuadratureError::NonFiniteInterval`] if `a` or `b` is NaN or infinite,
-    /// [`QuadratureError::EmptyInterval`] unless `a < b`.
+    /// [`QuadratureError::EmptyInterval`] if `a = b`.
     ///
     /// ```
-    /// use lgsvi_quadrature::gauss_lobatto;
+    /// use lgsvi_quadrature::{gauss_legendre, gauss_lobatto};
     /// let rule = gauss_lobatto(4)?.on(2.0, 5.0)?;
     /// assert_eq!((rule.nodes()[0], rule.nodes()[3]), (2.0, 5.0));
     /// assert!(gauss_lobatto(4)?.on(1.0, 1.0).is_err());
+    /// // Backwards: ∫_1^0 x² dx = −1/3.
+    /// let back = gauss_legendre(3)?.on(1.0, 0.0)?;
+    /// assert!((back.integrate(|x| x * x) + 1.0 / 3.0).abs() < 1e-15);
     /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
     /// ```
     pub fn on(&self, a: f64, b: f64) -> Result<Self, QuadratureError> {
         if !(a.is_finite() && b.is_finite()) {
             return Err(QuadratureError::NonFiniteInterval { a, b });
         }
-        if a >= b {
+        if a == b {
             return Err(QuadratureError::EmptyInterval { a, b });
         }
         let half_length = 0.5 * (b - a);
@@ -107,7 +112,7 @@ impl Rule {
         })
     }
 
-    /// Nodes, ascending.
+    /// Nodes, from `a` to `b`: ascending, or descending for a rule on a reversed interval.
     pub fn nodes(&self) -> &[f64] {
         &self.nodes
     }
@@ -117,7 +122,7 @@ impl Rule {
         &self.weights
     }
 
-    /// `(node, weight)` pairs, ascending in the node.
+    /// `(node, weight)` pairs, in the order of [`Rule::nodes`].
     pub fn iter(&self) -> impl ExactSizeIterator<Item = (f64, f64)> + '_ {
         self.nodes.iter().copied().zip(self.weights.iter().copied())
     }
