@@ -525,6 +525,50 @@ pub fn targets(points: &[Point]) -> String {
     s
 }
 
+/// A ratio table's cell for one error target: lgsvi's fastest run there over DOP853's,
+/// both times, and what `detail` says of the lgsvi run (after a `; `, when not empty);
+/// or which of the two does not reach the target.
+pub(crate) fn ratio_cell(
+    lgsvi: Option<&Point>,
+    dop853: Option<&Point>,
+    detail: impl Fn(&Point) -> String,
+) -> String {
+    match (lgsvi, dop853) {
+        (Some(l), Some(d)) => {
+            let detail = detail(l);
+            let detail = if detail.is_empty() {
+                detail
+            } else {
+                format!("; {detail}")
+            };
+            format!(
+                " {:.2} ({:.3} / {:.3} ms{detail}) |",
+                l.time_s / d.time_s,
+                1e3 * l.time_s,
+                1e3 * d.time_s
+            )
+        }
+        (Some(_), None) => " DOP853 does not reach it |".into(),
+        (None, _) => " lgsvi does not reach it |".into(),
+    }
+}
+
+/// A ratio table's last cell, where DOP853 does not go: lgsvi's run over DOP853's most
+/// accurate run, with both errors and times.
+pub(crate) fn beyond_cell(lgsvi: Option<&Point>, dop853: Option<&Point>) -> String {
+    match (lgsvi, dop853) {
+        (Some(l), Some(d)) => format!(
+            " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
+            l.time_s / d.time_s,
+            l.error,
+            1e3 * l.time_s,
+            d.error,
+            1e3 * d.time_s
+        ),
+        _ => " – |".into(),
+    }
+}
+
 /// The ratio table: for each case, horizon and error target, the fastest lgsvi
 /// run (best `(h, n)` of the sweep) at or below the target over the fastest DOP853
 /// (quaternion state) run at or below it; below 1 lgsvi is faster. The last column goes
@@ -544,31 +588,11 @@ pub fn dop853_ratios(points: &[Point]) -> String {
             for target in TARGETS {
                 let l = fastest(points, case, t_end, LGSVI_FIXED, target);
                 let d = fastest(points, case, t_end, "DOP853 (quaternion)", target);
-                let cell = match (l, d) {
-                    (Some(l), Some(d)) => format!(
-                        " {:.2} ({:.3} / {:.3} ms) |",
-                        l.time_s / d.time_s,
-                        1e3 * l.time_s,
-                        1e3 * d.time_s
-                    ),
-                    (Some(_), None) => " DOP853 does not reach it |".into(),
-                    (None, _) => " lgsvi does not reach it |".into(),
-                };
-                row.push_str(&cell);
+                row.push_str(&ratio_cell(l, d, |_| String::new()));
             }
             let l = fastest(points, case, t_end, LGSVI_FIXED, 1e-13);
             let d = most_accurate(points, case, t_end, "DOP853 (quaternion)");
-            row.push_str(&match (l, d) {
-                (Some(l), Some(d)) => format!(
-                    " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
-                    l.time_s / d.time_s,
-                    l.error,
-                    1e3 * l.time_s,
-                    d.error,
-                    1e3 * d.time_s
-                ),
-                _ => " – |".into(),
-            });
+            row.push_str(&beyond_cell(l, d));
             let _ = writeln!(s, "{row}");
         }
     }

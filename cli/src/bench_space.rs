@@ -5,7 +5,7 @@
 //! timed whole (construction included, median of the repeats), the best run per error
 //! target. Errors: O1 `max(‖R − R_ref‖_F, ‖x − x_ref‖)`, F1 `‖R − R_ref‖_F`, at `T`.
 
-use crate::bench::{fastest, most_accurate, timed, Point};
+use crate::bench::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
 use crate::error::{CliError, Result};
 use lgsvi_baselines::{dop853_in_space, SpaceModel, SpaceState};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
@@ -195,36 +195,20 @@ pub fn ratios(points: &[Point]) -> String {
             for target in TARGETS {
                 let l = fastest(points, name, t_end, "lgsvi", target);
                 let d = fastest(points, name, t_end, "DOP853", target);
-                row.push_str(&match (l, d) {
-                    (Some(l), Some(d)) => format!(
-                        " {:.2} ({:.3} / {:.3} ms; {}) |",
-                        l.time_s / d.time_s,
-                        1e3 * l.time_s,
-                        1e3 * d.time_s,
+                // The (h, n) of the lgsvi run: "h = 2, n = 8".
+                row.push_str(&ratio_cell(l, d, |l| {
+                    format!(
+                        "{}, {}",
                         l.method
                             .trim_start_matches("lgsvi (exp, ")
-                            .trim_end_matches(')')
-                            .to_string()
-                            + ", "
-                            + &l.knob
-                    ),
-                    (Some(_), None) => " DOP853 does not reach it |".into(),
-                    (None, _) => " lgsvi does not reach it |".into(),
-                });
+                            .trim_end_matches(')'),
+                        l.knob
+                    )
+                }));
             }
             let l = fastest(points, name, t_end, "lgsvi", 1e-12);
             let d = most_accurate(points, name, t_end, "DOP853");
-            row.push_str(&match (l, d) {
-                (Some(l), Some(d)) => format!(
-                    " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
-                    l.time_s / d.time_s,
-                    l.error,
-                    1e3 * l.time_s,
-                    d.error,
-                    1e3 * d.time_s
-                ),
-                _ => " – |".into(),
-            });
+            row.push_str(&beyond_cell(l, d));
             let _ = writeln!(s, "{row}");
         }
     }
