@@ -63,7 +63,11 @@ pub struct Partial {
 impl Partial {
     /// The temporary file for a write to `path` (through links).
     pub fn new(path: &Path) -> Self {
-        let target = resolve(path);
+        Self::beside(resolve(path))
+    }
+
+    /// The temporary file for a write to `target`, already resolved through links.
+    fn beside(target: PathBuf) -> Self {
         Self {
             path: partial_path(&target),
             target,
@@ -121,7 +125,7 @@ pub fn write_with(
         let mut out = BufWriter::new(file);
         return write(&mut out).and_then(|()| out.flush()).map_err(failed);
     }
-    let partial = Partial::new(path);
+    let partial = Partial::beside(target);
     let result = (|| {
         let file = File::create(partial.path()).map_err(|e| {
             let dir = partial.path().parent().unwrap_or(Path::new("."));
@@ -159,10 +163,13 @@ pub fn write(path: &Path, contents: &[u8]) -> Result<()> {
 /// # Errors
 /// [`CliError::Collision`] naming both flags and the file.
 pub fn check_distinct(outputs: &[(&'static str, PathBuf)]) -> Result<()> {
-    let key = |p: &Path| std::path::absolute(resolve(p)).unwrap_or_else(|_| p.to_path_buf());
+    let keys: Vec<PathBuf> = outputs
+        .iter()
+        .map(|(_, p)| std::path::absolute(resolve(p)).unwrap_or_else(|_| p.clone()))
+        .collect();
     for (i, (first, a)) in outputs.iter().enumerate() {
-        for (second, b) in &outputs[i + 1..] {
-            if key(a) == key(b) {
+        for (j, (second, _)) in outputs.iter().enumerate().skip(i + 1) {
+            if keys[i] == keys[j] {
                 return Err(CliError::Collision {
                     first,
                     second,
