@@ -8,8 +8,8 @@ use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
-    Integrator, Lagrangian, LagrangianDerivatives, OrbitingBody, RigidBody, RigidMotions,
-    StepSettings, DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
+    Integrator, Lagrangian, LagrangianDerivatives, MechanicsError, OrbitingBody, RigidBody,
+    RigidMotions, StepSettings, DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
 };
 use nalgebra::{Matrix3, RealField, SVector, Vector3};
 
@@ -136,21 +136,27 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
                 ),
             });
         }
-        // Each step rounds by about 4ε, whatever its nodes: the run's floor.
-        let steps = (t_end.max(h) / h).round().max(1.0);
-        let floor = steps * ROUNDING_FLOOR;
-        if tol < floor {
-            return Err(CliError::Invalid {
-                flag: "--tol",
-                value: format!("{tol:e}"),
-                reason: format!(
-                    "below what double precision can deliver over this run: {steps} steps of \
-                     h = {h} round to about {floor:.1e} (4ε each); ask for at least that, or \
-                     take longer steps (--h)"
-                ),
-            });
-        }
-        settings = settings.with_tolerance(tol / t_end.max(h))?;
+        // The library refuses a step's share below the rounding of a step (4ε; the
+        // tolerance's positivity was checked with the other flags): said here as the
+        // run's floor, whatever its nodes.
+        settings = settings
+            .with_tolerance(tol / t_end.max(h))
+            .map_err(|error| match error {
+                MechanicsError::InvalidSetting { name: "tol", .. } => {
+                    let steps = (t_end.max(h) / h).round().max(1.0);
+                    let floor = steps * ROUNDING_FLOOR;
+                    CliError::Invalid {
+                        flag: "--tol",
+                        value: format!("{tol:e}"),
+                        reason: format!(
+                            "below what double precision can deliver over this run: {steps} \
+                             steps of h = {h} round to about {floor:.1e} (4ε each); ask for at \
+                             least that, or take longer steps (--h)"
+                        ),
+                    }
+                }
+                other => other.into(),
+            })?;
     }
     whole_steps(t_end, h)?;
     Ok(settings
