@@ -68,6 +68,30 @@ fn bench_steps<
     });
 }
 
+/// As [`bench_steps`], each step with its exact linearisation
+/// ([`Integrator::step_linearized`]): the cost of `A` and `B` beside a plain step.
+fn bench_linearized<
+    S: GroupLagrangian<D>,
+    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    const D: usize,
+>(
+    c: &mut Criterion,
+    name: &str,
+    mut integrator: Integrator<S, C, D>,
+) {
+    let start = *integrator.state();
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            integrator
+                .reset(0.0, start.configuration, start.velocity)
+                .unwrap();
+            for _ in 0..STEPS {
+                integrator.step_linearized().unwrap();
+            }
+        })
+    });
+}
+
 fn so3<S: GroupLagrangian<3>>(system: S) -> Integrator<S, ChartKind, 3>
 where
     ChartKind: lgsvi_mechanics::GroupChart<S::Group, 3>,
@@ -97,8 +121,13 @@ fn bench(c: &mut Criterion) {
     let mut controlled = so3(body);
     controlled.set_input(torque).unwrap();
     bench_steps(c, "so3_control_input", controlled);
+    bench_linearized(c, "so3_free_linearized", so3(body));
+    let mut controlled = so3(body);
+    controlled.set_input(torque).unwrap();
+    bench_linearized(c, "so3_control_input_linearized", controlled);
     let top = HeavyTop::new(inertia(), 1.0, 0.3, Vector3::z(), Vector3::z()).unwrap();
     bench_steps(c, "so3_heavy_top", so3(top));
+    bench_linearized(c, "so3_heavy_top_linearized", so3(top));
     bench_steps(
         c,
         "so3_user_potential",
@@ -130,6 +159,11 @@ fn bench(c: &mut Criterion) {
     bench_steps(
         c,
         "space_orbiting_body",
+        Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
+    );
+    bench_linearized(
+        c,
+        "space_orbiting_body_linearized",
         Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
     );
     // SE(3)'s own (screw-motion) chart, for comparison with the default

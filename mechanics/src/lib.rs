@@ -72,6 +72,7 @@ mod inertia;
 mod integrator;
 mod jet;
 mod lagrangian;
+pub mod linearization;
 mod rigid_motion;
 mod settings;
 mod step;
@@ -93,6 +94,7 @@ pub use lagrangian::{
 };
 /// The geometry layer, re-exported so that users of this crate need no second import.
 pub use lgsvi_lie as lie;
+pub use linearization::{Coordinates, StepLinearization};
 pub use rigid_motion::{BodyInField, FieldPotential, FreeBody, OrbitingBody};
 pub use settings::{
     AdaptiveNodes, Matching, NewtonJacobian, StepSettings, DEFAULT_ADAPTIVE_NODES,

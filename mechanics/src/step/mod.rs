@@ -22,8 +22,10 @@
 //! | [`assembly`] | the residual and the exact Newton matrix from the points |
 //! | [`matching`] | the momentum-matching equations, their Jacobian rows, the momentum update |
 //! | [`newton`] | the Newton / chord policy and its stopping rules |
+//! | [`linearize`] | the exact linearisation of a converged step (implicit function theorem) |
 
 pub(crate) mod assembly;
+pub(crate) mod linearize;
 pub(crate) mod matching;
 pub(crate) mod newton;
 pub(crate) mod points;

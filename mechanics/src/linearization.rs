@@ -1,0 +1,247 @@
+//! The exact linearisation of a step: `A = ∂x₊/∂x` and `B = ∂x₊/∂u` for control loops
+//! (LQR, MPC, iLQR, an EKF), from [`crate::Integrator::linearize`] and
+//! [`crate::Integrator::step_linearized`].
+//!
+//! # Coordinates
+//! The state perturbation is taken in the body frame of the step's start and end
+//! states:
+//! - the configuration by `g = ḡ exp(θ)` (on SO(3), `R = R̄ exp(θ̂)`);
+//! - [`Coordinates::Velocity`]: the body velocity by `ξ = ξ̄ + ω` (on SO(3), `Ω = Ω̄ + ω`);
+//! - [`Coordinates::Momentum`]: the body momentum by `μ = μ̄ + δμ`.
+//!
+//! The state vector is `(θ, ω)` or `(θ, δμ)` (`2D` entries, in the algebra's order: on
+//! SE(3) `θ = (θ_R, θ_x)`, `ω = (δΩ, δv)`). The input is the control input of
+//! [`crate::Integrator::set_input`] (a body torque on SO(3), a body wrench `(τ, f)` on
+//! SE(3)), held over the step; `B` is its derivative at the input in force, so a
+//! linearisation at zero input is the right one for a loop that adds `u` to nothing.
+//! For a body in space, [`StepLinearization::world_frame`] gives the same step in
+//! `(θ_R, δx, δΩ, δẋ)` with the position and its velocity in the world frame.
+//!
+//! # How it is computed
+//! A step solves `F(Ξ; θ, μ_k, u) = 0`, so by the implicit function theorem
+//! `∂Ξ/∂(θ, μ_k, u) = −F_Ξ⁻¹ F_{(θ, μ, u)}`, with the exact Newton matrix assembled and
+//! factored afresh at the converged step (never the chord iteration's kept factor), and
+//! the end state's dependence on `Ξ` in closed form. Exact to rounding: no finite
+//! differences. The velocity coordinates follow from the momentum ones through the
+//! Legendre transform at each end, `δμ = L_ξη θ + L_ξξ ω` with `L(η, ξ) = ℓ(t, g exp(η), ξ)`.
+//! The derivation is in `docs/linearization.md`.
+
+use crate::error::MechanicsError;
+use crate::group::ConfigurationGroup;
+use crate::integrator::State;
+use crate::step::linearize::MomentumJacobians;
+use crate::system::GroupLagrangian;
+use lgsvi_lie::{LieGroup, SE3};
+use nalgebra::{DMatrix, Matrix3, SMatrix, SVector};
+use num_dual::{Dual2SVec64, HyperDualSVec64};
+
+/// The coordinates of a step's state perturbation (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Coordinates {
+    /// `(θ, ω)`: attitude (and position) in the body frame, body velocity.
+    #[default]
+    Velocity,
+    /// `(θ, δμ)`: attitude (and position) in the body frame, body momentum; the
+    /// coordinates in which a conservative step's `A` is symplectic for the
+    /// left-trivialised form ([`StepLinearization::symplectic_form`]).
+    Momentum,
+}
+
+/// The exact linearisation of one step (module documentation): `x₊ ≈ A x + B u`.
+#[derive(Debug, Clone)]
+pub struct StepLinearization<E, const D: usize> {
+    /// The state the step starts from.
+    pub start: State<E, D>,
+    /// The state the step ends at.
+    pub end: State<E, D>,
+    /// The control input held over the step (the point of linearisation in `u`).
+    pub input: SVector<f64, D>,
+    /// The step `h`.
+    pub h: f64,
+    /// The nodes of the step.
+    pub nodes: usize,
+    a_momentum: DMatrix<f64>,
+    b_momentum: DMatrix<f64>,
+    a_velocity: DMatrix<f64>,
+    b_velocity: DMatrix<f64>,
+}
+
+impl<E, const D: usize> StepLinearization<E, D> {
+    /// `A = ∂x₊/∂x` (`2D × 2D`) in `coordinates`.
+    pub fn a(&self, coordinates: Coordinates) -> &DMatrix<f64> {
+        match coordinates {
+            Coordinates::Velocity => &self.a_velocity,
+            Coordinates::Momentum => &self.a_momentum,
+        }
+    }
+
+    /// `B = ∂x₊/∂u` (`2D × D`) in `coordinates`.
+    pub fn b(&self, coordinates: Coordinates) -> &DMatrix<f64> {
+        match coordinates {
+            Coordinates::Velocity => &self.b_velocity,
+            Coordinates::Momentum => &self.b_momentum,
+        }
+    }
+}
+
+impl<E: Copy, const D: usize> StepLinearization<E, D> {
+    /// The left-trivialised symplectic form of `T*G` at body momentum `μ`, in momentum
+    /// coordinates: `ω(z₁, z₂) = z₁ᵀ W z₂` with `W = [[−C(μ)ᵀ, −I], [I, 0]]`,
+    /// `C(μ)η = ad_ηᵀ μ` (the derivative of the canonical one-form `⟨μ, g⁻¹δg⟩`). A
+    /// conservative step satisfies `Aᵀ W(μ₊) A = W(μ)` ([`Coordinates::Momentum`]).
+    pub fn symplectic_form<G: ConfigurationGroup<D>>(momentum: &SVector<f64, D>) -> DMatrix<f64> {
+        let c = G::coadjoint_generator(momentum);
+        let mut w = DMatrix::zeros(2 * D, 2 * D);
+        for r in 0..D {
+            for col in 0..D {
+                w[(r, col)] = -c[(col, r)];
+            }
+            w[(r, D + r)] = -1.0;
+            w[(D + r, r)] = 1.0;
+        }
+        w
+    }
+
+    /// Builds the linearisation from the step's momentum Jacobians and the Legendre
+    /// transforms at both ends.
+    pub(crate) fn new<S>(
+        system: &S,
+        jacobians: &MomentumJacobians<D>,
+        start: State<E, D>,
+        end: State<E, D>,
+        input: SVector<f64, D>,
+        (h, nodes, index): (f64, usize, usize),
+    ) -> Result<Self, MechanicsError>
+    where
+        S: GroupLagrangian<D>,
+        S::Group: ConfigurationGroup<D, Element<f64> = E>,
+    {
+        let j = jacobians;
+        let a_momentum = blocks(&j.theta_theta, &j.theta_mu, &j.mu_theta, &j.mu_mu);
+        let mut b_momentum = DMatrix::zeros(2 * D, D);
+        b_momentum.view_mut((0, 0), (D, D)).copy_from(&j.theta_u);
+        b_momentum.view_mut((D, 0), (D, D)).copy_from(&j.mu_u);
+        // x_μ = T x_ω with T = [[I, 0], [L_ξη, L_ξξ]] at each end.
+        let (p_in, q_in) =
+            legendre_blocks(system, start.time, &start.configuration, &start.velocity);
+        let (p_out, q_out) = legendre_blocks(system, end.time, &end.configuration, &end.velocity);
+        let identity = SMatrix::<f64, D, D>::identity();
+        let zero = SMatrix::<f64, D, D>::zeros();
+        let t_in = blocks(&identity, &zero, &p_in, &q_in);
+        // A Lagrangian whose velocity Hessian is singular at the end has no velocity
+        // coordinates there (a valid inertia never does).
+        let q_out_inverse = q_out
+            .try_inverse()
+            .ok_or(MechanicsError::SingularJacobian {
+                step: index,
+                time: start.time,
+            })?;
+        let t_out_inverse = blocks(&identity, &zero, &(-q_out_inverse * p_out), &q_out_inverse);
+        let a_velocity = &t_out_inverse * &a_momentum * t_in;
+        let b_velocity = &t_out_inverse * &b_momentum;
+        Ok(Self {
+            start,
+            end,
+            input,
+            h,
+            nodes,
+            a_momentum,
+            b_momentum,
+            a_velocity,
+            b_velocity,
+        })
+    }
+}
+
+impl StepLinearization<SE3, 6> {
+    /// A body in space in world coordinates: `(A, B)` for the state `(θ_R, δx, δΩ, δẋ)`
+    /// (12 entries) — the attitude perturbation `R = R̄ exp(θ̂_R)` and the body angular
+    /// velocity as in [`Coordinates::Velocity`], the position `x` and its velocity `ẋ`
+    /// in the world frame. The input stays the body wrench `(τ, f)`.
+    ///
+    /// From `g exp(θ) = (R(I + θ̂_R), x + R θ_x)` to first order and `ẋ = R v`:
+    /// `δx = R θ_x`, `δẋ = R (δv − v̂ θ_R)`.
+    pub fn world_frame(&self) -> (DMatrix<f64>, DMatrix<f64>) {
+        let p_in_inverse = world_from_body(&self.start.configuration, &self.start.velocity, true);
+        let p_out = world_from_body(&self.end.configuration, &self.end.velocity, false);
+        (
+            &p_out * &self.a_velocity * p_in_inverse,
+            &p_out * &self.b_velocity,
+        )
+    }
+}
+
+/// `(θ_R, δx, δΩ, δẋ) = P (θ_R, θ_x, δΩ, δv)` at `(R, x)` with body velocity `(Ω, v)`
+/// (`δx = R θ_x`, `δẋ = R(δv − v̂ θ_R)`), or with `inverse` its inverse
+/// (`θ_x = Rᵀ δx`, `δv = Rᵀ δẋ + v̂ θ_R`).
+fn world_from_body(g: &SE3, velocity: &SVector<f64, 6>, inverse: bool) -> DMatrix<f64> {
+    let mut r: Matrix3<f64> = g.rotation().to_matrix();
+    let v_hat = lgsvi_lie::so3::hat(&velocity.fixed_rows::<3>(3).into_owned());
+    let coupling = if inverse {
+        r = r.transpose();
+        v_hat
+    } else {
+        -r * v_hat
+    };
+    let mut p = DMatrix::zeros(12, 12);
+    p.view_mut((0, 0), (3, 3)).copy_from(&Matrix3::identity());
+    p.view_mut((3, 3), (3, 3)).copy_from(&r);
+    p.view_mut((6, 6), (3, 3)).copy_from(&Matrix3::identity());
+    p.view_mut((9, 9), (3, 3)).copy_from(&r);
+    p.view_mut((9, 0), (3, 3)).copy_from(&coupling);
+    p
+}
+
+/// `[[a, b], [c, d]]` of `D × D` blocks.
+fn blocks<const D: usize>(
+    a: &SMatrix<f64, D, D>,
+    b: &SMatrix<f64, D, D>,
+    c: &SMatrix<f64, D, D>,
+    d: &SMatrix<f64, D, D>,
+) -> DMatrix<f64> {
+    let mut m = DMatrix::zeros(2 * D, 2 * D);
+    m.view_mut((0, 0), (D, D)).copy_from(a);
+    m.view_mut((0, D), (D, D)).copy_from(b);
+    m.view_mut((D, 0), (D, D)).copy_from(c);
+    m.view_mut((D, D), (D, D)).copy_from(d);
+    m
+}
+
+/// `(L_ξη, L_ξξ)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0`: how the body momentum
+/// moves with the configuration (body frame) and the velocity. From the system's closed
+/// form where it has one ([`GroupLagrangian::local_derivatives`], whose mixed block is
+/// zero by contract); a left-invariant `ℓ` has no mixed block; otherwise one hyper-dual
+/// number through `ℓ` (with `exp` to second order: only first order in `η` is read).
+fn legendre_blocks<S: GroupLagrangian<D>, const D: usize>(
+    system: &S,
+    time: f64,
+    configuration: &<S::Group as ConfigurationGroup<D>>::Element<f64>,
+    velocity: &SVector<f64, D>,
+) -> (SMatrix<f64, D, D>, SMatrix<f64, D, D>) {
+    if let Some(local) = system.local_derivatives(time, configuration, velocity, true) {
+        return (SMatrix::zeros(), local.velocity_hessian);
+    }
+    let (_, _, hessian) = num_dual::hessian(
+        |xi: SVector<Dual2SVec64<D>, D>| {
+            let g = <S::Group as ConfigurationGroup<D>>::lift(configuration);
+            system.lagrangian(time, &g, &xi)
+        },
+        velocity,
+    );
+    if system.is_left_invariant() {
+        return (SMatrix::zeros(), hessian);
+    }
+    let zero = SVector::<f64, D>::zeros();
+    let (_, _, _, mixed) = num_dual::partial_hessian(
+        |(xi, eta): (
+            SVector<HyperDualSVec64<D, D>, D>,
+            SVector<HyperDualSVec64<D, D>, D>,
+        )| {
+            let g = <S::Group as ConfigurationGroup<D>>::lift(configuration)
+                .compose(&<S::Group as ConfigurationGroup<D>>::exp_second_order(&eta));
+            system.lagrangian(time, &g, &xi)
+        },
+        (velocity, &zero),
+    );
+    (mixed, hessian)
+}

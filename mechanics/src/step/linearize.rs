@@ -1,0 +1,342 @@
+//! The exact linearisation of a converged step, by the implicit function theorem.
+//!
+//! A step solves `F(Ξ; θ, μ_k, u) = 0` for its unknowns `Ξ = (ξ², …, ξⁿ)`, where the
+//! start is perturbed as `g_k exp(θ)`, `μ_k` is the body momentum and `u` the control
+//! input (held over the step). At the solution, `∂Ξ/∂P = −F_Ξ⁻¹ F_P` for
+//! `P = (θ, μ_k, u)`: the Newton matrix `F_Ξ` assembled and factored afresh at the
+//! converged unknowns (never the chord iteration's kept factor, which is a few residuals
+//! old), and `F_P` in closed form: the Gauss points' gradients move with `θ` through
+//! their derivatives in `ζ` ([`Stepper::point_mixed`]; three hyper-dual numbers per point
+//! through the whole point are the tests' reference).
+//!
+//! With `ξⁿ` and `w` of the exact matching (module [`super::matching`]):
+//! - `g_{k+1} exp(θ₊) = g_k exp(θ) Φ(ξⁿ + δξⁿ)` gives `θ₊ = Ad_{Φ(ξⁿ)⁻¹} θ + A(ξⁿ) δξⁿ`;
+//! - `μ_{k+1} = Ad_{Φ(ξⁿ)}ᵀ w` gives `δμ₊ = Ad_{Φ(ξⁿ)}ᵀ δw + C(μ_{k+1}) A(ξⁿ) δξⁿ`, with
+//!   `C(p)η = ad_ηᵀ p` and `δw = ∂w/∂P δP + Σ_k ∂w/∂ξᵏ δξᵏ`,
+//!   `w = μ_k + Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ (p_j + F_j + u)`.
+//!
+//! The rows of `F_P`: an interior node's equation `Σ_j h b_j [φ_i ∂_x ℓ̃ + φ_i' ∂_v ℓ̃ +
+//! φ_i A(x_j)ᵀ(F_j + u)]` gains `Σ_j h b_j [φ_i M^x_j + φ_i' M^v_j]` in `θ` and
+//! `Σ_j h b_j φ_i A(x_j)ᵀ` in `u`; the matching equation `T w − ∂S/∂ξⁿ` (with
+//! `T = A(ξⁿ)ᵀ Ad_{Φ(ξⁿ)}ᵀ`) gains `T ∂w/∂θ − Σ_j h b_j [φ_n M^x_j + φ_n' M^v_j]` in `θ`,
+//! `T` in `μ_k` and `T Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ − Σ_j h b_j φ_n A(x_j)ᵀ` in `u`, where
+//! `∂w/∂θ = Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ M^ζ_j`.
+
+use super::assembly::WorkspaceOf;
+use super::newton::substitute;
+use super::points::{point_derivatives, EllTilde};
+use super::{Element, Stepper};
+use crate::error::MechanicsError;
+use crate::group::{ConfigurationGroup, GroupChart, PointJet};
+use crate::settings::Matching;
+use crate::system::GroupLagrangian;
+use faer::dyn_stack::MemStack;
+use faer::linalg::lu::partial_pivoting::factor;
+use faer::Par;
+use lgsvi_lie::LieGroup;
+use nalgebra::{SMatrix, SVector};
+
+/// The Jacobians of one step in momentum coordinates `(θ, δμ)` and the input `u`, as
+/// `D × D` blocks (`row_column`), and the end momentum they were taken at.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MomentumJacobians<const D: usize> {
+    pub theta_theta: SMatrix<f64, D, D>,
+    pub theta_mu: SMatrix<f64, D, D>,
+    pub mu_theta: SMatrix<f64, D, D>,
+    pub mu_mu: SMatrix<f64, D, D>,
+    pub theta_u: SMatrix<f64, D, D>,
+    pub mu_u: SMatrix<f64, D, D>,
+}
+
+/// The mixed derivatives of one Gauss point in `θ`: rows `x`, `v`, `ζ` of the point's
+/// gradient (with the force's terms), columns `θ`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct PointMixed<const D: usize> {
+    pub x: SMatrix<f64, D, D>,
+    pub v: SMatrix<f64, D, D>,
+    pub zeta: SMatrix<f64, D, D>,
+}
+
+#[cfg(test)]
+type Hyper<const D: usize> = num_dual::HyperDualSVec64<D, D>;
+
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
+    /// The linearisation of the step from `(base, mu)` whose converged unknowns are in
+    /// `work.xi` (module documentation). Overwrites the workspace's assembly and matrix.
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for the paper's matching (not the derivative of
+    /// a discrete Lagrangian: its step has no variational linearisation to offer);
+    /// [`MechanicsError::OutsideChart`] if the unknowns left the chart;
+    /// [`MechanicsError::SingularJacobian`] if the Newton matrix is singular there.
+    pub(crate) fn linearize(
+        &self,
+        base: &Element<S, D>,
+        mu: &SVector<f64, D>,
+        work: &mut WorkspaceOf<S, D>,
+        step: usize,
+    ) -> Result<MomentumJacobians<D>, MechanicsError> {
+        if self.settings.matching() == Matching::Paper {
+            return Err(MechanicsError::InvalidSetting {
+                name: "matching",
+                value: "paper".into(),
+                reason: "the paper's momentum matching is not the derivative of a discrete \
+                         Lagrangian, so its step has no variational linearisation: use the exact \
+                         matching",
+            });
+        }
+        let d = self.d;
+        let (n, m) = (d.n, d.m);
+        let unknowns = D * (n - 1);
+        self.check_domain(work, step, self.time)?;
+        // The exact Newton matrix at the converged unknowns, factored afresh.
+        self.assemble(base, mu, work, true);
+        self.fill_jacobian(work);
+        factor::lu_in_place(
+            work.jacobian.as_mut(),
+            &mut work.perm,
+            &mut work.perm_inv,
+            Par::Seq,
+            MemStack::new(&mut work.stack),
+            Default::default(),
+        );
+        // F_P, columns θ (0..D), μ_k (D..2D), u (2D..3D), column-major.
+        let mut f_p = vec![0.0; unknowns * 3 * D];
+        let mut dw_theta = SMatrix::<f64, D, D>::zeros();
+        let mut dw_u = SMatrix::<f64, D, D>::zeros();
+        let mut last_theta = SMatrix::<f64, D, D>::zeros();
+        let mut last_u = SMatrix::<f64, D, D>::zeros();
+        let moves = self.moves_with_start();
+        let mut jet = <<S::Group as ConfigurationGroup<D>>::Jet as PointJet>::zeros();
+        let none = PointMixed {
+            x: SMatrix::zeros(),
+            v: SMatrix::zeros(),
+            zeta: SMatrix::zeros(),
+        };
+        for j in 0..m {
+            let (x, v) = (work.x[j], work.v[j]);
+            let mixed = if moves {
+                self.point_mixed(base, j, &x, &v, &mut jet)
+            } else {
+                none
+            };
+            let a_t = self.chart.left_differential(&x).transpose();
+            let to_start = self.chart.to_group(&x).inverse().adjoint().transpose();
+            let weight = d.weights[j];
+            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            for i in 1..n - 1 {
+                let theta = (mixed.x * values[i] + mixed.v * slopes[i]) * weight;
+                let u = a_t * (values[i] * weight);
+                add_rows(&mut f_p, unknowns, D * (i - 1), 0, &theta);
+                add_rows(&mut f_p, unknowns, D * (i - 1), 2 * D, &u);
+            }
+            last_theta += (mixed.x * values[n - 1] + mixed.v * slopes[n - 1]) * weight;
+            last_u += a_t * (values[n - 1] * weight);
+            dw_theta += to_start * mixed.zeta * weight;
+            dw_u += to_start * weight;
+        }
+        let transport = work.matching.transport;
+        let last = D * (n - 2);
+        add_rows(
+            &mut f_p,
+            unknowns,
+            last,
+            0,
+            &(transport * dw_theta - last_theta),
+        );
+        add_rows(&mut f_p, unknowns, last, D, &transport);
+        add_rows(
+            &mut f_p,
+            unknowns,
+            last,
+            2 * D,
+            &(transport * dw_u - last_u),
+        );
+        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P, column by column with the fresh factors.
+        let mut solution = vec![0.0; unknowns * 3 * D];
+        for (column, out) in f_p
+            .chunks_exact(unknowns)
+            .zip(solution.chunks_exact_mut(unknowns))
+        {
+            for (o, &p) in out.iter_mut().zip(&work.perm) {
+                *o = -column[p];
+            }
+            substitute(&work.jacobian, out);
+            if !out.iter().all(|e| e.is_finite()) {
+                return Err(MechanicsError::SingularJacobian {
+                    step,
+                    time: self.time,
+                });
+            }
+        }
+        let xi_n = work.xi[n - 1];
+        let phi_n = self.chart.to_group(&xi_n);
+        let a_n = self.chart.left_differential(&xi_n);
+        let end_momentum = phi_n.adjoint().transpose() * work.matching.w;
+        let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
+        let configured = self.needs_configuration();
+        let mut blocks = [[SMatrix::<f64, D, D>::zeros(); 3]; 2];
+        for (p, column) in solution.chunks_exact(unknowns).enumerate() {
+            let (family, c) = (p / D, p % D);
+            let dxi_n = SVector::<f64, D>::from_column_slice(&column[last..]);
+            let mut theta = a_n * dxi_n;
+            let mut dw: SVector<f64, D> = match family {
+                0 => dw_theta.column(c).into_owned(),
+                1 => SMatrix::<f64, D, D>::identity().column(c).into_owned(),
+                _ => dw_u.column(c).into_owned(),
+            };
+            if family == 0 {
+                theta += phi_n.inverse().adjoint().column(c);
+            }
+            if configured {
+                for (k, delta) in column.chunks_exact(D).enumerate() {
+                    dw += work.dw_dxi[k + 1] * SVector::<f64, D>::from_column_slice(delta);
+                }
+            }
+            let momentum = phi_n.adjoint().transpose() * dw + c_end * (a_n * dxi_n);
+            blocks[0][family].set_column(c, &theta);
+            blocks[1][family].set_column(c, &momentum);
+        }
+        Ok(MomentumJacobians {
+            theta_theta: blocks[0][0],
+            theta_mu: blocks[0][1],
+            mu_theta: blocks[1][0],
+            mu_mu: blocks[1][1],
+            theta_u: blocks[0][2],
+            mu_u: blocks[1][2],
+        })
+    }
+
+    /// Whether any Gauss point's gradient moves with `θ`: `ℓ` depends on the
+    /// configuration, or the system's force does.
+    fn moves_with_start(&self) -> bool {
+        !self.system.is_left_invariant()
+            || (self.system.is_forced() && self.system.force_depends_on_configuration())
+    }
+
+    /// Point `j`'s mixed derivatives in `θ`, from its derivatives in `(x, v, ζ)`. With
+    /// `B = Ad_{Φ(x)⁻¹}`, the start's perturbation is `g_k exp(θ) Φ(x) = g_k Φ(x) exp(Bθ)`,
+    /// so `ℓ̃` at `θ` is `f(x, v, B(x)θ)` with `f(x, v, η) = ℓ(t, g_k Φ(x) exp(η), A(x) v)`:
+    /// - `x` rows: `H_xζ B + Aᵀ C(p) B` (the second term from `∂_x B = −ad_{A·} B`);
+    /// - `v` rows: `H_vζ B`;
+    /// - `ζ` rows: `(H_ζζ + ½ C(p)) B` (`exp(Bθ) exp(ζ) = exp(Bθ + ζ + ½ ad_{Bθ} ζ + …)`),
+    ///
+    /// with `p = ∂f/∂η` and `C(p)η = ad_ηᵀ p`; a force `F(t, g, ξ)` adds `Aᵀ F_η B` to the
+    /// `x` rows and `F_η B` to the `ζ` rows. `jet` is scratch for the point's derivatives.
+    pub(super) fn point_mixed(
+        &self,
+        base: &Element<S, D>,
+        j: usize,
+        x: &SVector<f64, D>,
+        v: &SVector<f64, D>,
+        jet: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+    ) -> PointMixed<D> {
+        let time = self.time + self.d.times[j];
+        let (system, chart) = (self.system, self.chart);
+        let phi = chart.to_group(x);
+        let b = phi.inverse().adjoint();
+        let a = chart.left_differential(x);
+        let mut mixed = PointMixed {
+            x: SMatrix::zeros(),
+            v: SMatrix::zeros(),
+            zeta: SMatrix::zeros(),
+        };
+        if !system.is_left_invariant() {
+            let ell = EllTilde {
+                system,
+                chart,
+                base,
+                time,
+            };
+            point_derivatives(&ell, x, v, true, true, None, jet);
+            let block =
+                |r0: usize| SMatrix::<f64, D, D>::from_fn(|r, c| jet.hessian(r0 + r, 2 * D + c));
+            let p = SVector::<f64, D>::from_column_slice(&jet.gradient()[2 * D..]);
+            let c_p = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
+            mixed.x = (block(0) + a.transpose() * c_p) * b;
+            mixed.v = block(D) * b;
+            mixed.zeta = (block(2 * D) + c_p * 0.5) * b;
+        }
+        if system.is_forced() && system.force_depends_on_configuration() {
+            let at = base.compose(&phi);
+            let f_eta = system.force_jet(time, &at, &(a * v)).configuration * b;
+            mixed.x += a.transpose() * f_eta;
+            mixed.zeta += f_eta;
+        }
+        mixed
+    }
+
+    /// [`Stepper::point_mixed`] by three hyper-dual evaluations through the whole point
+    /// (first variables `x`, `v`, `ζ` in turn, second variables `θ`): the tests'
+    /// independent reference.
+    #[cfg(test)]
+    pub(super) fn point_mixed_by_dual_numbers(
+        &self,
+        base: &Element<S, D>,
+        j: usize,
+        x: &SVector<f64, D>,
+        v: &SVector<f64, D>,
+    ) -> PointMixed<D> {
+        let time = self.time + self.d.times[j];
+        let (system, chart) = (self.system, self.chart);
+        let a = chart.left_differential(x);
+        let zero = SVector::<f64, D>::zeros();
+        let block = |which: usize| {
+            let (_, _, _, mixed) = num_dual::partial_hessian(
+                |(y, theta): (SVector<Hyper<D>, D>, SVector<Hyper<D>, D>)| {
+                    let x0: SVector<Hyper<D>, D> = x.map(nalgebra::convert);
+                    let v0: SVector<Hyper<D>, D> = v.map(nalgebra::convert);
+                    let (mut xs, mut vs, mut zeta) = (x0, v0, SVector::<Hyper<D>, D>::zeros());
+                    match which {
+                        0 => xs += y,
+                        1 => vs += y,
+                        _ => zeta = y,
+                    }
+                    let start = <S::Group as ConfigurationGroup<D>>::lift::<Hyper<D>>(base)
+                        .compose(&<S::Group as ConfigurationGroup<D>>::exp(&theta));
+                    let g = start
+                        .compose(&chart.to_group(&xs))
+                        .compose(&<S::Group as ConfigurationGroup<D>>::exp(&zeta));
+                    let omega = chart.left_differential(&xs) * vs;
+                    let mut value = system.lagrangian(time, &g, &omega);
+                    if system.is_forced() && which != 1 {
+                        // The virtual work of the force at the point itself (its value
+                        // moves with θ only): F·(A(x)δx) or F·ζ.
+                        let at = start.compose(&chart.to_group(&x0));
+                        let force = system.force(time, &at, &(chart.left_differential(&x0) * v0));
+                        let displacement = if which == 0 {
+                            a.map(nalgebra::convert::<f64, Hyper<D>>) * y
+                        } else {
+                            y
+                        };
+                        value += force.dot(&displacement);
+                    }
+                    value
+                },
+                (&zero, &zero),
+            );
+            mixed
+        };
+        PointMixed {
+            x: block(0),
+            v: block(1),
+            zeta: block(2),
+        }
+    }
+}
+
+/// Adds a `D × D` block to rows `row..row + D`, columns `col..col + D` of a column-major
+/// matrix with `rows` rows.
+fn add_rows<const D: usize>(
+    matrix: &mut [f64],
+    rows: usize,
+    row: usize,
+    col: usize,
+    block: &SMatrix<f64, D, D>,
+) {
+    for c in 0..D {
+        for r in 0..D {
+            matrix[(col + c) * rows + row + r] += block[(r, c)];
+        }
+    }
+}
