@@ -11,6 +11,7 @@ mod config;
 mod error;
 mod files;
 mod invariants;
+mod linearize;
 mod output;
 mod plot;
 mod problem;
@@ -54,6 +55,9 @@ enum Command {
     Converge(study::ConvergeOptions),
     /// Work-precision against DOP853, LGVI and splitting baselines (table, JSON, plots).
     Bench(bench::BenchOptions),
+    /// The exact linearisation A = ∂x₊/∂x, B = ∂x₊/∂u of one step from the initial state
+    /// (simulate's system flags), as JSON.
+    Linearize(linearize::LinearizeOptions),
     /// Regenerate the paper's nine figures, their data and a report (the default command).
     Reproduce(reproduce::ReproduceOptions),
 }
@@ -505,6 +509,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Reproduce(options)) => reproduce::run(options),
         Some(Command::Bench(options)) => bench::run(options),
+        Some(Command::Linearize(options)) => linearize::run(options),
         None => reproduce::run(cli.reproduce),
     };
     match result {
