@@ -62,6 +62,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod control;
 pub mod ensemble;
 mod error;
 pub mod exact;
