@@ -209,15 +209,19 @@ fn blocks<const D: usize>(
 
 /// `(L_ξη, L_ξξ)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0`: how the body momentum
 /// moves with the configuration (body frame) and the velocity. From the system's closed
-/// form where it has one ([`GroupLagrangian::local_derivatives`], whose mixed block is
-/// zero by contract); a left-invariant `ℓ` has no mixed block; otherwise one hyper-dual
-/// number through `ℓ` (with `exp` to second order: only first order in `η` is read).
+/// form where it has one ([`GroupLagrangian::momentum_derivatives`], or
+/// [`GroupLagrangian::local_derivatives`], whose mixed block is zero by contract); a
+/// left-invariant `ℓ` has no mixed block; otherwise one hyper-dual number through `ℓ`
+/// (with `exp` to second order: only first order in `η` is read).
 fn legendre_blocks<S: GroupLagrangian<D>, const D: usize>(
     system: &S,
     time: f64,
     configuration: &<S::Group as ConfigurationGroup<D>>::Element<f64>,
     velocity: &SVector<f64, D>,
 ) -> (SMatrix<f64, D, D>, SMatrix<f64, D, D>) {
+    if let Some(blocks) = system.momentum_derivatives(time, configuration, velocity) {
+        return blocks;
+    }
     if let Some(local) = system.local_derivatives(time, configuration, velocity, true) {
         return (SMatrix::zeros(), local.velocity_hessian);
     }

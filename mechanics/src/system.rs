@@ -128,6 +128,23 @@ pub trait GroupLagrangian<const D: usize> {
         true
     }
 
+    /// `(∂²L/∂ξ∂η, ∂²L/∂ξ²)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0` (entry
+    /// `(component of ξ, component of η or ξ)`): how the body momentum `μ = ∂ℓ/∂ξ` moves
+    /// with the configuration (body frame) and with the velocity, which the linearisation
+    /// of a step reads at both ends ([`crate::StepLinearization`]). `None` (the default)
+    /// has them from [`GroupLagrangian::local_derivatives`] or by dual numbers through
+    /// `ℓ`; the SO(3) systems of [`Lagrangian`] give them from
+    /// [`Lagrangian::derivatives`].
+    fn momentum_derivatives(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D>,
+        velocity: &SVector<f64, D>,
+    ) -> Option<(SMatrix<f64, D, D>, SMatrix<f64, D, D>)> {
+        let _ = (time, configuration, velocity);
+        None
+    }
+
     /// The first and second derivatives of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0`
     /// ([`LocalDerivatives`]), which the generic chain rule composes with the chart's
     /// derivatives; `None` (the default) has them taken by a second-order dual number over
@@ -287,6 +304,26 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
         out: &mut Stacked<9>,
     ) -> bool {
         crate::jet::point_derivatives(self, chart, point, out)
+    }
+    /// From [`Lagrangian::derivatives`]: `∂²L/∂Ω∂η_b = Σ_ij ∂²ℓ/∂R_ij∂Ω (R ê_b)_ij`.
+    fn momentum_derivatives(
+        &self,
+        _time: f64,
+        g: &SO3,
+        w: &Vector3<f64>,
+    ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        let r = g.matrix();
+        let l = Lagrangian::derivatives(self, r, w);
+        let mut mixed = Matrix3::zeros();
+        if let Some(h) = l.mixed_hessian {
+            for b in 0..3 {
+                let dr = r * lgsvi_lie::so3::hat(&Vector3::ith(b, 1.0));
+                for c in 0..3 {
+                    mixed[(c, b)] = (0..9).map(|k| h[(k, c)] * dr[(k / 3, k % 3)]).sum();
+                }
+            }
+        }
+        Some((mixed, l.velocity_hessian))
     }
     fn flow_guess<C: GroupChart<Rotations, 3>>(
         &self,
@@ -641,6 +678,14 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
         with_hessian: bool,
     ) -> Option<LocalDerivatives<D>> {
         self.system.local_derivatives(time, g, xi, with_hessian)
+    }
+    fn momentum_derivatives(
+        &self,
+        time: f64,
+        g: &ElementOf<S, D>,
+        xi: &SVector<f64, D>,
+    ) -> Option<(SMatrix<f64, D, D>, SMatrix<f64, D, D>)> {
+        self.system.momentum_derivatives(time, g, xi)
     }
     fn point_derivatives<C: GroupChart<Self::Group, D>>(
         &self,

@@ -9,9 +9,9 @@
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, ConfigurationGroup, Coordinates, ForceOfTime, Forced, FreeBody,
-    GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, Matching, MechanicsError,
-    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, Rotations, SpaceForce,
-    StepLinearization, StepSettings,
+    GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, Lagrangian, Matching,
+    MechanicsError, OrbitingBody, Potential, RigidBody, RigidBodyInPotential, Rotations,
+    SpaceForce, StepLinearization, StepSettings,
 };
 use nalgebra::{DMatrix, Matrix3, RealField, SVector, Vector3};
 
@@ -168,6 +168,20 @@ impl Potential for Dipole {
     }
 }
 
+/// A Lagrangian whose momentum depends on the attitude (`∂²ℓ/∂R∂Ω ≠ 0`, through the
+/// default dual-number derivatives): the Legendre transform's mixed block at work.
+#[derive(Clone, Copy)]
+struct Coupled;
+impl Lagrangian for Coupled {
+    fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
+        let c = |x: f64| -> T { nalgebra::convert(x) };
+        let up = r.transpose() * Vector3::new(c(0.2), c(-0.1), c(1.0));
+        c(0.5) * (w.x * w.x * c(1.2) + w.y * w.y * c(2.1) + w.z * w.z * c(2.7))
+            + up.dot(w) * c(0.3)
+            + r[(0, 1)] * r[(2, 2)] * c(1.7)
+    }
+}
+
 fn so3<S: GroupLagrangian<3, Group = Rotations> + Clone>(
     system: S,
     input: Vector3<f64>,
@@ -230,6 +244,7 @@ fn so3_systems_match_central_differences() {
         "user potential",
         so3(RigidBodyInPotential::new(inertia(), Dipole), torque),
     );
+    compare("attitude–velocity coupling", so3(Coupled, torque));
 }
 
 #[test]
