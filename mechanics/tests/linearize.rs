@@ -127,7 +127,7 @@ where
             // with a predictor that has a last curve (chord iterations included).
             integrator.step().unwrap();
             let (a_fd, b_fd) = differences(&mut integrator);
-            let before = integrator.statistics().clone();
+            let before = *integrator.statistics();
             let exact = integrator.step_linearized().unwrap();
             let after = integrator.statistics();
             let iterations = after.newton_iterations - before.newton_iterations;
