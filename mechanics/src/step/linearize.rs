@@ -24,12 +24,13 @@
 
 use super::assembly::WorkspaceOf;
 use super::newton::substitute;
-use super::points::{point_derivatives, EllTilde};
+use super::points::StepForce;
 use super::{Element, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::GroupLagrangian;
+use crate::system::PointForce;
 use faer::dyn_stack::MemStack;
 use faer::linalg::lu::partial_pivoting::factor;
 use faer::Par;
@@ -107,7 +108,6 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let mut last_theta = SMatrix::<f64, D, D>::zeros();
         let mut last_u = SMatrix::<f64, D, D>::zeros();
         let moves = self.moves_with_start();
-        let mut jet = <<S::Group as ConfigurationGroup<D>>::Jet as PointJet>::zeros();
         let none = PointMixed {
             x: SMatrix::zeros(),
             v: SMatrix::zeros(),
@@ -116,7 +116,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         for j in 0..m {
             let (x, v) = (work.x[j], work.v[j]);
             let mixed = if moves {
-                self.point_mixed(base, j, &x, &v, &mut jet)
+                self.point_mixed(base, j, &x, &v, &work.points[j])
             } else {
                 none
             };
@@ -222,44 +222,54 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     /// - `ζ` rows: `(H_ζζ + ½ C(p)) B` (`exp(Bθ) exp(ζ) = exp(Bθ + ζ + ½ ad_{Bθ} ζ + …)`),
     ///
     /// with `p = ∂f/∂η` and `C(p)η = ad_ηᵀ p`; a force `F(t, g, ξ)` adds `Aᵀ F_η B` to the
-    /// `x` rows and `F_η B` to the `ζ` rows. `jet` is scratch for the point's derivatives.
+    /// `x` rows and `F_η B` to the `ζ` rows. `jet` holds the point's derivatives with
+    /// their `ζ` rows and Hessian (as the assembly of a step with the exact matching
+    /// leaves them); with `self.forcing`, its `ζ` gradient includes the force, which is
+    /// taken off again (the force never enters the `ζ` columns read here).
     pub(super) fn point_mixed(
         &self,
         base: &Element<S, D>,
         j: usize,
         x: &SVector<f64, D>,
         v: &SVector<f64, D>,
-        jet: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+        jet: &<S::Group as ConfigurationGroup<D>>::Jet,
     ) -> PointMixed<D> {
         let time = self.time + self.d.times[j];
         let (system, chart) = (self.system, self.chart);
         let phi = chart.to_group(x);
         let b = phi.inverse().adjoint();
         let a = chart.left_differential(x);
+        let at = base.compose(&phi);
+        let force = self.forcing.as_ref().map(|input| {
+            StepForce {
+                system,
+                time,
+                input,
+            }
+            .jet(&at, &(a * v))
+        });
         let mut mixed = PointMixed {
             x: SMatrix::zeros(),
             v: SMatrix::zeros(),
             zeta: SMatrix::zeros(),
         };
         if !system.is_left_invariant() {
-            let ell = EllTilde {
-                system,
-                chart,
-                base,
-                time,
-            };
-            point_derivatives(&ell, x, v, true, true, None, jet);
             let block =
                 |r0: usize| SMatrix::<f64, D, D>::from_fn(|r, c| jet.hessian(r0 + r, 2 * D + c));
-            let p = SVector::<f64, D>::from_column_slice(&jet.gradient()[2 * D..]);
+            let mut p = SVector::<f64, D>::from_column_slice(&jet.gradient()[2 * D..]);
+            if let Some(force) = &force {
+                p -= force.value;
+            }
             let c_p = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
             mixed.x = (block(0) + a.transpose() * c_p) * b;
             mixed.v = block(D) * b;
             mixed.zeta = (block(2 * D) + c_p * 0.5) * b;
         }
         if system.is_forced() && system.force_depends_on_configuration() {
-            let at = base.compose(&phi);
-            let f_eta = system.force_jet(time, &at, &(a * v)).configuration * b;
+            let f_eta = match &force {
+                Some(force) => force.configuration,
+                None => system.force_jet(time, &at, &(a * v)).configuration,
+            } * b;
             mixed.x += a.transpose() * f_eta;
             mixed.zeta += f_eta;
         }

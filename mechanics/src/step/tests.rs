@@ -952,31 +952,56 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
     ) {
         let settings = StepSettings::new(0.4, 5).unwrap();
         let d = Discretisation::new(&settings).unwrap();
-        let stepper = Stepper {
-            system,
-            chart: &chart,
-            settings: &settings,
-            d: &d,
-            time: 0.3,
-            forcing: None,
-        };
-        let mut jet = <<S::Group as crate::ConfigurationGroup<D>>::Jet as PointJet>::zeros();
-        for scale in [0.0, 0.3, 1.0, 2.1] {
-            let x = SVector::<f64, D>::from_fn(|i, _| scale * (0.9 * i as f64 + 0.4).sin());
-            let v = SVector::<f64, D>::from_fn(|i, _| 0.8 - 0.3 * i as f64);
-            let fast = stepper.point_mixed(base, 2, &x, &v, &mut jet);
-            let slow = stepper.point_mixed_by_dual_numbers(base, 2, &x, &v);
-            for (what, f, s) in [
-                ("x", fast.x, slow.x),
-                ("v", fast.v, slow.v),
-                ("ζ", fast.zeta, slow.zeta),
-            ] {
-                let size = s.amax().max(1.0);
-                assert!(
-                    (f - s).amax() <= 1e-12 * size,
-                    "{name}, {what} rows at scale {scale}: {:e} of {size:e}",
-                    (f - s).amax()
+        let input = SVector::<f64, D>::from_fn(|i, _| 0.2 - 0.1 * i as f64);
+        // Unforced, and with a control input: the assembly's ζ gradient then carries the
+        // force, which the mixed derivatives must take off again.
+        for (forcing, scale) in [None, Some(input)]
+            .into_iter()
+            .flat_map(|f| [0.0, 0.3, 1.0, 2.1].map(|s| (f, s)))
+        {
+            let stepper = Stepper {
+                system,
+                chart: &chart,
+                settings: &settings,
+                d: &d,
+                time: 0.3,
+                forcing,
+            };
+            let mut jet = <<S::Group as crate::ConfigurationGroup<D>>::Jet as PointJet>::zeros();
+            {
+                let x = SVector::<f64, D>::from_fn(|i, _| scale * (0.9 * i as f64 + 0.4).sin());
+                let v = SVector::<f64, D>::from_fn(|i, _| 0.8 - 0.3 * i as f64);
+                // The point's derivatives as an exact-matching assembly leaves them: with the
+                // ζ rows and the Hessian.
+                let ell = EllTilde {
+                    system,
+                    chart: &chart,
+                    base,
+                    time: stepper.time + d.times[2],
+                };
+                super::points::point_derivatives(
+                    &ell,
+                    &x,
+                    &v,
+                    true,
+                    true,
+                    forcing.as_ref(),
+                    &mut jet,
                 );
+                let fast = stepper.point_mixed(base, 2, &x, &v, &jet);
+                let slow = stepper.point_mixed_by_dual_numbers(base, 2, &x, &v);
+                for (what, f, s) in [
+                    ("x", fast.x, slow.x),
+                    ("v", fast.v, slow.v),
+                    ("ζ", fast.zeta, slow.zeta),
+                ] {
+                    let size = s.amax().max(1.0);
+                    assert!(
+                        (f - s).amax() <= 1e-12 * size,
+                        "{name}, input {forcing:?}, {what} rows at scale {scale}: {:e} of {size:e}",
+                        (f - s).amax()
+                    );
+                }
             }
         }
     }
