@@ -69,6 +69,7 @@ pub mod exact;
 mod flow;
 mod force_jet;
 pub mod group;
+pub mod gyrostat;
 mod inertia;
 mod integrator;
 mod jet;
