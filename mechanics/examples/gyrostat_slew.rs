@@ -115,7 +115,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let momentum0 = total(integrator.state());
     let (mut saturated, mut drift) = (0, 0.0f64);
     println!("    t [s]  error [deg]  wheel speeds [rad/s]          |τ| [N·m]  |Rh − Rh₀| [N·m·s]");
-    for k in 0..STEPS {
+    for (k, reference) in references.iter().enumerate() {
         let state = *integrator.state();
         let mut u = tracker.input(k, &state).expect("a gain for every step");
         for i in 3..6 {
@@ -125,7 +125,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
         if k % 20 == 0 {
-            let error = references[k]
+            let error = reference
                 .configuration
                 .attitude
                 .inverse()
