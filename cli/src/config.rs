@@ -21,6 +21,10 @@ pub enum SystemKind {
     /// A rigid body orbiting a point mass on SE(3) (MacCullagh's potential: the
     /// gravity-gradient torque couples attitude and orbit).
     OrbitingBody,
+    /// A spacecraft with 1 to 4 reaction wheels on SO(3) × ℝᴷ (`--wheel-axes`,
+    /// `--wheel-inertia`): `ℓ = ½ΩᵀJΩ + Σ I_i (a_iᵀΩ) φ̇_i + ½ Σ I_i φ̇_i²`, J with the
+    /// wheels locked; motor torques `--wheel-torque`.
+    Gyrostat,
 }
 
 impl SystemKind {
@@ -131,6 +135,23 @@ fn four(text: &str) -> Result<[f64; 4], String> {
 fn nine(text: &str) -> Result<[f64; 9], String> {
     numbers::<9>(text)
 }
+/// A comma-separated list of numbers of any length (one flag value, or a TOML array).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(transparent)]
+pub struct Numbers(pub Vec<f64>);
+
+/// Parses `a,b,…` into finite numbers (at least one).
+fn list(text: &str) -> Result<Numbers, String> {
+    text.split(',')
+        .map(str::trim)
+        .map(|part| match part.parse::<f64>() {
+            Ok(value) if value.is_finite() => Ok(value),
+            Ok(_) => Err(format!("{part:?} is not finite")),
+            Err(_) => Err(format!("{part:?} is not a number")),
+        })
+        .collect::<Result<Vec<f64>, String>>()
+        .map(Numbers)
+}
 
 /// The options of `lgsvi simulate`: every one may also come from `--config FILE`
 /// (same names, kebab-case keys, numbers and arrays as TOML values); flags win.
@@ -179,6 +200,21 @@ pub struct SimulateOptions {
     /// Angular damping: a torque −cΩ with c ≥ 0 (every system) [default: 0].
     #[arg(long, allow_hyphen_values = true, value_name = "C")]
     pub damping: Option<f64>,
+    /// Gyrostat: the wheel axes in the body frame, three numbers per wheel, 1 to 4 wheels
+    /// [default: the body axes x, y, z].
+    #[arg(long, value_parser = list, allow_hyphen_values = true, value_name = "X1,Y1,Z1,...")]
+    pub wheel_axes: Option<Numbers>,
+    /// Gyrostat: each wheel's axial inertia I_i > 0 [default: 0.05 each].
+    #[arg(long, value_parser = list, allow_hyphen_values = true, value_name = "I1,...")]
+    pub wheel_inertia: Option<Numbers>,
+    /// Gyrostat: each wheel's initial spin rate relative to the body, rad per unit time
+    /// [default: 0].
+    #[arg(long, value_parser = list, allow_hyphen_values = true, value_name = "W1,...")]
+    pub wheel_speeds0: Option<Numbers>,
+    /// Gyrostat: a constant motor torque on each wheel (the body takes the reaction)
+    /// [default: 0].
+    #[arg(long, value_parser = list, allow_hyphen_values = true, value_name = "T1,...")]
+    pub wheel_torque: Option<Numbers>,
     /// Heavy top: gravitational acceleration g [default: 9.81].
     #[arg(long, allow_hyphen_values = true)]
     pub gravity: Option<f64>,
@@ -276,6 +312,10 @@ impl SimulateOptions {
             velocity0,
             torque,
             damping,
+            wheel_axes,
+            wheel_inertia,
+            wheel_speeds0,
+            wheel_torque,
             gravity,
             com,
             gravity_direction,

@@ -39,6 +39,17 @@ const SE3_MOMENTUM: &str = "state x = (θ_R, θ_x, δμ): the perturbation g = �
     perturbation δμ (angular, then linear); input u = (τ, f): a body wrench (torque, then force, \
     body frame; τ added to --torque, the nominal input), held over the step. x₊ ≈ A x + B u.";
 
+const GYROSTAT_COORDINATES: &str = "state x = (θ, δφ, ω, δφ̇): the attitude perturbation θ in \
+    the body frame, R = R̄ exp(θ̂); the wheel angles φ = φ̄ + δφ; the body angular velocity \
+    Ω = Ω̄ + ω; the wheel rates (relative to the body) φ̇ = φ̄̇ + δφ̇. Input u = (τ, τ_m): an \
+    external body torque, then the wheels' motor torques (added to --wheel-torque, the nominal \
+    input), held over the step. x₊ ≈ A x + B u.";
+const GYROSTAT_MOMENTUM: &str = "state x = (θ, δφ, δh, δp): the attitude perturbation θ in the \
+    body frame, R = R̄ exp(θ̂); the wheel angles φ = φ̄ + δφ; the total angular momentum h in the \
+    body frame; the wheels' axial momenta p. Input u = (τ, τ_m): an external body torque, then \
+    the wheels' motor torques (added to --wheel-torque, the nominal input), held over the step. \
+    x₊ ≈ A x + B u.";
+
 /// Runs `lgsvi linearize`.
 pub fn run(options: LinearizeOptions) -> Result<()> {
     let base = &options.base;
@@ -80,7 +91,36 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
         "settings": Problem::settings_json(&problem.settings, problem.settings.step(), 1),
         "coordinates_kind": if momentum { "momentum" } else { "velocity" },
     });
-    if let Some(motion) = &problem.motion {
+    if let Some(wheels) = &problem.wheels {
+        use crate::problem::AnyGyrostat;
+        macro_rules! linearise {
+            ($craft:expr, $k:literal, $d:literal) => {{
+                let (start, velocity, input) =
+                    wheels.start::<$k, $d>(problem.attitude0, problem.omega0);
+                let mut integrator =
+                    lgsvi_mechanics::Integrator::new($craft, problem.settings, start, velocity)?;
+                integrator.set_input(input)?;
+                let step = integrator.linearize()?;
+                report["a"] = rows(step.a(coordinates));
+                report["b"] = rows(step.b(coordinates));
+                report["before"] = gyrostat_state(&step.start);
+                report["after"] = gyrostat_state(&step.end);
+                report["step"] = step_json(&step);
+            }};
+        }
+        match wheels.system {
+            AnyGyrostat::One(craft) => linearise!(craft, 1, 4),
+            AnyGyrostat::Two(craft) => linearise!(craft, 2, 5),
+            AnyGyrostat::Three(craft) => linearise!(craft, 3, 6),
+            AnyGyrostat::Four(craft) => linearise!(craft, 4, 7),
+        }
+        report["coordinates"] = if momentum {
+            GYROSTAT_MOMENTUM
+        } else {
+            GYROSTAT_COORDINATES
+        }
+        .into();
+    } else if let Some(motion) = &problem.motion {
         let step = motion.integrator(problem.settings)?.linearize()?;
         let (a, b) = if momentum {
             (step.a(coordinates).clone(), step.b(coordinates).clone())
@@ -165,6 +205,19 @@ fn se3_state(s: &State<SE3, 6>) -> Value {
         "position": s.configuration.translation().as_slice(),
         "omega": s.velocity.fixed_rows::<3>(0).iter().copied().collect::<Vec<f64>>(),
         "velocity": xdot.as_slice(),
+        "momentum": s.momentum.as_slice(),
+    })
+}
+
+fn gyrostat_state<const K: usize, const D: usize>(
+    s: &State<lgsvi_mechanics::gyrostat::BodyWheels<f64, K>, D>,
+) -> Value {
+    json!({
+        "t": s.time,
+        "attitude": attitude(&s.configuration.attitude),
+        "wheel_angles": s.configuration.wheels.as_slice(),
+        "omega": s.velocity.fixed_rows::<3>(0).iter().copied().collect::<Vec<f64>>(),
+        "wheel_speeds": s.velocity.iter().skip(3).copied().collect::<Vec<f64>>(),
         "momentum": s.momentum.as_slice(),
     })
 }

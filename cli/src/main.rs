@@ -71,6 +71,8 @@ pub struct Run {
     pub work: Option<Vec<f64>>,
     /// Position, velocity and spatial momenta of each recorded state, for an SE(3) run.
     pub motion: Option<Vec<MotionRecord>>,
+    /// The wheels of each recorded state, for a gyrostat run.
+    pub wheels: Option<Vec<WheelRecord>>,
     pub wall_time_s: f64,
     pub steps: usize,
     pub newton_iterations: usize,
@@ -106,6 +108,17 @@ pub struct MotionRecord {
     pub spatial_momentum: nalgebra::SVector<f64, 6>,
 }
 
+/// The wheels of a recorded gyrostat state.
+#[derive(Debug, Clone)]
+pub struct WheelRecord {
+    /// The wheel angles `φ_i` relative to the body.
+    pub angles: Vec<f64>,
+    /// Their rates `φ̇_i`.
+    pub speeds: Vec<f64>,
+    /// The wheels' axial momenta `p_i = I_i (a_iᵀΩ + φ̇_i)`.
+    pub momenta: Vec<f64>,
+}
+
 /// Checks that a recorded state and its invariants are finite: a run whose numbers
 /// overflow stops there, naming the step and the quantity, instead of writing `null` or
 /// `inf`.
@@ -133,9 +146,12 @@ fn check_finite_state(step: usize, state: &State, energy: f64) -> Result<()> {
 }
 
 fn integrate(problem: &Problem) -> Result<Run> {
+    if let Some(wheels) = &problem.wheels {
+        return integrate_gyrostat(problem, wheels);
+    }
     match &problem.motion {
         None => integrate_with(problem, problem.integrator(problem.settings)?, |s| {
-            (*s, None)
+            (*s, None, None)
         }),
         // SE(3): the rotational part as the SO(3) columns, the translation beside them.
         Some(motion) => integrate_with(problem, motion.integrator(problem.settings)?, |s| {
@@ -150,8 +166,48 @@ fn integrate(problem: &Problem) -> Result<Run> {
                 momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
                 velocity: s.angular_velocity(),
             };
-            (rotation, Some(entry))
+            (rotation, Some(entry), None)
         }),
+    }
+}
+
+/// A gyrostat run: the body's attitude, rate and total angular momentum `h` as the SO(3)
+/// columns (the spatial `Rh` is what the wheels conserve), the wheels beside them.
+fn integrate_gyrostat(problem: &Problem, wheels: &problem::Wheels) -> Result<Run> {
+    use problem::AnyGyrostat;
+    macro_rules! run {
+        ($craft:expr, $k:literal, $d:literal) => {{
+            let (start, velocity, input) =
+                wheels.start::<$k, $d>(problem.attitude0, problem.omega0);
+            let mut integrator =
+                lgsvi_mechanics::Integrator::new($craft, problem.settings, start, velocity)?;
+            integrator.set_input(input)?;
+            let inertia = *$craft.wheel_inertia();
+            let axes = *$craft.axes();
+            integrate_with(problem, integrator, |s| {
+                let omega = s.velocity.fixed_rows::<3>(0).into_owned();
+                let rotation = State {
+                    time: s.time,
+                    configuration: s.configuration.attitude,
+                    momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
+                    velocity: omega,
+                };
+                let record = WheelRecord {
+                    angles: s.configuration.wheels.iter().copied().collect(),
+                    speeds: (0..$k).map(|i| s.velocity[3 + i]).collect(),
+                    momenta: (0..$k)
+                        .map(|i| inertia[i] * (axes[i].dot(&omega) + s.velocity[3 + i]))
+                        .collect(),
+                };
+                (rotation, None, Some(record))
+            })
+        }};
+    }
+    match wheels.system {
+        AnyGyrostat::One(craft) => run!(craft, 1, 4),
+        AnyGyrostat::Two(craft) => run!(craft, 2, 5),
+        AnyGyrostat::Three(craft) => run!(craft, 3, 6),
+        AnyGyrostat::Four(craft) => run!(craft, 4, 7),
     }
 }
 
@@ -162,7 +218,9 @@ fn integrate(problem: &Problem) -> Result<Run> {
 fn integrate_with<S, C, const D: usize>(
     problem: &Problem,
     mut integrator: lgsvi_mechanics::Integrator<S, C, D>,
-    split: impl Fn(&State<lgsvi_mechanics::ElementOf<S, D>, D>) -> (State, Option<MotionRecord>),
+    split: impl Fn(
+        &State<lgsvi_mechanics::ElementOf<S, D>, D>,
+    ) -> (State, Option<MotionRecord>, Option<WheelRecord>),
 ) -> Result<Run>
 where
     S: lgsvi_mechanics::GroupLagrangian<D> + Copy,
@@ -170,16 +228,18 @@ where
 {
     let steps = integrator.steps_until(problem.t_end)?;
     let system = *integrator.system();
-    let forced = system.is_forced();
+    // Forced: by the system's own force, or by an input (a gyrostat's motor torques).
+    let forced = system.is_forced() || integrator.input().iter().any(|&u| u != 0.0);
     let mut trajectory = Trajectory::default();
     let (mut energies, mut work, mut records) = (Vec::new(), Vec::new(), Vec::new());
+    let mut wheel_records = Vec::new();
     let mut visit = |k: usize,
                      state: &State<lgsvi_mechanics::ElementOf<S, D>, D>,
                      iterations: Option<usize>,
                      done: f64|
      -> Result<()> {
         let energy = state.energy(&system);
-        let (rotation, entry) = split(state);
+        let (rotation, entry, wheel) = split(state);
         check_finite_state(k, &rotation, energy)?;
         if let Some(entry) = &entry {
             let translation = [entry.position, entry.velocity];
@@ -200,6 +260,7 @@ where
         energies.push(energy);
         work.push(done);
         records.extend(entry);
+        wheel_records.extend(wheel);
         Ok(())
     };
     visit(0, integrator.state(), Some(0), 0.0)?;
@@ -236,6 +297,7 @@ where
         energies,
         work: forced.then_some(work),
         motion: problem.motion.is_some().then_some(records),
+        wheels: problem.wheels.is_some().then_some(wheel_records),
         wall_time_s: wall_time.as_secs_f64(),
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
@@ -279,6 +341,7 @@ fn exact_run(problem: &Problem) -> Result<Run> {
         energies,
         work: None,
         motion: None,
+        wheels: None,
         wall_time_s,
         steps: 0,
         newton_iterations: 0,

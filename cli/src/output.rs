@@ -106,6 +106,20 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
             vector(o, motion[k].velocity.as_slice())
         })?;
     }
+    if let Some(wheels) = &run.wheels {
+        out.write_all(b",")?;
+        column(out, "wheel_angles", states, |o, k, _| {
+            vector(o, &wheels[k].angles)
+        })?;
+        out.write_all(b",")?;
+        column(out, "wheel_momentum", states, |o, k, _| {
+            vector(o, &wheels[k].momenta)
+        })?;
+        out.write_all(b",")?;
+        column(out, "wheel_speeds", states, |o, k, _| {
+            vector(o, &wheels[k].speeds)
+        })?;
+    }
     if let Some(work) = &run.work {
         out.write_all(b",")?;
         column(out, "work", states, |o, k, _| number(o, work[k]))?;
@@ -115,13 +129,22 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
 
 /// One row per recorded state: for an SE(3) run `pi` is the angular momentum about the
 /// world origin and the row goes on with the position, the velocity `ẋ` and the linear
-/// momentum; a forced run's rows end with the work done.
+/// momentum; a gyrostat's rows go on with its wheels' angles, rates and axial momenta;
+/// a forced run's rows end with the work done.
 pub fn write_csv<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
     out.write_all(
         b"t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega_x,omega_y,omega_z,mu_x,mu_y,mu_z,energy,casimir,pi_x,pi_y,pi_z,newton_iterations",
     )?;
     if run.motion.is_some() {
         out.write_all(b",x,y,z,xdot_x,xdot_y,xdot_z,p_x,p_y,p_z")?;
+    }
+    if let Some(wheels) = &run.wheels {
+        // One column per wheel and quantity: phi_i, phidot_i, p_i.
+        for name in ["phi", "phidot", "p_wheel"] {
+            for i in 1..=wheels.first().map_or(0, |w| w.angles.len()) {
+                write!(out, ",{name}_{i}")?;
+            }
+        }
     }
     if run.work.is_some() {
         out.write_all(b",work")?;
@@ -154,6 +177,12 @@ pub fn write_csv<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
                 .chain(m.velocity.iter())
                 .chain(linear.iter())
             {
+                write!(out, ",{x}")?;
+            }
+        }
+        if let Some(wheels) = &run.wheels {
+            let w = &wheels[k];
+            for x in w.angles.iter().chain(&w.speeds).chain(&w.momenta) {
                 write!(out, ",{x}")?;
             }
         }

@@ -1,10 +1,11 @@
 //! A problem resolved from options: the system, its initial state and the integrator's
 //! settings, with the paper's parameters as defaults.
 
-use crate::config::{SimulateOptions, SystemKind};
+use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
@@ -23,6 +24,14 @@ pub fn defaults(system: SystemKind) -> Defaults {
     let case = crate::cases::case(match system {
         SystemKind::RigidBody | SystemKind::Se3Body => "A",
         SystemKind::HeavyTop => "B",
+        SystemKind::Gyrostat => {
+            // A small spacecraft: J = diag(10, 12, 8) with the wheels locked, i.e.
+            // J_d = (5, 3, 7), turning slowly.
+            return Defaults {
+                inertia_d: [5.0, 3.0, 7.0],
+                omega0: [0.01, -0.02, 0.03],
+            };
+        }
         SystemKind::OrbitingBody => {
             // The orbiting body's reference case (tests/data/se3_forced_refs.json, O1):
             // J = diag(0.3, 0.2, 0.4), i.e. J_d = (0.15, 0.25, 0.05).
@@ -269,6 +278,135 @@ impl Motion {
     }
 }
 
+/// A gyrostat of one of the wheel counts the command line takes.
+#[derive(Debug, Clone, Copy)]
+pub enum AnyGyrostat {
+    One(Gyrostat<1>),
+    Two(Gyrostat<2>),
+    Three(Gyrostat<3>),
+    Four(Gyrostat<4>),
+}
+
+/// A gyrostat run (`--system gyrostat`): the spacecraft, its wheels' start and their
+/// constant motor torques.
+#[derive(Debug, Clone)]
+pub struct Wheels {
+    pub system: AnyGyrostat,
+    pub axes: Vec<[f64; 3]>,
+    pub inertia: Vec<f64>,
+    pub speeds0: Vec<f64>,
+    pub torque: Vec<f64>,
+}
+
+impl Wheels {
+    /// From the wheel flags and the spacecraft's inertia with the wheels locked.
+    fn resolve(options: &SimulateOptions, inertia: &Inertia) -> Result<Self> {
+        let axes_given = options
+            .wheel_axes
+            .clone()
+            .map(|n| n.0)
+            .unwrap_or_else(|| vec![1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let k = axes_given.len() / 3;
+        if !axes_given.len().is_multiple_of(3) || !(1..=4).contains(&k) {
+            return Err(CliError::Invalid {
+                flag: "--wheel-axes",
+                value: format!("{axes_given:?}"),
+                reason: "three numbers per wheel, 1 to 4 wheels".into(),
+            });
+        }
+        let per_wheel = |flag: &'static str, given: &Option<Numbers>, default: f64| {
+            let values = given
+                .clone()
+                .map(|n| n.0)
+                .unwrap_or_else(|| vec![default; k]);
+            if values.len() == k {
+                Ok(values)
+            } else {
+                Err(CliError::Invalid {
+                    flag,
+                    value: format!("{values:?}"),
+                    reason: format!("one number per wheel: --wheel-axes gives {k}"),
+                })
+            }
+        };
+        let wheel_inertia = per_wheel("--wheel-inertia", &options.wheel_inertia, 0.05)?;
+        let speeds0 = per_wheel("--wheel-speeds0", &options.wheel_speeds0, 0.0)?;
+        let torque = per_wheel("--wheel-torque", &options.wheel_torque, 0.0)?;
+        let axes: Vec<[f64; 3]> = axes_given
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        let j = inertia.matrix();
+        let vectors: Vec<Vector3<f64>> = axes.iter().map(|a| Vector3::from(*a)).collect();
+        let input = |source| CliError::Input {
+            flag: "--wheel-axes/--wheel-inertia",
+            source,
+        };
+        let system = match k {
+            1 => {
+                AnyGyrostat::One(Gyrostat::new(j, [vectors[0]], [wheel_inertia[0]]).map_err(input)?)
+            }
+            2 => AnyGyrostat::Two(
+                Gyrostat::new(
+                    j,
+                    [vectors[0], vectors[1]],
+                    [wheel_inertia[0], wheel_inertia[1]],
+                )
+                .map_err(input)?,
+            ),
+            3 => AnyGyrostat::Three(
+                Gyrostat::new(
+                    j,
+                    [vectors[0], vectors[1], vectors[2]],
+                    [wheel_inertia[0], wheel_inertia[1], wheel_inertia[2]],
+                )
+                .map_err(input)?,
+            ),
+            _ => AnyGyrostat::Four(
+                Gyrostat::new(
+                    j,
+                    [vectors[0], vectors[1], vectors[2], vectors[3]],
+                    [
+                        wheel_inertia[0],
+                        wheel_inertia[1],
+                        wheel_inertia[2],
+                        wheel_inertia[3],
+                    ],
+                )
+                .map_err(input)?,
+            ),
+        };
+        Ok(Self {
+            system,
+            axes,
+            inertia: wheel_inertia,
+            speeds0,
+            torque,
+        })
+    }
+
+    /// The start `(R₀, φ = 0)`, velocity `(Ω₀, φ̇₀)` and input `(0, τ_m)` in `D = 3 + K`
+    /// entries.
+    pub fn start<const K: usize, const D: usize>(
+        &self,
+        attitude: SO3,
+        omega: Vector3<f64>,
+    ) -> (BodyWheels<f64, K>, SVector<f64, D>, SVector<f64, D>) {
+        let mut velocity = SVector::<f64, D>::zeros();
+        let mut input = SVector::<f64, D>::zeros();
+        velocity.fixed_rows_mut::<3>(0).copy_from(&omega);
+        for i in 0..K {
+            velocity[3 + i] = self.speeds0[i];
+            input[3 + i] = self.torque[i];
+        }
+        let start = BodyWheels {
+            attitude,
+            wheels: SVector::<f64, K>::zeros(),
+        };
+        (start, velocity, input)
+    }
+}
+
 /// Everything a run needs.
 #[derive(Debug, Clone)]
 pub struct Problem {
@@ -276,6 +414,8 @@ pub struct Problem {
     pub system: Driven,
     /// The SE(3) run, for `--system se3-body` and `orbiting-body`.
     pub motion: Option<Motion>,
+    /// The gyrostat run, for `--system gyrostat`.
+    pub wheels: Option<Wheels>,
     pub inertia: Inertia,
     pub attitude0: SO3,
     pub omega0: Vector3<f64>,
@@ -334,6 +474,7 @@ impl Problem {
             SystemKind::HeavyTop => "heavy-top",
             SystemKind::Se3Body => "se3-body",
             SystemKind::OrbitingBody => "orbiting-body",
+            SystemKind::Gyrostat => "gyrostat",
         };
         let not_for = |flag: &'static str, applies: &'static str| CliError::NotForSystem {
             flag,
@@ -382,6 +523,62 @@ impl Problem {
             ] {
                 if given {
                     return Err(not_for(flag, "se3-body and orbiting-body"));
+                }
+            }
+        }
+        if kind == SystemKind::Gyrostat {
+            for (flag, given, applies) in [
+                (
+                    "--mass",
+                    options.mass.is_some(),
+                    "heavy-top, se3-body and orbiting-body (a gyrostat's inertia J holds its \
+                     mass distribution)",
+                ),
+                (
+                    "--gravity",
+                    options.gravity.is_some(),
+                    "the heavy top (--system heavy-top)",
+                ),
+                (
+                    "--com",
+                    options.com.is_some(),
+                    "the heavy top (--system heavy-top)",
+                ),
+                (
+                    "--gravity-direction",
+                    options.gravity_direction.is_some(),
+                    "the heavy top (--system heavy-top)",
+                ),
+                (
+                    "--torque",
+                    options.torque.is_some(),
+                    "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat's wheels \
+                     take --wheel-torque)",
+                ),
+                (
+                    "--damping",
+                    options.damping.is_some(),
+                    "rigid-body, heavy-top, se3-body and orbiting-body",
+                ),
+                (
+                    "--exact",
+                    options.exact,
+                    "the free rigid body (--system rigid-body)",
+                ),
+            ] {
+                if given {
+                    return Err(not_for(flag, applies));
+                }
+            }
+        } else {
+            for (flag, given) in [
+                ("--wheel-axes", options.wheel_axes.is_some()),
+                ("--wheel-inertia", options.wheel_inertia.is_some()),
+                ("--wheel-speeds0", options.wheel_speeds0.is_some()),
+                ("--wheel-torque", options.wheel_torque.is_some()),
+            ] {
+                if given {
+                    return Err(not_for(flag, "the gyrostat (--system gyrostat)"));
                 }
             }
         }
@@ -455,10 +652,28 @@ impl Problem {
         }
         description["system"] = name.into();
         let mut motion = None;
+        let mut wheels = None;
         // The fastest natural motion besides the spin, for the step of a --tol run.
         let mut frequency = 0.0;
         let system = match kind {
             SystemKind::RigidBody => System::Free(RigidBody::new(inertia)),
+            SystemKind::Gyrostat => {
+                let run = Wheels::resolve(&options, &inertia)?;
+                description["wheel_axes"] = run
+                    .axes
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .collect::<Vec<f64>>()
+                    .into();
+                description["wheel_inertia"] = run.inertia.clone().into();
+                description["wheel_speeds0"] = run.speeds0.clone().into();
+                description["wheel_torque"] = run.torque.clone().into();
+                // The wheels' spin joins the fastest motion a --tol step must follow.
+                frequency = run.speeds0.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+                wheels = Some(run);
+                System::Free(RigidBody::new(inertia))
+            }
             SystemKind::Se3Body | SystemKind::OrbitingBody => {
                 let orbiting = kind == SystemKind::OrbitingBody;
                 let mass = options.mass.unwrap_or(1.0);
@@ -540,6 +755,7 @@ impl Problem {
         let problem = Problem {
             system: Forced::new(system, drive),
             motion,
+            wheels,
             inertia,
             attitude0: options.attitude()?,
             omega0,

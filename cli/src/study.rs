@@ -644,6 +644,13 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
         return crate::tolerance::run(options, kind == StudyKind::Estimate);
     }
     let (problem, base) = Problem::resolve(options.base)?;
+    if problem.wheels.is_some() {
+        return Err(CliError::NotForSystem {
+            flag: "converge",
+            system: "gyrostat",
+            applies: "rigid-body, heavy-top, se3-body and orbiting-body",
+        });
+    }
     if problem.motion.is_some() {
         return Err(CliError::NotForSystem {
             flag: "converge",

@@ -495,6 +495,13 @@ pub fn run(options: crate::study::ConvergeOptions, estimate: bool) -> Result<()>
     let steps_given = options.steps.clone();
     let range = options.nodes_range;
     let (problem, base) = Problem::resolve(options.base)?;
+    if problem.wheels.is_some() {
+        return Err(CliError::NotForSystem {
+            flag: "converge",
+            system: "gyrostat",
+            applies: "rigid-body, heavy-top, se3-body and orbiting-body",
+        });
+    }
     let t_end = problem.t_end;
     let steps = steps_given.unwrap_or_else(|| DEFAULT_STEPS.to_vec());
     for &h in &steps {

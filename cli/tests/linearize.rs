@@ -302,3 +302,121 @@ fn linearize_matches_differences_through_simulate() {
         println!("| {name} | {da:.1e} | {db:.1e} |");
     }
 }
+
+/// A gyrostat at rest with one wheel on a principal axis: the step is the exact
+/// zero-order hold of `J_b Ω̇_z = −τ`, `I(Ω̇_z + φ̈) = τ` (`J_b = J_zz − I`), so the motor
+/// column of `B` is `(θ_z, φ, Ω_z, φ̇) = (−h²/2J_b, h²/2I + h²/2J_b, −h/J_b, h/I + h/J_b)`.
+#[test]
+fn a_gyrostat_at_rest_linearises_to_the_zero_order_hold() {
+    let args: Vec<String> = [
+        "linearize",
+        "--system",
+        "gyrostat",
+        "--inertia",
+        "10,12,8",
+        "--wheel-axes",
+        "0,0,1",
+        "--wheel-inertia",
+        "0.05",
+        "--omega0",
+        "0,0,0",
+        "--h",
+        "0.1",
+        "--nodes",
+        "4",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let out = lgsvi(&args);
+    let b: Vec<Vec<f64>> = out["b"].as_array().unwrap().iter().map(numbers).collect();
+    let (h, i, jb) = (0.1, 0.05, 8.0 - 0.05);
+    let motor = [
+        -h * h / (2.0 * jb),
+        h * h / (2.0 * i) + h * h / (2.0 * jb),
+        -h / jb,
+        h / i + h / jb,
+    ];
+    // State order (θ_x, θ_y, θ_z, φ, Ω_x, Ω_y, Ω_z, φ̇); the motor is input 3.
+    for (row, expected) in [(2, motor[0]), (3, motor[1]), (6, motor[2]), (7, motor[3])] {
+        assert!(
+            (b[row][3] - expected).abs() < 1e-14 * expected.abs().max(1.0),
+            "row {row}: {} vs {expected}",
+            b[row][3]
+        );
+    }
+    assert!(out["coordinates"]
+        .as_str()
+        .unwrap()
+        .contains("motor torques"));
+}
+
+/// `lgsvi simulate --system gyrostat`: the wheels' columns, the spatial angular momentum
+/// conserved under motor torques, the energy balance with the motors' work, and the
+/// refusals of flags that do not apply.
+#[test]
+fn gyrostat_runs_conserve_the_total_angular_momentum() {
+    let args: Vec<String> = [
+        "simulate",
+        "--system",
+        "gyrostat",
+        "--wheel-torque",
+        "0.01,0,-0.02",
+        "--wheel-speeds0",
+        "1,2,3",
+        "--h",
+        "0.1",
+        "--nodes",
+        "6",
+        "--t-end",
+        "5",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let run = lgsvi(&args);
+    let pi = run["spatial_momentum"].as_array().unwrap();
+    let (first, last) = (numbers(&pi[0]), numbers(pi.last().unwrap()));
+    let drift = first
+        .iter()
+        .zip(&last)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    // 50 steps of rounding on momenta of order one.
+    assert!(drift < 1e-14, "Rh drifted by {drift:e}");
+    let energy = numbers(&run["energy"]);
+    let work = numbers(&run["work"]);
+    let balance = (energy.last().unwrap() - energy[0] - work.last().unwrap()).abs();
+    assert!(balance < 1e-12, "energy balance {balance:e}");
+    assert_eq!(numbers(&run["wheel_speeds"][0]), vec![1.0, 2.0, 3.0]);
+    for (flags, word) in [
+        (
+            vec!["--system", "gyrostat", "--torque", "1,0,0"],
+            "--wheel-torque",
+        ),
+        (vec!["--wheel-axes", "1,0,0"], "gyrostat"),
+        (
+            vec!["--system", "gyrostat", "--wheel-axes", "1,0"],
+            "three numbers per wheel",
+        ),
+        (
+            vec!["--system", "gyrostat", "--wheel-inertia", "0.1,0.1"],
+            "one number per wheel",
+        ),
+        (
+            vec!["--system", "gyrostat", "--wheel-inertia", "20,1,1"],
+            "not positive definite",
+        ),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_lgsvi"))
+            .arg("simulate")
+            .args(&flags)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && stderr.contains(word),
+            "{flags:?}: {stderr}"
+        );
+        assert_eq!(stderr.lines().count(), 1, "{flags:?}: one line");
+    }
+}
