@@ -73,4 +73,56 @@ pub enum SpectralError {
         /// Length given.
         got: usize,
     },
+    /// A function value is NaN or infinite where the fit sampled it.
+    #[error("the function is not finite at x = {x} ({value}): fit it on an interval where it is")]
+    NonFiniteValue {
+        /// The sample point.
+        x: f64,
+        /// The value there.
+        value: f64,
+    },
+    /// A series coefficient is NaN or infinite.
+    #[error("coefficient {index} is not finite ({value})")]
+    NonFiniteCoefficient {
+        /// Its index.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// The fit did not reach its tolerance with the most samples it takes.
+    #[error("the function is not resolved to {tol:e} on [{a}, {b}] by {points} Chebyshev points: it is not smooth there or needs more; split the interval or raise the tolerance")]
+    NotResolved {
+        /// Samples taken last.
+        points: usize,
+        /// Left end.
+        a: f64,
+        /// Right end.
+        b: f64,
+        /// The tolerance.
+        tol: f64,
+    },
+    /// A fit tolerance outside `[ε, 1)`.
+    #[error("tolerance {tol:e} is outside [2.2e-16, 1): double precision cannot fit below ε")]
+    InvalidTolerance {
+        /// The tolerance given.
+        tol: f64,
+    },
+    /// An evaluation point outside the series' interval.
+    #[error("x = {x} is outside [{a}, {b}]: a Chebyshev series says nothing outside its interval (refit on a larger one)")]
+    OutsideInterval {
+        /// The point.
+        x: f64,
+        /// Left end.
+        a: f64,
+        /// Right end.
+        b: f64,
+    },
+    /// Two series on different intervals combined.
+    #[error("the series live on {first:?} and {second:?}: combine series on one interval")]
+    IntervalMismatch {
+        /// The first interval.
+        first: (f64, f64),
+        /// The second.
+        second: (f64, f64),
+    },
 }

@@ -14,6 +14,10 @@
 //! - Chebyshev coefficients of the interpolant through Chebyshev–Lobatto values
 //!   ([`chebyshev_coefficients`], [`chebyshev_coefficient_matrix`]): the decay a spectral
 //!   method reads its own error from.
+//! - [`Chebyshev`]: a function held as its Chebyshev series, fitted adaptively to machine
+//!   precision (chebfun's plateau and chop rule), with Clenshaw evaluation that refuses
+//!   points outside its interval, derivative, indefinite and definite integrals, roots
+//!   (colleague-matrix eigenvalues), sums and products.
 //!
 //! # Conventions
 //! - `n` is the number of nodes; the degree is `n − 1`.
@@ -37,12 +41,14 @@
 #![deny(missing_docs)]
 
 mod barycentric;
+mod chebyshev;
 mod coefficients;
 mod error;
 mod matrix;
 mod nodes;
 
 pub use barycentric::Barycentric;
+pub use chebyshev::{Chebyshev, MAX_FIT_POINTS};
 pub use coefficients::{chebyshev_coefficient_matrix, chebyshev_coefficients};
 pub use error::SpectralError;
 pub use matrix::Matrix;
