@@ -95,12 +95,14 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
         use crate::problem::AnyGyrostat;
         macro_rules! linearise {
             ($craft:expr, $k:literal, $d:literal) => {{
-                let (start, velocity, input) =
-                    wheels.start::<$k, $d>(problem.attitude0, problem.omega0);
-                let mut integrator =
-                    lgsvi_mechanics::Integrator::new($craft, problem.settings, start, velocity)?;
-                integrator.set_input(input)?;
-                let step = integrator.linearize()?;
+                let step = wheels
+                    .integrator::<$k, $d>(
+                        $craft,
+                        problem.settings,
+                        problem.attitude0,
+                        problem.omega0,
+                    )?
+                    .linearize()?;
                 report["a"] = rows(step.a(coordinates));
                 report["b"] = rows(step.b(coordinates));
                 report["before"] = gyrostat_state(&step.start);

@@ -177,11 +177,12 @@ fn integrate_gyrostat(problem: &Problem, wheels: &problem::Wheels) -> Result<Run
     use problem::AnyGyrostat;
     macro_rules! run {
         ($craft:expr, $k:literal, $d:literal) => {{
-            let (start, velocity, input) =
-                wheels.start::<$k, $d>(problem.attitude0, problem.omega0);
-            let mut integrator =
-                lgsvi_mechanics::Integrator::new($craft, problem.settings, start, velocity)?;
-            integrator.set_input(input)?;
+            let integrator = wheels.integrator::<$k, $d>(
+                $craft,
+                problem.settings,
+                problem.attitude0,
+                problem.omega0,
+            )?;
             let inertia = *$craft.wheel_inertia();
             let axes = *$craft.axes();
             integrate_with(problem, integrator, |s| {

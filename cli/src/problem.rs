@@ -5,7 +5,7 @@ use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
+use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
@@ -385,13 +385,21 @@ impl Wheels {
         })
     }
 
-    /// The start `(R₀, φ = 0)`, velocity `(Ω₀, φ̇₀)` and input `(0, τ_m)` in `D = 3 + K`
-    /// entries.
-    pub fn start<const K: usize, const D: usize>(
+    /// An integrator for `craft` (this run's gyrostat with `K` wheels, `D = 3 + K`) from
+    /// `(R₀, φ = 0)` with velocity `(Ω₀, φ̇₀)`, the motor torques set as its input
+    /// `(0, τ_m)`.
+    pub fn integrator<const K: usize, const D: usize>(
         &self,
+        craft: Gyrostat<K>,
+        settings: StepSettings,
         attitude: SO3,
         omega: Vector3<f64>,
-    ) -> (BodyWheels<f64, K>, SVector<f64, D>, SVector<f64, D>) {
+    ) -> Result<Integrator<Gyrostat<K>, ChartKind, D>>
+    where
+        Gyrostat<K>: GroupLagrangian<D, Group = BodyAndWheels<K>>,
+        BodyAndWheels<K>: lgsvi_mechanics::ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
+        ChartKind: GroupChart<BodyAndWheels<K>, D>,
+    {
         let mut velocity = SVector::<f64, D>::zeros();
         let mut input = SVector::<f64, D>::zeros();
         velocity.fixed_rows_mut::<3>(0).copy_from(&omega);
@@ -403,7 +411,9 @@ impl Wheels {
             attitude,
             wheels: SVector::<f64, K>::zeros(),
         };
-        (start, velocity, input)
+        let mut integrator = Integrator::new(craft, settings, start, velocity)?;
+        integrator.set_input(input)?;
+        Ok(integrator)
     }
 }
 

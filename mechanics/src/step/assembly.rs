@@ -14,7 +14,7 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::{Matching, NewtonJacobian};
 use crate::system::GroupLagrangian;
-use faer::dyn_stack::MemBuffer;
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
@@ -98,6 +98,19 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
     /// Forgets the assembly at the guess: call after changing `xi` from outside the solve.
     pub fn guess_changed(&mut self) {
         self.guess_assembled = None;
+    }
+
+    /// Factors the Newton matrix in place (partial-pivoting LU: `perm`, `perm_inv`), for
+    /// [`super::newton::substitute`].
+    pub(super) fn factor(&mut self) {
+        factor::lu_in_place(
+            self.jacobian.as_mut(),
+            &mut self.perm,
+            &mut self.perm_inv,
+            Par::Seq,
+            MemStack::new(&mut self.stack),
+            Default::default(),
+        );
     }
 }
 

@@ -29,11 +29,7 @@ use super::{Element, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
-use crate::system::GroupLagrangian;
-use crate::system::PointForce;
-use faer::dyn_stack::MemStack;
-use faer::linalg::lu::partial_pivoting::factor;
-use faer::Par;
+use crate::system::{GroupLagrangian, PointForce};
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
 
@@ -93,14 +89,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // The exact Newton matrix at the converged unknowns, factored afresh.
         self.assemble(base, mu, work, true);
         self.fill_jacobian(work);
-        factor::lu_in_place(
-            work.jacobian.as_mut(),
-            &mut work.perm,
-            &mut work.perm_inv,
-            Par::Seq,
-            MemStack::new(&mut work.stack),
-            Default::default(),
-        );
+        work.factor();
         // F_P, columns θ (0..D), μ_k (D..2D), u (2D..3D), column-major.
         let mut f_p = vec![0.0; unknowns * 3 * D];
         let mut dw_theta = SMatrix::<f64, D, D>::zeros();

@@ -8,9 +8,7 @@ use crate::error::MechanicsError;
 use crate::group::GroupChart;
 use crate::settings::NewtonJacobian;
 use crate::system::GroupLagrangian;
-use faer::dyn_stack::MemStack;
-use faer::linalg::lu::partial_pivoting::factor;
-use faer::{Mat, Par};
+use faer::Mat;
 use nalgebra::SVector;
 
 /// A Newton step taken from a residual below this fraction of the largest terms of the
@@ -188,14 +186,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 } else {
                     self.fill_jacobian_by_differences(base, mu, work);
                 }
-                factor::lu_in_place(
-                    work.jacobian.as_mut(),
-                    &mut work.perm,
-                    &mut work.perm_inv,
-                    Par::Seq,
-                    MemStack::new(&mut work.stack),
-                    Default::default(),
-                );
+                work.factor();
                 factored_at = Some(relative);
                 factorizations += 1;
             }
