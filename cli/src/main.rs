@@ -183,22 +183,19 @@ fn integrate_gyrostat(problem: &Problem, wheels: &problem::Wheels) -> Result<Run
                 problem.attitude0,
                 problem.omega0,
             )?;
-            let inertia = *$craft.wheel_inertia();
-            let axes = *$craft.axes();
             integrate_with(problem, integrator, |s| {
-                let omega = s.velocity.fixed_rows::<3>(0).into_owned();
                 let rotation = State {
                     time: s.time,
                     configuration: s.configuration.attitude,
                     momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
-                    velocity: omega,
+                    velocity: s.velocity.fixed_rows::<3>(0).into_owned(),
                 };
+                // The body momentum is (h, p): the wheels' axial momenta are its last K
+                // entries, as their rates are the velocity's.
                 let record = WheelRecord {
                     angles: s.configuration.wheels.iter().copied().collect(),
-                    speeds: (0..$k).map(|i| s.velocity[3 + i]).collect(),
-                    momenta: (0..$k)
-                        .map(|i| inertia[i] * (axes[i].dot(&omega) + s.velocity[3 + i]))
-                        .collect(),
+                    speeds: s.velocity.iter().skip(3).copied().collect(),
+                    momenta: s.momentum.iter().skip(3).copied().collect(),
                 };
                 (rotation, None, Some(record))
             })

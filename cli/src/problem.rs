@@ -292,15 +292,18 @@ pub enum AnyGyrostat {
 #[derive(Debug, Clone)]
 pub struct Wheels {
     pub system: AnyGyrostat,
-    pub axes: Vec<[f64; 3]>,
-    pub inertia: Vec<f64>,
     pub speeds0: Vec<f64>,
     pub torque: Vec<f64>,
 }
 
 impl Wheels {
-    /// From the wheel flags and the spacecraft's inertia with the wheels locked.
-    fn resolve(options: &SimulateOptions, inertia: &Inertia) -> Result<Self> {
+    /// From the wheel flags and the spacecraft's inertia with the wheels locked; the
+    /// wheels as given go into `description`.
+    fn resolve(
+        options: &SimulateOptions,
+        inertia: &Inertia,
+        description: &mut serde_json::Value,
+    ) -> Result<Self> {
         let axes_given = options
             .wheel_axes
             .clone()
@@ -332,12 +335,11 @@ impl Wheels {
         let wheel_inertia = per_wheel("--wheel-inertia", &options.wheel_inertia, 0.05)?;
         let speeds0 = per_wheel("--wheel-speeds0", &options.wheel_speeds0, 0.0)?;
         let torque = per_wheel("--wheel-torque", &options.wheel_torque, 0.0)?;
-        let axes: Vec<[f64; 3]> = axes_given
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
         let j = inertia.matrix();
-        let vectors: Vec<Vector3<f64>> = axes.iter().map(|a| Vector3::from(*a)).collect();
+        let vectors: Vec<Vector3<f64>> = axes_given
+            .chunks_exact(3)
+            .map(Vector3::from_column_slice)
+            .collect();
         let input = |source| CliError::Input {
             flag: "--wheel-axes/--wheel-inertia",
             source,
@@ -376,10 +378,13 @@ impl Wheels {
                 .map_err(input)?,
             ),
         };
+        // The wheels as given (the axes before normalising), for the output's description.
+        description["wheel_axes"] = axes_given.into();
+        description["wheel_inertia"] = wheel_inertia.into();
+        description["wheel_speeds0"] = speeds0.clone().into();
+        description["wheel_torque"] = torque.clone().into();
         Ok(Self {
             system,
-            axes,
-            inertia: wheel_inertia,
             speeds0,
             torque,
         })
@@ -668,17 +673,7 @@ impl Problem {
         let system = match kind {
             SystemKind::RigidBody => System::Free(RigidBody::new(inertia)),
             SystemKind::Gyrostat => {
-                let run = Wheels::resolve(&options, &inertia)?;
-                description["wheel_axes"] = run
-                    .axes
-                    .iter()
-                    .flatten()
-                    .copied()
-                    .collect::<Vec<f64>>()
-                    .into();
-                description["wheel_inertia"] = run.inertia.clone().into();
-                description["wheel_speeds0"] = run.speeds0.clone().into();
-                description["wheel_torque"] = run.torque.clone().into();
+                let run = Wheels::resolve(&options, &inertia, &mut description)?;
                 // The wheels' spin joins the fastest motion a --tol step must follow.
                 frequency = run.speeds0.iter().fold(0.0f64, |m, w| m.max(w.abs()));
                 wheels = Some(run);

@@ -150,12 +150,6 @@ impl<const K: usize> Gyrostat<K> {
     pub fn wheel_inertia(&self) -> &[f64; K] {
         &self.wheel_inertia
     }
-
-    /// The total angular momentum in the body frame, `h = JΩ + Σ I_i a_i φ̇_i`, from a body
-    /// momentum `μ` (its first three entries): the spatial `Rh` is what the wheels conserve.
-    pub fn total_angular_momentum<const D: usize>(momentum: &SVector<f64, D>) -> Vector3<f64> {
-        momentum.fixed_rows::<3>(0).into_owned()
-    }
 }
 
 /// Implements the group, its charts and the gyrostat for one wheel count.

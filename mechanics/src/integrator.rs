@@ -1131,21 +1131,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn linearize(&mut self) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
         let start = self.state;
         let outcome = self.attempt(&start.configuration)?;
-        let time =
-            self.origin + (self.step_index + 1 - self.origin_steps) as f64 * self.settings.step();
-        let velocity = body_velocity(
-            &self.system,
-            time,
-            &outcome.configuration,
-            &outcome.momentum,
-            &start.velocity,
-        )?;
-        let end = State {
-            time,
-            configuration: <S::Group as ConfigurationGroup<D>>::renormalise(&outcome.configuration),
-            momentum: outcome.momentum,
-            velocity,
-        };
+        let end = self.end_state(&outcome)?;
         self.linearization(start, end)
     }
 
@@ -1294,13 +1280,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         Ok(outcome)
     }
 
-    /// Takes the solved step: the new state, the work done, the statistics.
-    fn commit(
-        &mut self,
-        base: &ElementOf<S, D>,
-        outcome: StepOutcome<ElementOf<S, D>, D>,
-        estimate: f64,
-    ) -> Result<usize, MechanicsError> {
+    /// The state a solved step ends at: the configuration renormalised, the step's end
+    /// time, the momentum and its velocity.
+    ///
+    /// # Errors
+    /// [`MechanicsError::NonFiniteStep`] for a non-finite momentum; those of
+    /// [`body_velocity`].
+    fn end_state(
+        &self,
+        outcome: &StepOutcome<ElementOf<S, D>, D>,
+    ) -> Result<State<ElementOf<S, D>, D>, MechanicsError> {
         // g_k Φ(ξⁿ) is on the group up to the rounding of the product, which would
         // accumulate over millions of steps (measured ‖RᵀR − I‖ 1e-12 after 10⁶ steps);
         // one polar Newton step R(I + ½(I − RᵀR)) squares that deviation away.
@@ -1330,6 +1319,22 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 },
             });
         }
+        Ok(State {
+            time,
+            configuration,
+            momentum: outcome.momentum,
+            velocity,
+        })
+    }
+
+    /// Takes the solved step: the new state, the work done, the statistics.
+    fn commit(
+        &mut self,
+        base: &ElementOf<S, D>,
+        outcome: StepOutcome<ElementOf<S, D>, D>,
+        estimate: f64,
+    ) -> Result<usize, MechanicsError> {
+        let end = self.end_state(&outcome)?;
         if let Some(input) = self.forcing() {
             let work = self.step_work(base, self.state.time, &input);
             compensated_add(&mut self.work_done, &mut self.work_carry, work);
@@ -1338,12 +1343,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         self.last_nodes.copy_from_slice(&self.work.xi);
         self.previous_velocity = Some(self.state.velocity);
         self.step_index += 1;
-        self.state = State {
-            time,
-            configuration,
-            momentum: outcome.momentum,
-            velocity,
-        };
+        self.state = end;
         let stats = &mut self.statistics;
         stats.steps += 1;
         stats.newton_iterations += outcome.iterations;

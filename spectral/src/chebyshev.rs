@@ -186,8 +186,12 @@ impl Chebyshev {
                 b: self.b,
             });
         }
-        let t = (2.0 * x - self.a - self.b) / (self.b - self.a);
-        Ok(t.clamp(-1.0, 1.0))
+        Ok(self.map_in(x))
+    }
+
+    /// `t ∈ [−1, 1]` of an `x` known to be in `[a, b]` (up to rounding).
+    fn map_in(&self, x: f64) -> f64 {
+        ((2.0 * x - self.a - self.b) / (self.b - self.a)).clamp(-1.0, 1.0)
     }
 
     /// `Σ c_k T_k(t)` by Clenshaw's recurrence.
@@ -317,7 +321,8 @@ impl Chebyshev {
                 // 8 steps: the eigenvalues of a non-normal colleague matrix can be off
                 // by ~1e-4 relative; Newton squares that away).
                 for _ in 0..8 {
-                    let at = self.reference(x).unwrap_or(t);
+                    // x stays in [a, b]: it starts there and each step is clamped.
+                    let at = self.map_in(x);
                     let (value, slope) = (self.clenshaw(at), derivative.clenshaw(at));
                     if slope == 0.0 || !value.is_finite() {
                         break;

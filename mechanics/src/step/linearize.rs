@@ -54,6 +54,30 @@ pub(super) struct PointMixed<const D: usize> {
     pub zeta: SMatrix<f64, D, D>,
 }
 
+/// A Gauss point's chart terms at `x`: `Φ(x)`, `A(x)` and `B = Ad_{Φ(x)⁻¹}`, formed once per
+/// point for both the point's `θ` derivatives and the input and matching columns.
+pub(super) struct PointChart<E, const D: usize> {
+    pub phi: E,
+    pub a: SMatrix<f64, D, D>,
+    pub b: SMatrix<f64, D, D>,
+}
+
+impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> PointChart<E, D> {
+    pub fn at<G, C>(chart: &C, x: &SVector<f64, D>) -> Self
+    where
+        G: ConfigurationGroup<D, Element<f64> = E>,
+        C: GroupChart<G, D>,
+    {
+        let phi = chart.to_group(x);
+        let b = phi.inverse().adjoint();
+        Self {
+            phi,
+            a: chart.left_differential(x),
+            b,
+        }
+    }
+}
+
 #[cfg(test)]
 type Hyper<const D: usize> = num_dual::HyperDualSVec64<D, D>;
 
@@ -103,14 +127,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             zeta: SMatrix::zeros(),
         };
         for j in 0..m {
-            let (x, v) = (work.x[j], work.v[j]);
+            let point = PointChart::at(self.chart, &work.x[j]);
             let mixed = if moves {
-                self.point_mixed(base, j, &x, &v, &work.points[j])
+                self.point_mixed(base, j, &point, &work.v[j], &work.points[j])
             } else {
                 none
             };
-            let a_t = self.chart.left_differential(&x).transpose();
-            let to_start = self.chart.to_group(&x).inverse().adjoint().transpose();
+            let a_t = point.a.transpose();
+            let to_start = point.b.transpose();
             let weight = d.weights[j];
             let (values, slopes) = (d.values_at(j), d.slopes_at(j));
             for i in 1..n - 1 {
@@ -161,7 +185,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let xi_n = work.xi[n - 1];
         let phi_n = self.chart.to_group(&xi_n);
         let a_n = self.chart.left_differential(&xi_n);
-        let end_momentum = phi_n.adjoint().transpose() * work.matching.w;
+        let (ad_n, ad_n_inverse) = (phi_n.adjoint(), phi_n.inverse().adjoint());
+        let end_momentum = ad_n.transpose() * work.matching.w;
         let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
         let configured = self.needs_configuration();
         let mut blocks = [[SMatrix::<f64, D, D>::zeros(); 3]; 2];
@@ -175,14 +200,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 _ => dw_u.column(c).into_owned(),
             };
             if family == 0 {
-                theta += phi_n.inverse().adjoint().column(c);
+                theta += ad_n_inverse.column(c);
             }
             if configured {
                 for (k, delta) in column.chunks_exact(D).enumerate() {
                     dw += work.dw_dxi[k + 1] * SVector::<f64, D>::from_column_slice(delta);
                 }
             }
-            let momentum = phi_n.adjoint().transpose() * dw + c_end * (a_n * dxi_n);
+            let momentum = ad_n.transpose() * dw + c_end * (a_n * dxi_n);
             blocks[0][family].set_column(c, &theta);
             blocks[1][family].set_column(c, &momentum);
         }
@@ -219,16 +244,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         &self,
         base: &Element<S, D>,
         j: usize,
-        x: &SVector<f64, D>,
+        point: &PointChart<Element<S, D>, D>,
         v: &SVector<f64, D>,
         jet: &<S::Group as ConfigurationGroup<D>>::Jet,
     ) -> PointMixed<D> {
         let time = self.time + self.d.times[j];
-        let (system, chart) = (self.system, self.chart);
-        let phi = chart.to_group(x);
-        let b = phi.inverse().adjoint();
-        let a = chart.left_differential(x);
-        let at = base.compose(&phi);
+        let system = self.system;
+        let (a, b) = (point.a, point.b);
+        let at = base.compose(&point.phi);
         let force = self.forcing.as_ref().map(|input| {
             StepForce {
                 system,
