@@ -233,14 +233,22 @@ pub struct SimulateOptions {
     /// Gauss points, 1 ≤ m ≤ 1000 [default: n].
     #[arg(long)]
     pub quad: Option<usize>,
-    /// Accuracy wanted at the horizon, e.g. 1e-10: the nodes are chosen per step (5 to 30,
+    /// Accuracy wanted along the run, e.g. 1e-10: the nodes are chosen per step (5 to 30,
     /// rising only) from each step's own error estimate so that the local errors add up to
     /// at most TOL over --t-end, and, unless --h is given, the step from the initial motion (3 rad of
     /// rotation per step with exp, π/2 with a Cayley chart); --nodes is then the first
-    /// step's count [default: 3 + ⌈−log₁₀(TOL)/2⌉]. Not with --quad (the Gauss points
-    /// follow the nodes).
+    /// step's count [default: 3 + ⌈−log₁₀(TOL)/2⌉]. The run is checked by a companion
+    /// taking every step with 2 more nodes: where the two differ by more than 3·TOL the run
+    /// is taken again with a tighter share per step (three runs at most), then refused.
+    /// Not with --quad (the Gauss points follow the nodes).
     #[arg(long, allow_hyphen_values = true, value_name = "TOL")]
     pub tol: Option<f64>,
+    /// With --tol: skip the companion check (about half the time); the reported estimate is
+    /// then the sum of the steps' local estimates, which does not see errors that grow
+    /// along the motion (fast spins, unstable or orbital motion).
+    #[arg(long)]
+    #[serde(default)]
+    pub no_check: bool,
     /// Natural chart [default: exp].
     #[arg(long, value_enum)]
     pub chart: Option<ChartArg>,
@@ -346,6 +354,7 @@ impl SimulateOptions {
         }
         base.quiet |= top.quiet;
         base.exact |= top.exact;
+        base.no_check |= top.no_check;
         base.config = Some(path);
         Ok(base)
     }

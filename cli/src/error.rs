@@ -196,6 +196,30 @@ pub enum CliError {
         /// A step a tenth as long.
         shorter: f64,
     },
+    /// A `--tol` run whose companion check measured more than `CHECK_ACCEPTS · tol` on
+    /// every attempt.
+    #[error(
+        "--tol {tol:e} not met: after {attempts} run(s), the last with a share per step \
+         {tightened:.0e}× below the first's, the run still differs by {measured:.1e} from its \
+         check (the same steps with 2 more nodes) at t = {time} (step {step}); {advice}"
+    )]
+    ToleranceNotChecked {
+        /// The tolerance.
+        tol: f64,
+        /// Runs taken.
+        attempts: usize,
+        /// The last run's share per step against the first's.
+        tightened: f64,
+        /// The largest difference of the last run.
+        measured: f64,
+        /// Where it was measured.
+        time: f64,
+        /// Its step (1-based).
+        step: usize,
+        /// What to change.
+        advice: String,
+    },
+
     /// Two outputs of one run on the same file.
     #[error(
         "{first} and {second} would both write {}: the later would replace the earlier; give \

@@ -68,6 +68,11 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
             "linearize linearises the integrator's step",
         ),
         (
+            "--no-check",
+            base.no_check,
+            "linearize takes one step of fixed --h and --nodes",
+        ),
+        (
             "--tol",
             base.tol.is_some(),
             "linearize takes one step of fixed --h and --nodes",

@@ -22,7 +22,11 @@ mod tolerance;
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
 use error::{CliError, Result};
-use lgsvi_mechanics::{State, Trajectory};
+use lgsvi_mechanics::control::GroupLog;
+use lgsvi_mechanics::{
+    tightened_rate, Checked, ElementOf, GroupChart, GroupLagrangian, Integrator, State,
+    StepSettings, Trajectory, CHECK_ACCEPTS, CHECK_ATTEMPTS, ROUNDING_FLOOR,
+};
 use problem::Problem;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -94,6 +98,21 @@ pub struct Estimates {
     pub nodes: Vec<(usize, usize)>,
     /// Solves redone with more nodes (adaptive runs).
     pub rejected: usize,
+    /// A checked `--tol` run's measurement (`global` is then its difference at the end).
+    pub check: Option<CheckRecord>,
+}
+
+/// What a `--tol` run's companion measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckRecord {
+    /// The largest difference along the run, its time and step.
+    pub largest: lgsvi_mechanics::Difference,
+    /// The sum of the local estimates (the unchecked model), for comparison.
+    pub local_sum: f64,
+    /// Runs taken (the first, and each with a tightened share per step).
+    pub attempts: usize,
+    /// The accepted run's share per step against the first's.
+    pub tightened: f64,
 }
 
 /// The translational part of a recorded SE(3) state.
@@ -150,24 +169,30 @@ fn integrate(problem: &Problem) -> Result<Run> {
         return integrate_gyrostat(problem, wheels);
     }
     match &problem.motion {
-        None => integrate_with(problem, problem.integrator(problem.settings)?, |s| {
-            (*s, None, None)
-        }),
+        None => integrate_with(
+            problem,
+            |settings| problem.integrator(settings),
+            |s| (*s, None, None),
+        ),
         // SE(3): the rotational part as the SO(3) columns, the translation beside them.
-        Some(motion) => integrate_with(problem, motion.integrator(problem.settings)?, |s| {
-            let entry = MotionRecord {
-                position: s.position(),
-                velocity: s.linear_velocity(),
-                spatial_momentum: s.spatial_momentum(),
-            };
-            let rotation = State {
-                time: s.time,
-                configuration: *s.attitude(),
-                momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
-                velocity: s.angular_velocity(),
-            };
-            (rotation, Some(entry), None)
-        }),
+        Some(motion) => integrate_with(
+            problem,
+            |settings| motion.integrator(settings),
+            |s| {
+                let entry = MotionRecord {
+                    position: s.position(),
+                    velocity: s.linear_velocity(),
+                    spatial_momentum: s.spatial_momentum(),
+                };
+                let rotation = State {
+                    time: s.time,
+                    configuration: *s.attitude(),
+                    momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
+                    velocity: s.angular_velocity(),
+                };
+                (rotation, Some(entry), None)
+            },
+        ),
     }
 }
 
@@ -177,13 +202,10 @@ fn integrate_gyrostat(problem: &Problem, wheels: &problem::Wheels) -> Result<Run
     use problem::AnyGyrostat;
     macro_rules! run {
         ($craft:expr, $k:literal, $d:literal) => {{
-            let integrator = wheels.integrator::<$k, $d>(
-                $craft,
-                problem.settings,
-                problem.attitude0,
-                problem.omega0,
-            )?;
-            integrate_with(problem, integrator, |s| {
+            let make = |settings| {
+                wheels.integrator::<$k, $d>($craft, settings, problem.attitude0, problem.omega0)
+            };
+            integrate_with(problem, make, |s| {
                 let rotation = State {
                     time: s.time,
                     configuration: s.configuration.attitude,
@@ -209,30 +231,142 @@ fn integrate_gyrostat(problem: &Problem, wheels: &problem::Wheels) -> Result<Run
     }
 }
 
-/// Runs `integrator` to the problem's horizon: every state is checked (its rotational
-/// part, from `split`, and the translation `split` returns beside it), every
-/// `problem.every`-th and the last are recorded. The integration alone is timed: not the
-/// checks, the recording or the output.
+/// What steps a run: the integrator alone, or with its companion check.
+trait Runner<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+    fn advance(&mut self) -> std::result::Result<usize, lgsvi_mechanics::MechanicsError>;
+    fn integrator(&self) -> &Integrator<S, C, D>;
+    /// The checked difference now and at its largest.
+    fn checked(&self) -> Option<(f64, lgsvi_mechanics::Difference)>;
+}
+
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Runner<S, C, D>
+    for Integrator<S, C, D>
+{
+    fn advance(&mut self) -> std::result::Result<usize, lgsvi_mechanics::MechanicsError> {
+        self.step()
+    }
+    fn integrator(&self) -> &Integrator<S, C, D> {
+        self
+    }
+    fn checked(&self) -> Option<(f64, lgsvi_mechanics::Difference)> {
+        None
+    }
+}
+
+impl<S, C, const D: usize> Runner<S, C, D> for Checked<S, C, D>
+where
+    S: GroupLagrangian<D> + Clone,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: GroupLog<D>,
+{
+    fn advance(&mut self) -> std::result::Result<usize, lgsvi_mechanics::MechanicsError> {
+        self.step()
+    }
+    fn integrator(&self) -> &Integrator<S, C, D> {
+        Checked::integrator(self)
+    }
+    fn checked(&self) -> Option<(f64, lgsvi_mechanics::Difference)> {
+        Some((self.difference(), self.largest_difference()))
+    }
+}
+
+/// Runs to the problem's horizon with the integrators `make` builds (the problem's
+/// settings, or a `--tol` run's tightened ones): unchecked, one run; checked (`--tol`
+/// without `--no-check`), up to [`CHECK_ATTEMPTS`] runs beside their companion, each
+/// with the share per step [`tightened_rate`] gives after the one before, until the
+/// largest difference is at most [`CHECK_ACCEPTS`] times the tolerance.
 fn integrate_with<S, C, const D: usize>(
     problem: &Problem,
-    mut integrator: lgsvi_mechanics::Integrator<S, C, D>,
-    split: impl Fn(
-        &State<lgsvi_mechanics::ElementOf<S, D>, D>,
-    ) -> (State, Option<MotionRecord>, Option<WheelRecord>),
+    make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>>,
+    split: impl Fn(&State<ElementOf<S, D>, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>),
 ) -> Result<Run>
 where
-    S: lgsvi_mechanics::GroupLagrangian<D> + Copy,
-    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    S: GroupLagrangian<D> + Copy,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: GroupLog<D>,
 {
-    let steps = integrator.steps_until(problem.t_end)?;
-    let system = *integrator.system();
+    let Some(tol) = problem.check else {
+        return record(problem, make(problem.settings)?, &split);
+    };
+    let first_rate = problem.settings.adaptive().map_or(0.0, |a| a.rate);
+    let mut settings = problem.settings;
+    let mut wall_time = 0.0;
+    // The least largest difference of the runs so far: what this motion delivers at best.
+    let mut best = f64::INFINITY;
+    for attempt in 1..=CHECK_ATTEMPTS {
+        let mut run = record(problem, Checked::new(make(settings)?)?, &split)?;
+        wall_time += run.wall_time_s;
+        run.wall_time_s = wall_time;
+        let rate = settings.adaptive().map_or(first_rate, |a| a.rate);
+        let estimates = run
+            .estimates
+            .as_mut()
+            .expect("an integrated run has estimates");
+        let check = estimates
+            .check
+            .as_mut()
+            .expect("a checked run has its check");
+        check.attempts = attempt;
+        check.tightened = first_rate / rate;
+        let largest = check.largest;
+        best = best.min(largest.value);
+        if largest.value <= CHECK_ACCEPTS * tol {
+            return Ok(run);
+        }
+        // The least share a step can be asked for: the rounding of one step.
+        let floor = ROUNDING_FLOOR / settings.step() * (1.0 + 1e-9);
+        let at_floor = rate <= floor;
+        let advice = if at_floor {
+            format!(
+                "at the rounding of every step (4ε), this motion amplifies rounding errors to \
+                 about that (the closest of the runs: {best:.1e}): ask for --tol {:.0e} or more",
+                best.max(f64::MIN_POSITIVE)
+            )
+        } else {
+            format!(
+                "the motion amplifies each step's error: raise --tol, or shorten the step (--h \
+                 {:?} or less)",
+                settings.step() / 3.0
+            )
+        };
+        if attempt == CHECK_ATTEMPTS || at_floor {
+            return Err(CliError::ToleranceNotChecked {
+                tol,
+                attempts: attempt,
+                tightened: first_rate / rate,
+                measured: largest.value,
+                time: largest.time,
+                step: largest.step,
+                advice,
+            });
+        }
+        settings = settings.with_tolerance(tightened_rate(rate, largest.value, tol).max(floor))?;
+    }
+    unreachable!("the last attempt returns")
+}
+
+/// Runs `runner` to the problem's horizon: every state is checked (its rotational part,
+/// from `split`, and the translation `split` returns beside it), every `problem.every`-th
+/// and the last are recorded. The integration alone is timed (with its companion, for a
+/// checked run): not the checks, the recording or the output.
+fn record<S, C, const D: usize>(
+    problem: &Problem,
+    mut runner: impl Runner<S, C, D>,
+    split: &impl Fn(&State<ElementOf<S, D>, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>),
+) -> Result<Run>
+where
+    S: GroupLagrangian<D> + Copy,
+    C: GroupChart<S::Group, D>,
+{
+    let steps = runner.integrator().steps_until(problem.t_end)?;
+    let system = *runner.integrator().system();
     // Forced: by the system's own force, or by an input (a gyrostat's motor torques).
-    let forced = system.is_forced() || integrator.input().iter().any(|&u| u != 0.0);
+    let forced = system.is_forced() || runner.integrator().input().iter().any(|&u| u != 0.0);
     let mut trajectory = Trajectory::default();
     let (mut energies, mut work, mut records) = (Vec::new(), Vec::new(), Vec::new());
     let mut wheel_records = Vec::new();
     let mut visit = |k: usize,
-                     state: &State<lgsvi_mechanics::ElementOf<S, D>, D>,
+                     state: &State<ElementOf<S, D>, D>,
                      iterations: Option<usize>,
                      done: f64|
      -> Result<()> {
@@ -261,14 +395,15 @@ where
         wheel_records.extend(wheel);
         Ok(())
     };
-    visit(0, integrator.state(), Some(0), 0.0)?;
+    visit(0, runner.integrator().state(), Some(0), 0.0)?;
     let progress = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut wall_time = std::time::Duration::ZERO;
     for k in 1..=steps {
         let start = Instant::now();
-        let iterations = integrator.step()?;
+        let iterations = runner.advance()?;
         wall_time += start.elapsed();
         let recorded = k % problem.every == 0 || k == steps;
+        let integrator = runner.integrator();
         visit(
             k,
             integrator.state(),
@@ -280,11 +415,21 @@ where
         }
     }
     progress.finish_and_clear();
+    let integrator = runner.integrator();
     let stats = integrator.statistics();
+    let local_sum = integrator.estimated_global_error();
+    let check = runner.checked();
     let estimates = Estimates {
-        global: integrator.estimated_global_error(),
+        // A checked run reports what its companion measured at the end.
+        global: check.map_or(local_sum, |(now, _)| now),
         nodes: integrator.nodes_used().collect(),
         rejected: stats.rejected_steps,
+        check: check.map(|(_, largest)| CheckRecord {
+            largest,
+            local_sum,
+            attempts: 1,
+            tightened: 1.0,
+        }),
     };
     let mut description = problem.description.clone();
     description["settings"] =

@@ -95,6 +95,16 @@ pub fn write_json<W: Write + ?Sized>(run: &Run, out: &mut W) -> io::Result<()> {
             .collect::<Vec<_>>()
             .into();
         stats["rejected_steps"] = estimates.rejected.into();
+        if let Some(check) = &estimates.check {
+            stats["check"] = serde_json::json!({
+                "largest_difference": check.largest.value,
+                "largest_at_time": check.largest.time,
+                "local_estimates_sum": check.local_sum,
+                "runs": check.attempts,
+                "share_tightened": check.tightened,
+                "companion_extra_nodes": lgsvi_mechanics::CHECK_EXTRA_NODES,
+            });
+        }
     }
     out.write_all(b",\"stats\":")?;
     serde_json::to_writer(&mut *out, &stats).map_err(io::Error::other)?;

@@ -441,6 +441,8 @@ pub struct Problem {
     pub t_end: f64,
     pub every: usize,
     pub quiet: bool,
+    /// A `--tol` run's tolerance, when its companion checks it (not `--no-check`).
+    pub check: Option<f64>,
     /// The inputs as given, for the output's `description`.
     pub description: serde_json::Value,
 }
@@ -629,6 +631,12 @@ impl Problem {
             if options.quad.is_some() {
                 return Err(CliError::Conflict("--tol", "--quad"));
             }
+        } else if options.no_check {
+            return Err(CliError::Invalid {
+                flag: "--no-check",
+                value: "given".into(),
+                reason: "it skips the check of a --tol run: give --tol, or drop --no-check".into(),
+            });
         }
         let every = options.every.unwrap_or(1);
         if every == 0 {
@@ -769,6 +777,7 @@ impl Problem {
             t_end,
             every,
             quiet: options.quiet,
+            check: options.tol.filter(|_| !options.no_check),
             description,
         };
         Ok((problem, options))

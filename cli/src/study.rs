@@ -618,6 +618,12 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             options.tols = options.tols.or(file.tols);
         }
     }
+    if options.base.no_check {
+        return Err(CliError::SimulateOnly {
+            flag: "--no-check",
+            why: "converge measures every run's error against a reference itself",
+        });
+    }
     if options.base.exact {
         return Err(CliError::SimulateOnly {
             flag: "--exact",

@@ -1235,3 +1235,83 @@ fn the_main_job_takes_reproduce_s_flags() {
     assert!(dir.join("REPORT.md").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The largest entry of `R` and `Ω` at the end of two runs' JSON.
+fn end_difference(a: &serde_json::Value, b: &serde_json::Value) -> f64 {
+    let last =
+        |v: &serde_json::Value, key: &str| floats(v[key].as_array().unwrap().last().unwrap());
+    ["R", "omega"]
+        .iter()
+        .flat_map(|key| {
+            last(a, key)
+                .into_iter()
+                .zip(last(b, key))
+                .map(|(x, y)| (x - y).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+/// A `--tol` run is checked by its companion: on motions where the sum of local estimates
+/// falls hundreds of times below the truth (a fast spin near the intermediate axis, where
+/// the errors of each step grow along the motion), the checked run ends within 10·tol of
+/// the exact solution (Jacobi elliptic functions, not the integrator) and its estimate is
+/// within 10× of that truth; `--no-check` keeps the unchecked model, whose miss this test
+/// also pins (so the check is what makes the difference).
+#[test]
+fn a_tolerance_run_is_checked_and_its_estimate_tells_the_truth() {
+    let spin = ["--omega0", "20,0.1,0.1", "--t-end", "10"];
+    for tol in ["1e-6", "1e-8"] {
+        let tol_value: f64 = tol.parse().unwrap();
+        let run_with = |extra: &[&str]| {
+            let mut args = vec!["simulate", "--quiet", "--tol", tol];
+            args.extend(spin);
+            args.extend(extra);
+            let (code, out, err) = lgsvi(&args);
+            assert_eq!(code, 0, "{err}");
+            serde_json::from_str::<serde_json::Value>(&out).unwrap()
+        };
+        let checked = run_with(&[]);
+        let exact = run_with(&["--exact"]);
+        let truth = end_difference(&checked, &exact);
+        assert!(truth <= 10.0 * tol_value, "tol {tol}: error {truth:e}");
+        let stats = &checked["stats"];
+        let estimate = stats["estimated_error"].as_f64().unwrap();
+        assert!(
+            (truth / 10.0..=10.0 * truth).contains(&estimate),
+            "tol {tol}: estimate {estimate:e}, truth {truth:e}"
+        );
+        // The companion's record: the run was taken again with a tighter share.
+        let check = &stats["check"];
+        assert!(check["runs"].as_u64().unwrap() >= 2, "{check}");
+        assert!(check["largest_difference"].as_f64().unwrap() <= 3.0 * tol_value);
+        assert_eq!(check["companion_extra_nodes"], 2);
+        // Unchecked: the sum of local estimates, over 1000× below a far larger error.
+        let unchecked = run_with(&["--no-check"]);
+        assert!(unchecked["stats"]["check"].is_null());
+        let miss = end_difference(&unchecked, &exact);
+        let model = unchecked["stats"]["estimated_error"].as_f64().unwrap();
+        assert!(
+            miss > 100.0 * tol_value && model < miss / 1000.0,
+            "{miss:e} {model:e}"
+        );
+    }
+    // Where no share per step down to the rounding of a step meets the tolerance (this
+    // motion amplifies rounding to about 1e-10 … 1e-9 along the run), the run is refused
+    // with what it can deliver.
+    let mut args = vec!["simulate", "--quiet", "--tol", "1e-12"];
+    args.extend(spin);
+    let (code, out, err) = lgsvi(&args);
+    assert_ne!(code, 0);
+    assert!(out.is_empty());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--tol 1e-12 not met")
+            && err.contains("rounding")
+            && err.contains("ask for --tol"),
+        "{err}"
+    );
+    // --no-check belongs to --tol runs.
+    let (code, _, err) = lgsvi(&["simulate", "--quiet", "--no-check"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--no-check") && err.contains("--tol"), "{err}");
+}

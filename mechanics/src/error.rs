@@ -143,6 +143,20 @@ pub enum MechanicsError {
         /// What to change.
         advice: &'static str,
     },
+    /// The companion of a checked run ([`crate::Checked`]) failed on a step the run itself
+    /// took: the run cannot be checked from there.
+    #[error(
+        "step {step} (t = {time}): the check of the run (the same step with more nodes) \
+         failed: {source}; shorten the step h so that both solve it"
+    )]
+    CheckFailed {
+        /// The step that failed (0-based).
+        step: usize,
+        /// The time the step reached.
+        time: f64,
+        /// The companion's error.
+        source: Box<MechanicsError>,
+    },
     /// A step whose result is not finite (a user's force or Lagrangian returning NaN or
     /// infinity there, or an overflow).
     #[error("step {step} (t = {time}): {what} is not finite; {hint}")]

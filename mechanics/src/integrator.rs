@@ -541,6 +541,30 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         })
     }
 
+    /// Sets the nodes of the following steps to `n` (a fixed run keeps them; an adaptive
+    /// run starts its next step there and adapts from it). The tables for `n` are built
+    /// once per process and shared; a node count used before allocates nothing.
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for `n` outside `2…MAX_NODES`, or outside an
+    /// adaptive run's node range.
+    pub fn set_nodes(&mut self, n: usize) -> Result<(), MechanicsError> {
+        let (least, most) = self
+            .settings
+            .adaptive()
+            .map_or((2, MAX_NODES), |a| (a.min_nodes, a.max_nodes));
+        if !(least..=most).contains(&n) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "nodes",
+                value: n.to_string(),
+                reason: "a step takes 2 to MAX_NODES nodes, and an adaptive run's within its \
+                         node range",
+            });
+        }
+        self.next_nodes = None;
+        self.switch_nodes(n)
+    }
+
     /// The current state.
     pub fn state(&self) -> &State<ElementOf<S, D>, D> {
         &self.state

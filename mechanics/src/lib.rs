@@ -62,6 +62,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod checked;
 pub mod control;
 pub mod ensemble;
 mod error;
@@ -80,6 +81,9 @@ mod settings;
 mod step;
 mod system;
 
+pub use checked::{
+    tightened_rate, Checked, Difference, CHECK_ACCEPTS, CHECK_ATTEMPTS, CHECK_EXTRA_NODES,
+};
 pub use error::MechanicsError;
 pub use flow::FlowGuess;
 pub use force_jet::ForceJet;

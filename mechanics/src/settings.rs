@@ -388,6 +388,17 @@ impl StepSettings {
         Self { step: h, ..*self }
     }
 
+    /// These settings with `n` nodes, the default `m = n` Gauss points and no tolerance
+    /// (a checked run's companion).
+    pub(crate) fn fixed_with_nodes(&self, n: usize) -> Self {
+        Self {
+            tolerance: None,
+            step_changes: false,
+            falling_nodes: false,
+            ..self.with_nodes(n)
+        }
+    }
+
     /// These settings with `n` nodes and the default `m = n` Gauss points (the nodes an
     /// adaptive run switches to).
     pub(crate) fn with_nodes(&self, n: usize) -> Self {

@@ -1,0 +1,267 @@
+//! Runs that check themselves: a companion integrator takes every step again with more
+//! nodes, and the difference between the two is the run's measured error.
+//!
+//! A tolerance-driven run ([`StepSettings::with_tolerance`]) chooses each step's nodes from
+//! that step's own spectral estimate, and the sum of those estimates
+//! ([`Integrator::estimated_global_error`]) is the run's model of its error. The model
+//! fails where the motion amplifies the errors of earlier steps (a fast spin near the
+//! intermediate axis, an unstable equilibrium, the phase of an orbit) or where the estimate's
+//! calibration does not reach (spins far faster than the reference cases): there the error
+//! at the end can be hundreds of times the sum of the local estimates.
+//!
+//! [`Checked`] measures instead of modelling. Beside the run (the *primary*) a companion
+//! integrator starts from the same state and takes the same steps, each with
+//! [`CHECK_EXTRA_NODES`] more nodes than the primary took (same step, chart, matching,
+//! input). The method converges geometrically in the nodes (on the reference cases about
+//! 30× per node at steps of 3 rad), so the companion is about a thousand times more
+//! accurate, and the difference of the two states is the primary's error to a few per cent,
+//! whatever made it: the local errors, their growth along the motion, or rounding (both runs
+//! round; their difference is then the rounding's size). Both runs see the same motion, so
+//! an amplification of errors is measured, not assumed away.
+//!
+//! The difference of two states is the largest entry of `(θ, δξ)`: `θ = log(ḡ⁻¹g)` the
+//! configurations' difference in the algebra (radians on SO(3); SE(3) adds the position's
+//! units) and `δξ` the body velocities' difference, as in [`crate::control::error_state`].
+//!
+//! It costs the companion: about 1.2–1.4 times the primary's time again at the node counts of
+//! tolerance-driven runs (more nodes per step, the same steps).
+//!
+//! ```
+//! use lgsvi_mechanics::{Checked, Inertia, Integrator, RigidBody, StepSettings};
+//! use lgsvi_mechanics::exact::FreeRigidBodyExact;
+//! use lgsvi_mechanics::lie::SO3;
+//! use nalgebra::Vector3;
+//! // A fast spin near the intermediate axis: the errors of early steps grow along the motion.
+//! let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4])?;
+//! let omega = Vector3::new(20.0, 0.1, 0.1);
+//! let settings = StepSettings::new(0.15, 9)?;
+//! let mut run = Checked::new(Integrator::new(RigidBody::new(inertia), settings, SO3::identity(), omega)?)?;
+//! for _ in 0..20 {
+//!     run.step()?;
+//! }
+//! // The measured difference against the exact motion's error.
+//! let exact = FreeRigidBodyExact::new(inertia, SO3::identity(), omega)?.state(run.integrator().state().time)?;
+//! let state = run.integrator().state();
+//! let truth = (state.attitude().matrix() - exact.attitude().matrix()).amax()
+//!     .max((state.velocity - exact.velocity).amax());
+//! let measured = run.largest_difference().value;
+//! assert!(measured > truth / 3.0 && measured < 3.0 * truth);
+//! # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+//! ```
+
+use crate::control::GroupLog;
+use crate::error::MechanicsError;
+use crate::integrator::{Integrator, State};
+use crate::settings::MAX_NODES;
+use crate::system::{ElementOf, GroupLagrangian};
+use crate::GroupChart;
+use nalgebra::SVector;
+
+/// The companion's nodes beyond the primary's, per step: two nodes make it about a
+/// thousand times more accurate at the steps of a tolerance-driven run (30× per node at
+/// 3 rad per step), so its difference from the primary is the primary's error to about
+/// 0.1%; where the method converges more slowly per node (shorter steps converge faster,
+/// so that is a long step near the chart's reach) still to within a factor 2 from 2.5× per
+/// node on.
+pub const CHECK_EXTRA_NODES: usize = 2;
+
+/// A checked run accepts its tolerance when its largest measured difference is at most
+/// this many times the tolerance: the difference is the error to a few per cent, so the run
+/// ends within this factor (at most the 10 promised) of the truth.
+pub const CHECK_ACCEPTS: f64 = 3.0;
+
+/// How many runs a tolerance-driven run checked by [`Checked`] may take (the first and two
+/// with a tightened rate, [`tightened_rate`]) before it fails.
+pub const CHECK_ATTEMPTS: usize = 3;
+
+/// The largest difference of a checked run and where it was measured.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Difference {
+    /// The largest entry of `(θ, δξ)` (module docs).
+    pub value: f64,
+    /// The step after which it was measured (1-based: the state after step `step`).
+    pub step: usize,
+    /// The time of that state.
+    pub time: f64,
+}
+
+/// A run and its companion, stepped together (module docs).
+pub struct Checked<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+    primary: Integrator<S, C, D>,
+    companion: Integrator<S, C, D>,
+    extra: usize,
+    steps: usize,
+    now: f64,
+    largest: Difference,
+}
+
+impl<S, C, const D: usize> Checked<S, C, D>
+where
+    S: GroupLagrangian<D> + Clone,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: GroupLog<D>,
+{
+    /// Checks `primary` from its present state on, with [`CHECK_EXTRA_NODES`] more nodes.
+    ///
+    /// # Errors
+    /// As [`Checked::with_extra_nodes`].
+    pub fn new(primary: Integrator<S, C, D>) -> Result<Self, MechanicsError> {
+        Self::with_extra_nodes(primary, CHECK_EXTRA_NODES)
+    }
+
+    /// Checks `primary` with `extra` more nodes per step (1 to 8).
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for `extra` outside 1…8, for a primary whose step
+    /// may change ([`crate::StepSettings::with_step_changes`]: the companion takes the
+    /// primary's steps, and a step that changes would take its times apart), or whose
+    /// nodes leave no room for `extra` more below [`MAX_NODES`]; the companion's
+    /// construction errors (not expected for a primary that was built).
+    pub fn with_extra_nodes(
+        primary: Integrator<S, C, D>,
+        extra: usize,
+    ) -> Result<Self, MechanicsError> {
+        if !(1..=8).contains(&extra) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "extra nodes",
+                value: extra.to_string(),
+                reason: "the companion of a checked run takes 1 to 8 more nodes per step",
+            });
+        }
+        let settings = *primary.settings();
+        if settings.adaptive().is_some_and(|a| a.step_changes) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "step changes",
+                value: "true".into(),
+                reason: "a checked run takes the primary's steps: let the nodes adapt, not the \
+                         step",
+            });
+        }
+        let most = settings
+            .adaptive()
+            .map_or(settings.nodes(), |a| a.max_nodes.max(settings.nodes()));
+        if most + extra > MAX_NODES {
+            return Err(MechanicsError::InvalidSetting {
+                name: "nodes",
+                value: most.to_string(),
+                reason: "a checked run's companion takes more nodes than the primary's most, \
+                         which must leave room below MAX_NODES",
+            });
+        }
+        let state = *primary.state();
+        let mut companion = Integrator::with_chart(
+            primary.system().clone(),
+            *primary.chart(),
+            settings.fixed_with_nodes(settings.nodes() + extra),
+            state.configuration,
+            state.velocity,
+        )?;
+        companion.reset(state.time, state.configuration, state.velocity)?;
+        companion.set_input(*primary.input())?;
+        Ok(Self {
+            primary,
+            companion,
+            extra,
+            steps: 0,
+            now: 0.0,
+            largest: Difference::default(),
+        })
+    }
+
+    /// One step of the primary, then the same step of the companion with `extra` more
+    /// nodes; returns the primary's Newton iterations.
+    ///
+    /// # Errors
+    /// The primary's errors, as [`Integrator::step`]; [`MechanicsError::CheckFailed`]
+    /// where the companion's step fails after the primary's succeeded (the primary has
+    /// then taken the step; the check cannot go on).
+    pub fn step(&mut self) -> Result<usize, MechanicsError> {
+        let iterations = self.primary.step()?;
+        let nodes = self.primary.settings().nodes() + self.extra;
+        let time = self.primary.state().time;
+        let failed = |source| MechanicsError::CheckFailed {
+            step: self.steps,
+            time,
+            source: Box::new(source),
+        };
+        self.companion.set_nodes(nodes).map_err(failed)?;
+        self.companion
+            .set_input(*self.primary.input())
+            .map_err(failed)?;
+        self.companion.step().map_err(failed)?;
+        self.steps += 1;
+        self.now = difference(self.primary.state(), self.companion.state());
+        // A NaN difference is kept as the largest once seen.
+        let larger = self.now.is_nan() || self.now > self.largest.value;
+        if larger && !self.largest.value.is_nan() {
+            self.largest = Difference {
+                value: self.now,
+                step: self.steps,
+                time,
+            };
+        }
+        Ok(iterations)
+    }
+
+    /// Sets the control input of both runs ([`Integrator::set_input`]).
+    ///
+    /// # Errors
+    /// As [`Integrator::set_input`].
+    pub fn set_input(&mut self, input: SVector<f64, D>) -> Result<(), MechanicsError> {
+        self.primary.set_input(input)?;
+        self.companion.set_input(input)
+    }
+
+    /// The run being checked.
+    pub fn integrator(&self) -> &Integrator<S, C, D> {
+        &self.primary
+    }
+
+    /// The run being checked, the companion dropped.
+    pub fn into_integrator(self) -> Integrator<S, C, D> {
+        self.primary
+    }
+
+    /// The companion's present state (the same time as the primary's).
+    pub fn companion_state(&self) -> &State<ElementOf<S, D>, D> {
+        self.companion.state()
+    }
+
+    /// The difference of the two runs after the last step (0 before the first).
+    pub fn difference(&self) -> f64 {
+        self.now
+    }
+
+    /// The largest difference since the check began, and where (a NaN difference counts
+    /// as the largest).
+    pub fn largest_difference(&self) -> Difference {
+        self.largest
+    }
+}
+
+/// The largest entry of `(log(b⁻¹a), ξ_a − ξ_b)`.
+fn difference<E: GroupLog<D>, const D: usize>(a: &State<E, D>, b: &State<E, D>) -> f64 {
+    let theta = a.configuration.log_from(&b.configuration);
+    let mut largest = 0.0f64;
+    for x in theta.iter().chain((a.velocity - b.velocity).iter()) {
+        if x.is_nan() {
+            return f64::NAN;
+        }
+        largest = largest.max(x.abs());
+    }
+    largest
+}
+
+/// The error per unit time a tolerance-driven run takes again after a checked run of
+/// rate `rate` measured `measured` against the tolerance `tolerance`: the rate times
+/// `tolerance / (10 · measured)`, and at most a tenth of it. The target a tenth below the
+/// tolerance leaves room for the growth of errors that made the first run miss (the error
+/// falls by about 30× per node, so a tenfold margin costs about one node).
+pub fn tightened_rate(rate: f64, measured: f64, tolerance: f64) -> f64 {
+    let factor = if measured > 0.0 && measured.is_finite() {
+        (tolerance / (10.0 * measured)).min(0.1)
+    } else {
+        0.1
+    };
+    rate * factor
+}
