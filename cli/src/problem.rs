@@ -721,6 +721,19 @@ impl Problem {
                             ),
                         });
                     }
+                    // The gravity gradient's Hessian forms x xᵀ (xᵀJx) ~ r⁴ |J|, which
+                    // overflows from about r = 1e77 (measured: 1e70 runs, 1e80 fails).
+                    if mu != 0.0 && r > 1e75 {
+                        return Err(CliError::Invalid {
+                            flag: "--position0",
+                            value: format!("{:?}", position.as_slice()),
+                            reason: format!(
+                                "the orbiting body starts at r = {r:e}, where its gravity \
+                                 gradient's terms (of order r⁴) overflow double precision \
+                                 (r ≤ 1e75): express lengths in larger units"
+                            ),
+                        });
+                    }
                     // The gravity-gradient libration, √3 times the orbit's mean motion.
                     frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
                     MotionSystem::Orbit(

@@ -689,6 +689,23 @@ fn adversarial_inputs_are_refused_in_one_line() {
         (vec!["simulate", "--nodes", "5000"], "at most 100 nodes"),
         // Tolerances: not positive, not finite, or with Gauss points fixed by hand.
         (vec!["simulate", "--tol", "0"], "positive and finite"),
+        // The orbiting body so far out that its gravity gradient overflows: the cause and
+        // the range, not "the momentum after the step is not finite".
+        (
+            vec![
+                "simulate",
+                "--system",
+                "orbiting-body",
+                "--position0",
+                "1e200,0,0",
+            ],
+            "overflow double precision (r ≤ 1e75)",
+        ),
+        (vec!["simulate", "--no-check"], "give --tol"),
+        (
+            vec!["converge", "--tol", "1e-8", "--no-check"],
+            "--no-check is a simulate option",
+        ),
         // The orbiting body at (or next to) the attracting centre: the cause, not overflow
         // advice or an infinite step count.
         (

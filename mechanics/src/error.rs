@@ -58,6 +58,24 @@ pub enum MechanicsError {
         /// The last residual `|∂ℓ/∂Ω − μ|`.
         residual: f64,
     },
+    /// A step failed because the Lagrangian is not strictly convex in the velocity at the
+    /// state: `∂²ℓ/∂ξ²` is singular or indefinite (a zero or negative inertia or mass).
+    #[error(
+        "step {step} (t = {time}): the Lagrangian is not strictly convex in the velocity here \
+         (∂²ℓ/∂ξ² has eigenvalues from {least:e} to {most:e}): a zero or negative inertia or \
+         mass; check the system's parameters (e.g. what system_mut changed) — no step h or \
+         node count can mend it"
+    )]
+    DegenerateLagrangian {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// The least eigenvalue of `∂²ℓ/∂ξ²`.
+        least: f64,
+        /// The largest in magnitude.
+        most: f64,
+    },
     /// The Newton matrix is singular (or the iteration produced non-finite numbers).
     #[error(
         "step {step} (t = {time}): singular Newton system; take a smaller step h or the exp chart"

@@ -982,8 +982,61 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// reach ([`GroupChart::max_rotation_angle`]) within the step, and
     /// [`MechanicsError::AliasedRoot`] where Newton converged to an attitude that is not
     /// the continuation of the motion (checked against the system's own flow, when it
-    /// has one). The state is left unchanged.
+    /// has one). The state is left unchanged. Where a step fails (any of these) because `ℓ` is not strictly convex in the velocity at the state (a zero or
+    /// negative inertia or mass, after [`Integrator::system_mut`] for instance), the error
+    /// is [`MechanicsError::DegenerateLagrangian`] instead, which no step or node count
+    /// mends.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
+        self.advance().map_err(|error| self.diagnose(error))
+    }
+
+    /// The cause of a failed solve, when it is the system's: `∂²ℓ/∂ξ²` at the state not
+    /// positive definite (its eigenvalues are read only on this error path).
+    fn diagnose(&self, error: MechanicsError) -> MechanicsError {
+        if !matches!(
+            error,
+            MechanicsError::NewtonDiverged { .. }
+                | MechanicsError::SingularJacobian { .. }
+                | MechanicsError::InverseLegendre { .. }
+                | MechanicsError::OutsideChart { .. }
+                | MechanicsError::StepTooLong { .. }
+                | MechanicsError::AliasedRoot { .. }
+                | MechanicsError::NonFiniteStep { .. }
+                | MechanicsError::ToleranceNotMet { .. }
+        ) {
+            return error;
+        }
+        let state = &self.state;
+        let (_, hessian) = crate::linearization::legendre_blocks(
+            &self.system,
+            state.time,
+            &state.configuration,
+            &state.velocity,
+        );
+        let symmetric = (hessian + hessian.transpose()) * 0.5;
+        if symmetric.iter().any(|x| !x.is_finite()) {
+            return error;
+        }
+        // Dynamic storage: the fixed-size eigen decomposition needs bounds a const `D` lacks.
+        let eigenvalues = nalgebra::DMatrix::from_iterator(D, D, symmetric.iter().copied())
+            .symmetric_eigenvalues();
+        let (least, most) = eigenvalues
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(l, m), &e| {
+                (l.min(e), m.max(e.abs()))
+            });
+        if least > f64::EPSILON * D as f64 * most {
+            return error;
+        }
+        MechanicsError::DegenerateLagrangian {
+            step: self.step_index,
+            time: state.time,
+            least,
+            most,
+        }
+    }
+
+    fn advance(&mut self) -> Result<usize, MechanicsError> {
         let Some(adaptive) = self.settings.adaptive() else {
             let base = self.state.configuration;
             let outcome = self.attempt(&base)?;

@@ -213,7 +213,7 @@ fn blocks<const D: usize>(
 /// [`GroupLagrangian::local_derivatives`], whose mixed block is zero by contract); a
 /// left-invariant `ℓ` has no mixed block; otherwise one hyper-dual number through `ℓ`
 /// (with `exp` to second order: only first order in `η` is read).
-fn legendre_blocks<S: GroupLagrangian<D>, const D: usize>(
+pub(crate) fn legendre_blocks<S: GroupLagrangian<D>, const D: usize>(
     system: &S,
     time: f64,
     configuration: &<S::Group as ConfigurationGroup<D>>::Element<f64>,

@@ -270,3 +270,71 @@ fn a_non_finite_force_is_named_with_its_step() {
     );
     assert_eq!(it.state().time, 1.0, "the last good state is kept");
 }
+
+/// A user's body whose moments the control code may change between steps.
+#[derive(Clone, Copy)]
+struct Tunable {
+    moments: [f64; 3],
+}
+impl lgsvi_mechanics::Lagrangian for Tunable {
+    fn lagrangian<T: nalgebra::RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
+        let c = |x: f64| -> T { nalgebra::convert(x) };
+        c(0.5)
+            * (w.x * w.x * c(self.moments[0])
+                + w.y * w.y * c(self.moments[1])
+                + w.z * w.z * c(self.moments[2]))
+    }
+}
+
+/// `system_mut` making moments zero: the failed step says the Lagrangian is not strictly
+/// convex in the velocity, with its eigenvalues, and that no step h mends it (before: "take
+/// a smaller step h"). (A negative moment leaves an indefinite `ℓ` whose steps may still
+/// solve: the step does not read `ℓ`'s Hessian on success.) A valid body's failure keeps
+/// its own error.
+#[test]
+fn a_degenerate_lagrangian_is_named_as_the_cause() {
+    for (j1, j2) in [(0.0, 0.9), (0.0, 0.0)] {
+        let mut integrator = Integrator::new(
+            Tunable {
+                moments: [0.5, 0.9, 0.7],
+            },
+            StepSettings::new(0.5, 8).unwrap(),
+            SO3::identity(),
+            omega0(),
+        )
+        .unwrap();
+        integrator.step().unwrap();
+        integrator.system_mut().moments[0] = j1;
+        integrator.system_mut().moments[1] = j2;
+        match integrator.step() {
+            Err(error @ MechanicsError::DegenerateLagrangian { step, least, .. }) => {
+                assert_eq!(step, 1);
+                assert!(least.abs() <= 1e-12, "{least}");
+                let text = error.to_string();
+                assert!(
+                    text.contains("not strictly convex") && text.contains("no step h"),
+                    "{text}"
+                );
+            }
+            other => panic!("J₁ = {j1}: {other:?}"),
+        }
+        assert_eq!(integrator.state().time, 0.5);
+    }
+    // A valid body on a Cayley chart that cannot follow a long step: not degenerate.
+    let mut integrator = Integrator::new(
+        Tunable {
+            moments: [0.5, 0.9, 0.7],
+        },
+        StepSettings::new(40.0, 6)
+            .unwrap()
+            .with_chart(lgsvi_mechanics::lie::ChartKind::CayleyUnscaled),
+        SO3::identity(),
+        omega0() * 10.0,
+    )
+    .unwrap();
+    let error = integrator.step().unwrap_err();
+    assert!(
+        !matches!(error, MechanicsError::DegenerateLagrangian { .. }),
+        "{error}"
+    );
+}
