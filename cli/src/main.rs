@@ -24,8 +24,8 @@ use config::SimulateOptions;
 use error::{CliError, Result};
 use lgsvi_mechanics::control::GroupLog;
 use lgsvi_mechanics::{
-    tightened_rate, Checked, ElementOf, GroupChart, GroupLagrangian, Integrator, State,
-    StepSettings, Trajectory, CHECK_ACCEPTS, CHECK_ATTEMPTS, ROUNDING_FLOOR,
+    Checked, ElementOf, GroupChart, GroupLagrangian, Integrator, MechanicsError, State,
+    StepSettings, ToleranceCheck, Trajectory,
 };
 use problem::Problem;
 use std::process::ExitCode;
@@ -272,9 +272,8 @@ where
 
 /// Runs to the problem's horizon with the integrators `make` builds (the problem's
 /// settings, or a `--tol` run's tightened ones): unchecked, one run; checked (`--tol`
-/// without `--no-check`), up to [`CHECK_ATTEMPTS`] runs beside their companion, each
-/// with the share per step [`tightened_rate`] gives after the one before, until the
-/// largest difference is at most [`CHECK_ACCEPTS`] times the tolerance.
+/// without `--no-check`), runs beside their companion with the settings
+/// [`ToleranceCheck`] gives, until it accepts one or refuses.
 fn integrate_with<S, C, const D: usize>(
     problem: &Problem,
     make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>>,
@@ -288,16 +287,12 @@ where
     let Some(tol) = problem.check else {
         return record(problem, make(problem.settings)?, &split);
     };
-    let first_rate = problem.settings.adaptive().map_or(0.0, |a| a.rate);
-    let mut settings = problem.settings;
+    let mut policy = ToleranceCheck::new(problem.settings, tol)?;
     let mut wall_time = 0.0;
-    // The least largest difference of the runs so far: what this motion delivers at best.
-    let mut best = f64::INFINITY;
-    for attempt in 1..=CHECK_ATTEMPTS {
-        let mut run = record(problem, Checked::new(make(settings)?)?, &split)?;
+    loop {
+        let mut run = record(problem, Checked::new(make(policy.settings())?)?, &split)?;
         wall_time += run.wall_time_s;
         run.wall_time_s = wall_time;
-        let rate = settings.adaptive().map_or(first_rate, |a| a.rate);
         let estimates = run
             .estimates
             .as_mut()
@@ -306,43 +301,45 @@ where
             .check
             .as_mut()
             .expect("a checked run has its check");
-        check.attempts = attempt;
-        check.tightened = first_rate / rate;
+        check.attempts = policy.attempt();
+        check.tightened = policy.tightened();
         let largest = check.largest;
-        best = best.min(largest.value);
-        if largest.value <= CHECK_ACCEPTS * tol {
+        if policy.judge(largest).map_err(|error| match error {
+            MechanicsError::ToleranceNotChecked {
+                attempts,
+                tightened,
+                measured,
+                time,
+                step,
+                at_floor,
+                best,
+                ..
+            } => CliError::ToleranceNotChecked {
+                tol,
+                attempts,
+                tightened,
+                measured,
+                time,
+                step,
+                advice: if at_floor {
+                    format!(
+                        "at the rounding of every step (4ε), this motion amplifies rounding \
+                         errors to about that (the closest of the runs: {best:.1e}): ask for \
+                         --tol {best:.0e} or more"
+                    )
+                } else {
+                    format!(
+                        "the motion amplifies each step's error: raise --tol, or shorten the \
+                         step (--h {:?} or less)",
+                        problem.settings.step() / 3.0
+                    )
+                },
+            },
+            other => other.into(),
+        })? {
             return Ok(run);
         }
-        // The least share a step can be asked for: the rounding of one step.
-        let floor = ROUNDING_FLOOR / settings.step() * (1.0 + 1e-9);
-        let at_floor = rate <= floor;
-        let advice = if at_floor {
-            format!(
-                "at the rounding of every step (4ε), this motion amplifies rounding errors to \
-                 about that (the closest of the runs: {best:.1e}): ask for --tol {:.0e} or more",
-                best.max(f64::MIN_POSITIVE)
-            )
-        } else {
-            format!(
-                "the motion amplifies each step's error: raise --tol, or shorten the step (--h \
-                 {:?} or less)",
-                settings.step() / 3.0
-            )
-        };
-        if attempt == CHECK_ATTEMPTS || at_floor {
-            return Err(CliError::ToleranceNotChecked {
-                tol,
-                attempts: attempt,
-                tightened: first_rate / rate,
-                measured: largest.value,
-                time: largest.time,
-                step: largest.step,
-                advice,
-            });
-        }
-        settings = settings.with_tolerance(tightened_rate(rate, largest.value, tol).max(floor))?;
     }
-    unreachable!("the last attempt returns")
 }
 
 /// Runs `runner` to the problem's horizon: every state is checked (its rotational part,

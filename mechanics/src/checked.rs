@@ -52,7 +52,7 @@
 use crate::control::GroupLog;
 use crate::error::MechanicsError;
 use crate::integrator::{Integrator, State};
-use crate::settings::MAX_NODES;
+use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
 use crate::system::{ElementOf, GroupLagrangian};
 use crate::GroupChart;
 use nalgebra::SVector;
@@ -264,4 +264,132 @@ pub fn tightened_rate(rate: f64, measured: f64, tolerance: f64) -> f64 {
         0.1
     };
     rate * factor
+}
+
+/// The policy of a checked tolerance-driven run: which settings each run takes, and whether
+/// a run's largest difference ([`Checked::largest_difference`]) accepts the tolerance, asks
+/// for another run, or ends in [`MechanicsError::ToleranceNotChecked`].
+///
+/// A run is accepted when its largest difference is at most [`CHECK_ACCEPTS`]` · tolerance`;
+/// otherwise the next run takes the share per step [`tightened_rate`] gives (never below the
+/// rounding of a step), up to [`CHECK_ATTEMPTS`] runs. Where the share has reached the
+/// rounding of a step, the error says so, with the closest run's difference as what the
+/// motion allows.
+///
+/// ```
+/// use lgsvi_mechanics::{Checked, Inertia, Integrator, RigidBody, StepSettings, ToleranceCheck};
+/// use lgsvi_mechanics::lie::SO3;
+/// use nalgebra::Vector3;
+/// let (t_end, tolerance) = (10.0, 1e-8);
+/// let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4])?);
+/// let omega = Vector3::new(20.0, 0.1, 0.1);
+/// let first = StepSettings::new(t_end / 67.0, 7)?.with_tolerance(tolerance / t_end)?;
+/// let mut policy = ToleranceCheck::new(first, tolerance)?;
+/// let run = loop {
+///     let integrator = Integrator::new(body, policy.settings(), SO3::identity(), omega)?;
+///     let mut run = Checked::new(integrator)?;
+///     for _ in 0..67 {
+///         run.step()?;
+///     }
+///     if policy.judge(run.largest_difference())? {
+///         break run;
+///     }
+/// };
+/// assert!(run.largest_difference().value <= 3.0 * tolerance);
+/// assert_eq!(policy.attempt(), 2); // the first run missed: the errors grow along this spin
+/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ToleranceCheck {
+    tolerance: f64,
+    first_rate: f64,
+    settings: StepSettings,
+    attempt: usize,
+    best: f64,
+}
+
+impl ToleranceCheck {
+    /// The policy for a run of `settings` (with a tolerance:
+    /// [`StepSettings::with_tolerance`]) that must end within `tolerance`.
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for settings without a tolerance, or a tolerance
+    /// that is not positive and finite.
+    pub fn new(settings: StepSettings, tolerance: f64) -> Result<Self, MechanicsError> {
+        let Some(adaptive) = settings.adaptive() else {
+            return Err(MechanicsError::InvalidSetting {
+                name: "tolerance",
+                value: "none".into(),
+                reason: "a checked tolerance run needs settings with a tolerance \
+                         (StepSettings::with_tolerance)",
+            });
+        };
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "tolerance",
+                value: tolerance.to_string(),
+                reason: "must be positive and finite",
+            });
+        }
+        Ok(Self {
+            tolerance,
+            first_rate: adaptive.rate,
+            settings,
+            attempt: 1,
+            best: f64::INFINITY,
+        })
+    }
+
+    /// The settings of the present run.
+    pub fn settings(&self) -> StepSettings {
+        self.settings
+    }
+
+    /// The present run, from 1.
+    pub fn attempt(&self) -> usize {
+        self.attempt
+    }
+
+    /// How far the present run's share per step lies below the first run's (1 for the
+    /// first).
+    pub fn tightened(&self) -> f64 {
+        self.first_rate / self.rate()
+    }
+
+    fn rate(&self) -> f64 {
+        self.settings.adaptive().map_or(self.first_rate, |a| a.rate)
+    }
+
+    /// Judges a run by its largest difference: `Ok(true)` accepts it; `Ok(false)` asks for
+    /// another run with [`ToleranceCheck::settings`] (now tightened).
+    ///
+    /// # Errors
+    /// [`MechanicsError::ToleranceNotChecked`] after the last run allowed, or where the
+    /// share per step has reached the rounding of a step.
+    pub fn judge(&mut self, largest: Difference) -> Result<bool, MechanicsError> {
+        self.best = self.best.min(largest.value);
+        if largest.value <= CHECK_ACCEPTS * self.tolerance {
+            return Ok(true);
+        }
+        let rate = self.rate();
+        let floor = ROUNDING_FLOOR / self.settings.step() * (1.0 + 1e-9);
+        let at_floor = rate <= floor;
+        if self.attempt >= CHECK_ATTEMPTS || at_floor {
+            return Err(MechanicsError::ToleranceNotChecked {
+                tolerance: self.tolerance,
+                attempts: self.attempt,
+                tightened: self.tightened(),
+                measured: largest.value,
+                time: largest.time,
+                step: largest.step,
+                at_floor,
+                best: self.best,
+            });
+        }
+        self.settings = self
+            .settings
+            .with_tolerance(tightened_rate(rate, largest.value, self.tolerance).max(floor))?;
+        self.attempt += 1;
+        Ok(false)
+    }
 }

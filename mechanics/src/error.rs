@@ -161,6 +161,39 @@ pub enum MechanicsError {
         /// What to change.
         advice: &'static str,
     },
+    /// A checked tolerance run ([`crate::ToleranceCheck`]) whose difference from its
+    /// companion stayed above `CHECK_ACCEPTS · tolerance` on every run allowed, or at the
+    /// rounding of a step.
+    #[error(
+        "tolerance {tolerance:e} not met: after {attempts} run(s), the last with a share per \
+         step {tightened:.0e}× below the first's, the run differs by {measured:.1e} from its \
+         check at t = {time} (step {step}); {}",
+        if *at_floor {
+            format!("at the rounding of every step, the motion amplifies rounding errors to \
+                     about {best:.1e}: ask for at least that")
+        } else {
+            "the motion amplifies each step's error: raise the tolerance or shorten the step"
+                .to_string()
+        }
+    )]
+    ToleranceNotChecked {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// Runs taken.
+        attempts: usize,
+        /// The last run's share per step against the first's.
+        tightened: f64,
+        /// The last run's largest difference.
+        measured: f64,
+        /// Where it was measured: the time and the step (1-based).
+        time: f64,
+        /// The step after which it was measured.
+        step: usize,
+        /// Whether the share per step had reached the rounding of a step.
+        at_floor: bool,
+        /// The least largest difference of the runs: what the motion allows.
+        best: f64,
+    },
     /// The companion of a checked run ([`crate::Checked`]) failed on a step the run itself
     /// took: the run cannot be checked from there.
     #[error(

@@ -82,7 +82,8 @@ mod step;
 mod system;
 
 pub use checked::{
-    tightened_rate, Checked, Difference, CHECK_ACCEPTS, CHECK_ATTEMPTS, CHECK_EXTRA_NODES,
+    tightened_rate, Checked, Difference, ToleranceCheck, CHECK_ACCEPTS, CHECK_ATTEMPTS,
+    CHECK_EXTRA_NODES,
 };
 pub use error::MechanicsError;
 pub use flow::FlowGuess;

@@ -106,3 +106,55 @@ fn a_checked_run_refuses_what_it_cannot_check() {
     );
     assert_eq!(run.integrator().input(), &Vector3::new(0.3, 0.0, -0.2));
 }
+
+/// The tolerance policy: accepts at most 3·tol, tightens by at least 10× (by
+/// `tol / (10 · difference)` where that is more), stops after three runs, and at the
+/// rounding of a step says so with the closest run's difference.
+#[test]
+fn the_tolerance_policy_accepts_tightens_and_refuses() {
+    use lgsvi_mechanics::{Difference, ToleranceCheck, ROUNDING_FLOOR};
+    let at = |value| Difference {
+        value,
+        step: 3,
+        time: 1.5,
+    };
+    let fixed = StepSettings::new(0.5, 8).unwrap();
+    assert!(ToleranceCheck::new(fixed, 1e-8).is_err());
+    let settings = fixed.with_tolerance(1e-9).unwrap();
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(ToleranceCheck::new(settings, bad).is_err());
+    }
+    let mut policy = ToleranceCheck::new(settings, 1e-8).unwrap();
+    assert!(policy.judge(at(3e-8)).unwrap());
+    assert_eq!(policy.attempt(), 1);
+    // 1e-6 against 1e-8: the share falls by 1e-8 / (10 · 1e-6) = 1e-3.
+    // (At least tenfold: `tightened_rate` never takes less than a tenth.)
+    assert_eq!(lgsvi_mechanics::tightened_rate(1.0, 1e-9, 1e-8), 0.1);
+    assert!(!policy.judge(at(1e-6)).unwrap());
+    assert_eq!(policy.attempt(), 2);
+    assert!((policy.tightened() / 1e3 - 1.0).abs() < 1e-12);
+    // Barely above: 1e-8 / (10 · 3.1e-8), more than tenfold.
+    assert!(!policy.judge(at(3.1e-8)).unwrap());
+    assert!((policy.tightened() / 3.1e4 - 1.0).abs() < 1e-12);
+    match policy.judge(at(5e-8)) {
+        Err(MechanicsError::ToleranceNotChecked {
+            attempts: 3,
+            at_floor: false,
+            best,
+            ..
+        }) => {
+            assert_eq!(best, 3e-8) // the least of every run judged
+        }
+        other => panic!("{other:?}"),
+    }
+    // A share that reaches the rounding of a step: refused there, with the best run.
+    let tight = fixed.with_tolerance(2.0 * ROUNDING_FLOOR / 0.5).unwrap();
+    let mut policy = ToleranceCheck::new(tight, 1e-14).unwrap();
+    assert!(!policy.judge(at(1e-12)).unwrap());
+    match policy.judge(at(2e-12)) {
+        Err(error @ MechanicsError::ToleranceNotChecked { at_floor: true, .. }) => {
+            assert!(error.to_string().contains("about 1.0e-12"), "{error}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
