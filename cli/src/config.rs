@@ -243,6 +243,12 @@ pub struct SimulateOptions {
     /// Not with --quad (the Gauss points follow the nodes).
     #[arg(long, allow_hyphen_values = true, value_name = "TOL")]
     pub tol: Option<f64>,
+    /// A fixed-(h, n) run: run the companion check too (the same steps with 2 more nodes,
+    /// about twice the time), so that `estimated_error` is the measured difference at the
+    /// end instead of the sum of the steps' local estimates. --tol runs are checked anyway.
+    #[arg(long)]
+    #[serde(default)]
+    pub check: bool,
     /// With --tol: skip the companion check (about half the time); the reported estimate is
     /// then the sum of the steps' local estimates, which does not see errors that grow
     /// along the motion (fast spins, unstable or orbital motion).
@@ -355,6 +361,7 @@ impl SimulateOptions {
         base.quiet |= top.quiet;
         base.exact |= top.exact;
         base.no_check |= top.no_check;
+        base.check |= top.check;
         base.config = Some(path);
         Ok(base)
     }

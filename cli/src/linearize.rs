@@ -68,6 +68,11 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
             "linearize linearises the integrator's step",
         ),
         (
+            "--check",
+            base.check,
+            "linearize takes one step and measures nothing",
+        ),
+        (
             "--no-check",
             base.no_check,
             "linearize takes one step of fixed --h and --nodes",

@@ -284,8 +284,12 @@ where
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: GroupLog<D>,
 {
-    let Some(tol) = problem.check else {
-        return record(problem, make(problem.settings)?, &split);
+    let tol = match problem.check {
+        problem::Check::None => return record(problem, make(problem.settings)?, &split),
+        problem::Check::Measure => {
+            return record(problem, Checked::new(make(problem.settings)?)?, &split)
+        }
+        problem::Check::Tolerance(tol) => tol,
     };
     let mut policy = ToleranceCheck::new(problem.settings, tol)?;
     let mut wall_time = 0.0;

@@ -174,6 +174,17 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
         .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default()))
 }
 
+/// Whether and how a companion checks a run (`lgsvi_mechanics::Checked`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Check {
+    /// Unchecked: `estimated_error` is the sum of the local estimates.
+    None,
+    /// A fixed run measured by its companion (`--check`).
+    Measure,
+    /// A `--tol` run accepted or refused by the check (`ToleranceCheck`).
+    Tolerance(f64),
+}
+
 /// A built-in system: one type, so that studies need not be generic.
 #[derive(Debug, Clone, Copy)]
 pub enum System {
@@ -441,8 +452,9 @@ pub struct Problem {
     pub t_end: f64,
     pub every: usize,
     pub quiet: bool,
-    /// A `--tol` run's tolerance, when its companion checks it (not `--no-check`).
-    pub check: Option<f64>,
+    /// Whether a companion checks the run: a `--tol` run unless `--no-check`, a fixed run
+    /// with `--check`.
+    pub check: Check,
     /// The inputs as given, for the output's `description`.
     pub description: serde_json::Value,
 }
@@ -631,6 +643,14 @@ impl Problem {
             if options.quad.is_some() {
                 return Err(CliError::Conflict("--tol", "--quad"));
             }
+            if options.check {
+                return Err(CliError::Invalid {
+                    flag: "--check",
+                    value: "given".into(),
+                    reason: "--tol runs are checked anyway (--no-check skips it): drop --check"
+                        .into(),
+                });
+            }
         } else if options.no_check {
             return Err(CliError::Invalid {
                 flag: "--no-check",
@@ -790,7 +810,11 @@ impl Problem {
             t_end,
             every,
             quiet: options.quiet,
-            check: options.tol.filter(|_| !options.no_check),
+            check: match (options.tol, options.no_check, options.check) {
+                (Some(tol), false, _) => Check::Tolerance(tol),
+                (None, _, true) => Check::Measure,
+                _ => Check::None,
+            },
             description,
         };
         Ok((problem, options))

@@ -618,9 +618,13 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             options.tols = options.tols.or(file.tols);
         }
     }
-    if options.base.no_check {
+    if options.base.no_check || options.base.check {
         return Err(CliError::SimulateOnly {
-            flag: "--no-check",
+            flag: if options.base.check {
+                "--check"
+            } else {
+                "--no-check"
+            },
             why: "converge measures every run's error against a reference itself",
         });
     }
