@@ -346,6 +346,21 @@ fn config_files_and_flags_over_them() {
     assert_ne!(code, 0);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(err.contains("node"), "{err}");
+    // A value of the wrong type or length names its key.
+    for (text, needle) in [
+        ("nodes = 8.0\n", "nodes: invalid type"),
+        (
+            "inertia-tensor = [1, 0, 0, 0, 1, 0, 0, 0]\n",
+            "inertia-tensor: invalid length 8",
+        ),
+        ("check = true\ntol = 1e-8\n", "checked anyway"),
+    ] {
+        std::fs::write(&bad, text).unwrap();
+        let (code, _, err) = lgsvi(&["simulate", "--config", bad.to_str().unwrap()]);
+        assert_ne!(code, 0);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{text}: {err}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 
