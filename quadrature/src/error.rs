@@ -55,6 +55,30 @@ pub enum QuadratureError {
         /// The mass given.
         mass: f64,
     },
+    /// An exponent of a weight function for which the weight is not integrable.
+    #[error("the weight's exponent {name} = {value} must be finite and above −1 (the weight is not integrable otherwise)")]
+    InvalidExponent {
+        /// `"alpha"` or `"beta"`.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A rule on an infinite interval asked to map to a finite one.
+    #[error("a {rule:?} rule integrates over {interval:?} and has no map to a finite interval; shift and scale its nodes (x = c + s·t) and weights (w·s) yourself")]
+    UnboundedRule {
+        /// The rule's family.
+        rule: crate::RuleKind,
+        /// Its interval.
+        interval: (f64, f64),
+    },
+    /// A weighted rule mapped to a reversed interval.
+    #[error("a weighted rule maps to [a, b] with a < b only (its weight (b − x)^α (x − a)^β is defined there), got [{a}, {b}]; map to [{b}, {a}] and negate the result")]
+    ReversedWeight {
+        /// Left end.
+        a: f64,
+        /// Right end.
+        b: f64,
+    },
     /// The implicit QL iteration did not converge (it converges in practice; this guards
     /// against pathological input such as entries spanning hundreds of orders of magnitude).
     #[error("the tridiagonal eigenvalue iteration did not converge for eigenvalue {index} in {iterations} sweeps")]

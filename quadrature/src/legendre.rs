@@ -1,6 +1,8 @@
 //! Legendre polynomials by their three-term recurrence, in double and in double-double
 //! precision, and the Newton polish shared by the Legendre-family rules.
 
+use crate::double_double::DoubleDouble;
+
 /// `P_n`, `P_{n−1}` and derivatives at one point.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Legendre {
@@ -43,60 +45,6 @@ pub(crate) fn legendre(n: usize, x: f64) -> Legendre {
         dp: d1,
         dp_prev: d0,
         d2p: s1,
-    }
-}
-
-/// An unevaluated sum `hi + lo` with `|lo| ≤ ulp(hi)/2`: about 32 significant digits.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct DoubleDouble {
-    pub hi: f64,
-    pub lo: f64,
-}
-
-impl DoubleDouble {
-    const fn from_f64(x: f64) -> Self {
-        Self { hi: x, lo: 0.0 }
-    }
-
-    fn renormalised(hi: f64, lo: f64) -> Self {
-        let s = hi + lo;
-        Self {
-            hi: s,
-            lo: lo - (s - hi),
-        }
-    }
-
-    /// Knuth's error-free sum of the leading parts, plus the trailing parts.
-    pub(crate) fn add(self, other: Self) -> Self {
-        let s = self.hi + other.hi;
-        let bb = s - self.hi;
-        let err = (self.hi - (s - bb)) + (other.hi - bb);
-        Self::renormalised(s, err + self.lo + other.lo)
-    }
-
-    fn sub(self, other: Self) -> Self {
-        self.add(Self {
-            hi: -other.hi,
-            lo: -other.lo,
-        })
-    }
-
-    /// Product with a double; the leading product's error is exact by a fused multiply-add.
-    fn mul_f64(self, y: f64) -> Self {
-        let p = self.hi * y;
-        let err = self.hi.mul_add(y, -p);
-        Self::renormalised(p, err + self.lo * y)
-    }
-
-    fn div_f64(self, y: f64) -> Self {
-        let q = self.hi / y;
-        let prod = Self::from_f64(q).mul_f64(y);
-        let rest = self.sub(prod);
-        Self::renormalised(q, (rest.hi + rest.lo) / y)
-    }
-
-    pub fn to_f64(self) -> f64 {
-        self.hi + self.lo
     }
 }
 

@@ -14,13 +14,28 @@ pub enum RuleKind {
     GaussRadauLeft,
     /// Gauss–Radau with the right end as a node; exact for degree `2m − 2`.
     GaussRadauRight,
+    /// Gauss–Hermite, weight `e^{−x²}` on the real line; exact for degree `2m − 1`.
+    GaussHermite,
+    /// Generalised Gauss–Laguerre, weight `x^α e^{−x}` on `[0, ∞)`; exact for degree `2m − 1`.
+    GaussLaguerre,
+    /// Gauss–Jacobi, weight `(1 − x)^α (1 + x)^β` on `[−1, 1]`; exact for degree `2m − 1`.
+    GaussJacobi,
+    /// Gauss–Chebyshev of the first kind, weight `1/√(1 − x²)`; exact for degree `2m − 1`.
+    GaussChebyshevFirst,
+    /// Gauss–Chebyshev of the second kind, weight `√(1 − x²)`; exact for degree `2m − 1`.
+    GaussChebyshevSecond,
 }
 
 impl RuleKind {
     /// Highest polynomial degree integrated exactly by the `m`-point rule of this family.
     pub fn degree_of_exactness(self, m: usize) -> usize {
         match self {
-            RuleKind::GaussLegendre => 2 * m - 1,
+            RuleKind::GaussLegendre
+            | RuleKind::GaussHermite
+            | RuleKind::GaussLaguerre
+            | RuleKind::GaussJacobi
+            | RuleKind::GaussChebyshevFirst
+            | RuleKind::GaussChebyshevSecond => 2 * m - 1,
             RuleKind::GaussLobatto => 2 * m - 3,
             RuleKind::GaussRadauLeft | RuleKind::GaussRadauRight => 2 * m - 2,
         }
@@ -49,11 +64,29 @@ pub struct Rule {
     nodes: Vec<f64>,
     weights: Vec<f64>,
     interval: (f64, f64),
+    /// The reference interval: `[−1, 1]`, or the real line or `[0, ∞)`.
+    reference_interval: (f64, f64),
+    /// `(α, β)` of a weight `(1 − t)^α (1 + t)^β` on `[−1, 1]` (Jacobi, Chebyshev), or of
+    /// `x^α e^{−x}` (Laguerre: `β = 0`); `None` for weight 1 and for Hermite.
+    exponents: Option<(f64, f64)>,
 }
 
 impl Rule {
     /// A rule on `[−1, 1]` from nodes (ascending) and weights computed by this crate.
     pub(crate) fn reference(kind: RuleKind, nodes: Vec<f64>, weights: Vec<f64>) -> Self {
+        debug_assert_eq!(nodes.len(), weights.len());
+        debug_assert!(nodes.windows(2).all(|w| w[0] < w[1]));
+        Self::with_weight(kind, nodes, weights, (-1.0, 1.0), None)
+    }
+
+    /// A rule of a weighted family on its reference interval.
+    pub(crate) fn with_weight(
+        kind: RuleKind,
+        nodes: Vec<f64>,
+        weights: Vec<f64>,
+        interval: (f64, f64),
+        exponents: Option<(f64, f64)>,
+    ) -> Self {
         debug_assert_eq!(nodes.len(), weights.len());
         debug_assert!(nodes.windows(2).all(|w| w[0] < w[1]));
         Self {
@@ -62,17 +95,32 @@ impl Rule {
             reference_weights: weights.clone(),
             nodes,
             weights,
-            interval: (-1.0, 1.0),
+            interval,
+            reference_interval: interval,
+            exponents,
         }
+    }
+
+    /// The exponents `(α, β)` of the rule's weight function: `(1 − x)^α (1 + x)^β` for
+    /// Gauss–Jacobi (Chebyshev: `±½`), `x^α e^{−x}` for Gauss–Laguerre (`β = 0`); `None` for
+    /// weight 1 (Legendre, Lobatto, Radau) and for Hermite (`e^{−x²}`).
+    pub fn weight_exponents(&self) -> Option<(f64, f64)> {
+        self.exponents
     }
 
     /// The same rule mapped to `[a, b]`. With `a > b` the rule integrates backwards, as
     /// `∫_a^b = −∫_b^a` in calculus: its nodes run from `a` down to `b` and its weights are
     /// negative (each the negated weight of the forward rule's node at the same place).
     ///
+    /// A Gauss–Jacobi or Gauss–Chebyshev rule maps with its weight: on `[a, b]` it
+    /// integrates `(b − x)^α (x − a)^β f(x)`, its weights scaled by `((b − a)/2)^{α+β+1}`.
+    ///
     /// # Errors
     /// [`QuadratureError::NonFiniteInterval`] if `a` or `b` is NaN or infinite,
-    /// [`QuadratureError::EmptyInterval`] if `a = b`.
+    /// [`QuadratureError::EmptyInterval`] if `a = b`,
+    /// [`QuadratureError::UnboundedRule`] for a Hermite or Laguerre rule (its interval is
+    /// infinite: shift and scale its nodes yourself), [`QuadratureError::ReversedWeight`]
+    /// for a weighted rule on `a > b` (its weight function is defined for `a < b`).
     ///
     /// ```
     /// use lgsvi_quadrature::{gauss_legendre, gauss_lobatto};
@@ -91,17 +139,26 @@ impl Rule {
         if a == b {
             return Err(QuadratureError::EmptyInterval { a, b });
         }
+        if self.reference_interval != (-1.0, 1.0) {
+            return Err(QuadratureError::UnboundedRule {
+                rule: self.kind,
+                interval: self.reference_interval,
+            });
+        }
         let half_length = 0.5 * (b - a);
+        // Weight 1 scales by the half length; a weight (1 − t)^α (1 + t)^β by its power
+        // α + β + 1.
+        let scale = match self.exponents {
+            None => half_length,
+            Some(_) if a > b => return Err(QuadratureError::ReversedWeight { a, b }),
+            Some((alpha, beta)) => half_length.powf(alpha + beta + 1.0),
+        };
         let nodes = self
             .reference_nodes
             .iter()
             .map(|&t| a * (0.5 * (1.0 - t)) + b * (0.5 * (1.0 + t)))
             .collect();
-        let weights = self
-            .reference_weights
-            .iter()
-            .map(|&w| w * half_length)
-            .collect();
+        let weights = self.reference_weights.iter().map(|&w| w * scale).collect();
         Ok(Self {
             kind: self.kind,
             reference_nodes: self.reference_nodes.clone(),
@@ -109,6 +166,8 @@ impl Rule {
             nodes,
             weights,
             interval: (a, b),
+            reference_interval: self.reference_interval,
+            exponents: self.exponents,
         })
     }
 
@@ -132,7 +191,8 @@ impl Rule {
         self.nodes.len()
     }
 
-    /// The interval `(a, b)` the rule integrates over.
+    /// The interval `(a, b)` the rule integrates over (infinite ends for Hermite and
+    /// Laguerre rules).
     pub fn interval(&self) -> (f64, f64) {
         self.interval
     }
