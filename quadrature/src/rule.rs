@@ -211,4 +211,33 @@ impl Rule {
     pub fn integrate(&self, mut f: impl FnMut(f64) -> f64) -> f64 {
         self.iter().map(|(x, w)| w * f(x)).sum()
     }
+
+    /// A vector- or matrix-valued integrand: `out = Σ_i w_i f(x_i)`, where `f(x, values)`
+    /// writes the integrand's `out.len()` components at `x` into `values` (a scratch slice
+    /// of that length, zeroed before each call). Nothing is allocated per node; each
+    /// component is summed in the order of the nodes, as [`Rule::integrate`] sums.
+    ///
+    /// ```
+    /// use lgsvi_quadrature::gauss_legendre;
+    /// // ∫_0^1 (1, x, x²) dx and the 2 × 2 matrix ∫_0^1 [[x, x²], [x³, 1]] dx in one pass each.
+    /// let rule = gauss_legendre(3)?.on(0.0, 1.0)?;
+    /// let mut moments = [0.0; 3];
+    /// rule.integrate_into(|x, v| { v[0] = 1.0; v[1] = x; v[2] = x * x; }, &mut moments);
+    /// assert!((moments[2] - 1.0 / 3.0).abs() < 4.0 * f64::EPSILON);
+    /// let mut m = [0.0; 4]; // row-major
+    /// rule.integrate_into(|x, v| v.copy_from_slice(&[x, x * x, x.powi(3), 1.0]), &mut m);
+    /// assert!((m[2] - 0.25).abs() < 4.0 * f64::EPSILON && (m[3] - 1.0).abs() < 4.0 * f64::EPSILON);
+    /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
+    /// ```
+    pub fn integrate_into(&self, mut f: impl FnMut(f64, &mut [f64]), out: &mut [f64]) {
+        out.fill(0.0);
+        let mut values = vec![0.0; out.len()];
+        for (x, w) in self.iter() {
+            values.fill(0.0);
+            f(x, &mut values);
+            for (o, v) in out.iter_mut().zip(&values) {
+                *o += w * v;
+            }
+        }
+    }
 }

@@ -318,3 +318,25 @@ proptest! {
             "m {} [{}, {}] got {} exact {}", m, a, b, got, exact);
     }
 }
+
+/// A vector integrand's components are the scalar integrals, bit for bit (the same sums in
+/// the same order), on every family.
+#[test]
+fn vector_integrands_sum_as_scalar_ones() {
+    use lgsvi_quadrature::{gauss_hermite, gauss_jacobi, gauss_legendre};
+    let rules = [
+        gauss_legendre(7).unwrap().on(-0.3, 2.0).unwrap(),
+        gauss_hermite(9).unwrap(),
+        gauss_jacobi(6, 0.4, -0.2).unwrap().on(1.0, 3.0).unwrap(),
+    ];
+    for rule in &rules {
+        let mut out = [f64::NAN; 3];
+        rule.integrate_into(
+            |x, v| v.copy_from_slice(&[x.sin(), x * x, (-x * x).exp()]),
+            &mut out,
+        );
+        assert_eq!(out[0], rule.integrate(f64::sin));
+        assert_eq!(out[1], rule.integrate(|x| x * x));
+        assert_eq!(out[2], rule.integrate(|x| (-x * x).exp()));
+    }
+}
