@@ -7,6 +7,7 @@ use crate::error::{CliError, Result};
 use crate::invariants::Tracker;
 use crate::plot::{self, Figure, Series, Style};
 use crate::problem::System;
+use crate::work_precision::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
 use clap::Args;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
 use lgsvi_mechanics::lie::{ChartKind, SO3};
@@ -68,66 +69,6 @@ fn reference(case: &str, t: f64) -> Matrix3<f64> {
     crate::cases::case(case)
         .reference(t)
         .expect("the references hold t = 10 and t = 100")
-}
-
-/// One point of a work-precision curve.
-#[derive(Debug, Clone, Serialize)]
-pub struct Point {
-    pub case: String,
-    pub t_end: f64,
-    pub method: String,
-    /// The knob: `n` for lgsvi, the step for fixed-step methods, the tolerance for DOP853.
-    pub knob: String,
-    /// `‖R(T) − R_ref(T)‖_F` against the shared 40-digit reference.
-    pub error: f64,
-    /// Median wall time of the whole run (construction included), seconds.
-    pub time_s: f64,
-    pub failure: Option<String>,
-}
-
-impl Point {
-    /// A run of `method` at `knob` on `case` to `t_end` that took `time_s`: its error, or
-    /// the error that stopped it (error NaN, the message kept).
-    pub(crate) fn new(
-        case: &str,
-        t_end: f64,
-        method: &str,
-        knob: String,
-        error: Result<f64>,
-        time_s: f64,
-    ) -> Self {
-        let (error, failure) = match error {
-            Ok(error) => (error, None),
-            Err(e) => (f64::NAN, Some(e.to_string())),
-        };
-        Self {
-            case: case.into(),
-            t_end,
-            method: method.into(),
-            knob,
-            error,
-            time_s,
-            failure,
-        }
-    }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Times `run` `repeats` times; returns the last result and the median time.
-pub(crate) fn timed<T>(repeats: usize, mut run: impl FnMut() -> T) -> (T, f64) {
-    let mut times = Vec::with_capacity(repeats);
-    let mut last = None;
-    for _ in 0..repeats.max(1) {
-        let start = Instant::now();
-        let out = run();
-        times.push(start.elapsed().as_secs_f64());
-        last = Some(out);
-    }
-    (last.expect("at least one run"), median(times))
 }
 
 struct Case {
@@ -449,40 +390,6 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
     points
 }
 
-/// The fastest run of `method` (prefix) at or below `error` for a case and horizon.
-pub(crate) fn fastest<'a>(
-    points: &'a [Point],
-    case: &str,
-    t_end: f64,
-    method: &str,
-    error: f64,
-) -> Option<&'a Point> {
-    points
-        .iter()
-        .filter(|p| {
-            p.case == case && p.t_end == t_end && p.method.starts_with(method) && p.error <= error
-        })
-        .min_by(|a, b| a.time_s.total_cmp(&b.time_s))
-}
-
-/// The most accurate finite run of `method` (prefix) for a case and horizon.
-pub(crate) fn most_accurate<'a>(
-    points: &'a [Point],
-    case: &str,
-    t_end: f64,
-    method: &str,
-) -> Option<&'a Point> {
-    points
-        .iter()
-        .filter(|p| {
-            p.case == case
-                && p.t_end == t_end
-                && p.method.starts_with(method)
-                && p.error.is_finite()
-        })
-        .min_by(|a, b| a.error.total_cmp(&b.error))
-}
-
 fn best_error(points: &[Point], case: &str, t_end: f64, method: &str) -> f64 {
     most_accurate(points, case, t_end, method).map_or(f64::INFINITY, |p| p.error)
 }
@@ -523,50 +430,6 @@ pub fn targets(points: &[Point]) -> String {
         if l <= 1e-12 { "yes" } else { "no" }
     );
     s
-}
-
-/// A ratio table's cell for one error target: lgsvi's fastest run there over DOP853's,
-/// both times, and what `detail` says of the lgsvi run (after a `; `, when not empty);
-/// or which of the two does not reach the target.
-pub(crate) fn ratio_cell(
-    lgsvi: Option<&Point>,
-    dop853: Option<&Point>,
-    detail: impl Fn(&Point) -> String,
-) -> String {
-    match (lgsvi, dop853) {
-        (Some(l), Some(d)) => {
-            let detail = detail(l);
-            let detail = if detail.is_empty() {
-                detail
-            } else {
-                format!("; {detail}")
-            };
-            format!(
-                " {:.2} ({:.3} / {:.3} ms{detail}) |",
-                l.time_s / d.time_s,
-                1e3 * l.time_s,
-                1e3 * d.time_s
-            )
-        }
-        (Some(_), None) => " DOP853 does not reach it |".into(),
-        (None, _) => " lgsvi does not reach it |".into(),
-    }
-}
-
-/// A ratio table's last cell, where DOP853 does not go: lgsvi's run over DOP853's most
-/// accurate run, with both errors and times.
-pub(crate) fn beyond_cell(lgsvi: Option<&Point>, dop853: Option<&Point>) -> String {
-    match (lgsvi, dop853) {
-        (Some(l), Some(d)) => format!(
-            " {:.2} (lgsvi {:.1e} in {:.3} ms; DOP853 {:.1e} in {:.3} ms) |",
-            l.time_s / d.time_s,
-            l.error,
-            1e3 * l.time_s,
-            d.error,
-            1e3 * d.time_s
-        ),
-        _ => " – |".into(),
-    }
 }
 
 /// The ratio table: for each case, horizon and error target, the fastest lgsvi

@@ -5,8 +5,8 @@
 //! timed whole (construction included, median of the repeats), the best run per error
 //! target. Errors: O1 `max(‖R − R_ref‖_F, ‖x − x_ref‖)`, F1 `‖R − R_ref‖_F`, at `T`.
 
-use crate::bench::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
 use crate::error::{CliError, Result};
+use crate::work_precision::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
 use lgsvi_baselines::{dop853_in_space, SpaceModel, SpaceState};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{

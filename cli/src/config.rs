@@ -4,7 +4,7 @@
 use crate::error::CliError;
 use clap::{Args, ValueEnum};
 use lgsvi_mechanics::lie::{ChartKind, LieError, SO3};
-use lgsvi_mechanics::{Matching, NewtonJacobian};
+use lgsvi_mechanics::{Matching, NewtonJacobian, MAX_NODES};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -442,4 +442,95 @@ pub fn read_config_table(path: &Path) -> Result<(toml::Table, Option<toml::Table
         Some(_) => return Err(config_error(path, "`converge` must be a table")),
     };
     Ok((table, converge))
+}
+
+/// Which refinements `lgsvi converge` runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StudyKind {
+    /// n-refinement at fixed h.
+    Nodes,
+    /// h-refinement at fixed n.
+    Step,
+    /// Both.
+    Both,
+    /// The per-step error estimate against the true local error, over a grid of `(h, n)`
+    /// (any system, SO(3) or SE(3)).
+    Estimate,
+    /// `--tol` runs over a list of tolerances against a reference and the fastest fixed
+    /// `(h, n)` as accurate (any system).
+    Tolerance,
+}
+
+pub(crate) fn node_range(text: &str) -> Result<[usize; 2], String> {
+    let (a, b) = text
+        .split_once("..")
+        .ok_or_else(|| format!("expected a range like 2..16, got {text:?}"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("{s:?} is not a node count"))
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
+    if a < 2 || b < a || b > MAX_NODES {
+        return Err(format!(
+            "invalid range {text}: need 2 ≤ first ≤ last ≤ {MAX_NODES}"
+        ));
+    }
+    Ok([a, b])
+}
+
+pub(crate) fn positive_step(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(h) if h.is_finite() && h > 0.0 => Ok(h),
+        _ => Err(format!("{text:?} is not a positive step")),
+    }
+}
+
+pub(crate) fn node_count(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if (2..=MAX_NODES).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "{text:?} is not a node count from 2 to {MAX_NODES}"
+        )),
+    }
+}
+
+/// `lgsvi converge`: the system and integrator flags of `simulate`, plus the study's.
+#[derive(Debug, Clone, Default, Args, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+// simulate's `--exact` and `--every` do not apply to a study (they are refused if given).
+#[command(mut_arg("exact", |a| a.hide(true)), mut_arg("every", |a| a.hide(true)))]
+pub struct ConvergeOptions {
+    /// System, initial state, chart, matching, `--h` (the step of the n-refinement),
+    /// `--t-end` (default 10), `--format`, `--out` (the data), `--config`. A config file may
+    /// hold the study's keys in a `[converge]` table (kebab-case, as the flags).
+    #[command(flatten)]
+    #[serde(skip)]
+    pub base: SimulateOptions,
+    /// Which refinement: nodes, step or both [default: both].
+    #[arg(long, value_enum)]
+    pub study: Option<StudyKind>,
+    /// n-refinement: node counts, as FIRST..LAST [default: 2..16].
+    #[arg(long, value_parser = node_range, value_name = "FIRST..LAST")]
+    pub nodes_range: Option<[usize; 2]>,
+    /// h-refinement: the steps [default: 1,0.5,0.25,0.125,0.0625].
+    #[arg(long, value_parser = positive_step, value_delimiter = ',', value_name = "H1,H2,...")]
+    pub steps: Option<Vec<f64>>,
+    /// h-refinement: one series per node count [default: 2,3,4,5].
+    #[arg(long, value_parser = node_count, value_delimiter = ',', value_name = "N1,N2,...")]
+    pub step_nodes: Option<Vec<usize>>,
+    /// Points per step at which the Galerkin curve is compared, 1 (none) to 1000 [default: 8].
+    #[arg(long)]
+    pub curve_samples: Option<usize>,
+    /// Tolerance study: the tolerances [default: 1e-6,1e-7,…,1e-13].
+    #[arg(long, value_parser = positive_tolerance, value_delimiter = ',', value_name = "T1,T2,...")]
+    pub tols: Option<Vec<f64>>,
+}
+
+fn positive_tolerance(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("{text:?} is not a positive tolerance like 1e-10")),
+    }
 }

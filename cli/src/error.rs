@@ -1,7 +1,6 @@
 //! The command line's one error type. Each variant is one line that says what was wrong
 //! and what to change; `main` prints it after `error: ` and exits with a failure code.
 
-use crate::problem::MAX_RUN_STEPS;
 use lgsvi_baselines::BaselineError;
 use lgsvi_mechanics::lie::LieError;
 use lgsvi_mechanics::MechanicsError;
@@ -89,7 +88,7 @@ pub enum CliError {
     /// More steps than a run may take.
     #[error(
         "--t-end {t_end:?} with --h {h:?} asks for {steps:.3e} steps, more than the \
-         {MAX_RUN_STEPS:.0e} a run may take: take a shorter horizon or a longer step"
+         {most:.0e} a run may take: take a shorter horizon or a longer step"
     )]
     TooManySteps {
         /// The horizon.
@@ -98,6 +97,8 @@ pub enum CliError {
         h: f64,
         /// `t_end / h`.
         steps: f64,
+        /// The most a run may take (`problem::MAX_RUN_STEPS`).
+        most: f64,
     },
     /// A horizon that is not a whole number of steps.
     #[error(

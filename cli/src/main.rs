@@ -18,6 +18,7 @@ mod problem;
 mod reproduce;
 mod study;
 mod tolerance;
+mod work_precision;
 
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
@@ -56,7 +57,7 @@ enum Command {
     /// Run one trajectory (or print the exact one, `--exact`) and write it as JSON or CSV.
     Simulate(SimulateOptions),
     /// n- and h-refinement studies: errors, fitted rates, a table and CSV/JSON.
-    Converge(study::ConvergeOptions),
+    Converge(config::ConvergeOptions),
     /// Work-precision against DOP853, LGVI and splitting baselines (table, JSON, plots).
     Bench(bench::BenchOptions),
     /// The exact linearisation A = ∂x₊/∂x, B = ∂x₊/∂u of one step from the initial state

@@ -61,6 +61,7 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
             t_end,
             h,
             steps: ratio,
+            most: MAX_RUN_STEPS,
         });
     }
     let steps = ratio.round();
@@ -113,6 +114,7 @@ pub fn tolerance_step(t_end: f64, rate: f64, chart: ChartKind) -> Result<f64> {
             t_end,
             h: t_end / steps,
             steps,
+            most: MAX_RUN_STEPS,
         });
     }
     Ok(t_end / steps)

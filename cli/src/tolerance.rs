@@ -490,7 +490,7 @@ pub fn estimate_figure(title: &str, rows: &[LocalError]) -> Figure {
 pub const DEFAULT_STEPS: [f64; 5] = [0.25, 0.5, 0.625, 1.0, 1.25];
 
 /// `lgsvi converge --study estimate` (`estimate`) or `--study tolerance`.
-pub fn run(options: crate::study::ConvergeOptions, estimate: bool) -> Result<()> {
+pub fn run(options: crate::config::ConvergeOptions, estimate: bool) -> Result<()> {
     let tols = options.tols.clone();
     let steps_given = options.steps.clone();
     let range = options.nodes_range;

@@ -51,8 +51,9 @@
 
 use crate::control::GroupLog;
 use crate::error::MechanicsError;
-use crate::integrator::{Integrator, State};
+use crate::integrator::Integrator;
 use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
+use crate::state::State;
 use crate::system::{ElementOf, GroupLagrangian};
 use crate::GroupChart;
 use nalgebra::SVector;

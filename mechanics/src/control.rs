@@ -37,7 +37,7 @@
 //! ```
 
 use crate::error::MechanicsError;
-use crate::integrator::State;
+use crate::state::State;
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{DMatrix, DVector, SVector};
 

@@ -6,9 +6,10 @@
 //! `rayon::ThreadPool::install` to choose the number of threads.
 
 use crate::error::MechanicsError;
-use crate::integrator::{Integrator, State, Statistics};
+use crate::integrator::{Integrator, Statistics};
 use crate::lagrangian::Lagrangian;
 use crate::settings::StepSettings;
+use crate::state::State;
 use lgsvi_lie::SO3;
 use nalgebra::Vector3;
 use rayon::prelude::*;

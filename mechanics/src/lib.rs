@@ -78,6 +78,7 @@ mod lagrangian;
 pub mod linearization;
 mod rigid_motion;
 mod settings;
+mod state;
 mod step;
 mod system;
 
@@ -93,9 +94,7 @@ pub use group::{
     Rotations, Screw,
 };
 pub use inertia::Inertia;
-pub use integrator::{
-    body_momentum, body_velocity, GalerkinCurve, Integrator, State, Statistics, Trajectory,
-};
+pub use integrator::{GalerkinCurve, Integrator, Statistics, Trajectory};
 pub use lagrangian::{
     HeavyTop, Lagrangian, LagrangianDerivatives, Potential, RigidBody, RigidBodyInPotential,
 };
@@ -108,6 +107,7 @@ pub use settings::{
     DEFAULT_EXTRA_QUADRATURE_POINTS, DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES,
     MAX_QUADRATURE_POINTS, ROUNDING_FLOOR, STEP_RANGE,
 };
+pub use state::{body_momentum, body_velocity, State};
 pub use system::{
     AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime, Forced, Forcing,
     GaussPoint, GroupLagrangian, LocalDerivatives, PointForce, SpaceForce,

@@ -28,12 +28,11 @@
 
 use crate::error::MechanicsError;
 use crate::group::ConfigurationGroup;
-use crate::integrator::State;
+use crate::state::{legendre_blocks, State};
 use crate::step::linearize::MomentumJacobians;
 use crate::system::GroupLagrangian;
 use lgsvi_lie::{LieGroup, SE3};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector};
-use num_dual::{Dual2SVec64, HyperDualSVec64};
 
 /// The coordinates of a step's state perturbation (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -205,47 +204,4 @@ fn blocks<const D: usize>(
     m.view_mut((D, 0), (D, D)).copy_from(c);
     m.view_mut((D, D), (D, D)).copy_from(d);
     m
-}
-
-/// `(L_ξη, L_ξξ)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0`: how the body momentum
-/// moves with the configuration (body frame) and the velocity. From the system's closed
-/// form where it has one ([`GroupLagrangian::momentum_derivatives`], or
-/// [`GroupLagrangian::local_derivatives`], whose mixed block is zero by contract); a
-/// left-invariant `ℓ` has no mixed block; otherwise one hyper-dual number through `ℓ`
-/// (with `exp` to second order: only first order in `η` is read).
-pub(crate) fn legendre_blocks<S: GroupLagrangian<D>, const D: usize>(
-    system: &S,
-    time: f64,
-    configuration: &<S::Group as ConfigurationGroup<D>>::Element<f64>,
-    velocity: &SVector<f64, D>,
-) -> (SMatrix<f64, D, D>, SMatrix<f64, D, D>) {
-    if let Some(blocks) = system.momentum_derivatives(time, configuration, velocity) {
-        return blocks;
-    }
-    if let Some(local) = system.local_derivatives(time, configuration, velocity, true) {
-        return (SMatrix::zeros(), local.velocity_hessian);
-    }
-    let (_, _, hessian) = num_dual::hessian(
-        |xi: SVector<Dual2SVec64<D>, D>| {
-            let g = <S::Group as ConfigurationGroup<D>>::lift(configuration);
-            system.lagrangian(time, &g, &xi)
-        },
-        velocity,
-    );
-    if system.is_left_invariant() {
-        return (SMatrix::zeros(), hessian);
-    }
-    let zero = SVector::<f64, D>::zeros();
-    let (_, _, _, mixed) = num_dual::partial_hessian(
-        |(xi, eta): (
-            SVector<HyperDualSVec64<D, D>, D>,
-            SVector<HyperDualSVec64<D, D>, D>,
-        )| {
-            let g = <S::Group as ConfigurationGroup<D>>::lift(configuration)
-                .compose(&<S::Group as ConfigurationGroup<D>>::exp_second_order(&eta));
-            system.lagrangian(time, &g, &xi)
-        },
-        (velocity, &zero),
-    );
-    (mixed, hessian)
 }
