@@ -1,13 +1,16 @@
 //! A small dense row-major matrix, the output of the evaluation routines.
 
+use crate::SpectralError;
 use std::ops::Index;
 
 /// A dense `rows × cols` matrix stored row-major.
 ///
 /// Returned by [`Barycentric::evaluation_matrix`](crate::Barycentric::evaluation_matrix)
 /// and friends: row `j` holds the `n` basis functions (or their derivatives) at point
-/// `j`, so a row is a contiguous slice, which is what a quadrature loop reads. With the
-/// `nalgebra` feature it converts to `nalgebra::DMatrix`.
+/// `j`, so a row is a contiguous slice, which is what a quadrature loop reads: that is why
+/// this crate returns its own row-major type rather than `nalgebra::DMatrix` (column-major,
+/// where a row is strided). [`Matrix::to_dmatrix`] (or `DMatrix::from(&m)`) gives the
+/// nalgebra matrix for everything else: products, solves, decompositions.
 ///
 /// ```
 /// use lgsvi_spectral::Barycentric;
@@ -61,13 +64,35 @@ impl Matrix {
         &self.data
     }
 
-    /// The product with a vector, `y_j = Σ_i M[j][i] x_i`, or `None` if `x.len() ≠ ncols()`.
-    pub fn mul_vec(&self, x: &[f64]) -> Option<Vec<f64>> {
-        (x.len() == self.cols).then(|| {
-            (0..self.rows)
-                .map(|j| self.row(j).iter().zip(x).map(|(a, b)| a * b).sum())
-                .collect()
-        })
+    /// The product with a vector, `y_j = Σ_i M[j][i] x_i`.
+    ///
+    /// # Errors
+    /// [`SpectralError::LengthMismatch`] if `x.len() ≠ ncols()`.
+    pub fn mul_vec(&self, x: &[f64]) -> Result<Vec<f64>, SpectralError> {
+        if x.len() != self.cols {
+            return Err(SpectralError::LengthMismatch {
+                what: "the vector multiplied",
+                expected: self.cols,
+                got: x.len(),
+            });
+        }
+        Ok((0..self.rows)
+            .map(|j| self.row(j).iter().zip(x).map(|(a, b)| a * b).sum())
+            .collect())
+    }
+
+    /// The same matrix as a `nalgebra::DMatrix` (a copy, column-major).
+    ///
+    /// ```
+    /// use lgsvi_spectral::Barycentric;
+    /// let basis = Barycentric::chebyshev_lobatto(4, -1.0, 1.0)?;
+    /// let d = basis.differentiation_matrix().to_dmatrix();
+    /// // The derivative of a constant is zero: every row of D sums to 0.
+    /// assert!((d * nalgebra::DVector::from_element(4, 1.0)).amax() < 1e-14);
+    /// # Ok::<(), lgsvi_spectral::SpectralError>(())
+    /// ```
+    pub fn to_dmatrix(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::from_row_slice(self.rows, self.cols, &self.data)
     }
 }
 
@@ -85,9 +110,8 @@ impl Index<(usize, usize)> for Matrix {
     }
 }
 
-#[cfg(feature = "nalgebra")]
 impl From<&Matrix> for nalgebra::DMatrix<f64> {
     fn from(m: &Matrix) -> Self {
-        nalgebra::DMatrix::from_row_slice(m.rows, m.cols, &m.data)
+        m.to_dmatrix()
     }
 }

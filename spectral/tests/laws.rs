@@ -421,7 +421,10 @@ fn matrices_agree_with_pointwise_evaluation() {
     for (j, &x) in pts.iter().enumerate() {
         assert!((df[j] - 2.0 * x).abs() < 1e-13);
     }
-    assert!(d.mul_vec(&[1.0]).is_none());
+    assert!(matches!(
+        d.mul_vec(&[1.0]),
+        Err(lgsvi_spectral::SpectralError::LengthMismatch { got: 1, .. })
+    ));
 }
 
 proptest! {
