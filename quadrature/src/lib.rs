@@ -19,7 +19,9 @@
 //! | [`gauss_chebyshev_first`]`(m)` / [`gauss_chebyshev_second`]`(m)` | `1/√(1 − x²)` / `√(1 − x²)` | `[−1, 1]` |
 //!
 //! and, for any other weight function whose three-term recurrence you know, the raw
-//! [`golub_welsch`] algorithm.
+//! [`golub_welsch`] algorithm. Infinite intervals without a weight: a Gauss–Legendre rule
+//! through an algebraic map, [`Rule::on_half_line`] (`[a, ∞)`) and [`Rule::on_real_line`];
+//! vector- and matrix-valued integrands: [`Rule::integrate_into`].
 //!
 //! # Conventions
 //! - Rules are built on the reference interval `[−1, 1]` and mapped to `[a, b]` by

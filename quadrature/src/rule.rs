@@ -171,6 +171,110 @@ impl Rule {
         })
     }
 
+    /// A Gauss–Legendre rule for `∫_a^∞ f(x) dx`, through the map `x = a + s(1 + t)/(1 − t)`
+    /// (`dx = 2s/(1 − t)² dt`): the nodes are the images of the reference nodes, the weights
+    /// carry the map's derivative. The scale `s > 0` is where half the rule's nodes lie
+    /// (`x = a + s` is the image of `t = 0`): take it near where `f` decays. Exact for
+    /// integrands that are polynomials of degree `2m − 1` in `t`, i.e. rational functions
+    /// `(x − a + s)^{−k}`, `2 ≤ k ≤ 2m + 1`. Integrands decaying like a power converge
+    /// geometrically; an exponential decay becomes an essential singularity at `t = 1`, where
+    /// the error falls only like `e^{−c√m}` (`e^{−x}` on `[1, ∞)`, `s = 1`, measured: 1.6e-7 at
+    /// `m = 20`, 6.7e-12 at 40, 1e-16 at 80): for such weights [`crate::gauss_laguerre`] and
+    /// [`crate::gauss_hermite`] converge geometrically.
+    ///
+    /// ```
+    /// use lgsvi_quadrature::gauss_legendre;
+    /// // ∫_0^∞ dx / (1 + x)³ = 1/2, exact (a rational function of the map).
+    /// let rule = gauss_legendre(4)?.on_half_line(0.0, 1.0)?;
+    /// assert!((rule.integrate(|x| (1.0 + x).powi(-3)) - 0.5).abs() < 1e-15);
+    /// // ∫_1^∞ e^{−x} dx = e^{−1}: 80 points (an exponential converges slowly through the map).
+    /// let rule = gauss_legendre(80)?.on_half_line(1.0, 1.0)?;
+    /// assert!((rule.integrate(|x| (-x).exp()) - (-1f64).exp()).abs() < 1e-15);
+    /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`QuadratureError::NonFiniteInterval`] for a non-finite `a` or a scale that is not
+    /// positive and finite (reported as the interval `[a, s]`);
+    /// [`QuadratureError::UnboundedRule`] for any rule but Gauss–Legendre (an end node at
+    /// `t = 1` would map to infinity; weighted rules carry their own weight).
+    pub fn on_half_line(&self, a: f64, s: f64) -> Result<Self, QuadratureError> {
+        self.mapped_to_infinity(a, s, RuleKind::GaussLegendre, |t| {
+            let u = 1.0 - t;
+            ((1.0 + t) / u, 2.0 / (u * u))
+        })
+        .map(|mut rule| {
+            rule.interval = (a, f64::INFINITY);
+            rule
+        })
+    }
+
+    /// A Gauss–Legendre rule for `∫_{−∞}^{∞} f(x) dx`, through the map `x = c + s t/(1 − t²)`
+    /// (`dx = s(1 + t²)/(1 − t²)² dt`), centred at `c` with scale `s > 0` (about half the
+    /// nodes lie within `|x − c| ≤ √2·s`, the image of `|t| ≤ 1/√2`); as
+    /// [`Rule::on_half_line`] otherwise.
+    ///
+    /// ```
+    /// use lgsvi_quadrature::gauss_legendre;
+    /// // ∫ dx / (1 + x²) = π.
+    /// let rule = gauss_legendre(40)?.on_real_line(0.0, 1.0)?;
+    /// assert!((rule.integrate(|x| 1.0 / (1.0 + x * x)) - std::f64::consts::PI).abs() < 4e-15);
+    /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Rule::on_half_line`] (a non-finite `c`, a scale not positive and finite, a rule
+    /// that is not Gauss–Legendre).
+    pub fn on_real_line(&self, c: f64, s: f64) -> Result<Self, QuadratureError> {
+        self.mapped_to_infinity(c, s, RuleKind::GaussLegendre, |t| {
+            let u = (1.0 - t) * (1.0 + t);
+            (t / u, (1.0 + t * t) / (u * u))
+        })
+        .map(|mut rule| {
+            rule.interval = (f64::NEG_INFINITY, f64::INFINITY);
+            rule
+        })
+    }
+
+    /// The reference rule through `x = origin + s·φ(t)`, `dx = s·φ'(t) dt`, where `map(t)`
+    /// returns `(φ(t), φ'(t))`.
+    fn mapped_to_infinity(
+        &self,
+        origin: f64,
+        s: f64,
+        only: RuleKind,
+        map: impl Fn(f64) -> (f64, f64),
+    ) -> Result<Self, QuadratureError> {
+        if !(origin.is_finite() && s.is_finite() && s > 0.0) {
+            return Err(QuadratureError::NonFiniteInterval { a: origin, b: s });
+        }
+        if self.kind != only {
+            return Err(QuadratureError::UnboundedRule {
+                rule: self.kind,
+                interval: self.reference_interval,
+            });
+        }
+        let (nodes, weights) = self
+            .reference_nodes
+            .iter()
+            .zip(&self.reference_weights)
+            .map(|(&t, &w)| {
+                let (x, dx) = map(t);
+                (origin + s * x, w * s * dx)
+            })
+            .unzip();
+        Ok(Self {
+            kind: self.kind,
+            reference_nodes: self.reference_nodes.clone(),
+            reference_weights: self.reference_weights.clone(),
+            nodes,
+            weights,
+            interval: (origin, f64::INFINITY),
+            reference_interval: self.reference_interval,
+            exponents: self.exponents,
+        })
+    }
+
     /// Nodes, from `a` to `b`: ascending, or descending for a rule on a reversed interval.
     pub fn nodes(&self) -> &[f64] {
         &self.nodes

@@ -340,3 +340,45 @@ fn vector_integrands_sum_as_scalar_ones() {
         assert_eq!(out[2], rule.integrate(|x| (-x * x).exp()));
     }
 }
+
+/// The maps to infinite intervals: exact for the rational functions they are made for,
+/// refused for rules with end nodes or weights and for scales that are not positive.
+#[test]
+fn half_and_whole_line_maps() {
+    use lgsvi_quadrature::{gauss_hermite, gauss_legendre, gauss_lobatto, QuadratureError};
+    // ∫_a^∞ (x − a + s)^{−k} dx = s^{1−k}/(k − 1): a polynomial of degree k − 2 in t times
+    // the map's derivative, exact for k ≤ 2m + 1.
+    let (a, s, m) = (-2.0, 3.0, 5);
+    let rule = gauss_legendre(m).unwrap().on_half_line(a, s).unwrap();
+    assert_eq!(rule.interval(), (a, f64::INFINITY));
+    assert!(rule.nodes().iter().all(|&x| x > a));
+    for k in 2..=(2 * m + 1) as i32 {
+        let exact = s.powi(1 - k) / (k - 1) as f64;
+        let value = rule.integrate(|x| (x - a + s).powi(-k));
+        assert!(
+            (value - exact).abs() <= 1e-14 * exact,
+            "k {k}: {value} {exact}"
+        );
+    }
+    // ∫ dx/(1 + x²) = π; ∫ e^{−x²} dx = √π, through the whole-line map.
+    let line = gauss_legendre(160).unwrap().on_real_line(0.0, 1.0).unwrap();
+    assert_eq!(line.interval(), (f64::NEG_INFINITY, f64::INFINITY));
+    assert!((line.integrate(|x| 1.0 / (1.0 + x * x)) - std::f64::consts::PI).abs() < 1e-14);
+    assert!((line.integrate(|x| (-x * x).exp()) - std::f64::consts::PI.sqrt()).abs() < 1e-14);
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            gauss_legendre(4).unwrap().on_half_line(0.0, bad),
+            Err(QuadratureError::NonFiniteInterval { .. })
+        ));
+    }
+    for rule in [gauss_lobatto(4).unwrap(), gauss_hermite(4).unwrap()] {
+        assert!(matches!(
+            rule.on_half_line(0.0, 1.0),
+            Err(QuadratureError::UnboundedRule { .. })
+        ));
+        assert!(matches!(
+            rule.on_real_line(0.0, 1.0),
+            Err(QuadratureError::UnboundedRule { .. })
+        ));
+    }
+}
