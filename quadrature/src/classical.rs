@@ -194,6 +194,18 @@ impl Recurrence {
     }
 }
 
+/// The Gauss rule of a recurrence given in double-double (`diagonal` and `off` of length
+/// `m`, `off[m − 1]` only scaling `p_m`): the same polish as the classical rules. Used by
+/// the Gauss–Kronrod rules, whose Jacobi matrix Laurie's algorithm gives.
+pub(crate) fn rule_from_recurrence(
+    diagonal: Vec<Dd>,
+    off: Vec<Dd>,
+    total_mass: f64,
+    symmetric: bool,
+) -> Result<(Vec<f64>, Vec<f64>), QuadratureError> {
+    Recurrence::from_dd(diagonal, off, total_mass).rule(symmetric)
+}
+
 fn at_least_one(rule: &'static str, m: usize) -> Result<(), QuadratureError> {
     if m == 0 {
         return Err(QuadratureError::TooFewPoints {

@@ -19,7 +19,8 @@
 //! | [`gauss_chebyshev_first`]`(m)` / [`gauss_chebyshev_second`]`(m)` | `1/√(1 − x²)` / `√(1 − x²)` | `[−1, 1]` |
 //!
 //! and, for any other weight function whose three-term recurrence you know, the raw
-//! [`golub_welsch`] algorithm. Infinite intervals without a weight: a Gauss–Legendre rule
+//! [`golub_welsch`] algorithm. [`gauss_kronrod`]`(n)` extends the `n`-point Gauss–Legendre
+//! rule to `2n + 1` points with an error estimate ([`GaussKronrod`]). Infinite intervals without a weight: a Gauss–Legendre rule
 //! through an algebraic map, [`Rule::on_half_line`] (`[a, ∞)`) and [`Rule::on_real_line`];
 //! vector- and matrix-valued integrands: [`Rule::integrate_into`].
 //!
@@ -59,6 +60,7 @@ mod classical;
 mod double_double;
 mod error;
 mod golub_welsch;
+mod kronrod;
 mod legendre;
 mod rule;
 mod rules;
@@ -68,5 +70,6 @@ pub use classical::{
 };
 pub use error::QuadratureError;
 pub use golub_welsch::golub_welsch;
+pub use kronrod::{gauss_kronrod, GaussKronrod};
 pub use rule::{Rule, RuleKind};
 pub use rules::{gauss_legendre, gauss_lobatto, gauss_radau_left, gauss_radau_right};

@@ -24,6 +24,9 @@ pub enum RuleKind {
     GaussChebyshevFirst,
     /// Gauss–Chebyshev of the second kind, weight `√(1 − x²)`; exact for degree `2m − 1`.
     GaussChebyshevSecond,
+    /// Gauss–Kronrod (Legendre): `m = 2n + 1` points extending the `n`-point Gauss rule;
+    /// exact for degree `3n + 1` (`3n + 2` for odd `n`).
+    GaussKronrod,
 }
 
 impl RuleKind {
@@ -38,6 +41,10 @@ impl RuleKind {
             | RuleKind::GaussChebyshevSecond => 2 * m - 1,
             RuleKind::GaussLobatto => 2 * m - 3,
             RuleKind::GaussRadauLeft | RuleKind::GaussRadauRight => 2 * m - 2,
+            RuleKind::GaussKronrod => {
+                let n = (m - 1) / 2;
+                3 * n + 1 + n % 2
+            }
         }
     }
 }
