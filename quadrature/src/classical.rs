@@ -15,6 +15,7 @@
 //! normal double). `O(m²)` operations, in double-double. Chebyshev rules are closed forms.
 
 use crate::double_double::DoubleDouble as Dd;
+use crate::error::at_least;
 use crate::golub_welsch::golub_welsch;
 use crate::legendre::newton_polish;
 use crate::rule::{Rule, RuleKind};
@@ -206,17 +207,6 @@ pub(crate) fn rule_from_recurrence(
     Recurrence::from_dd(diagonal, off, total_mass).rule(symmetric)
 }
 
-fn at_least_one(rule: &'static str, m: usize) -> Result<(), QuadratureError> {
-    if m == 0 {
-        return Err(QuadratureError::TooFewPoints {
-            rule,
-            points: 0,
-            min: 1,
-        });
-    }
-    Ok(())
-}
-
 fn check_exponent(name: &'static str, value: f64) -> Result<(), QuadratureError> {
     if !(value.is_finite() && value > -1.0) {
         return Err(QuadratureError::InvalidExponent { name, value });
@@ -240,7 +230,7 @@ fn check_exponent(name: &'static str, value: f64) -> Result<(), QuadratureError>
 /// # Errors
 /// [`QuadratureError::TooFewPoints`] for `m = 0`.
 pub fn gauss_hermite(m: usize) -> Result<Rule, QuadratureError> {
-    at_least_one("Gauss-Hermite", m)?;
+    at_least("Gauss-Hermite", m, 1)?;
     let recurrence = Recurrence::from_dd(
         vec![Dd::from_f64(0.0); m],
         (1..=m)
@@ -275,7 +265,7 @@ pub fn gauss_hermite(m: usize) -> Result<Rule, QuadratureError> {
 /// [`QuadratureError::TooFewPoints`] for `m = 0`, [`QuadratureError::InvalidExponent`] for
 /// `α ≤ −1` or not finite (the weight is not integrable at 0).
 pub fn gauss_laguerre(m: usize, alpha: f64) -> Result<Rule, QuadratureError> {
-    at_least_one("Gauss-Laguerre", m)?;
+    at_least("Gauss-Laguerre", m, 1)?;
     check_exponent("alpha", alpha)?;
     let alpha_dd = Dd::from_f64(alpha);
     let recurrence = Recurrence::from_dd(
@@ -317,7 +307,7 @@ pub fn gauss_laguerre(m: usize, alpha: f64) -> Result<Rule, QuadratureError> {
 /// [`QuadratureError::TooFewPoints`] for `m = 0`, [`QuadratureError::InvalidExponent`] for
 /// `α` or `β` ≤ −1 or not finite.
 pub fn gauss_jacobi(m: usize, alpha: f64, beta: f64) -> Result<Rule, QuadratureError> {
-    at_least_one("Gauss-Jacobi", m)?;
+    at_least("Gauss-Jacobi", m, 1)?;
     check_exponent("alpha", alpha)?;
     check_exponent("beta", beta)?;
     let (a, b) = (Dd::from_f64(alpha), Dd::from_f64(beta));
@@ -390,7 +380,7 @@ fn sin_half_turn_fraction(j: i64, n: usize) -> f64 {
 /// # Errors
 /// [`QuadratureError::TooFewPoints`] for `m = 0`.
 pub fn gauss_chebyshev_first(m: usize) -> Result<Rule, QuadratureError> {
-    at_least_one("Gauss-Chebyshev (first kind)", m)?;
+    at_least("Gauss-Chebyshev (first kind)", m, 1)?;
     // x_i = −cos((2i + 1)π/(2m)) = sin((2i + 1 − m)π/(2m)), i = 0…m−1 ascending.
     let nodes = (0..m)
         .map(|i| sin_half_turn_fraction(2 * i as i64 + 1 - m as i64, m))
@@ -420,7 +410,7 @@ pub fn gauss_chebyshev_first(m: usize) -> Result<Rule, QuadratureError> {
 /// # Errors
 /// [`QuadratureError::TooFewPoints`] for `m = 0`.
 pub fn gauss_chebyshev_second(m: usize) -> Result<Rule, QuadratureError> {
-    at_least_one("Gauss-Chebyshev (second kind)", m)?;
+    at_least("Gauss-Chebyshev (second kind)", m, 1)?;
     let n = m + 1;
     // x_i = −cos((i + 1)π/n) = sin((2(i + 1) − n)π/(2n)); the weight's sin((i + 1)π/n)
     // from the nearer end (sin(kπ/n) = sin((n − k)π/n)), so that its argument is at most π/2

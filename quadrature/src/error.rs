@@ -89,3 +89,15 @@ pub enum QuadratureError {
         iterations: usize,
     },
 }
+
+/// [`QuadratureError::TooFewPoints`] when a `rule` of `points` points needs at least `min`.
+pub(crate) fn at_least(
+    rule: &'static str,
+    points: usize,
+    min: usize,
+) -> Result<(), QuadratureError> {
+    if points < min {
+        return Err(QuadratureError::TooFewPoints { rule, points, min });
+    }
+    Ok(())
+}

@@ -1,5 +1,6 @@
 //! The Golub–Welsch algorithm: Gauss rules from the Jacobi matrix of a three-term recurrence.
 
+use crate::error::at_least;
 use crate::QuadratureError;
 
 /// Sweeps allowed per eigenvalue before [`QuadratureError::EigenNotConverged`]. Implicit QL
@@ -48,13 +49,7 @@ pub fn golub_welsch(
     total_mass: f64,
 ) -> Result<(Vec<f64>, Vec<f64>), QuadratureError> {
     let m = diagonal.len();
-    if m == 0 {
-        return Err(QuadratureError::TooFewPoints {
-            rule: "a Gauss rule",
-            points: 0,
-            min: 1,
-        });
-    }
+    at_least("a Gauss rule", m, 1)?;
     if off_diagonal.len() + 1 != m {
         return Err(QuadratureError::JacobiShape {
             diagonal: m,

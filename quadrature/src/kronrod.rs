@@ -3,6 +3,7 @@
 
 use crate::classical::rule_from_recurrence;
 use crate::double_double::DoubleDouble as Dd;
+use crate::error::at_least;
 use crate::rule::{Rule, RuleKind};
 use crate::rules::gauss_legendre;
 use crate::QuadratureError;
@@ -92,13 +93,7 @@ impl GaussKronrod {
 /// # Errors
 /// [`QuadratureError::TooFewPoints`] for `n = 0`; those of Golub–Welsch (not expected).
 pub fn gauss_kronrod(n: usize) -> Result<GaussKronrod, QuadratureError> {
-    if n == 0 {
-        return Err(QuadratureError::TooFewPoints {
-            rule: "Gauss-Kronrod (Gauss points)",
-            points: 0,
-            min: 1,
-        });
-    }
+    at_least("Gauss-Kronrod (Gauss points)", n, 1)?;
     let (alpha, beta) = laurie(n);
     // √β_1 … √β_{2n}, and 1 to scale the last step of the recurrence (only p_m's zeros
     // matter there).

@@ -166,16 +166,22 @@ impl Rule {
             .map(|&t| a * (0.5 * (1.0 - t)) + b * (0.5 * (1.0 + t)))
             .collect();
         let weights = self.reference_weights.iter().map(|&w| w * scale).collect();
-        Ok(Self {
+        Ok(self.mapped(nodes, weights, (a, b)))
+    }
+
+    /// This rule with the nodes and weights of a map to `interval` (the reference ones
+    /// kept, so that mapping again loses nothing).
+    fn mapped(&self, nodes: Vec<f64>, weights: Vec<f64>, interval: (f64, f64)) -> Self {
+        Self {
             kind: self.kind,
             reference_nodes: self.reference_nodes.clone(),
             reference_weights: self.reference_weights.clone(),
             nodes,
             weights,
-            interval: (a, b),
+            interval,
             reference_interval: self.reference_interval,
             exponents: self.exponents,
-        })
+        }
     }
 
     /// A Gauss–Legendre rule for `∫_a^∞ f(x) dx`, through the map `x = a + s(1 + t)/(1 − t)`
@@ -206,13 +212,9 @@ impl Rule {
     /// [`QuadratureError::UnboundedRule`] for any rule but Gauss–Legendre (an end node at
     /// `t = 1` would map to infinity; weighted rules carry their own weight).
     pub fn on_half_line(&self, a: f64, s: f64) -> Result<Self, QuadratureError> {
-        self.mapped_to_infinity(a, s, RuleKind::GaussLegendre, |t| {
+        self.mapped_to_infinity(a, s, (a, f64::INFINITY), |t| {
             let u = 1.0 - t;
             ((1.0 + t) / u, 2.0 / (u * u))
-        })
-        .map(|mut rule| {
-            rule.interval = (a, f64::INFINITY);
-            rule
         })
     }
 
@@ -233,29 +235,25 @@ impl Rule {
     /// As [`Rule::on_half_line`] (a non-finite `c`, a scale not positive and finite, a rule
     /// that is not Gauss–Legendre).
     pub fn on_real_line(&self, c: f64, s: f64) -> Result<Self, QuadratureError> {
-        self.mapped_to_infinity(c, s, RuleKind::GaussLegendre, |t| {
+        self.mapped_to_infinity(c, s, (f64::NEG_INFINITY, f64::INFINITY), |t| {
             let u = (1.0 - t) * (1.0 + t);
             (t / u, (1.0 + t * t) / (u * u))
         })
-        .map(|mut rule| {
-            rule.interval = (f64::NEG_INFINITY, f64::INFINITY);
-            rule
-        })
     }
 
-    /// The reference rule through `x = origin + s·φ(t)`, `dx = s·φ'(t) dt`, where `map(t)`
-    /// returns `(φ(t), φ'(t))`.
+    /// The reference Gauss–Legendre rule through `x = origin + s·φ(t)`, `dx = s·φ'(t) dt`
+    /// onto `interval`, where `map(t)` returns `(φ(t), φ'(t))`.
     fn mapped_to_infinity(
         &self,
         origin: f64,
         s: f64,
-        only: RuleKind,
+        interval: (f64, f64),
         map: impl Fn(f64) -> (f64, f64),
     ) -> Result<Self, QuadratureError> {
         if !(origin.is_finite() && s.is_finite() && s > 0.0) {
             return Err(QuadratureError::NonFiniteInterval { a: origin, b: s });
         }
-        if self.kind != only {
+        if self.kind != RuleKind::GaussLegendre {
             return Err(QuadratureError::UnboundedRule {
                 rule: self.kind,
                 interval: self.reference_interval,
@@ -270,16 +268,7 @@ impl Rule {
                 (origin + s * x, w * s * dx)
             })
             .unzip();
-        Ok(Self {
-            kind: self.kind,
-            reference_nodes: self.reference_nodes.clone(),
-            reference_weights: self.reference_weights.clone(),
-            nodes,
-            weights,
-            interval: (origin, f64::INFINITY),
-            reference_interval: self.reference_interval,
-            exponents: self.exponents,
-        })
+        Ok(self.mapped(nodes, weights, interval))
     }
 
     /// Nodes, from `a` to `b`: ascending, or descending for a rule on a reversed interval.

@@ -9,6 +9,7 @@
 //! the sub-ulp offset `δ` to the true root, and the weight is taken at the true root by a
 //! first-order correction `w(x + δ) ≈ w(x)(1 + δ · d ln w/dx)`.
 
+use crate::error::at_least;
 use crate::golub_welsch::golub_welsch;
 use crate::legendre::{legendre, legendre_dd, newton_polish, one_minus_square};
 use crate::rule::{Rule, RuleKind};
@@ -87,13 +88,7 @@ fn symmetric(m: usize, upper: impl Fn(usize) -> Polished) -> (Vec<f64>, Vec<f64>
 /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
 /// ```
 pub fn gauss_legendre(m: usize) -> Result<Rule, QuadratureError> {
-    if m == 0 {
-        return Err(QuadratureError::TooFewPoints {
-            rule: "Gauss-Legendre",
-            points: 0,
-            min: 1,
-        });
-    }
+    at_least("Gauss-Legendre", m, 1)?;
     let off: Vec<f64> = (1..m)
         .map(|k| {
             let k = k as f64;
@@ -136,13 +131,7 @@ pub fn gauss_legendre(m: usize) -> Result<Rule, QuadratureError> {
 /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
 /// ```
 pub fn gauss_lobatto(m: usize) -> Result<Rule, QuadratureError> {
-    if m < 2 {
-        return Err(QuadratureError::TooFewPoints {
-            rule: "Gauss-Lobatto",
-            points: m,
-            min: 2,
-        });
-    }
+    at_least("Gauss-Lobatto", m, 2)?;
     let n = m - 1;
     let end_weight = 2.0 / (m * n) as f64;
     let interior = m - 2;
@@ -205,13 +194,7 @@ pub fn gauss_lobatto(m: usize) -> Result<Rule, QuadratureError> {
 /// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
 /// ```
 pub fn gauss_radau_left(m: usize) -> Result<Rule, QuadratureError> {
-    if m == 0 {
-        return Err(QuadratureError::TooFewPoints {
-            rule: "Gauss-Radau",
-            points: 0,
-            min: 1,
-        });
-    }
+    at_least("Gauss-Radau", m, 1)?;
     let interior = m - 1;
     let mut nodes = Vec::with_capacity(m);
     let mut weights = Vec::with_capacity(m);
