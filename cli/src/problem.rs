@@ -207,6 +207,12 @@ impl Lagrangian for System {
             System::Top(s) => Lagrangian::is_left_invariant(s),
         }
     }
+    fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        match self {
+            System::Free(s) => s.linear_attitude_term(),
+            System::Top(s) => s.linear_attitude_term(),
+        }
+    }
     fn velocity_from_momentum(&self, r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
         match self {
             System::Free(s) => Lagrangian::velocity_from_momentum(s, r, mu),

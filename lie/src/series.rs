@@ -308,6 +308,26 @@ pub(crate) fn one_minus_cos_and_theta_minus_sin<T: RealField + Copy>(s: T) -> (T
     }
 }
 
+/// `(sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³)` from one evaluation: the exp chart's `Φ`
+/// and `J_r` together. Below [`SERIES_THRESHOLD`] the last two by their series and
+/// `sin θ/θ = 1 − s·(θ − sin θ)/θ³` (`s·(θ − sin θ)/θ³ ≤ 0.55` there: no cancellation).
+pub(crate) fn exp_and_right_jacobian_coefficients<T: RealField + Copy>(s: T) -> (T, T, T) {
+    if use_series(s) {
+        let (b, c) = one_minus_cos_and_theta_minus_sin(s);
+        (T::one() - s * c, b, c)
+    } else {
+        let theta = s.sqrt();
+        let (sin_half, cos_half) = (theta * constant::<T>(0.5)).sin_cos();
+        let two_sin_half = constant::<T>(2.0) * sin_half;
+        let sin = two_sin_half * cos_half;
+        (
+            sin / theta,
+            two_sin_half * sin_half / s,
+            (theta - sin) / (s * theta),
+        )
+    }
+}
+
 /// `1/θ² − cot(θ/2)/(2θ)`, the `ω̂²` coefficient of `J_r⁻¹`; singular at `θ = 2π`.
 pub(crate) fn jr_inverse_coefficient<T: RealField + Copy>(s: T) -> T {
     if use_series(s) {

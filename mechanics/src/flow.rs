@@ -36,6 +36,9 @@ struct Flow<'a, L> {
     system: &'a L,
     base: &'a Matrix3<f64>,
     start: &'a FlowStart<'a, Rotations, 3>,
+    /// `(Bᵀa, b)` for `ℓ = k(Ω) + aᵀRb` ([`Lagrangian::linear_attitude_term`]) where the
+    /// force does not read the attitude: then `p = b × R(q)ᵀ(Bᵀa)` and `R` is never formed.
+    field: Option<(Vector3<f64>, Vector3<f64>)>,
 }
 
 impl<L: Lagrangian> Flow<'_, L> {
@@ -56,7 +59,7 @@ impl<L: Lagrangian> Flow<'_, L> {
         let left_invariant = system.is_left_invariant();
         let force_reads_attitude =
             self.start.force.is_some() && self.start.force_reads_configuration;
-        let r = if left_invariant && !force_reads_attitude {
+        let r = if (left_invariant || self.field.is_some()) && !force_reads_attitude {
             *self.base
         } else {
             // R(q/|q|): the Runge–Kutta stages leave the unit sphere by O(dt⁵).
@@ -68,8 +71,14 @@ impl<L: Lagrangian> Flow<'_, L> {
         let omega = system.velocity_from_momentum(&r, mu)?;
         let q_dot = q * Quaternion::from_imag(omega * 0.5);
         let mut mu_dot = mu.cross(&omega);
-        if !left_invariant {
-            mu_dot += configuration_force(system, &r, &omega);
+        match self.field {
+            // M = Rᵀa bᵀ, whose axial vector is b × Rᵀa; R(q/|q|)ᵀ applied to Bᵀa.
+            Some((field, body_vector)) => {
+                let rotated = UnitQuaternion::from_quaternion(*q).inverse_transform_vector(&field);
+                mu_dot += body_vector.cross(&rotated);
+            }
+            None if !left_invariant => mu_dot += configuration_force(system, &r, &omega),
+            None => {}
         }
         if let Some(force) = self.start.force {
             mu_dot += force(self.start.time + t, &SO3::from_matrix_unchecked(r), &omega).value;
@@ -224,10 +233,16 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     if wanted.is_nan() || wanted > MAX_SUBSTEPS as f64 {
         return Unavailable;
     }
+    let field = system
+        .linear_attitude_term()
+        .filter(|_| !system.is_left_invariant())
+        .filter(|_| !(start.force.is_some() && start.force_reads_configuration))
+        .map(|(field, body_vector)| (base.transpose() * field, body_vector));
     let flow = Flow {
         system,
         base,
         start,
+        field,
     };
     let limit = chart.max_rotation_angle();
     let substeps = (wanted as usize).max(2);

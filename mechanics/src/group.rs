@@ -508,6 +508,23 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
         let _ = s;
         None
     }
+    /// `Ad_{Φ(x)⁻¹}ᵀ p`: a covector at the chart point `x` taken to the step's start (the
+    /// exact matching's transport of a configuration force). The default forms `Φ(x)`;
+    /// SO(3)'s charts apply `Φ(x)` (which `Ad_{Φ⁻¹}ᵀ` is on SO(3)) to `p` from its Rodrigues
+    /// coefficients.
+    fn coadjoint_to_start(&self, x: &SVector<f64, D>, p: &SVector<f64, D>) -> SVector<f64, D> {
+        self.to_group(x).inverse().adjoint().transpose() * p
+    }
+    /// `(Φ, A)` on rotations in Rodrigues form together
+    /// ([`So3Chart::rotation_and_left_differential_coefficients`]).
+    #[allow(clippy::type_complexity)]
+    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
+        self.rotation_coefficients(s)
+            .zip(self.left_differential_coefficients(s))
+    }
     /// Calls `f` with the chart's derivatives at `x` ([`ChartDerivatives`]; with `second`,
     /// the second derivatives are asked for too). The default takes them by dual numbers
     /// in `x` alone ([`dual_number_derivatives`]); override it with a closed form.
@@ -564,11 +581,25 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
     fn rotation_coefficients<T: RealField + Copy>(&self, s: T) -> Option<RodriguesCoefficients<T>> {
         self.rotation_matrix_coefficients(s)
     }
+    /// `Φ(x) p` (`Ad_R = R` on SO(3)), without forming `Φ(x)` where the chart has a
+    /// Rodrigues form.
+    fn coadjoint_to_start(&self, x: &Vector3<f64>, p: &Vector3<f64>) -> Vector3<f64> {
+        match self.rotation_matrix_coefficients(x.norm_squared()) {
+            Some(c) => c.times(x, p),
+            None => self.rotation_matrix(x) * p,
+        }
+    }
     fn left_differential_coefficients<T: RealField + Copy>(
         &self,
         s: T,
     ) -> Option<RodriguesCoefficients<T>> {
         self.rotation_left_differential_coefficients(s)
+    }
+    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
+        So3Chart::rotation_and_left_differential_coefficients(self, s)
     }
 }
 
@@ -700,24 +731,20 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         let s = w.norm_squared();
         let jets = if second {
             let s2 = Dual2_64::new(s, 1.0, 0.0);
-            self.rotation_left_differential_coefficients(s2)
-                .zip(self.rotation_matrix_coefficients(s2))
-                .map(|(a, phi)| {
-                    (
-                        MatrixJet::from_rodrigues(&a, &w),
-                        MatrixJet::from_rodrigues(&phi, &w),
-                    )
-                })
+            So3Chart::rotation_and_left_differential_coefficients(self, s2).map(|(phi, a)| {
+                (
+                    MatrixJet::from_rodrigues(&a, &w),
+                    MatrixJet::from_rodrigues(&phi, &w),
+                )
+            })
         } else {
             let s1 = Dual64::new(s, 1.0);
-            self.rotation_left_differential_coefficients(s1)
-                .zip(self.rotation_matrix_coefficients(s1))
-                .map(|(a, phi)| {
-                    (
-                        MatrixJet::from_rodrigues_first_order(&a, &w),
-                        MatrixJet::from_rodrigues_first_order(&phi, &w),
-                    )
-                })
+            So3Chart::rotation_and_left_differential_coefficients(self, s1).map(|(phi, a)| {
+                (
+                    MatrixJet::from_rodrigues_first_order(&a, &w),
+                    MatrixJet::from_rodrigues_first_order(&phi, &w),
+                )
+            })
         };
         match jets {
             Some((a, phi)) => f(&RotationTranslationDerivatives { a, phi }),

@@ -194,7 +194,21 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     // derivatives follow from A's (module documentation, "Attitude terms"). A
     // left-invariant ℓ does not depend on R (the trait's contract): any attitude will do.
     let attitude = !system.is_left_invariant();
-    let r = if attitude || point.force.is_some_and(|f| f.depends_on_configuration()) {
+    let force_reads_attitude = point.force.is_some_and(|f| f.depends_on_configuration());
+    // ℓ = k(Ω) + aᵀRb: M = Rᵀa bᵀ needs only Rᵀa = Φ(x)ᵀ(Bᵀa), a rotated vector.
+    let field = match system.linear_attitude_term() {
+        Some((field, body_vector)) if attitude && !force_reads_attitude => {
+            let Some(c) = chart.rotation_coefficients(s) else {
+                return false;
+            };
+            Some((
+                c.transpose_times(x, &(base.transpose() * field)),
+                body_vector,
+            ))
+        }
+        _ => None,
+    };
+    let r = if field.is_none() && (attitude || force_reads_attitude) {
         base * chart.to_group(x).matrix()
     } else {
         *base
@@ -240,7 +254,10 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     // ℓ's attitude terms (none for a left-invariant ℓ), with M = Rᵀ ∂ℓ/∂R and
     // u_k = A e_k (module documentation, "Attitude terms").
     if attitude {
-        let m = r.transpose() * l.attitude_gradient;
+        let m = match field {
+            Some((rotated, body_vector)) => rotated * body_vector.transpose(),
+            None => r.transpose() * l.attitude_gradient,
+        };
         let gamma = axial(&m);
         let a_value = a.value;
         let gradient_x = a_value.transpose() * gamma;

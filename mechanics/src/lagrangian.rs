@@ -109,6 +109,18 @@ pub trait Lagrangian {
         false
     }
 
+    /// `(a, b)` when `R` enters `ℓ` only through the single term `aᵀ R b`, i.e.
+    /// `ℓ(R, Ω) = k(Ω) + aᵀRb`: a uniform field `a` (world frame) acting on a body-fixed
+    /// vector `b`, as gravity on a top (`a = m g d`, `b = ρ`) or a uniform magnetic field
+    /// on a dipole. Then `∂ℓ/∂R = a bᵀ` at every `(R, Ω)`, the attitude Hessians vanish
+    /// and the integrator needs only `Rᵀa`, a rotated vector, where it would otherwise
+    /// form `R` at every Gauss point and predictor stage; [`Lagrangian::derivatives`] and
+    /// [`Lagrangian::velocity_from_momentum`] may then be called with any `R`. `None`
+    /// (the default) is always correct.
+    fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        None
+    }
+
     /// `Ω` from `μ` in closed form where known (`J⁻¹μ` for `ℓ = ½ΩᵀJΩ − V(R)`);
     /// `None` (the default) makes the integrator solve `∂ℓ/∂Ω(R, Ω) = μ` by Newton.
     fn velocity_from_momentum(
@@ -123,8 +135,9 @@ pub trait Lagrangian {
     /// First and second derivatives of `ℓ` at `(R, Ω)`, which the Newton matrices are
     /// built from. The default takes them by dual numbers (exact); override it only to go
     /// faster, with a closed form (the built-in systems do). A type that wraps other
-    /// Lagrangians (an enum of systems, say) should forward this method too: the default
-    /// is exact but about ten times slower per step than the built-ins' closed forms.
+    /// Lagrangians (an enum of systems, say) should forward this method too (and
+    /// [`Lagrangian::linear_attitude_term`]): the default is exact but about ten times
+    /// slower per step than the built-ins' closed forms.
     fn derivatives(
         &self,
         world_from_body: &Matrix3<f64>,
@@ -326,6 +339,13 @@ impl Lagrangian for HeavyTop {
     }
     fn is_left_invariant(&self) -> bool {
         self.mass * self.gravity == 0.0
+    }
+    /// `a = m g d`, `b = ρ`.
+    fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        Some((
+            self.gravity_direction * (self.mass * self.gravity),
+            self.center_of_mass,
+        ))
     }
     fn velocity_from_momentum(&self, _r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
         Some(self.inertia.velocity(mu))

@@ -4,8 +4,8 @@ use super::{RodriguesCoefficients, So3Chart};
 use crate::error::LieError;
 use crate::scalar::constant;
 use crate::series::{
-    one_minus_cos_and_theta_minus_sin, one_minus_cos_over_sq, one_minus_cos_over_sq_derivative,
-    sinc_and_one_minus_cos_over_sq, theta_minus_sin_over_cube,
+    exp_and_right_jacobian_coefficients, one_minus_cos_and_theta_minus_sin, one_minus_cos_over_sq,
+    one_minus_cos_over_sq_derivative, sinc_and_one_minus_cos_over_sq, theta_minus_sin_over_cube,
     theta_minus_sin_over_cube_derivative,
 };
 use crate::so3::exp::{
@@ -106,6 +106,28 @@ impl So3Chart for ExpChart {
             hat: -b,
             hat_squared: c,
         })
+    }
+
+    /// Both from one `sin_cos(θ/2)` (or one series): `Φ`'s `ω̂²` coefficient is `−A`'s
+    /// `ω̂` coefficient, and below the series threshold `sin θ/θ = 1 − θ²·(θ − sin θ)/θ³`
+    /// (at most 0.55 subtracted from 1 there: no cancellation).
+    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
+        let (sinc, b, c) = exp_and_right_jacobian_coefficients(s);
+        Some((
+            RodriguesCoefficients {
+                identity: T::one(),
+                hat: sinc,
+                hat_squared: b,
+            },
+            RodriguesCoefficients {
+                identity: T::one(),
+                hat: -b,
+                hat_squared: c,
+            },
+        ))
     }
 
     fn rotation_left_differential_inverse<T: RealField + Copy>(

@@ -197,6 +197,27 @@ pub trait So3Chart: Copy + Debug {
         let _ = s;
         None
     }
+    /// `(Φ, A)` in Rodrigues form together, for callers that need both: the exp chart
+    /// shares one evaluation of its trigonometric functions (or series) between them.
+    /// The default calls [`So3Chart::rotation_matrix_coefficients`] and
+    /// [`So3Chart::rotation_left_differential_coefficients`].
+    ///
+    /// ```
+    /// use lgsvi_lie::{ExpChart, So3Chart};
+    /// let s = 0.7_f64;
+    /// let (phi, a) = ExpChart.rotation_and_left_differential_coefficients(s).unwrap();
+    /// let phi_alone = ExpChart.rotation_matrix_coefficients(s).unwrap();
+    /// let a_alone = ExpChart.rotation_left_differential_coefficients(s).unwrap();
+    /// assert!((phi.hat - phi_alone.hat).abs() < 1e-16 && a == a_alone);
+    /// ```
+    #[allow(clippy::type_complexity)]
+    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
+        self.rotation_matrix_coefficients(s)
+            .zip(self.rotation_left_differential_coefficients(s))
+    }
 }
 
 /// The coefficients of a 3×3 map written `e(s) I + a(s) ω̂ + b(s) ω̂²` with `s = |ω|²`:
@@ -230,6 +251,38 @@ impl<T: RealField + Copy> RodriguesCoefficients<T> {
             m[(i, i)] += shift;
         }
         m
+    }
+
+    /// `(e I + a ω̂ + b ω̂²)ᵀ y = e y − a ω × y + b ω × (ω × y)`: the transposed matrix
+    /// applied to a vector without forming it (for a rotation chart, `Φ(ω)ᵀy`, a world
+    /// vector in the body frame).
+    ///
+    /// ```
+    /// use lgsvi_lie::{ExpChart, So3Chart};
+    /// use nalgebra::Vector3;
+    /// let (w, y) = (Vector3::new(0.3, -0.2, 0.9), Vector3::new(1.0, 2.0, -0.5));
+    /// let form = ExpChart.rotation_matrix_coefficients(w.norm_squared()).unwrap();
+    /// let direct = ExpChart.rotation_matrix(&w).transpose() * y;
+    /// assert!((form.transpose_times(&w, &y) - direct).norm() < 1e-15);
+    /// ```
+    pub fn transpose_times(&self, w: &Vector3<T>, y: &Vector3<T>) -> Vector3<T> {
+        let wy = w.cross(y);
+        y * self.identity - wy * self.hat + w.cross(&wy) * self.hat_squared
+    }
+
+    /// `(e I + a ω̂ + b ω̂²) y = e y + a ω × y + b ω × (ω × y)`, without forming the matrix.
+    ///
+    /// ```
+    /// use lgsvi_lie::{CayleyChart, So3Chart};
+    /// use nalgebra::Vector3;
+    /// let (w, y) = (Vector3::new(0.3, -0.2, 0.9), Vector3::new(1.0, 2.0, -0.5));
+    /// let form = CayleyChart.rotation_matrix_coefficients(w.norm_squared()).unwrap();
+    /// let direct = CayleyChart.rotation_matrix(&w) * y;
+    /// assert!((form.times(&w, &y) - direct).norm() < 1e-15);
+    /// ```
+    pub fn times(&self, w: &Vector3<T>, y: &Vector3<T>) -> Vector3<T> {
+        let wy = w.cross(y);
+        y * self.identity + wy * self.hat + w.cross(&wy) * self.hat_squared
     }
 }
 
@@ -414,5 +467,11 @@ impl So3Chart for ChartKind {
         s: T,
     ) -> Option<RodriguesCoefficients<T>> {
         dispatch!(self, c => c.rotation_left_differential_coefficients(s))
+    }
+    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
+        &self,
+        s: T,
+    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
+        dispatch!(self, c => c.rotation_and_left_differential_coefficients(s))
     }
 }

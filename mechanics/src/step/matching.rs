@@ -53,11 +53,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         if self.needs_configuration() {
             for j in 0..m {
                 let x = &work.x[j];
-                let to_start = coadjoint_to_start::<S::Group, D>(&chart.to_group(x));
                 let point = &work.points[j];
                 let p = SVector::<f64, D>::from_column_slice(&point.gradient()[2 * D..]);
-                w += to_start * p * d.weights[j];
-                if with_jacobian {
+                if !with_jacobian {
+                    w += chart.coadjoint_to_start(x, &p) * d.weights[j];
+                } else {
+                    let to_start = coadjoint_to_start::<S::Group, D>(&chart.to_group(x));
+                    w += to_start * p * d.weights[j];
                     // ∂q/∂x = Ad_{Φ⁻¹}ᵀ (H_ζx − C(p) A(x)), ∂q/∂v = Ad_{Φ⁻¹}ᵀ H_ζv, with
                     // C(p) η = ad_ηᵀ p (on SO(3), p̂).
                     let h_zx = SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, c));
