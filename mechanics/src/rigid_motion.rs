@@ -129,12 +129,21 @@ fn seeded_pose(
     r: &Matrix3<f64>,
     x: &Vector3<f64>,
 ) -> (Matrix3<Dual2SVec64<6>>, Vector3<Dual2SVec64<6>>) {
-    let e_hat: [Matrix3<f64>; 3] =
-        std::array::from_fn(|c| lgsvi_lie::so3::hat(&Vector3::ith(c, 1.0)));
-    let r_e: [Matrix3<f64>; 3] = std::array::from_fn(|c| r * e_hat[c]);
-    // ½R(ê_c ê_d + ê_d ê_c), formed once for every (c, d).
+    let r_e = rotated_generators(r);
+    // ½R(ê_c ê_d + ê_d ê_c) with ê_c ê_d = e_d e_cᵀ − δ_cd I: entry (i, j) is
+    // ½(R_id δ_jc + R_ic δ_jd) − δ_cd R_ij, written out rather than multiplied.
     let second: [[Matrix3<f64>; 3]; 3] = std::array::from_fn(|c| {
-        std::array::from_fn(|d| (r_e[c] * e_hat[d] + r_e[d] * e_hat[c]) * 0.5)
+        std::array::from_fn(|d| {
+            let mut m = Matrix3::zeros();
+            for i in 0..3 {
+                m[(i, c)] += 0.5 * r[(i, d)];
+                m[(i, d)] += 0.5 * r[(i, c)];
+            }
+            if c == d {
+                m -= r;
+            }
+            m
+        })
     });
     let attitude = Matrix3::from_fn(|i, j| {
         let mut gradient = SMatrix::<f64, 1, 6>::zeros();
@@ -172,15 +181,29 @@ fn seeded_pose(
     (attitude, position)
 }
 
+/// `R ê_c` for `c = 0, 1, 2`: column `j` is `R(e_c × e_j)`, i.e. `±` a column of `R` or
+/// zero.
+fn rotated_generators(r: &Matrix3<f64>) -> [Matrix3<f64>; 3] {
+    std::array::from_fn(|c| {
+        let (a, b) = ((c + 1) % 3, (c + 2) % 3);
+        // e_c × e_a = e_b, e_c × e_b = −e_a.
+        let mut m = Matrix3::zeros();
+        m.set_column(a, &r.column(b));
+        m.set_column(b, &(-r.column(a)));
+        m
+    })
+}
+
 /// [`seeded_pose`] to first order (a gradient-only assembly).
 fn seeded_pose_first_order(
     r: &Matrix3<f64>,
     x: &Vector3<f64>,
 ) -> (Matrix3<DualSVec64<6>>, Vector3<DualSVec64<6>>) {
+    let r_e = rotated_generators(r);
     let attitude = Matrix3::from_fn(|i, j| {
         let mut gradient = SVector::<f64, 6>::zeros();
         for c in 0..3 {
-            gradient[c] = (r * lgsvi_lie::so3::hat(&Vector3::ith(c, 1.0)))[(i, j)];
+            gradient[c] = r_e[c][(i, j)];
         }
         DualSVec64::<6>::new(r[(i, j)], num_dual::Derivative::some(gradient))
     });
