@@ -72,7 +72,7 @@ impl Output {
     }
     fn sphere(&mut self, name: &str, fig: &SphereFigure, csv: &str) -> Result<()> {
         let base = self.dir.join(name);
-        plot::save_sphere(fig, &base)?;
+        plot::save(fig, &base)?;
         self.files.push(base.with_extension("svg"));
         self.files.push(base.with_extension("png"));
         self.write(&format!("{name}.csv"), csv)
