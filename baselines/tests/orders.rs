@@ -12,42 +12,20 @@ struct Case {
 }
 
 fn case(name: &str) -> Case {
-    let all: serde_json::Value =
-        serde_json::from_str(include_str!("../../tests/data/rigid_body_refs.json")).unwrap();
-    let c = &all["cases"][name];
-    let nums = |v: &serde_json::Value| -> Vec<f64> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_str().unwrap().parse().unwrap())
-            .collect()
-    };
-    let j = nums(&c["J"]);
-    let mg = if c["kind"].as_str().unwrap() == "free" {
-        0.0
-    } else {
-        c["mg"].as_str().unwrap().parse().unwrap()
-    };
+    let c = lgsvi_cases::case(name).unwrap();
     let model = Model {
-        inertia: [j[0], j[1], j[2]],
-        mg,
+        inertia: c.principal_moments().unwrap(),
+        mg: c.weight().unwrap_or(0.0),
         rho: Vector3::z(),
     };
-    let w0 = Vector3::from_row_slice(&nums(&c["omega0"]));
     let start = State {
-        attitude: Matrix3::from_row_slice(&nums(&c["R0"])),
-        momentum: Vector3::from(model.inertia).component_mul(&w0),
+        attitude: c.attitude0,
+        momentum: Vector3::from(model.inertia).component_mul(&c.omega0),
     };
-    let s10 = c["states"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|s| s["t"].as_str().unwrap() == "10")
-        .unwrap();
     Case {
         model,
         start,
-        r10: Matrix3::from_row_slice(&nums(&s10["R"])),
+        r10: c.attitude_at(10.0).unwrap(),
     }
 }
 

@@ -66,8 +66,8 @@ pub struct BenchOptions {
 
 /// The 40-digit reference attitude of a case at `t` (10 or 100).
 fn reference(case: &str, t: f64) -> Matrix3<f64> {
-    crate::cases::case(case)
-        .reference(t)
+    crate::problem::named_case(case)
+        .attitude_at(t)
         .expect("the references hold t = 10 and t = 100")
 }
 
@@ -78,16 +78,20 @@ struct Case {
 }
 
 fn cases() -> Vec<Case> {
-    let (a, b) = (crate::cases::case("A"), crate::cases::case("B"));
-    let model_a = Model::free(a.inertia);
+    let (a, b) = (
+        crate::problem::named_case("A"),
+        crate::problem::named_case("B"),
+    );
+    let moments = |c: &lgsvi_cases::Case| c.principal_moments().expect("a diagonal J");
+    let model_a = Model::free(moments(a));
     let model_b = Model {
-        inertia: b.inertia,
+        inertia: moments(b),
         mg: b.weight().unwrap_or(0.0),
         rho: Vector3::z(),
     };
-    let start = |m: &Model, c: &crate::cases::Case| State {
-        attitude: Matrix3::from_row_slice(&c.attitude0),
-        momentum: Vector3::from(m.inertia).component_mul(&Vector3::from(c.omega0)),
+    let start = |m: &Model, c: &lgsvi_cases::Case| State {
+        attitude: c.attitude0,
+        momentum: Vector3::from(m.inertia).component_mul(&c.omega0),
     };
     vec![
         Case {

@@ -1,6 +1,6 @@
 //! `lgsvi bench`'s bodies beyond the free body and the top: the orbiting body O1 (SE(3),
 //! MacCullagh's potential) and the torqued body F1 (SO(3), a constant body torque), from
-//! `tests/data/se3_forced_refs.json`, against DOP853 on `(q, Ω, x, ẋ)` (or `(q, Ω)`) —
+//! `cases/data/se3_forced_refs.json`, against DOP853 on `(q, Ω, x, ẋ)` (or `(q, Ω)`) —
 //! the same protocol as the SO(3) table: a sweep of `(h, n)` and of tolerances, each run
 //! timed whole (construction included, median of the repeats), the best run per error
 //! target. Errors: O1 `max(‖R − R_ref‖_F, ‖x − x_ref‖)`, F1 `‖R − R_ref‖_F`, at `T`.
@@ -14,8 +14,6 @@ use lgsvi_mechanics::{
 };
 use nalgebra::{Matrix3, SVector, Vector3};
 use std::fmt::Write;
-
-const REFERENCES: &str = include_str!("../../tests/data/se3_forced_refs.json");
 
 /// lgsvi's sweeps: `(h, nodes)`, steps that divide both horizons (the orbiting body's
 /// best runs take steps of about a sixth of its orbit).
@@ -39,22 +37,6 @@ pub fn runs() -> usize {
     CASES.len() * HORIZONS.len() * (lgsvi + TOLERANCES.count())
 }
 
-fn num(v: &serde_json::Value) -> f64 {
-    v.as_str().and_then(|s| s.parse().ok()).unwrap_or(f64::NAN)
-}
-
-fn vec3(v: &serde_json::Value) -> Vector3<f64> {
-    let a: Vec<f64> = v
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
-    if a.len() == 3 {
-        Vector3::from_row_slice(&a)
-    } else {
-        Vector3::from_element(f64::NAN)
-    }
-}
-
 /// A case: the model both integrators share, its start and the reference at each horizon.
 struct Case {
     model: SpaceModel,
@@ -63,57 +45,27 @@ struct Case {
     references: Vec<(f64, Matrix3<f64>, Vector3<f64>)>,
 }
 
-fn case(name: &str) -> Case {
-    let data: serde_json::Value =
-        serde_json::from_str(REFERENCES).expect("the committed references parse");
-    let c = &data["cases"][name];
-    let orbit = name == "O1";
-    let j = vec3(&c["J"]);
+fn case(name: &'static str) -> Case {
+    let c = crate::problem::named_case(name);
+    let orbit = c.kind == lgsvi_cases::Kind::Orbit;
     let model = SpaceModel {
-        inertia: [j.x, j.y, j.z],
-        mass: if orbit { num(&c["m"]) } else { 1.0 },
-        mu: if orbit { num(&c["mu"]) } else { 0.0 },
-        torque: if orbit {
-            Vector3::zeros()
-        } else {
-            vec3(&c["tau_const"])
-        },
+        inertia: c.principal_moments().expect("O1 and F1 have a diagonal J"),
+        mass: if orbit { c.mass.unwrap_or(1.0) } else { 1.0 },
+        mu: c.mu.unwrap_or(0.0),
+        torque: c.torque.unwrap_or_else(Vector3::zeros),
     };
     let start = SpaceState {
-        attitude: Matrix3::identity(),
-        omega: vec3(&c["omega0"]),
-        position: if orbit {
-            vec3(&c["x0"])
-        } else {
-            Vector3::zeros()
-        },
-        velocity: if orbit {
-            vec3(&c["v0"])
-        } else {
-            Vector3::zeros()
-        },
+        attitude: c.attitude0,
+        omega: c.omega0,
+        position: c.position0.unwrap_or_else(Vector3::zeros),
+        velocity: c.velocity0.unwrap_or_else(Vector3::zeros),
     };
-    let references = c["states"]
-        .as_array()
-        .map(|states| {
-            states
-                .iter()
-                .filter(|s| HORIZONS.contains(&num(&s["t"])))
-                .map(|s| {
-                    let r: Vec<f64> = s["R"]
-                        .as_array()
-                        .map(|a| a.iter().map(num).collect())
-                        .unwrap_or_default();
-                    let position = if orbit {
-                        vec3(&s["position"])
-                    } else {
-                        Vector3::zeros()
-                    };
-                    (num(&s["t"]), Matrix3::from_row_slice(&r), position)
-                })
-                .collect()
-        })
-        .unwrap_or_default();
+    let references = c
+        .states
+        .iter()
+        .filter(|s| HORIZONS.contains(&s.t))
+        .map(|s| (s.t, s.attitude, s.position.unwrap_or_else(Vector3::zeros)))
+        .collect();
     Case {
         model,
         start,

@@ -6,7 +6,6 @@
 
 mod bench;
 mod bench_space;
-mod cases;
 mod config;
 mod error;
 mod files;

@@ -21,7 +21,7 @@ pub struct Defaults {
 }
 
 pub fn defaults(system: SystemKind) -> Defaults {
-    let case = crate::cases::case(match system {
+    let case = named_case(match system {
         SystemKind::RigidBody | SystemKind::Se3Body => "A",
         SystemKind::HeavyTop => "B",
         SystemKind::Gyrostat => {
@@ -33,7 +33,7 @@ pub fn defaults(system: SystemKind) -> Defaults {
             };
         }
         SystemKind::OrbitingBody => {
-            // The orbiting body's reference case (tests/data/se3_forced_refs.json, O1):
+            // The orbiting body's reference case (cases/data/se3_forced_refs.json, O1):
             // J = diag(0.3, 0.2, 0.4), i.e. J_d = (0.15, 0.25, 0.05).
             return Defaults {
                 inertia_d: [0.15, 0.25, 0.05],
@@ -42,9 +42,15 @@ pub fn defaults(system: SystemKind) -> Defaults {
         }
     });
     Defaults {
-        inertia_d: case.inertia_d,
-        omega0: case.omega0,
+        inertia_d: case.inertia_d.expect("the paper's cases state J_d"),
+        omega0: case.omega0.into(),
     }
+}
+
+/// A case the binary names itself (`"A"`, `"B"`, `"C"`, `"O1"`, `"F1"`): a literal, so
+/// its absence would be a defect of the build (the cases crate's tests list them).
+pub fn named_case(name: &str) -> &'static lgsvi_cases::Case {
+    lgsvi_cases::case(name).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The most steps one run may take (a run of 10⁹ steps takes hours; a mistyped horizon
@@ -785,7 +791,7 @@ impl Problem {
                 System::Free(RigidBody::new(inertia))
             }
             SystemKind::HeavyTop => {
-                let paper = crate::cases::case("B");
+                let paper = named_case("B");
                 // The compiled-in case B has both (checked by the cases' test).
                 let mass = options.mass.unwrap_or(paper.mass.expect("case B's mass"));
                 let gravity = options

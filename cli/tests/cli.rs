@@ -959,10 +959,6 @@ fn an_unfinished_reproduce_is_marked_incomplete() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn reference_number(v: &serde_json::Value) -> f64 {
-    v.as_str().unwrap().parse().unwrap()
-}
-
 fn floats(v: &serde_json::Value) -> Vec<f64> {
     v.as_array()
         .unwrap()
@@ -972,25 +968,19 @@ fn floats(v: &serde_json::Value) -> Vec<f64> {
 }
 
 /// `simulate --system orbiting-body` with its defaults is the reference case O1
-/// (`tests/data/se3_forced_refs.json`): R, Ω, x, ẋ at t = 10 to 1e-12 (h = 0.5, n = 12),
+/// (`cases/data/se3_forced_refs.json`): R, Ω, x, ẋ at t = 10 to 1e-12 (h = 0.5, n = 12),
 /// in both charts; the JSON carries `position`, `velocity` and the six spatial momenta,
 /// whose angular part (the total angular momentum) is conserved to rounding.
 #[test]
 fn orbiting_body_from_the_command_line_matches_the_reference() {
-    let refs: serde_json::Value =
-        serde_json::from_str(include_str!("../../tests/data/se3_forced_refs.json")).unwrap();
-    let states = refs["cases"]["O1"]["states"].as_array().unwrap();
-    let at10 = states
-        .iter()
-        .find(|s| reference_number(&s["t"]) == 10.0)
-        .unwrap();
+    let at10 = lgsvi_cases::case("O1").unwrap().state_at(10.0).unwrap();
     let expect = |key: &str| -> Vec<f64> {
-        at10[key]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(reference_number)
-            .collect()
+        match key {
+            "R" => at10.attitude.transpose().iter().copied().collect(), // row-major
+            "omega" => at10.omega.iter().copied().collect(),
+            "position" => at10.position.unwrap().iter().copied().collect(),
+            _ => at10.velocity.unwrap().iter().copied().collect(),
+        }
     };
     for chart in ["exp", "cayley"] {
         let (code, out, err) = lgsvi(&[

@@ -8,7 +8,7 @@ unstable top, a gyrostat with spinning wheels, a free body in space and the orbi
 The truth is the largest entry of the difference in R, Omega (and x, xdot) at the end
 against a reference that does not come from the run measured:
   - `--exact` (Jacobi elliptic functions) for free bodies with a diagonal inertia;
-  - tests/data/se3_forced_refs.json (Taylor and extrapolation in 45-digit arithmetic) for
+  - cases/data/se3_forced_refs.json (Taylor and extrapolation in 45-digit arithmetic) for
     FJ1, F1 and O1;
   - otherwise two fixed runs far finer than any --tol run (h = T/400 and T/800, 16 nodes);
     their difference is printed beside each case and is below 1e-14 on every case.
@@ -24,7 +24,7 @@ import sys
 import numpy as np
 
 LGSVI = "./target/release/lgsvi"
-REFS = json.load(open("tests/data/se3_forced_refs.json"))["cases"]
+REFS = json.load(open("cases/data/se3_forced_refs.json"))["cases"]
 TOLS = [1e-6, 1e-8, 1e-10, 1e-12]
 
 # name, flags, horizon, reference kind ("exact", a reference case name, or "fine")

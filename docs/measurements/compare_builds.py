@@ -17,7 +17,7 @@ CASES = {
     # The paper's free rigid body (case A) and heavy top (case B): the CLI's defaults.
     "A": [],
     "B": ["--system", "heavy-top"],
-    # tests/data/se3_forced_refs.json: full tensor, constant torque, orbiting body.
+    # cases/data/se3_forced_refs.json: full tensor, constant torque, orbiting body.
     "FJ1": ["--inertia-tensor", "3.0,0.4,-0.2,0.4,2.6,0.3,-0.2,0.3,3.3", "--omega0", "-2.0,1.9,-1.0"],
     "F1": ["--inertia", "3.3,2.5,3.4", "--omega0", "-2.0,1.9,-1.0", "--torque", "0.1,-0.2,0.05"],
     "O1": ["--system", "orbiting-body"],

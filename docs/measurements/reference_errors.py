@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Errors of `lgsvi simulate` against tests/data/se3_forced_refs.json (FJ1, F1, O1) at every
+"""Errors of `lgsvi simulate` against cases/data/se3_forced_refs.json (FJ1, F1, O1) at every
 reference time t <= 10, for a few (chart, h, n), with the wall time of the integration.
 
 Run from the repository root after `cargo build --release`:
@@ -8,7 +8,7 @@ Run from the repository root after `cargo build --release`:
 import json
 import subprocess
 
-REFS = json.load(open("tests/data/se3_forced_refs.json"))["cases"]
+REFS = json.load(open("cases/data/se3_forced_refs.json"))["cases"]
 LGSVI = "./target/release/lgsvi"
 
 CASES = {

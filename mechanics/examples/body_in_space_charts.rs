@@ -1,4 +1,4 @@
-//! The two SE(3) charts side by side on the orbiting body O1 (`tests/data/se3_forced_refs.json`:
+//! The two SE(3) charts side by side on the orbiting body O1 (`cases/data/se3_forced_refs.json`:
 //! MacCullagh's potential, `μ = m = 1`, `J = diag(0.3, 0.2, 0.4)`, a perturbed near-circular
 //! orbit at `r ≈ 3`): the default rotation–translation chart (the attitude in the SO(3)
 //! chart, the centre of mass polynomial in the world frame — the discrete map of
@@ -17,30 +17,22 @@ use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     GroupChart, Inertia, Integrator, OrbitingBody, RigidMotions, Screw, StepSettings,
 };
-use nalgebra::{Matrix3, SVector, Vector3};
+use nalgebra::SVector;
 use std::time::Instant;
-
-fn num(v: &serde_json::Value) -> f64 {
-    v.as_str().unwrap().parse().unwrap()
-}
-
-fn vec3(v: &serde_json::Value) -> Vector3<f64> {
-    let a: Vec<f64> = v.as_array().unwrap().iter().map(num).collect();
-    Vector3::from_row_slice(&a)
-}
 
 /// The largest error in `R`, `Ω`, `x`, `ẋ` against a reference state.
 fn error(
     it: &Integrator<OrbitingBody, impl GroupChart<RigidMotions, 6>, 6>,
-    s: &serde_json::Value,
+    s: &lgsvi_cases::State,
 ) -> f64 {
     let st = it.state();
-    let r: Vec<f64> = s["R"].as_array().unwrap().iter().map(num).collect();
+    let missing = f64::NAN;
     [
-        (st.attitude().matrix() - Matrix3::from_row_slice(&r)).amax(),
-        (st.angular_velocity() - vec3(&s["omega"])).amax(),
-        (st.position() - vec3(&s["position"])).amax(),
-        (st.linear_velocity() - vec3(&s["velocity"])).amax(),
+        (st.attitude().matrix() - s.attitude).amax(),
+        (st.angular_velocity() - s.omega).amax(),
+        s.position.map_or(missing, |x| (st.position() - x).amax()),
+        s.velocity
+            .map_or(missing, |v| (st.linear_velocity() - v).amax()),
     ]
     .into_iter()
     .fold(0.0, f64::max)
@@ -58,19 +50,24 @@ fn run<C: GroupChart<RigidMotions, 6>>(
     chart: C,
     h: f64,
     n: usize,
-    case: &serde_json::Value,
+    case: &lgsvi_cases::Case,
 ) -> Result<Row, Box<dyn std::error::Error>> {
-    let j: Vec<f64> = case["J"].as_array().unwrap().iter().map(num).collect();
+    let missing = || format!("case {} is not an orbiting body", case.name);
     let body = OrbitingBody::new(
-        Inertia::from_principal_moments([j[0], j[1], j[2]])?,
-        num(&case["m"]),
-        num(&case["mu"]),
+        Inertia::from_principal_moments(case.principal_moments().ok_or_else(missing)?)?,
+        case.mass.ok_or_else(missing)?,
+        case.mu.ok_or_else(missing)?,
     )?;
-    let start = SE3::new(SO3::identity(), vec3(&case["x0"]));
-    let (w, v) = (vec3(&case["omega0"]), vec3(&case["v0"]));
+    let start = SE3::new(
+        SO3::try_from_matrix(case.attitude0)?,
+        case.position0.ok_or_else(missing)?,
+    );
+    let (w, v) = (case.omega0, case.velocity0.ok_or_else(missing)?);
     let xi = SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z);
-    let states = case["states"].as_array().unwrap();
-    let at = |t: f64| states.iter().find(|s| num(&s["t"]) == t).unwrap();
+    let at = |t: f64| {
+        case.state_at(t)
+            .ok_or_else(|| format!("no reference state at t = {t}"))
+    };
     let clock = Instant::now();
     let mut it = Integrator::with_chart(body, chart, StepSettings::new(h, n)?, start, xi)?;
     let (e0, l0) = (it.state().energy(&body), it.state().spatial_momentum());
@@ -86,13 +83,13 @@ fn run<C: GroupChart<RigidMotions, 6>>(
                 .amax(),
         );
         if k == to_10 {
-            error_10 = error(&it, at(10.0));
+            error_10 = error(&it, at(10.0)?);
         }
     }
     let seconds = clock.elapsed().as_secs_f64();
     Ok(Row {
         error_10,
-        error_100: error(&it, at(100.0)),
+        error_100: error(&it, at(100.0)?),
         seconds,
         energy,
         momentum: momentum / l0.fixed_rows::<3>(0).amax(),
@@ -100,9 +97,7 @@ fn run<C: GroupChart<RigidMotions, 6>>(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let data: serde_json::Value =
-        serde_json::from_str(include_str!("../../tests/data/se3_forced_refs.json"))?;
-    let case = &data["cases"]["O1"];
+    let case = lgsvi_cases::case("O1")?;
     println!("O1 (orbiting body), exp chart, to t = 100; errors: max over R, Ω, x, ẋ");
     println!(
         "{:>6} {:>3} | {:>22} {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} {:>9}",

@@ -11,26 +11,14 @@ use lgsvi_mechanics::Inertia;
 #[test]
 fn exact_solution_matches_the_shared_case_a() {
     let case = common::case("A");
-    let all: serde_json::Value =
-        serde_json::from_str(include_str!("../data/rigid_body_refs.json")).unwrap();
-    let a = &all["cases"]["A"];
     // J as printed (3.3, 2.5, 3.4), each correctly rounded: J = tr(J_d) − J_d in floating
     // point would add a rounding of its own.
-    let j: Vec<f64> = a["J"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_str().unwrap().parse().unwrap())
-        .collect();
+    let a = lgsvi_cases::case("A").unwrap();
+    let j = a.principal_moments().unwrap();
     let inertia = Inertia::from_principal_moments([j[0], j[1], j[2]]).unwrap();
     let body =
         FreeRigidBodyExact::new(inertia, SO3::from_matrix_unchecked(case.r0), case.omega0).unwrap();
-    let sensitivity: Vec<f64> = a["agreement"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|g| g["sensitivity"].as_f64().unwrap())
-        .collect();
+    let sensitivity: Vec<f64> = a.states.iter().map(|s| s.sensitivity.unwrap()).collect();
     let rate = body.state(0.0).unwrap().momentum.norm() / 2.5;
     for (reference, sens) in case.states.iter().zip(sensitivity) {
         let s = body.state(reference.t).unwrap();

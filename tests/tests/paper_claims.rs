@@ -1,5 +1,5 @@
 //! The paper's claims and the integrator's guarantees, against the independent
-//! high-precision references (`tests/data/rigid_body_refs.json`: a 63–70-digit Taylor
+//! high-precision references (`cases/data/rigid_body_refs.json`: a 63–70-digit Taylor
 //! integrator, cross-checked against the exact elliptic-function solution and
 //! Gragg–Bulirsch–Stoer). Run with `--nocapture` for the measured numbers.
 

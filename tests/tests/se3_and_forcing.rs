@@ -1,5 +1,5 @@
-//! The group-generic core against `tests/data/se3_forced_refs.json` (two independent
-//! high-precision routes, ≥ 25 digits; see `tests/data/se3_forced_refs.README.md`):
+//! The group-generic core against `cases/data/se3_forced_refs.json` (two independent
+//! high-precision routes, ≥ 25 digits; see `cases/data/se3_forced_refs.README.md`):
 //! `FJ1` a free body with a full inertia tensor, `F1` a body under a constant body torque,
 //! `O1` a rigid body orbiting a point mass on SE(3). Plus the laws: discrete Noether for
 //! every symmetry, the energy balance of forced runs, monotone dissipation under damping,
@@ -16,35 +16,22 @@ use lgsvi_mechanics::{
 };
 use nalgebra::{Matrix3, SVector, Vector3};
 
-fn data() -> serde_json::Value {
-    serde_json::from_str(include_str!("../data/se3_forced_refs.json")).unwrap()
-}
-
-fn num(v: &serde_json::Value) -> f64 {
-    v.as_str().unwrap().parse().unwrap()
-}
-
-fn nums(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array().unwrap().iter().map(num).collect()
-}
-
-fn vec3(v: &serde_json::Value) -> Vector3<f64> {
-    Vector3::from_row_slice(&nums(v))
+fn case(name: &str) -> &'static lgsvi_cases::Case {
+    lgsvi_cases::case(name).unwrap()
 }
 
 /// O1: the orbiting body, its start and its initial velocity `(Ω, v)` (`R₀ = I`, so
 /// `v = ẋ`).
 fn o1() -> (OrbitingBody, SE3, SVector<f64, 6>) {
-    let case = &data()["cases"]["O1"];
-    let j = nums(&case["J"]);
+    let case = case("O1");
     let body = OrbitingBody::new(
-        Inertia::from_principal_moments([j[0], j[1], j[2]]).unwrap(),
-        num(&case["m"]),
-        num(&case["mu"]),
+        Inertia::from_principal_moments(case.principal_moments().unwrap()).unwrap(),
+        case.mass.unwrap(),
+        case.mu.unwrap(),
     )
     .unwrap();
-    let start = SE3::new(SO3::identity(), vec3(&case["x0"]));
-    let (w0, v0) = (vec3(&case["omega0"]), vec3(&case["v0"]));
+    let start = SE3::new(SO3::identity(), case.position0.unwrap());
+    let (w0, v0) = (case.omega0, case.velocity0.unwrap());
     (
         body,
         start,
@@ -53,24 +40,12 @@ fn o1() -> (OrbitingBody, SE3, SVector<f64, 6>) {
 }
 
 /// The reference states at `t ≤ 10`.
-fn states(case: &str) -> Vec<serde_json::Value> {
-    data()["cases"][case]["states"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|s| num(&s["t"]) <= 10.0)
-        .cloned()
-        .collect()
+fn states(name: &str) -> impl Iterator<Item = &'static lgsvi_cases::State> {
+    case(name).states.iter().filter(|s| s.t <= 10.0)
 }
 
 fn full_tensor() -> Matrix3<f64> {
-    let rows: Vec<Vec<f64>> = data()["cases"]["FJ1"]["J_full"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(nums)
-        .collect();
-    Matrix3::from_fn(|i, j| rows[i][j])
+    case("FJ1").inertia
 }
 
 /// Runs to each reference time (every 0.5) and returns the worst errors in `R` and `Ω`.
@@ -80,11 +55,11 @@ where
 {
     let (mut er, mut ew) = (0.0f64, 0.0f64);
     for s in states(case) {
-        it.run_until(num(&s["t"]), 1).unwrap();
+        it.run_until(s.t, 1).unwrap();
         let st = it.state();
-        assert!((st.time - num(&s["t"])).abs() < 1e-12);
-        er = er.max((st.attitude().matrix() - Matrix3::from_row_slice(&nums(&s["R"]))).amax());
-        ew = ew.max((st.velocity - vec3(&s["omega"])).amax());
+        assert!((st.time - s.t).abs() < 1e-12);
+        er = er.max((st.attitude().matrix() - s.attitude).amax());
+        ew = ew.max((st.velocity - s.omega).amax());
     }
     (er, ew)
 }
@@ -108,10 +83,10 @@ fn full_inertia_tensor_matches_the_reference() {
 /// reference work, h = 0.25, n = 12.
 #[test]
 fn constant_torque_matches_the_reference_and_balances_energy() {
-    let case = &data()["cases"]["F1"];
-    let j = nums(&case["J"]);
-    let tau = vec3(&case["tau_const"]);
-    let body = RigidBody::new(Inertia::from_principal_moments([j[0], j[1], j[2]]).unwrap());
+    let case = case("F1");
+    let tau = case.torque.unwrap();
+    let body =
+        RigidBody::new(Inertia::from_principal_moments(case.principal_moments().unwrap()).unwrap());
     let forced = Forced::new(body, BodyTorque(tau));
     let mut it = Integrator::new(
         forced,
@@ -123,13 +98,13 @@ fn constant_torque_matches_the_reference_and_balances_energy() {
     let e0 = it.state().energy(&body);
     let (mut er, mut ew, mut ebal, mut ework) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for s in states("F1") {
-        it.run_until(num(&s["t"]), 1).unwrap();
+        it.run_until(s.t, 1).unwrap();
         let st = it.state();
-        er = er.max((st.attitude().matrix() - Matrix3::from_row_slice(&nums(&s["R"]))).amax());
-        ew = ew.max((st.velocity - vec3(&s["omega"])).amax());
-        ebal = ebal.max((st.energy(&body) - e0 - num(&s["work"])).abs());
+        er = er.max((st.attitude().matrix() - s.attitude).amax());
+        ew = ew.max((st.velocity - s.omega).amax());
+        ebal = ebal.max((st.energy(&body) - e0 - s.work.unwrap()).abs());
         // The integrator's own account of the work, by each step's quadrature.
-        ework = ework.max((it.work_done() - num(&s["work"])).abs());
+        ework = ework.max((it.work_done() - s.work.unwrap()).abs());
     }
     assert!(
         er < 1e-12 && ew < 1e-12 && ebal < 1e-12 && ework < 1e-12,
@@ -148,13 +123,13 @@ fn orbiting_body_matches_the_reference_in_both_charts() {
     ) {
         let mut worst = [0.0f64; 4];
         for s in states("O1") {
-            it.run_until(num(&s["t"]), 1).unwrap();
+            it.run_until(s.t, 1).unwrap();
             let st = it.state();
             let errors = [
-                (st.attitude().matrix() - Matrix3::from_row_slice(&nums(&s["R"]))).amax(),
-                (st.angular_velocity() - vec3(&s["omega"])).amax(),
-                (st.position() - vec3(&s["position"])).amax(),
-                (st.linear_velocity() - vec3(&s["velocity"])).amax(),
+                (st.attitude().matrix() - s.attitude).amax(),
+                (st.angular_velocity() - s.omega).amax(),
+                (st.position() - s.position.unwrap()).amax(),
+                (st.linear_velocity() - s.velocity.unwrap()).amax(),
             ];
             for (w, e) in worst.iter_mut().zip(errors) {
                 *w = w.max(e);

@@ -26,7 +26,10 @@ pub(super) fn problem(
         h: Some(h),
         nodes: Some(nodes),
         t_end: Some(t_end),
-        attitude0: unstable.then_some(crate::cases::case("C").attitude0),
+        attitude0: unstable.then(|| {
+            let r = crate::problem::named_case("C").attitude0;
+            std::array::from_fn(|i| r[(i / 3, i % 3)])
+        }),
         quiet: true,
         ..SimulateOptions::default()
     };

@@ -1,6 +1,6 @@
-//! The high-precision reference trajectories of `tests/data/rigid_body_refs.json`
-//! (copied from the project's shared references; see `tests/data/rigid_body_refs.README.md`),
-//! and helpers to run the integrator on the paper's cases.
+//! The paper's cases and their high-precision references (`lgsvi_cases`:
+//! `cases/data/rigid_body_refs.json`, see its README), in the form these tests read, and
+//! helpers to run the integrator on them.
 #![allow(dead_code)]
 
 use lgsvi_lie::SO3;
@@ -31,42 +31,27 @@ pub struct Case {
     pub states: Vec<RefState>,
 }
 
-fn num(v: &serde_json::Value) -> f64 {
-    v.as_str().unwrap().parse().unwrap()
-}
-
-fn nums(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array().unwrap().iter().map(num).collect()
-}
-
+/// Case `name` of `lgsvi_cases`, in the form these tests read.
 pub fn case(name: &str) -> Case {
-    let all: serde_json::Value =
-        serde_json::from_str(include_str!("../../data/rigid_body_refs.json")).unwrap();
-    let c = &all["cases"][name];
-    let jd = nums(&c["J_d"]);
-    let states = c["states"]
-        .as_array()
-        .unwrap()
+    let c = lgsvi_cases::case(name).unwrap();
+    let states = c
+        .states
         .iter()
         .map(|s| RefState {
-            t: num(&s["t"]),
-            r: Matrix3::from_row_slice(&nums(&s["R"])),
-            omega: Vector3::from_row_slice(&nums(&s["omega"])),
-            energy: num(&s["energy"]),
-            pi: Vector3::from_row_slice(&nums(&s["pi"])),
+            t: s.t,
+            r: s.attitude,
+            omega: s.omega,
+            energy: s.energy.unwrap(),
+            pi: s.spatial_momentum.unwrap(),
         })
         .collect();
     Case {
         name: name.into(),
-        free: c["kind"].as_str().unwrap() == "free",
-        jd: [jd[0], jd[1], jd[2]],
-        mg: if c["kind"].as_str().unwrap() == "free" {
-            0.0
-        } else {
-            num(&c["mg"])
-        },
-        r0: Matrix3::from_row_slice(&nums(&c["R0"])),
-        omega0: Vector3::from_row_slice(&nums(&c["omega0"])),
+        free: c.kind == lgsvi_cases::Kind::FreeBody,
+        jd: c.inertia_d.unwrap(),
+        mg: c.weight().unwrap_or(0.0),
+        r0: c.attitude0,
+        omega0: c.omega0,
         states,
     }
 }
