@@ -1,0 +1,80 @@
+//! The exact linearisation of a step at its converged solution (implicit function
+//! theorem on the Newton matrix): `A = ∂x₊/∂x`, `B = ∂x₊/∂u`.
+
+use super::*;
+
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+    /// The exact linearisation of the step from the current state with the current input
+    /// ([`StepLinearization`]: `A = ∂x₊/∂x`, `B = ∂x₊/∂u`), without taking the step: the
+    /// state, the step count and the statistics are unchanged. An adaptive run
+    /// linearises the step at its present nodes and step.
+    ///
+    /// ```
+    /// use lgsvi_mechanics::{Coordinates, Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_mechanics::lie::SO3;
+    /// use nalgebra::Vector3;
+    /// // A body at rest: the step is the exact zero-order hold of θ̈ = J⁻¹u.
+    /// let body = RigidBody::new(Inertia::from_principal_moments([1.0, 2.0, 2.5])?);
+    /// let h = 0.1;
+    /// let mut integrator = Integrator::new(body, StepSettings::new(h, 4)?, SO3::identity(), Vector3::zeros())?;
+    /// let step = integrator.linearize()?;
+    /// let (a, b) = (step.a(Coordinates::Velocity), step.b(Coordinates::Velocity));
+    /// assert!((a[(2, 5)] - h).abs() < 1e-15); // θ₊ = θ + hω + …
+    /// assert!((b[(5, 2)] - h / 2.5).abs() < 1e-15); // ω₊ = ω + hJ⁻¹u
+    /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Those of [`Integrator::step`]; [`MechanicsError::InvalidSetting`] under the
+    /// paper's matching (not variational: no linearisation is offered).
+    pub fn linearize(&mut self) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        let start = self.state;
+        let outcome = self.attempt(&start.configuration)?;
+        let end = self.end_state(&outcome)?;
+        self.linearization(start, end)
+    }
+
+    /// Takes one step (as [`Integrator::step`]) and returns its exact linearisation
+    /// ([`StepLinearization`]), at the cost of one more Newton matrix and its
+    /// factorisation, and a few back-substitutions.
+    ///
+    /// # Errors
+    /// As [`Integrator::linearize`]; if only the linearisation fails, the step has been
+    /// taken.
+    pub fn step_linearized(
+        &mut self,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        let start = self.state;
+        self.step()?;
+        let end = self.state;
+        self.linearization(start, end)
+    }
+
+    /// The linearisation of the step just solved (its unknowns in the workspace) from
+    /// `start` to `end`.
+    pub(super) fn linearization(
+        &mut self,
+        start: State<ElementOf<S, D>, D>,
+        end: State<ElementOf<S, D>, D>,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        let stepper = Stepper {
+            system: &self.system,
+            chart: &self.chart,
+            settings: &self.settings,
+            d: &self.discretisation,
+            time: start.time,
+            forcing: self.forcing(),
+        };
+        let index = self.step_index;
+        let jacobians =
+            stepper.linearize(&start.configuration, &start.momentum, &mut self.work, index)?;
+        StepLinearization::new(
+            &self.system,
+            &jacobians,
+            start,
+            end,
+            self.input,
+            (self.settings.step(), self.discretisation.n, index),
+        )
+    }
+}
