@@ -13,11 +13,10 @@
 //! needs no chart differential (`A(ξ)⁻¹` of the exp chart costs a `sin_cos` and a series
 //! per evaluation, measured 7% of a step at `h = 1`), and the chart enters once per node.
 
+use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};
 use crate::lagrangian::Lagrangian;
-use crate::system::{ElementOf, FlowStart, GroupLagrangian};
 use lgsvi_lie::so3::vee;
-use lgsvi_lie::LieGroup;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3};
 use std::ops::{Add, Mul};
@@ -25,11 +24,11 @@ use std::ops::{Add, Mul};
 /// The largest rotation one Runge–Kutta substep takes (radians). The guess is accurate to
 /// about `(angle)⁴/100` relative, so 0.25 rad gives ~1e-5 on the paper's bodies: below
 /// the Newton solver's chord threshold.
-const SUBSTEP_ANGLE: f64 = 0.25;
+pub(crate) const SUBSTEP_ANGLE: f64 = 0.25;
 
 /// At most this many substeps per step (a guess, not the solution: beyond it the
 /// continued Galerkin curve is used instead).
-const MAX_SUBSTEPS: usize = 64;
+pub(crate) const MAX_SUBSTEPS: usize = 64;
 
 /// The flow's equations at one time: the system, the step's start and its total force.
 struct Flow<'a, L> {
@@ -150,7 +149,7 @@ fn frequency<L: Lagrangian>(
 /// One classical RK4 step of `rate` over `[t0, t0 + dt]` from `(y, μ)` with the slopes
 /// `k1` there (the substeps' end slopes are reused as the next start's); `None` where a
 /// stage is not defined. Both flows use it: on `(q, μ)` and in the chart on `(y, μ)`.
-fn rk4_step<Y, M>(
+pub(crate) fn rk4_step<Y, M>(
     rate: impl Fn(f64, &Y, &M) -> Option<(Y, M)>,
     t0: f64,
     dt: f64,
@@ -173,7 +172,7 @@ where
 
 /// The cubic Hermite interpolant between `(y₀, ẏ₀)` and `(y₁, ẏ₁)` a substep `dt` apart,
 /// at the fraction `u` of it (fourth order, as RK4).
-fn hermite<Y>((y0, d0): (Y, Y), (y1, d1): (Y, Y), u: f64, dt: f64) -> Y
+pub(crate) fn hermite<Y>((y0, d0): (Y, Y), (y1, d1): (Y, Y), u: f64, dt: f64) -> Y
 where
     Y: Add<Output = Y> + Mul<f64, Output = Y>,
 {
@@ -292,77 +291,28 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     ))
 }
 
-/// The predictor of a system without a flow of its own ([`crate::GroupLagrangian::flow_guess`]
-/// unavailable) that gives `ξ(μ)` in closed form ([`crate::GroupLagrangian::velocity_from_momentum`])
-/// and its configuration force ([`crate::GroupLagrangian::local_derivatives`]): the
-/// Euler–Poincaré flow integrated in the step's chart itself, on `(y, μ)` with
-/// `ẏ = A(y)⁻¹ ξ` and `μ̇ = ad_ξᵀ μ + p + F` at `g = g_k Φ(y)` (classical RK4, substeps of at
-/// most [`SUBSTEP_ANGLE`] of rotation and of `2√|ΔΩ|` of the forces' push, cubic Hermite
-/// interpolation of `y` at the nodes). [`FlowGuess::Unavailable`] where either closed form
-/// is missing, a value is not finite, or `y` leaves the chart's domain.
-pub(crate) fn chart_flow<S, C, const D: usize>(
-    system: &S,
-    chart: &C,
-    start: &FlowStart<'_, S::Group, D>,
-    out: &mut [SVector<f64, D>],
-) -> FlowGuess<ElementOf<S, D>>
-where
-    S: GroupLagrangian<D>,
-    C: GroupChart<S::Group, D>,
-{
-    use FlowGuess::Unavailable;
-    let base = start.base;
-    // (ẏ, μ̇) at (y, μ), t into the step.
-    let rate = |t: f64, y: &SVector<f64, D>, mu: &SVector<f64, D>| {
-        chart.check_domain(y).ok()?;
-        let time = start.time + t;
-        let g = base.compose(&chart.to_group(y));
-        let xi = system.velocity_from_momentum(time, &g, mu)?;
-        let p = system
-            .local_derivatives(time, &g, &xi, false)?
-            .configuration_gradient;
-        let y_dot = chart.left_differential_inverse(y).ok()? * xi;
-        let mut mu_dot = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(mu) * xi + p;
-        if let Some(force) = start.force {
-            mu_dot += force(time, &g, &xi).value;
-        }
-        (y_dot.iter().chain(mu_dot.iter()).all(|x| x.is_finite())).then_some((y_dot, mu_dot))
-    };
-    let (h, times) = (start.h, start.times);
-    let (mut y, mut mu) = (SVector::<f64, D>::zeros(), *start.momentum);
-    let Some((mut y_dot, mut mu_dot)) = rate(0.0, &y, &mu) else {
-        return Unavailable;
-    };
-    // The substeps: the rotation, and the push of the configuration force and the force
-    // (μ̇ less its coadjoint part).
-    let velocity = start.velocity;
-    let push = mu_dot - <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&mu) * velocity;
-    let pushed = system
-        .velocity_from_momentum(start.time, base, &(mu + push))
-        .map_or(0.0, |moved| 2.0 * (moved - velocity).norm().sqrt());
-    let frequency = <S::Group as ConfigurationGroup<D>>::angular_speed(velocity) + pushed;
-    let wanted = (h * frequency / SUBSTEP_ANGLE).ceil();
-    if wanted.is_nan() || wanted > MAX_SUBSTEPS as f64 {
-        return Unavailable;
-    }
-    let substeps = (wanted as usize).max(2);
-    let dt = h / substeps as f64;
-    let mut next_node = 0;
-    for s in 0..substeps {
-        let t0 = s as f64 * dt;
-        let Some((y1, mu1)) = rk4_step(rate, t0, dt, (y, mu), (y_dot, mu_dot)) else {
-            return Unavailable;
-        };
-        let Some((y1_dot, mu1_dot)) = rate(t0 + dt, &y1, &mu1) else {
-            return Unavailable;
-        };
-        let last = s + 1 == substeps;
-        while next_node < times.len() && (last || times[next_node] <= t0 + dt) {
-            let u = ((times[next_node] - t0) / dt).clamp(0.0, 1.0);
-            out[next_node] = hermite((y, y_dot), (y1, y1_dot), u, dt);
-            next_node += 1;
-        }
-        (y, mu, y_dot, mu_dot) = (y1, mu1, y1_dot, mu1_dot);
-    }
-    FlowGuess::Written(chart.to_group(&y))
+/// The total force along a step, `(t, g, ξ) ↦` its [`ForceJet`] (the system's force and
+/// the control input), as a flow predictor receives it.
+pub type ForceAlongStep<'a, G, const D: usize> =
+    &'a dyn Fn(f64, &<G as ConfigurationGroup<D>>::Element<f64>, &SVector<f64, D>) -> ForceJet<D>;
+
+/// The start of a step, as [`crate::GroupLagrangian::flow_guess`] receives it.
+pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
+    /// The step's start time `t_k`.
+    pub time: f64,
+    /// The configuration `g_k`.
+    pub base: &'a G::Element<f64>,
+    /// The body momentum `μ_k`.
+    pub momentum: &'a SVector<f64, D>,
+    /// The body velocity `ξ_k`.
+    pub velocity: &'a SVector<f64, D>,
+    /// The step `h`.
+    pub h: f64,
+    /// The node times in `[0, h]`, ascending.
+    pub times: &'a [f64],
+    /// The total force of a forced step (`None` for an unforced one): `F(t, g, ξ)` at the
+    /// absolute time `t`.
+    pub force: Option<ForceAlongStep<'a, G, D>>,
+    /// Whether that force depends on the configuration (if not, it may be given any).
+    pub force_reads_configuration: bool,
 }

@@ -8,10 +8,10 @@
 //! `∂F/∂x = F_η A + F_ξ ∂(A v)/∂x` and `∂F/∂v = F_ξ A`: the chart's part comes from the
 //! chart's own derivatives (the integrator's point derivatives), the force's from this jet.
 
+use crate::dual::{jacobian_of, seeded};
 use crate::group::ConfigurationGroup;
-use crate::system::Forcing;
 use lgsvi_lie::LieGroup;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{RealField, SMatrix, SVector};
 use num_dual::DualSVec64;
 
 /// A left-trivialised force and its first derivatives at one point `(t, g, ξ)`.
@@ -84,20 +84,71 @@ impl<const D: usize> std::ops::Add for ForceJet<D> {
     }
 }
 
-/// `x` as `D` first-order dual numbers, one direction each.
-pub(crate) fn seeded<const D: usize>(x: &SVector<f64, D>) -> SVector<DualSVec64<D>, D> {
-    SVector::from_fn(|i, _| {
-        DualSVec64::<D>::new(
-            x[i],
-            num_dual::Derivative::some(SVector::from_fn(|j, _| if i == j { 1.0 } else { 0.0 })),
+/// A generalised force on a group (`crate::system`'s documentation): for SO(3) a body torque, for
+/// SE(3) `(body torque, body force)`. Generic over the scalar, so Newton differentiates it
+/// exactly; combine two with a tuple `(a, b)` (their sum).
+pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
+    /// `F(t, g, ξ)`.
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &G::Element<T>,
+        velocity: &SVector<T, D>,
+    ) -> SVector<T, D>;
+
+    /// Whether the force is identically zero (then the step is the unforced one, bit for
+    /// bit). The default `false` is always correct.
+    fn is_zero(&self) -> bool {
+        false
+    }
+
+    /// The force and its first derivatives at `(t, g, ξ)` ([`ForceJet`]), which Newton's
+    /// exact matrix is built from. The default takes them by first-order dual numbers
+    /// through [`Forcing::force`] alone (exact); the built-in forces give them in closed
+    /// form.
+    fn jet(
+        &self,
+        time: f64,
+        configuration: &G::Element<f64>,
+        velocity: &SVector<f64, D>,
+    ) -> ForceJet<D>
+    where
+        Self: Sized,
+    {
+        ForceJet::by_dual_numbers(
+            self,
+            time,
+            configuration,
+            velocity,
+            !self.depends_on_configuration(),
         )
-    })
+    }
+
+    /// Whether the force depends on the configuration `g`. The default `true` is always
+    /// correct; `false` spares the integrator forming `g` at every Gauss point.
+    fn depends_on_configuration(&self) -> bool {
+        true
+    }
 }
 
-/// The `D × D` matrix `∂y_r/∂x_a` of first-order dual numbers `y` seeded by [`seeded`].
-pub(crate) fn jacobian_of<const D: usize>(y: &SVector<DualSVec64<D>, D>) -> SMatrix<f64, D, D> {
-    SMatrix::from_fn(|r, a| {
-        y[r].eps
-            .unwrap_generic(nalgebra::Const::<D>, nalgebra::Const::<1>)[a]
-    })
+impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D>
+    for (A, B)
+{
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        g: &G::Element<T>,
+        xi: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        self.0.force(time, g, xi) + self.1.force(time, g, xi)
+    }
+    fn is_zero(&self) -> bool {
+        self.0.is_zero() && self.1.is_zero()
+    }
+    fn jet(&self, time: f64, g: &G::Element<f64>, xi: &SVector<f64, D>) -> ForceJet<D> {
+        self.0.jet(time, g, xi) + self.1.jet(time, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        self.0.depends_on_configuration() || self.1.depends_on_configuration()
+    }
 }

@@ -21,7 +21,7 @@
 //! integrator then runs any [`crate::GroupLagrangian`] on it unchanged; the test
 //! `tests/tests/generic_group.rs` does this for the torus `SO(2) × SO(2)`.
 
-use crate::jet::MatrixJet;
+use crate::matrix_jet::MatrixJet;
 use lgsvi_lie::se3::{blocks, split};
 use lgsvi_lie::{Chart, LieError, LieGroup, RodriguesCoefficients, So3Chart, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
@@ -402,7 +402,7 @@ impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> DualDerivati
         } else {
             self.a_dual * u
         };
-        crate::force_jet::jacobian_of(&y)
+        crate::dual::jacobian_of(&y)
     }
 }
 
@@ -448,7 +448,7 @@ where
         chart,
         x,
         a: chart.left_differential(x),
-        a_dual: chart.left_differential(&crate::force_jet::seeded(x)),
+        a_dual: chart.left_differential(&crate::dual::seeded(x)),
         group: std::marker::PhantomData,
     };
     f(&derivatives)

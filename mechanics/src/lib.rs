@@ -62,8 +62,10 @@
 //! ```
 #![deny(missing_docs)]
 
+mod chart_flow;
 mod checked;
 pub mod control;
+mod dual;
 pub mod ensemble;
 mod error;
 pub mod exact;
@@ -76,6 +78,8 @@ mod integrator;
 mod jet;
 mod lagrangian;
 pub mod linearization;
+mod matrix_jet;
+mod point;
 mod rigid_motion;
 mod settings;
 mod state;

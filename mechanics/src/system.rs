@@ -15,9 +15,12 @@
 //! unforced one, bit for bit (the force terms are skipped, not added as zeros).
 
 use crate::flow::FlowGuess;
+pub use crate::flow::{FlowStart, ForceAlongStep};
 use crate::force_jet::ForceJet;
+pub use crate::force_jet::Forcing;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
+pub use crate::point::{GaussPoint, PointForce};
 use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
@@ -197,32 +200,6 @@ pub trait GroupLagrangian<const D: usize> {
     }
 }
 
-/// The total force along a step, `(t, g, ξ) ↦` its [`ForceJet`] (the system's force and
-/// the control input), as a flow predictor receives it.
-pub type ForceAlongStep<'a, G, const D: usize> =
-    &'a dyn Fn(f64, &<G as ConfigurationGroup<D>>::Element<f64>, &SVector<f64, D>) -> ForceJet<D>;
-
-/// The start of a step, as [`GroupLagrangian::flow_guess`] receives it.
-pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
-    /// The step's start time `t_k`.
-    pub time: f64,
-    /// The configuration `g_k`.
-    pub base: &'a G::Element<f64>,
-    /// The body momentum `μ_k`.
-    pub momentum: &'a SVector<f64, D>,
-    /// The body velocity `ξ_k`.
-    pub velocity: &'a SVector<f64, D>,
-    /// The step `h`.
-    pub h: f64,
-    /// The node times in `[0, h]`, ascending.
-    pub times: &'a [f64],
-    /// The total force of a forced step (`None` for an unforced one): `F(t, g, ξ)` at the
-    /// absolute time `t`.
-    pub force: Option<ForceAlongStep<'a, G, D>>,
-    /// Whether that force depends on the configuration (if not, it may be given any).
-    pub force_reads_configuration: bool,
-}
-
 /// The derivatives of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0` for a Lagrangian whose
 /// kinetic energy does not depend on the configuration (`∂²L/∂η∂ξ = 0`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -235,35 +212,6 @@ pub struct LocalDerivatives<const D: usize> {
     pub configuration_hessian: SMatrix<f64, D, D>,
     /// `∂²L/∂ξ²` (zero when the Hessian was not asked for).
     pub velocity_hessian: SMatrix<f64, D, D>,
-}
-
-/// One Gauss point of a step, as [`GroupLagrangian::point_derivatives`] receives it.
-pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
-    /// The point's time `t_k + c_j h`.
-    pub time: f64,
-    /// The step's start `g_k`.
-    pub base: &'a G::Element<f64>,
-    /// The chart coordinates `x` of the point.
-    pub x: &'a SVector<f64, D>,
-    /// Their time derivative `v` (the body velocity is `A(x) v`).
-    pub v: &'a SVector<f64, D>,
-    /// Whether the `ζ` rows (the configuration force) are wanted.
-    pub with_configuration: bool,
-    /// Whether the Hessian is wanted (else only the gradient).
-    pub with_hessian: bool,
-    /// The force acting at the point, when the step is forced: add `A(x)ᵀF` to the `x`
-    /// rows and `F` to the `ζ` rows, with their derivatives.
-    pub force: Option<&'a dyn PointForce<G, D>>,
-}
-
-/// The force acting at a step's Gauss points (the system's force plus the control input),
-/// evaluated where a closed-form point path needs it.
-pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
-    /// The force's jet at the configuration `g` and body velocity `ξ`.
-    fn jet(&self, configuration: &G::Element<f64>, velocity: &SVector<f64, D>) -> ForceJet<D>;
-    /// Whether the force depends on the configuration (if not, [`PointForce::jet`] may be
-    /// given any configuration, and its `configuration` derivative is zero).
-    fn depends_on_configuration(&self) -> bool;
 }
 
 /// A system's own force as a [`Forcing`], for [`ForceJet::by_dual_numbers`].
@@ -332,75 +280,6 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
         out: &mut [Vector3<f64>],
     ) -> FlowGuess<SO3> {
         crate::flow::flow_guess(self, chart, start, out)
-    }
-}
-
-/// A generalised force on a group (module documentation): for SO(3) a body torque, for
-/// SE(3) `(body torque, body force)`. Generic over the scalar, so Newton differentiates it
-/// exactly; combine two with a tuple `(a, b)` (their sum).
-pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
-    /// `F(t, g, ξ)`.
-    fn force<T: RealField + Copy>(
-        &self,
-        time: f64,
-        configuration: &G::Element<T>,
-        velocity: &SVector<T, D>,
-    ) -> SVector<T, D>;
-
-    /// Whether the force is identically zero (then the step is the unforced one, bit for
-    /// bit). The default `false` is always correct.
-    fn is_zero(&self) -> bool {
-        false
-    }
-
-    /// The force and its first derivatives at `(t, g, ξ)` ([`ForceJet`]), which Newton's
-    /// exact matrix is built from. The default takes them by first-order dual numbers
-    /// through [`Forcing::force`] alone (exact); the built-in forces give them in closed
-    /// form.
-    fn jet(
-        &self,
-        time: f64,
-        configuration: &G::Element<f64>,
-        velocity: &SVector<f64, D>,
-    ) -> ForceJet<D>
-    where
-        Self: Sized,
-    {
-        ForceJet::by_dual_numbers(
-            self,
-            time,
-            configuration,
-            velocity,
-            !self.depends_on_configuration(),
-        )
-    }
-
-    /// Whether the force depends on the configuration `g`. The default `true` is always
-    /// correct; `false` spares the integrator forming `g` at every Gauss point.
-    fn depends_on_configuration(&self) -> bool {
-        true
-    }
-}
-
-impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D>
-    for (A, B)
-{
-    fn force<T: RealField + Copy>(
-        &self,
-        time: f64,
-        g: &G::Element<T>,
-        xi: &SVector<T, D>,
-    ) -> SVector<T, D> {
-        self.0.force(time, g, xi) + self.1.force(time, g, xi)
-    }
-    fn is_zero(&self) -> bool {
-        self.0.is_zero() && self.1.is_zero()
-    }
-    fn jet(&self, time: f64, g: &G::Element<f64>, xi: &SVector<f64, D>) -> ForceJet<D> {
-        self.0.jet(time, g, xi) + self.1.jet(time, g, xi)
-    }
-    fn depends_on_configuration(&self) -> bool {
-        self.0.depends_on_configuration() || self.1.depends_on_configuration()
     }
 }
 

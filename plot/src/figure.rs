@@ -2,7 +2,6 @@
 //! renderer shares: axis ranges, the points drawn, failed runs, dense series binned by
 //! pixel column.
 
-use crate::layout::DENSE_BINS;
 use plotters::prelude::*;
 
 /// How a series is drawn.
@@ -144,6 +143,9 @@ pub(crate) fn failures(s: &Series) -> impl Iterator<Item = f64> + '_ {
         .filter(|p| p.0.is_finite() && !p.1.is_finite())
         .map(|p| p.0)
 }
+
+/// Pixel columns of the plot area (approximately; dense series are binned to this).
+pub(crate) const DENSE_BINS: usize = 900;
 
 pub(crate) fn is_dense(s: &Series) -> bool {
     s.points.len() > 2 * DENSE_BINS

@@ -13,8 +13,6 @@ pub(crate) const LEGEND_FONT: f64 = 14.0;
 pub(crate) const LEGEND_WIDTH: (u32, u32) = (150, 480);
 pub(crate) const SWATCH: i32 = 28;
 pub(crate) const LEGEND_ROW: i32 = 22;
-/// Pixel columns of the plot area (approximately; dense series are binned to this).
-pub(crate) const DENSE_BINS: usize = 900;
 
 /// Text size in pixels, from the font's metrics (the same for SVG and PNG); a rough
 /// estimate where the font cannot be measured.

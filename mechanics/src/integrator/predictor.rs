@@ -10,7 +10,7 @@ use super::*;
 pub(super) const PREDICTOR_GOOD_ENOUGH: f64 = 1e-3;
 
 /// A continued curve whose relative residual is at or below this is taken instead of the
-/// flow in the chart ([`crate::flow::chart_flow`]): the flow's guess is typically 1e-6 to
+/// flow in the chart ([`crate::chart_flow::chart_flow`]): the flow's guess is typically 1e-6 to
 /// 1e-5 (measured on the orbiting body), so below it the continued curve needs no more
 /// Newton work.
 pub(super) const CONTINUED_BEATS_FLOW: f64 = 1e-6;
@@ -139,7 +139,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     }
 
     /// The system's own flow over the step, when it has one (or, `in_chart`, the
-    /// Euler–Poincaré flow in the step's chart, [`crate::flow::chart_flow`]), under the
+    /// Euler–Poincaré flow in the step's chart, [`crate::chart_flow::chart_flow`]), under the
     /// step's total force (the system's and the control input).
     pub(super) fn predict_by_flow(&mut self, in_chart: bool) -> FlowGuess<ElementOf<S, D>> {
         self.work.guess_changed();
@@ -165,7 +165,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             force_reads_configuration: at(self.state.time).depends_on_configuration(),
         };
         let done = if in_chart {
-            crate::flow::chart_flow(system, &self.chart, &start, &mut self.work.xi)
+            crate::chart_flow::chart_flow(system, &self.chart, &start, &mut self.work.xi)
         } else {
             system.flow_guess(&self.chart, &start, &mut self.work.xi)
         };

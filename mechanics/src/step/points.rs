@@ -37,6 +37,7 @@
 
 use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction};
+pub(crate) use crate::point::add_force_terms;
 use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
 use lgsvi_lie::LieGroup;
 use nalgebra::{RealField, SMatrix, SVector};
@@ -152,54 +153,6 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     };
     if !ell.system.point_derivatives(ell.chart, &point, out) {
         chain_rule(ell, &point, out);
-    }
-}
-
-/// Adds a force's terms to a point's derivatives (module documentation): `a = A(x)`,
-/// `j = ∂(A(x)v)/∂x`, `k = ∂(A(x)ᵀF)/∂x` at fixed `F` (entry `(row, x component)`).
-pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
-    out: &mut J,
-    jet: &ForceJet<D>,
-    a: &SMatrix<f64, D, D>,
-    j: &SMatrix<f64, D, D>,
-    k: &SMatrix<f64, D, D>,
-    with_hessian: bool,
-) {
-    let projected = a.transpose() * jet.value;
-    let gradient = out.gradient_mut();
-    for c in 0..D {
-        gradient[c] += projected[c];
-        gradient[2 * D + c] += jet.value[c];
-    }
-    if !with_hessian {
-        return;
-    }
-    if jet
-        .velocity
-        .iter()
-        .chain(jet.configuration.iter())
-        .all(|&e| e == 0.0)
-    {
-        // A force constant at the point (a torque, a profile in time, the input): only
-        // the chart's K_F.
-        for r in 0..D {
-            for c in 0..D {
-                out.add_hessian(r, c, k[(r, c)]);
-            }
-        }
-        return;
-    }
-    let df_dx = jet.configuration * a + jet.velocity * j;
-    let df_dv = jet.velocity * a;
-    let xx = k + a.transpose() * df_dx;
-    let xv = a.transpose() * df_dv;
-    for r in 0..D {
-        for c in 0..D {
-            out.add_hessian(r, c, xx[(r, c)]);
-            out.add_hessian(r, D + c, xv[(r, c)]);
-            out.add_hessian(2 * D + r, c, df_dx[(r, c)]);
-            out.add_hessian(2 * D + r, D + c, df_dv[(r, c)]);
-        }
     }
 }
 

@@ -1,0 +1,84 @@
+//! One Gauss point as a system's closed-form derivatives receive it ([`GaussPoint`]), the
+//! force acting there ([`PointForce`]), and how a force's terms enter a point's
+//! derivatives ([`add_force_terms`]).
+
+use crate::force_jet::ForceJet;
+use crate::group::{ConfigurationGroup, PointJet};
+use nalgebra::{SMatrix, SVector};
+
+/// One Gauss point of a step, as [`crate::GroupLagrangian::point_derivatives`] receives it.
+pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
+    /// The point's time `t_k + c_j h`.
+    pub time: f64,
+    /// The step's start `g_k`.
+    pub base: &'a G::Element<f64>,
+    /// The chart coordinates `x` of the point.
+    pub x: &'a SVector<f64, D>,
+    /// Their time derivative `v` (the body velocity is `A(x) v`).
+    pub v: &'a SVector<f64, D>,
+    /// Whether the `ζ` rows (the configuration force) are wanted.
+    pub with_configuration: bool,
+    /// Whether the Hessian is wanted (else only the gradient).
+    pub with_hessian: bool,
+    /// The force acting at the point, when the step is forced: add `A(x)ᵀF` to the `x`
+    /// rows and `F` to the `ζ` rows, with their derivatives.
+    pub force: Option<&'a dyn PointForce<G, D>>,
+}
+
+/// The force acting at a step's Gauss points (the system's force plus the control input),
+/// evaluated where a closed-form point path needs it.
+pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
+    /// The force's jet at the configuration `g` and body velocity `ξ`.
+    fn jet(&self, configuration: &G::Element<f64>, velocity: &SVector<f64, D>) -> ForceJet<D>;
+    /// Whether the force depends on the configuration (if not, [`PointForce::jet`] may be
+    /// given any configuration, and its `configuration` derivative is zero).
+    fn depends_on_configuration(&self) -> bool;
+}
+
+/// Adds a force's terms to a point's derivatives (`crate::step::points`' documentation): `a = A(x)`,
+/// `j = ∂(A(x)v)/∂x`, `k = ∂(A(x)ᵀF)/∂x` at fixed `F` (entry `(row, x component)`).
+pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
+    out: &mut J,
+    jet: &ForceJet<D>,
+    a: &SMatrix<f64, D, D>,
+    j: &SMatrix<f64, D, D>,
+    k: &SMatrix<f64, D, D>,
+    with_hessian: bool,
+) {
+    let projected = a.transpose() * jet.value;
+    let gradient = out.gradient_mut();
+    for c in 0..D {
+        gradient[c] += projected[c];
+        gradient[2 * D + c] += jet.value[c];
+    }
+    if !with_hessian {
+        return;
+    }
+    if jet
+        .velocity
+        .iter()
+        .chain(jet.configuration.iter())
+        .all(|&e| e == 0.0)
+    {
+        // A force constant at the point (a torque, a profile in time, the input): only
+        // the chart's K_F.
+        for r in 0..D {
+            for c in 0..D {
+                out.add_hessian(r, c, k[(r, c)]);
+            }
+        }
+        return;
+    }
+    let df_dx = jet.configuration * a + jet.velocity * j;
+    let df_dv = jet.velocity * a;
+    let xx = k + a.transpose() * df_dx;
+    let xv = a.transpose() * df_dv;
+    for r in 0..D {
+        for c in 0..D {
+            out.add_hessian(r, c, xx[(r, c)]);
+            out.add_hessian(r, D + c, xv[(r, c)]);
+            out.add_hessian(2 * D + r, c, df_dx[(r, c)]);
+            out.add_hessian(2 * D + r, D + c, df_dv[(r, c)]);
+        }
+    }
+}
