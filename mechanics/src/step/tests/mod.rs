@@ -1,0 +1,411 @@
+use super::assembly::Workspace;
+use super::newton::substitute;
+use super::points::EllTilde;
+use super::tables::Discretisation;
+use super::*;
+use crate::group::{PointJet, Stacked};
+use crate::inertia::Inertia;
+use crate::jet;
+use crate::lagrangian::{HeavyTop, Lagrangian};
+use crate::settings::{Matching, StepSettings};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::factor;
+use faer::{Mat, Par};
+use lgsvi_lie::{ChartKind, SO3};
+use nalgebra::{Matrix3, RealField, SVector, Vector3};
+
+mod whole_point;
+
+type PointDerivatives = Stacked<9>;
+
+/// `ℓ(g Φ(x) exp(ζ), A(x) v)` in f64, through the generic point function.
+fn ell_tilde<L: Lagrangian>(
+    system: &L,
+    chart: ChartKind,
+    base: &Matrix3<f64>,
+    x: &Vector3<f64>,
+    v: &Vector3<f64>,
+    zeta: Option<&Vector3<f64>>,
+) -> f64 {
+    use crate::group::StackedFunction;
+    let base = SO3::from_matrix_unchecked(*base);
+    let ell = EllTilde {
+        system,
+        chart: &chart,
+        base: &base,
+        time: 0.0,
+    };
+    let mut y = vec![x.x, x.y, x.z, v.x, v.y, v.z];
+    if let Some(z) = zeta {
+        y.extend_from_slice(z.as_slice());
+    }
+    ell.eval(&y)
+}
+
+/// The dual-number path alone.
+fn point_derivatives_by_dual_numbers<L: Lagrangian>(
+    system: &L,
+    chart: ChartKind,
+    base: &Matrix3<f64>,
+    x: &Vector3<f64>,
+    v: &Vector3<f64>,
+    with_configuration: bool,
+) -> PointDerivatives {
+    let base = SO3::from_matrix_unchecked(*base);
+    let ell = EllTilde {
+        system,
+        chart: &chart,
+        base: &base,
+        time: 0.0,
+    };
+    let mut out = PointDerivatives::zeros();
+    out.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), with_configuration);
+    out
+}
+
+fn top() -> HeavyTop {
+    HeavyTop::new(
+        Inertia::from_paper_jd([1.0, 2.8, 2.0]).unwrap(),
+        1.3,
+        9.81,
+        Vector3::new(0.1, -0.2, 1.0),
+        Vector3::new(0.3, 0.1, 1.0),
+    )
+    .unwrap()
+}
+
+fn base() -> Matrix3<f64> {
+    *SO3::exp(&Vector3::new(0.4, -0.7, 0.2)).matrix()
+}
+
+/// A Gauss point at time 0.7 from `base`.
+fn gauss_point<'a, G: crate::ConfigurationGroup<D>, const D: usize>(
+    base: &'a G::Element<f64>,
+    x: &'a SVector<f64, D>,
+    v: &'a SVector<f64, D>,
+    with_configuration: bool,
+    with_hessian: bool,
+    force: Option<&'a dyn crate::PointForce<G, D>>,
+) -> crate::GaussPoint<'a, G, D> {
+    crate::GaussPoint {
+        time: 0.7,
+        base,
+        x,
+        v,
+        with_configuration,
+        with_hessian,
+        force,
+    }
+}
+
+/// The chain-rule path alone ([`jet::point_derivatives`]), as a value.
+fn chain_rule_at<L: Lagrangian>(
+    system: &L,
+    chart: ChartKind,
+    x: &Vector3<f64>,
+    v: &Vector3<f64>,
+    with_configuration: bool,
+    with_hessian: bool,
+) -> PointDerivatives {
+    let mut out = PointDerivatives::zeros();
+    let b = SO3::from_matrix_unchecked(base());
+    let point = gauss_point(&b, x, v, with_configuration, with_hessian, None);
+    let done = jet::point_derivatives(system, &chart, &point, &mut out);
+    assert!(done, "{chart} has a Rodrigues form");
+    out
+}
+
+/// The per-point gradient and Hessian from dual numbers against central differences of
+/// the same function in f64. Step 1e-4 for the gradient (truncation ~h²·|f'''| ≈ 1e-8·10,
+/// rounding ε|f|/h ≈ 1e-11) and 1e-4 on the gradient for the Hessian: bound 1e-6
+/// relative to the largest entry.
+#[test]
+fn point_derivatives_match_central_differences() {
+    let system = top();
+    for chart in ChartKind::ALL {
+        let (x, v) = (Vector3::new(0.3, -0.1, 0.25), Vector3::new(1.1, 0.4, -0.6));
+        let p = chain_rule_at(&system, chart, &x, &v, true, true);
+        let f = |y: &SVector<f64, 9>| {
+            let x = y.fixed_rows::<3>(0).into_owned();
+            let v = y.fixed_rows::<3>(3).into_owned();
+            let z = y.fixed_rows::<3>(6).into_owned();
+            ell_tilde(&system, chart, &base(), &x, &v, Some(&z))
+        };
+        let y0 =
+            SVector::<f64, 9>::from_column_slice(&[x.x, x.y, x.z, v.x, v.y, v.z, 0.0, 0.0, 0.0]);
+        let h = 1e-4;
+        let scale = p.hessian.amax().max(p.gradient.amax());
+        for a in 0..9 {
+            let e = SVector::<f64, 9>::from_fn(|i, _| if i == a { h } else { 0.0 });
+            let fd = (f(&(y0 + e)) - f(&(y0 - e))) / (2.0 * h);
+            assert!(
+                (fd - p.gradient[a]).abs() <= 1e-6 * scale,
+                "{chart} gradient {a}"
+            );
+            let gp = chain_rule_at(
+                &system,
+                chart,
+                &(x + e.fixed_rows::<3>(0)),
+                &(v + e.fixed_rows::<3>(3)),
+                true,
+                true,
+            );
+            // The ζ-columns need the function itself (the point is always at ζ = 0).
+            for b in 0..6 {
+                if a < 6 {
+                    let gm = chain_rule_at(
+                        &system,
+                        chart,
+                        &(x - e.fixed_rows::<3>(0)),
+                        &(v - e.fixed_rows::<3>(3)),
+                        true,
+                        true,
+                    );
+                    let fd2 = (gp.gradient[b] - gm.gradient[b]) / (2.0 * h);
+                    assert!(
+                        (fd2 - p.hessian[(a, b)]).abs() <= 1e-6 * scale,
+                        "{chart} hessian ({a},{b})"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A Lagrangian that couples `R` and `Ω` and is not linear in `R` (exercises every block
+/// of the chain rule through the default, dual-number [`Lagrangian::derivatives`]).
+struct Coupled;
+impl Lagrangian for Coupled {
+    fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
+        let c = |x: f64| -> T { nalgebra::convert(x) };
+        let up = r.transpose() * Vector3::new(c(0.2), c(-0.1), c(1.0));
+        c(0.5) * (w.x * w.x * c(1.2) + w.y * w.y * c(2.1) + w.z * w.z * c(2.7))
+            + up.dot(w) * c(0.3)
+            + r[(0, 1)] * r[(2, 2)] * c(1.7)
+            - r[(1, 0)] * c(0.4)
+    }
+}
+
+/// A potential quadratic in `R` (through [`RigidBodyInPotential`]'s closed-form kinetic
+/// part and dual-number potential).
+struct Quadratic;
+impl crate::Potential for Quadratic {
+    fn potential<T: RealField + Copy>(&self, r: &Matrix3<T>) -> T {
+        let c = |x: f64| -> T { nalgebra::convert(x) };
+        r[(2, 0)] * r[(2, 0)] * c(3.0) - r[(1, 2)] * c(0.5)
+    }
+}
+
+/// The chain rule (chart Rodrigues jets and [`Lagrangian::derivatives`]) against a
+/// second-order dual number through the whole of `ℓ̃`, for every chart, system and
+/// variable set, at points from `x = 0` to rotations past 3 rad. Both are exact up to
+/// rounding, which here is a few hundred ulps of the largest entry at most (sums of
+/// tens of terms of size ~ the scale): 1e-13 relative.
+#[test]
+fn chain_rule_derivatives_match_dual_numbers() {
+    let inertia = Inertia::from_paper_jd([1.0, 2.8, 2.0]).unwrap();
+    let points = [
+        (Vector3::zeros(), Vector3::new(1.1, 0.4, -0.6)),
+        (
+            Vector3::new(1e-9, -2e-9, 5e-10),
+            Vector3::new(-0.3, 0.9, 0.2),
+        ),
+        (Vector3::new(0.3, -0.1, 0.25), Vector3::new(1.1, 0.4, -0.6)),
+        (Vector3::new(-0.4, 0.2, 0.1), Vector3::new(0.5, -1.5, 2.0)),
+        (Vector3::new(1.5, -2.2, 1.1), Vector3::new(2.0, 0.7, -1.0)),
+    ];
+    fn compare<L: Lagrangian>(system: &L, name: &str, x: &Vector3<f64>, v: &Vector3<f64>) {
+        for chart in ChartKind::ALL {
+            for with_configuration in [false, true] {
+                let fast = chain_rule_at(system, chart, x, v, with_configuration, true);
+                let gradient_only = chain_rule_at(system, chart, x, v, with_configuration, false);
+                // The gradient-only path takes the coefficients' first derivatives
+                // from a first-order dual number instead of a second-order one: the
+                // same formulas, evaluated in another order, so a few ulps apart.
+                let size = fast.gradient.amax().max(1.0);
+                assert!(
+                    (gradient_only.gradient - fast.gradient).amax() <= 8.0 * f64::EPSILON * size,
+                    "{chart}: {} vs {}",
+                    gradient_only.gradient,
+                    fast.gradient
+                );
+                let slow = point_derivatives_by_dual_numbers(
+                    system,
+                    chart,
+                    &base(),
+                    x,
+                    v,
+                    with_configuration,
+                );
+                let scale = slow.gradient.amax().max(slow.hessian.amax()).max(1.0);
+                let gradient = (fast.gradient - slow.gradient).amax();
+                let hessian = (fast.hessian - slow.hessian).amax();
+                assert!(
+                    gradient <= 1e-13 * scale && hessian <= 1e-13 * scale,
+                    "{name} {chart} x = {x:?} ζ = {with_configuration}: \
+                         gradient {gradient:e}, Hessian {hessian:e} of {scale:e}"
+                );
+            }
+        }
+    }
+    for (x, v) in &points {
+        compare(&crate::RigidBody::new(inertia), "rigid body", x, v);
+        compare(&top(), "heavy top", x, v);
+        compare(
+            &crate::RigidBodyInPotential::new(inertia, Quadratic),
+            "quadratic potential",
+            x,
+            v,
+        );
+        compare(&Coupled, "coupled", x, v);
+    }
+}
+
+/// [`substitute`] on faer's LU solves the system: the residual `‖A x − b‖∞` of the
+/// computed solution is at most a small multiple of `ε ‖A‖∞ ‖x‖∞` (partial pivoting is
+/// backward stable; for these sizes the growth factor stays small), on a nonsymmetric
+/// matrix that needs row exchanges (its diagonal is small).
+#[test]
+fn substitution_on_faer_factors_solves_the_system() {
+    for size in [1usize, 3, 27, 45] {
+        let entry = |i: usize, j: usize| {
+            let (x, y) = (i as f64, j as f64);
+            (1.3 * x + 0.7 * y).sin() + if i == j { 1e-3 } else { 0.0 }
+        };
+        let a = Mat::from_fn(size, size, entry);
+        let b: Vec<f64> = (0..size).map(|i| (0.4 * i as f64).cos() + 0.5).collect();
+        let mut lu = a.clone();
+        let (mut perm, mut perm_inv) = (vec![0; size], vec![0; size]);
+        let mut stack = MemBuffer::new(factor::lu_in_place_scratch::<usize, f64>(
+            size,
+            size,
+            Par::Seq,
+            Default::default(),
+        ));
+        factor::lu_in_place(
+            lu.as_mut(),
+            &mut perm,
+            &mut perm_inv,
+            Par::Seq,
+            MemStack::new(&mut stack),
+            Default::default(),
+        );
+        let mut x: Vec<f64> = perm.iter().map(|&p| b[p]).collect();
+        substitute(&lu, &mut x);
+        let norm_a = (0..size)
+            .map(|i| (0..size).map(|j| a[(i, j)].abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        let norm_x = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let residual = (0..size)
+            .map(|i| ((0..size).map(|j| a[(i, j)] * x[j]).sum::<f64>() - b[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            residual <= 64.0 * size as f64 * f64::EPSILON * norm_a * norm_x,
+            "size {size}: residual {residual:e}, ‖A‖ {norm_a:e}, ‖x‖ {norm_x:e}"
+        );
+    }
+}
+
+/// A workspace holding a curve that is not a solution (constant velocity plus a wobble),
+/// assembled with its Newton matrix at the step's start `b` with momentum `μ`.
+fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+    stepper: &Stepper<'_, S, ChartKind, 3>,
+    d: &Discretisation,
+) -> (Workspace<Stacked<9>, 3>, SO3, Vector3<f64>) {
+    let mut work = Workspace::<Stacked<9>, 3>::new(d);
+    let omega = Vector3::new(0.5, -0.8, 0.3);
+    for (i, t) in d.node_times().iter().enumerate() {
+        work.xi[i] = omega * *t + Vector3::new(0.02, -0.01, 0.03) * (t * t);
+    }
+    work.xi[0] = Vector3::zeros();
+    let mu = Vector3::new(2.4, -1.5, 1.52);
+    let b = SO3::from_matrix_unchecked(base());
+    stepper.assemble(&b, &mu, &mut work, true);
+    stepper.fill_jacobian(&mut work);
+    (work, b, mu)
+}
+
+/// The exact Newton matrix (both matchings, a configuration-dependent system, every
+/// chart) against forward differences of the residual away from the solution. Forward
+/// differences with step √ε·max(1, |z|) are accurate to ~√ε·|F''| ≈ 1e-7 relative.
+#[test]
+fn exact_newton_matrix_matches_differences_of_the_residual() {
+    let system = top();
+    for chart in ChartKind::ALL {
+        for matching in [Matching::Exact, Matching::Paper] {
+            let settings = StepSettings::new(0.4, 5)
+                .unwrap()
+                .with_chart(chart)
+                .with_matching(matching);
+            let d = Discretisation::new(&settings).unwrap();
+            let stepper = Stepper {
+                system: &system,
+                chart: &chart,
+                settings: &settings,
+                d: &d,
+                time: 0.0,
+                forcing: None,
+            };
+            let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
+            let exact = work.jacobian.clone();
+            stepper.fill_jacobian_by_differences(&b, &mu, &mut work);
+            let mut worst = 0.0f64;
+            let mut scale = 0.0f64;
+            for r in 0..exact.nrows() {
+                for c in 0..exact.ncols() {
+                    worst = worst.max((exact[(r, c)] - work.jacobian[(r, c)]).abs());
+                    scale = scale.max(exact[(r, c)].abs());
+                }
+            }
+            assert!(
+                worst <= 1e-6 * scale,
+                "{chart} {matching:?}: {worst:e} of {scale:e}"
+            );
+        }
+    }
+}
+
+/// The exact matching's `w` carried through a move `δ` of the unknowns with the last
+/// Newton matrix's `∂w/∂ξ` ([`Stepper::carry_matching`], which the Newton loop applies
+/// to its last chord step instead of assembling again) agrees with `w` assembled at the
+/// moved unknowns up to the second-order remainder: for `|δ| = 1e-5` that is ~1e-10 of
+/// `|w|` (curvature of order one), where leaving `w` where it was is off by ~1e-5. The
+/// heavy top under a torque: configuration terms from both ℓ and the force.
+#[test]
+fn carried_matching_momentum_agrees_with_a_new_assembly() {
+    let system = top();
+    let input = Vector3::new(0.3, -0.2, 0.1);
+    for chart in ChartKind::ALL {
+        let settings = StepSettings::new(0.4, 6).unwrap().with_chart(chart);
+        let d = Discretisation::new(&settings).unwrap();
+        let stepper = Stepper {
+            system: &system,
+            chart: &chart,
+            settings: &settings,
+            d: &d,
+            time: 0.0,
+            forcing: Some(input),
+        };
+        let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
+        let before = work.matching.w;
+        for (k, delta) in work.delta.iter_mut().enumerate() {
+            *delta = 1e-5 * ((k as f64 * 0.7).sin() + 0.3);
+        }
+        for (i, xi) in work.xi.iter_mut().enumerate().skip(1) {
+            for c in 0..3 {
+                xi[c] += work.delta[3 * (i - 1) + c];
+            }
+        }
+        stepper.carry_matching(&mut work);
+        let carried = work.matching.w;
+        stepper.assemble(&b, &mu, &mut work, false);
+        let assembled = work.matching.w;
+        let scale = assembled.amax();
+        assert!(
+            (carried - assembled).amax() <= 1e-9 * scale,
+            "{chart}: carried {carried:?}, assembled {assembled:?}"
+        );
+        // The move matters at first order: the test would notice a carry that did nothing.
+        assert!((before - assembled).amax() >= 1e-7 * scale, "{chart}");
+    }
+}
