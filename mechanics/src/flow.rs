@@ -11,7 +11,7 @@
 //!
 //! The attitude is integrated as a quaternion rather than in the chart: `q̇ = ½ q ⊗ Ω`
 //! needs no chart differential (`A(ξ)⁻¹` of the exp chart costs a `sin_cos` and a series
-//! per evaluation, measured 7% of a step at `h = 1`), and the chart enters once per node.
+//! per evaluation; `docs/performance.md` §6), and the chart enters once per node.
 
 use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};

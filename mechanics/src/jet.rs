@@ -47,7 +47,7 @@ fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
 /// Writes `ℓ̃`'s derivatives by the chain rule into `out` (its Hessian only if
 /// `point.with_hessian`, else left as it was), with the force terms of `point.force`;
 /// false (`out` untouched) if the chart has no Rodrigues form. In place: the 90 floats
-/// are written once, not returned and copied (the copies were 10% of a step, measured).
+/// are written once, not returned and copied (`docs/performance.md` §6).
 pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
     chart: &C,

@@ -44,7 +44,7 @@ const CHORD_REMAINDER: f64 = 1e-20;
 /// partial-pivoting LU left in `lu` (the row permutation already applied to `b`): forward
 /// and back substitution by columns. For one right-hand side of the sizes a step has
 /// (`3(n − 1)` ≤ ~70), faer's blocked triangular solves spend more in dispatch than in
-/// arithmetic: measured 0.55 → 0.35 µs at 27 unknowns, 0.79 → 0.48 µs at 33.
+/// arithmetic (`docs/performance.md` §6).
 pub(super) fn substitute(lu: &Mat<f64>, b: &mut [f64]) {
     let size = b.len();
     for k in 0..size {

@@ -31,9 +31,9 @@
 //!   `H_xζ = AᵀL_ηη + JᵀL_ξη + ½(C(p)A)ᵀ`, `H_vζ = AᵀL_ξη`, `H_ζζ = L_ηη`.
 //!
 //! Every derivative of the chart comes from small dual numbers in `x` alone (`D`
-//! variables), and the Lagrangian is differentiated once: measured 30–50× cheaper on SE(3)
-//! than one second-order dual number over all `3D` variables through `ℓ̃`, which the tests
-//! keep as the independent reference.
+//! variables), and the Lagrangian is differentiated once: far cheaper than one
+//! second-order dual number over all `3D` variables through `ℓ̃` (`docs/performance.md`
+//! §6), which the tests keep as the independent reference.
 
 use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction};
