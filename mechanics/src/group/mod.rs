@@ -518,16 +518,6 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
     fn coadjoint_to_start(&self, x: &SVector<f64, D>, p: &SVector<f64, D>) -> SVector<f64, D> {
         self.to_group(x).inverse().adjoint().transpose() * p
     }
-    /// `(Φ, A)` on rotations in Rodrigues form together
-    /// ([`So3Chart::rotation_and_left_differential_coefficients`]).
-    #[allow(clippy::type_complexity)]
-    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
-        &self,
-        s: T,
-    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
-        self.rotation_coefficients(s)
-            .zip(self.left_differential_coefficients(s))
-    }
     /// Calls `f` with the chart's derivatives at `x` ([`ChartDerivatives`]; with `second`,
     /// the second derivatives are asked for too). The default takes them by dual numbers
     /// in `x` alone ([`dual_number_derivatives`]); override it with a closed form.
@@ -597,11 +587,5 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
         s: T,
     ) -> Option<RodriguesCoefficients<T>> {
         self.rotation_left_differential_coefficients(s)
-    }
-    fn rotation_and_left_differential_coefficients<T: RealField + Copy>(
-        &self,
-        s: T,
-    ) -> Option<(RodriguesCoefficients<T>, RodriguesCoefficients<T>)> {
-        So3Chart::rotation_and_left_differential_coefficients(self, s)
     }
 }
