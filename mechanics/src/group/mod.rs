@@ -457,6 +457,14 @@ where
     f(&derivatives)
 }
 
+/// `Ad_{Φ⁻¹}ᵀ` at a chart point's group element `Φ`: takes a configuration force there to
+/// the step's start (the exact matching's transport, [`GroupChart::coadjoint_to_start`]).
+pub(crate) fn coadjoint_to_start<G: ConfigurationGroup<D>, const D: usize>(
+    phi: &G::Element<f64>,
+) -> SMatrix<f64, D, D> {
+    phi.inverse().adjoint().transpose()
+}
+
 /// A chart `Φ: ℝ^D → G` as the integrator uses it. Every [`So3Chart`] is one on both
 /// [`Rotations`] and [`RigidMotions`]; implement it directly for a group of your own.
 ///
@@ -516,7 +524,7 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
     /// SO(3)'s charts apply `Φ(x)` (which `Ad_{Φ⁻¹}ᵀ` is on SO(3)) to `p` from its Rodrigues
     /// coefficients.
     fn coadjoint_to_start(&self, x: &SVector<f64, D>, p: &SVector<f64, D>) -> SVector<f64, D> {
-        self.to_group(x).inverse().adjoint().transpose() * p
+        coadjoint_to_start::<G, D>(&self.to_group(x)) * p
     }
     /// Calls `f` with the chart's derivatives at `x` ([`ChartDerivatives`]; with `second`,
     /// the second derivatives are asked for too). The default takes them by dual numbers

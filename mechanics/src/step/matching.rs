@@ -28,13 +28,6 @@ use nalgebra::{SMatrix, SVector};
 #[cfg(test)]
 use num_dual::DualSVec64;
 
-/// `Ad_{Φ(x)⁻¹}ᵀ`: takes a configuration force at a Gauss point to the step's start.
-fn coadjoint_to_start<G: ConfigurationGroup<D>, const D: usize>(
-    phi: &G::Element<f64>,
-) -> SMatrix<f64, D, D> {
-    phi.inverse().adjoint().transpose()
-}
-
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
     /// The matching residual at the last points and the scale of its terms; records `w`
     /// and the transport (and, with `with_jacobian`, `∂q/∂x`, `∂q/∂v`) for the Jacobian.
@@ -58,7 +51,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 if !with_jacobian {
                     w += chart.coadjoint_to_start(x, &p) * d.weights[j];
                 } else {
-                    let to_start = coadjoint_to_start::<S::Group, D>(&chart.to_group(x));
+                    let to_start =
+                        crate::group::coadjoint_to_start::<S::Group, D>(&chart.to_group(x));
                     w += to_start * p * d.weights[j];
                     // ∂q/∂x = Ad_{Φ⁻¹}ᵀ (H_ζx − C(p) A(x)), ∂q/∂v = Ad_{Φ⁻¹}ᵀ H_ζv, with
                     // C(p) η = ad_ηᵀ p (on SO(3), p̂).
