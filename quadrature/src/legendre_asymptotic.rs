@@ -14,6 +14,7 @@
 //! Accuracy is pinned by the crate's tests against the 60-digit reference at `m = 100`
 //! and `500` and against the Golub–Welsch-and-Newton rules up to `m = 4000`.
 
+use crate::rules::{symmetric, Polished};
 use std::f64::consts::PI;
 
 /// `j_{0,k}`, `k = 1…20` (the digits as printed, rounded to doubles by the compiler).
@@ -163,20 +164,15 @@ pub(crate) const ASYMPTOTIC_FROM: usize = 100;
 /// The `m`-point Gauss–Legendre nodes (ascending, exactly symmetric, `0` exactly for odd
 /// `m`) and weights by the asymptotic expansions, in `O(m)`.
 pub(crate) fn gauss_legendre_asymptotic(m: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut nodes = vec![0.0; m];
-    let mut weights = vec![0.0; m];
-    for k in 1..=m.div_ceil(2) {
-        let (x, w) = upper_half(m, k);
-        let (left, right) = (k - 1, m - k);
-        nodes[right] = x;
-        nodes[left] = -x;
-        weights[right] = w;
-        weights[left] = w;
-    }
-    if m % 2 == 1 {
-        nodes[m / 2] = 0.0;
-    }
-    (nodes, weights)
+    symmetric(m, |i| {
+        // `i` counts from the largest node: the `(i + 1)`-th zero of `J₀`.
+        let (node, weight) = upper_half(m, i + 1);
+        Polished {
+            // The middle node of an odd rule is 0 exactly (P_m is odd).
+            node: if 2 * i + 1 == m { 0.0 } else { node },
+            weight,
+        }
+    })
 }
 
 #[cfg(test)]

@@ -50,7 +50,7 @@ pub(crate) fn gauss_legendre_node(m: usize, guess: f64) -> Polished {
 
 /// Fills a symmetric rule from the non-negative half of its nodes. `upper(i)` polishes the
 /// `i`-th node counted from the right end (`i = 0` is the largest).
-fn symmetric(m: usize, upper: impl Fn(usize) -> Polished) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn symmetric(m: usize, upper: impl Fn(usize) -> Polished) -> (Vec<f64>, Vec<f64>) {
     let mut nodes = vec![0.0; m];
     let mut weights = vec![0.0; m];
     for i in 0..m.div_ceil(2) {
