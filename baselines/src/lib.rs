@@ -13,12 +13,15 @@
 //!   (`(q, Ω, x, ẋ)`, MacCullagh's gravity, a body torque).
 //!
 //! The system is a rigid body with `ℓ = ½ΩᵀJΩ + m g e₃ᵀRρ` ([`Model`]; `m g = 0` is the
-//! free body), `Π = JΩ`, `J Ω̇ = (JΩ) × Ω + m g ρ × Rᵀe₃`.
+//! free body), `Π = JΩ`, `J Ω̇ = (JΩ) × Ω + m g ρ × Rᵀe₃`. [`so3_problem`] and
+//! [`space_problem`] build a model and its start from a named case of `lgsvi_cases`.
 
 use nalgebra::{Matrix3, Vector3};
 
+mod cases;
 mod dop;
 mod space;
+pub use cases::{so3_problem, space_problem};
 pub use dop::{dop853, Dop853State};
 pub use space::{dop853_in_space, SpaceModel, SpaceState};
 

@@ -3,7 +3,7 @@
 //! as a yardstick.
 
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Matrix3;
 
 struct Case {
     model: Model,
@@ -13,15 +13,7 @@ struct Case {
 
 fn case(name: &str) -> Case {
     let c = lgsvi_cases::case(name).unwrap();
-    let model = Model {
-        inertia: c.principal_moments().unwrap(),
-        mg: c.weight().unwrap_or(0.0),
-        rho: Vector3::z(),
-    };
-    let start = State {
-        attitude: c.attitude0,
-        momentum: Vector3::from(model.inertia).component_mul(&c.omega0),
-    };
+    let (model, start) = lgsvi_baselines::so3_problem(c).unwrap();
     Case {
         model,
         start,

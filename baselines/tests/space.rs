@@ -4,22 +4,10 @@
 //! per unit time at that tolerance is ~1e-12 relative on these bodies, times a
 //! sensitivity ≤ 30 by t = 10), and its error must fall with the tolerance.
 use lgsvi_baselines::{dop853_in_space, SpaceModel, SpaceState};
-use nalgebra::Vector3;
 
 fn case(name: &str) -> (SpaceModel, SpaceState, &'static lgsvi_cases::State) {
     let c = lgsvi_cases::case(name).unwrap();
-    let model = SpaceModel {
-        inertia: c.principal_moments().unwrap(),
-        mass: c.mass.unwrap_or(1.0),
-        mu: c.mu.unwrap_or(0.0),
-        torque: c.torque.unwrap_or_else(Vector3::zeros),
-    };
-    let start = SpaceState {
-        attitude: c.attitude0,
-        omega: c.omega0,
-        position: c.position0.unwrap_or_else(Vector3::zeros),
-        velocity: c.velocity0.unwrap_or_else(Vector3::zeros),
-    };
+    let (model, start) = lgsvi_baselines::space_problem(c).unwrap();
     (model, start, c.state_at(10.0).unwrap())
 }
 

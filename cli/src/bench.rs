@@ -78,33 +78,14 @@ struct Case {
 }
 
 fn cases() -> Vec<Case> {
-    let (a, b) = (
-        crate::problem::named_case("A"),
-        crate::problem::named_case("B"),
-    );
-    let moments = |c: &lgsvi_cases::Case| c.principal_moments().expect("a diagonal J");
-    let model_a = Model::free(moments(a));
-    let model_b = Model {
-        inertia: moments(b),
-        mg: b.weight().unwrap_or(0.0),
-        rho: Vector3::z(),
-    };
-    let start = |m: &Model, c: &lgsvi_cases::Case| State {
-        attitude: c.attitude0,
-        momentum: Vector3::from(m.inertia).component_mul(&c.omega0),
-    };
-    vec![
-        Case {
-            name: "A",
-            model: model_a,
-            start: start(&model_a, a),
-        },
-        Case {
-            name: "B",
-            model: model_b,
-            start: start(&model_b, b),
-        },
-    ]
+    ["A", "B"]
+        .into_iter()
+        .map(|name| {
+            let (model, start) = lgsvi_baselines::so3_problem(crate::problem::named_case(name))
+                .expect("A and B are SO(3) bodies with a diagonal J");
+            Case { name, model, start }
+        })
+        .collect()
 }
 
 /// One timed lgsvi run, on the concrete system type as a library user writes it: through

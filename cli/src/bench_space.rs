@@ -7,7 +7,7 @@
 
 use crate::error::{CliError, Result};
 use crate::work_precision::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
-use lgsvi_baselines::{dop853_in_space, SpaceModel, SpaceState};
+use lgsvi_baselines::{dop853_in_space, space_problem, SpaceModel, SpaceState};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     BodyTorque, Forced, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
@@ -47,19 +47,7 @@ struct Case {
 
 fn case(name: &'static str) -> Case {
     let c = crate::problem::named_case(name);
-    let orbit = c.kind == lgsvi_cases::Kind::Orbit;
-    let model = SpaceModel {
-        inertia: c.principal_moments().expect("O1 and F1 have a diagonal J"),
-        mass: if orbit { c.mass.unwrap_or(1.0) } else { 1.0 },
-        mu: c.mu.unwrap_or(0.0),
-        torque: c.torque.unwrap_or_else(Vector3::zeros),
-    };
-    let start = SpaceState {
-        attitude: c.attitude0,
-        omega: c.omega0,
-        position: c.position0.unwrap_or_else(Vector3::zeros),
-        velocity: c.velocity0.unwrap_or_else(Vector3::zeros),
-    };
+    let (model, start) = space_problem(c).expect("O1 and F1 are bodies in space with a diagonal J");
     let references = c
         .states
         .iter()
