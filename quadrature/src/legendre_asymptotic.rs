@@ -14,7 +14,7 @@
 //! Accuracy is pinned by the crate's tests against the 60-digit reference at `m = 100`
 //! and `500` and against the Golub–Welsch-and-Newton rules up to `m = 4000`.
 
-use crate::rules::{symmetric, Polished};
+use crate::symmetric::{symmetric, Polished};
 use std::f64::consts::PI;
 
 /// `j_{0,k}`, `k = 1…20` (the digits as printed, rounded to doubles by the compiler).

@@ -70,6 +70,7 @@ mod legendre;
 mod legendre_asymptotic;
 mod rule;
 mod rules;
+mod symmetric;
 
 pub use classical::{
     gauss_chebyshev_first, gauss_chebyshev_second, gauss_hermite, gauss_jacobi, gauss_laguerre,

@@ -14,13 +14,8 @@ use crate::golub_welsch::golub_welsch;
 use crate::legendre::{legendre, legendre_dd, newton_polish, one_minus_square};
 use crate::legendre_asymptotic::{gauss_legendre_asymptotic, ASYMPTOTIC_FROM};
 use crate::rule::{Rule, RuleKind};
+use crate::symmetric::{symmetric, Polished};
 use crate::QuadratureError;
-
-/// A polished node: the double nearest the root, and the weight at the true root.
-pub(crate) struct Polished {
-    pub(crate) node: f64,
-    pub(crate) weight: f64,
-}
 
 /// Given the node `x` after Newton, its sub-ulp offset `delta` to the true root, the weight
 /// formula's value `w` at `x` and its logarithmic derivative, the node and weight at the
@@ -46,22 +41,6 @@ pub(crate) fn gauss_legendre_node(m: usize, guess: f64) -> Polished {
     let w = 2.0 / (one_minus_x2 * dp * dp);
     let dlnw = 2.0 * x / one_minus_x2 - 2.0 * l.d2p / dp;
     at_true_root(x, delta, w, dlnw)
-}
-
-/// Fills a symmetric rule from the non-negative half of its nodes. `upper(i)` polishes the
-/// `i`-th node counted from the right end (`i = 0` is the largest).
-pub(crate) fn symmetric(m: usize, upper: impl Fn(usize) -> Polished) -> (Vec<f64>, Vec<f64>) {
-    let mut nodes = vec![0.0; m];
-    let mut weights = vec![0.0; m];
-    for i in 0..m.div_ceil(2) {
-        let p = upper(i);
-        let (left, right) = (i, m - 1 - i);
-        nodes[right] = p.node;
-        nodes[left] = -p.node;
-        weights[right] = p.weight;
-        weights[left] = p.weight;
-    }
-    (nodes, weights)
 }
 
 /// The `m`-point Gauss–Legendre rule on `[−1, 1]` (weight function 1): exact for
