@@ -4,12 +4,12 @@
 //! side by side in one process, repeated, medians.
 
 use crate::error::{CliError, Result};
-use crate::invariants::Tracker;
 use crate::plot::{self, Figure, Series, Style};
 use crate::problem::System;
 use crate::work_precision::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
 use clap::Args;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
+use lgsvi_experiments::Tracker;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
 use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
 use nalgebra::{Matrix3, Vector3};

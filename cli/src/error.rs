@@ -12,6 +12,9 @@ pub enum CliError {
     /// From the integrator, a system or a setting.
     #[error(transparent)]
     Mechanics(#[from] MechanicsError),
+    /// From a study of `lgsvi-experiments`.
+    #[error(transparent)]
+    Experiment(#[from] lgsvi_experiments::ExperimentError),
     /// From a baseline integrator (`bench`).
     #[error(transparent)]
     Baseline(#[from] BaselineError),
@@ -149,9 +152,6 @@ pub enum CliError {
         /// What failed.
         source: MechanicsError,
     },
-    /// The reference run has no Galerkin curve at a time.
-    #[error("reference has no curve at t = {0}")]
-    NoReferenceCurve(f64),
     /// A config file that cannot be read.
     #[error("cannot read config {}: {source}", path.display())]
     ReadConfig {

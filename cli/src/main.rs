@@ -9,7 +9,6 @@ mod bench_space;
 mod config;
 mod error;
 mod files;
-mod invariants;
 mod linearize;
 mod output;
 mod plot;
@@ -454,7 +453,7 @@ where
 
 /// The exact free-body solution at the times the integrator would record.
 fn exact_run(problem: &Problem) -> Result<Run> {
-    let body = problem.exact()?;
+    let body = lgsvi_experiments::Subject::exact(problem).ok_or(CliError::NoExactSolution)??;
     let h = problem.settings.step();
     let steps = problem
         .integrator(problem.settings)?

@@ -3,7 +3,7 @@
 
 use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
-use crate::invariants::Tracker;
+use lgsvi_experiments::{Subject, Tracker};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
@@ -856,18 +856,38 @@ impl Problem {
 
     /// An integrator for this problem with other settings (SO(3) systems).
     pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<Driven>> {
-        Ok(Integrator::new(
-            self.system,
-            settings,
-            self.attitude0,
-            self.omega0,
-        )?)
+        Ok(Subject::integrator(self, settings)?)
+    }
+
+    /// Whether the system is a free, unforced body (a heavy top without weight counts).
+    pub fn is_free(&self) -> bool {
+        self.system.is_left_invariant() && !self.system.is_forced()
+    }
+}
+
+/// The SO(3) problem as the studies of `lgsvi-experiments` run it.
+impl Subject for Problem {
+    type System = Driven;
+
+    fn system(&self) -> &Driven {
+        &self.system
+    }
+
+    fn settings(&self) -> StepSettings {
+        self.settings
+    }
+
+    fn integrator(
+        &self,
+        settings: StepSettings,
+    ) -> std::result::Result<Integrator<Driven>, MechanicsError> {
+        Integrator::new(self.system, settings, self.attitude0, self.omega0)
     }
 
     /// The invariant tracker from `state` (the run's start), with this system's symmetry:
     /// all of `Rμ` for a free body, the component along the heavy top's own gravity
     /// direction for the top.
-    pub fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
+    fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
         let axis = if self.is_free() {
             None
         } else {
@@ -884,20 +904,9 @@ impl Problem {
         )
     }
 
-    /// Whether the system is a free, unforced body (a heavy top without weight counts).
-    pub fn is_free(&self) -> bool {
-        self.system.is_left_invariant() && !self.system.is_forced()
-    }
-
     /// The exact solution, for a free body.
-    pub fn exact(&self) -> Result<FreeRigidBodyExact> {
-        if !self.is_free() {
-            return Err(CliError::NoExactSolution);
-        }
-        Ok(FreeRigidBodyExact::new(
-            self.inertia,
-            self.attitude0,
-            self.omega0,
-        )?)
+    fn exact(&self) -> Option<std::result::Result<FreeRigidBodyExact, MechanicsError>> {
+        self.is_free()
+            .then(|| FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0))
     }
 }

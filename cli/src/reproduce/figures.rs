@@ -299,7 +299,7 @@ pub(super) fn unstable_energy_csv(data: &UnstableRuns) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::study::Measurement;
+    use lgsvi_experiments::convergence::Measurement;
 
     fn measurement(nodes: usize, h: f64, error: f64) -> Measurement {
         Measurement {

@@ -4,7 +4,9 @@
 use crate::config::{ChartArg, MatchingArg, SimulateOptions, SystemKind};
 use crate::error::Result;
 use crate::problem::Problem;
-use crate::study::{self, Measurement, Reference};
+use lgsvi_experiments::convergence::{self, Measurement, Reference};
+use lgsvi_experiments::fit;
+use lgsvi_experiments::Subject;
 use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::{Matching, StepSettings};
 use nalgebra::Vector3;
@@ -187,14 +189,14 @@ pub(super) struct NRefinement {
 pub(super) fn n_refinement(base: &Problem, name: &str, quiet: bool) -> Result<NRefinement> {
     let nodes: Vec<usize> = (2..=20).collect();
     let t_end = 10.0;
-    let reference = Reference::for_problem(base, t_end)?;
+    let reference = Reference::for_subject(base, t_end)?;
     let progress = bar(quiet, (N_CONFIGS.len() * nodes.len()) as u64, name);
     let mut rows: Vec<Measurement> = Vec::new();
     let mut fits = Vec::new();
     for &(chart, matching) in &N_CONFIGS {
         let mut ms = Vec::new();
         for &n in &nodes {
-            ms.push(study::measure(
+            ms.push(convergence::measure(
                 base,
                 settings(chart, matching, 0.5, n)?,
                 t_end,
@@ -204,8 +206,8 @@ pub(super) fn n_refinement(base: &Problem, name: &str, quiet: bool) -> Result<NR
             progress.inc(1);
         }
         let factor =
-            study::geometric_factor(&ms.iter().map(|m| (m.nodes, m.error_r)).collect::<Vec<_>>());
-        let curve_factor = study::geometric_factor(
+            fit::geometric_factor(&ms.iter().map(|m| (m.nodes, m.error_r)).collect::<Vec<_>>());
+        let curve_factor = fit::geometric_factor(
             &ms.iter()
                 .map(|m| (m.nodes, m.error_curve))
                 .collect::<Vec<_>>(),
@@ -250,7 +252,7 @@ pub(super) fn h_refinement(base: &Problem, name: &str, quiet: bool) -> Result<HR
     let nodes = vec![2usize, 3, 4, 5, 6];
     let steps = vec![1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125];
     let t_end = 10.0;
-    let reference = Reference::for_problem(base, t_end)?;
+    let reference = Reference::for_subject(base, t_end)?;
     let progress = bar(quiet, (nodes.len() * steps.len() * 2) as u64, name);
     let mut rows = Vec::new();
     let mut orders = Vec::new();
@@ -258,7 +260,7 @@ pub(super) fn h_refinement(base: &Problem, name: &str, quiet: bool) -> Result<HR
         for &matching in &H_MATCHINGS {
             let mut ms = Vec::new();
             for &h in &steps {
-                ms.push(study::measure(
+                ms.push(convergence::measure(
                     base,
                     settings(ChartKind::CayleyUnscaled, matching, h, n)?,
                     t_end,
@@ -268,7 +270,7 @@ pub(super) fn h_refinement(base: &Problem, name: &str, quiet: bool) -> Result<HR
                 progress.inc(1);
             }
             let order =
-                study::algebraic_order(&ms.iter().map(|m| (m.h, m.error_r)).collect::<Vec<_>>());
+                fit::algebraic_order(&ms.iter().map(|m| (m.h, m.error_r)).collect::<Vec<_>>());
             orders.push((n, matching, order));
             rows.extend(ms);
         }

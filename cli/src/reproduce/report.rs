@@ -5,7 +5,6 @@ use super::measure::{
     chart_name, halves_ratio, matching_name, max, EnergyRuns, HRefinement, LongRun, NRefinement,
     NodeFit, SphereRuns, UnstableRuns, N_CONFIGS,
 };
-use crate::study;
 use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::Matching;
 use std::fmt::Write;
@@ -77,7 +76,7 @@ pub(super) fn h_refinement(data: &HRefinement) -> String {
             .collect();
         let _ = writeln!(report, "| {h} | {} |", cells.join(" | "));
     }
-    let _ = writeln!(report, "\nFitted orders: the slope of log error against log h between the two smallest steps whose errors are asymptotic (below {} and above the rounding floor). Superconvergence at the nodes predicts 2(n − 1):\n", study::FIT_CEILING);
+    let _ = writeln!(report, "\nFitted orders: the slope of log error against log h between the two smallest steps whose errors are asymptotic (below {} and above the rounding floor). Superconvergence at the nodes predicts 2(n − 1):\n", lgsvi_experiments::fit::FIT_CEILING);
     let _ = writeln!(
         report,
         "| n | predicted 2(n−1) | exact matching | paper matching |"

@@ -1,6 +1,6 @@
-//! The one invariant tracker of the command line: how far a state's energy, Casimir
-//! `|μ|²` and spatial momentum `Rμ` have moved from the initial state's. Every study,
-//! figure and benchmark measures conservation through it.
+//! How far a state's energy, Casimir `|μ|²` and spatial momentum `Rμ` have moved from the
+//! initial state's: every study, figure and benchmark measures conservation through
+//! [`Tracker`].
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -10,10 +10,20 @@ pub struct Tracker {
     energy: f64,
     casimir: f64,
     spatial_momentum: Vector3<f64>,
-    /// The conserved part of `Rμ`: all of it for a free (left-invariant) body (`None`);
-    /// for the heavy top only its component along the system's own gravity direction
-    /// `d` (a unit vector), `d·Rμ` (and not `|μ|²`).
-    axis: Option<Vector3<f64>>,
+    symmetry: Symmetry,
+}
+
+/// Which part of the spatial angular momentum `Rμ` a system conserves (Noether's theorem
+/// for its symmetry group).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Symmetry {
+    /// All of `Rμ`: a free, left-invariant body.
+    Full,
+    /// Its component `d·Rμ` along a spatial direction `d` (a heavy top's gravity
+    /// direction; normalised by [`Tracker::with_symmetry`]).
+    Axis(Vector3<f64>),
+    /// None of it (a potential without symmetry, a torque): the drift is not measured.
+    None,
 }
 
 /// Relative drifts from the initial state.
@@ -24,7 +34,7 @@ pub struct Drift {
     /// `||μ|² − |μ₀|²|/|μ₀|²`.
     pub casimir: f64,
     /// `|Rμ − R₀μ₀|/|R₀μ₀|` for a free body, `|d·(Rμ − R₀μ₀)|/|R₀μ₀|` along the
-    /// conserved axis `d` otherwise.
+    /// conserved axis `d`, NaN for a system without this symmetry ([`Symmetry::None`]).
     pub spatial_momentum: f64,
 }
 
@@ -42,11 +52,28 @@ impl Tracker {
         momentum: &Vector3<f64>,
         axis: Option<Vector3<f64>>,
     ) -> Self {
+        let symmetry = match axis {
+            None => Symmetry::Full,
+            Some(d) => Symmetry::Axis(d),
+        };
+        Self::with_symmetry(energy, attitude, momentum, symmetry)
+    }
+
+    /// From the initial energy, attitude and body momentum, and the system's symmetry.
+    pub fn with_symmetry(
+        energy: f64,
+        attitude: &Matrix3<f64>,
+        momentum: &Vector3<f64>,
+        symmetry: Symmetry,
+    ) -> Self {
         Self {
             energy,
             casimir: momentum.norm_squared(),
             spatial_momentum: attitude * momentum,
-            axis: axis.map(|d| d.normalize()),
+            symmetry: match symmetry {
+                Symmetry::Axis(d) => Symmetry::Axis(d.normalize()),
+                other => other,
+            },
         }
     }
 
@@ -56,9 +83,10 @@ impl Tracker {
         Drift {
             energy: (energy - self.energy).abs() / nonzero(self.energy.abs()),
             casimir: (momentum.norm_squared() - self.casimir).abs() / nonzero(self.casimir),
-            spatial_momentum: match self.axis {
-                None => d.norm(),
-                Some(axis) => axis.dot(&d).abs(),
+            spatial_momentum: match self.symmetry {
+                Symmetry::Full => d.norm(),
+                Symmetry::Axis(axis) => axis.dot(&d).abs(),
+                Symmetry::None => f64::NAN,
             } / nonzero(self.spatial_momentum.norm()),
         }
     }
@@ -113,5 +141,10 @@ mod tests {
         // A body at rest: no division by zero.
         let rest = Tracker::new(0.0, &r, &Vector3::zeros(), None);
         assert!(rest.drift(0.0, &r, &Vector3::zeros()).energy == 0.0);
+        // No symmetry: the momentum drift is not a number, energy and Casimir still are.
+        let none = Tracker::with_symmetry(2.0, &r, &mu, Symmetry::None);
+        let d = none.drift(3.0, &r, &mu);
+        assert!(d.spatial_momentum.is_nan());
+        assert_eq!((d.energy, d.casimir), (0.5, 0.0));
     }
 }

@@ -1,0 +1,23 @@
+//! What can go wrong in an experiment.
+
+use lgsvi_mechanics::MechanicsError;
+
+/// An experiment's failure: a run that could not be built or did not finish, or a reference
+/// asked outside what it covers.
+#[derive(Debug, thiserror::Error)]
+pub enum ExperimentError {
+    /// From the integrator, a system or a setting (its message says what to change).
+    #[error(transparent)]
+    Mechanics(#[from] MechanicsError),
+    /// A failure inside a named run (the reference run, for example).
+    #[error("{context}: {source}")]
+    Run {
+        /// Which run.
+        context: String,
+        /// What failed.
+        source: MechanicsError,
+    },
+    /// The reference run has no Galerkin curve at this time (it ended before it).
+    #[error("reference has no curve at t = {0}")]
+    NoReferenceCurve(f64),
+}
