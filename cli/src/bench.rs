@@ -6,9 +6,10 @@
 use crate::error::{CliError, Result};
 use crate::plot::{self, Figure, Series, Style};
 use crate::problem::System;
-use crate::work_precision::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
+use crate::work_precision::{beyond_cell, ratio_cell};
 use clap::Args;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
+use lgsvi_experiments::work_precision::{fastest, median_time, most_accurate, Point};
 use lgsvi_experiments::Tracker;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
 use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
@@ -247,8 +248,8 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
     };
     let pool = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build();
     let threads = rayon::current_num_threads();
-    let (failures, one_thread_s) = pool(1)?.install(|| timed(repeats, run_all));
-    let (_, parallel_s) = pool(threads)?.install(|| timed(repeats, run_all));
+    let (failures, one_thread_s) = pool(1)?.install(|| median_time(repeats, run_all));
+    let (_, parallel_s) = pool(threads)?.install(|| median_time(repeats, run_all));
     // The same initial conditions by DOP853, one trajectory per task on the same pool.
     let peers: Vec<(Model, Vec<State>)> = cases()
         .into_iter()
@@ -286,7 +287,8 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
             })
             .sum::<usize>()
     };
-    let (peer_failures, dop853_parallel_s) = pool(threads)?.install(|| timed(repeats, run_peers));
+    let (peer_failures, dop853_parallel_s) =
+        pool(threads)?.install(|| median_time(repeats, run_peers));
     let trajectories = (2 * members) as f64;
     Ok(EnsembleResult {
         members,
@@ -328,21 +330,21 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                 };
             for (h, nodes) in LGSVI_SWEEPS {
                 for n in nodes {
-                    let (r, t) = timed(repeats, || lgsvi_run(&case, t_end, h, n));
+                    let (r, t) = median_time(repeats, || lgsvi_run(&case, t_end, h, n));
                     push(&format!("lgsvi (exp, h = {h})"), format!("n = {n}"), r, t);
                     tick();
                 }
             }
             for k in TOLERANCES {
                 let tol = 10f64.powi(-k);
-                let (r, t) = timed(repeats, || lgsvi_tolerance_run(&case, t_end, tol));
+                let (r, t) = median_time(repeats, || lgsvi_tolerance_run(&case, t_end, tol));
                 push("lgsvi --tol", format!("tol = 1e-{k}"), r, t);
                 tick();
             }
             for kind in [Dop853State::Quaternion, Dop853State::Matrix] {
                 for k in 3..=14 {
                     let tol = 10f64.powi(-k);
-                    let (r, t) = timed(repeats, || {
+                    let (r, t) = median_time(repeats, || {
                         dop853(&case.model, &case.start, t_end, tol, kind)
                             .map(|(s, _)| s.attitude)
                             .map_err(CliError::from)
@@ -359,7 +361,7 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                 for per_ten in fixed_steps(first, octaves, per_octave) {
                     let steps = per_ten * (t_end / 10.0) as usize;
                     let h = t_end / steps as f64;
-                    let (r, t) = timed(repeats, || {
+                    let (r, t) = median_time(repeats, || {
                         let mut s = case.start;
                         method
                             .run(&case.model, &mut s, h, steps)

@@ -6,8 +6,9 @@
 //! target. Errors: O1 `max(‖R − R_ref‖_F, ‖x − x_ref‖)`, F1 `‖R − R_ref‖_F`, at `T`.
 
 use crate::error::{CliError, Result};
-use crate::work_precision::{beyond_cell, fastest, most_accurate, ratio_cell, timed, Point};
+use crate::work_precision::{beyond_cell, ratio_cell};
 use lgsvi_baselines::{dop853_in_space, space_problem, SpaceModel, SpaceState};
+use lgsvi_experiments::work_precision::{fastest, median_time, most_accurate, Point};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     BodyTorque, Forced, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
@@ -98,14 +99,14 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
             };
             for (h, nodes) in SWEEPS {
                 for n in nodes {
-                    let (r, t) = timed(repeats, || lgsvi_run(&case, t_end, h, n));
+                    let (r, t) = median_time(repeats, || lgsvi_run(&case, t_end, h, n));
                     push(&format!("lgsvi (exp, h = {h})"), format!("n = {n}"), r, t);
                     tick();
                 }
             }
             for k in TOLERANCES {
                 let tol = 10f64.powi(-k);
-                let (r, t) = timed(repeats, || {
+                let (r, t) = median_time(repeats, || {
                     dop853_in_space(&case.model, &case.start, t_end, tol)
                         .map(|(s, _)| (s.attitude, s.position))
                         .map_err(CliError::from)

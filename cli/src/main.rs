@@ -176,7 +176,7 @@ fn integrate(problem: &Problem) -> Result<Run> {
         // SE(3): the rotational part as the SO(3) columns, the translation beside them.
         Some(motion) => integrate_with(
             problem,
-            |settings| motion.integrator(settings),
+            |settings| Ok(motion.integrator(settings)?),
             |s| {
                 let entry = MotionRecord {
                     position: s.position(),

@@ -288,18 +288,16 @@ impl Motion {
     pub fn integrator(
         &self,
         settings: StepSettings,
-    ) -> Result<Integrator<Forced<MotionSystem, Drive>, lgsvi_mechanics::lie::ChartKind, 6>> {
+    ) -> std::result::Result<
+        Integrator<Forced<MotionSystem, Drive>, lgsvi_mechanics::lie::ChartKind, 6>,
+        MechanicsError,
+    > {
         let chart = settings.chart();
         debug_assert_eq!(
             GroupChart::<RigidMotions, 6>::name(&chart),
             chart.to_string()
         );
-        Ok(Integrator::new(
-            self.system,
-            settings,
-            self.start,
-            self.velocity0,
-        )?)
+        Integrator::new(self.system, settings, self.start, self.velocity0)
     }
 }
 

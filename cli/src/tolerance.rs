@@ -14,257 +14,14 @@
 use crate::error::{CliError, Result};
 use crate::plot::{Figure, Series, Style};
 use crate::problem::Problem;
-use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
-use lgsvi_mechanics::{ElementOf, GroupChart, GroupLagrangian, Integrator, State, StepSettings};
-use serde::Serialize;
+use lgsvi_experiments::tolerance::{
+    calibration, local_errors, tolerance_runs, LocalError, ToleranceRun, ToleranceStudy,
+    LOCAL_FLOOR, TRUTH_EXTRA_NODES,
+};
+use lgsvi_experiments::Subject;
+use lgsvi_mechanics::lie::ChartKind;
+use lgsvi_mechanics::StepSettings;
 use std::fmt::Write;
-use std::time::Instant;
-
-/// The truth of a step: the same step with this many more nodes (at `h ≤ 1.25` on the
-/// reference cases, 14 more nodes than 5…12 put the step's error below 1e-15).
-pub const TRUTH_EXTRA_NODES: usize = 14;
-
-/// Local errors at or below this are rounding and are left out of the calibration.
-pub const LOCAL_FLOOR: f64 = 1e-14;
-
-/// The reference of the tolerance study: `h ≈ 0.25` dividing the horizon, this many nodes.
-pub const REFERENCE_NODES: usize = 24;
-
-/// Timing repetitions of every run of the tolerance study (the fastest is kept).
-pub const REPEATS: usize = 5;
-
-/// What a study compares: the entries of `R`, `Ω` (and `x`, `ẋ` on SE(3)).
-trait Observe {
-    fn observe(&self) -> Vec<f64>;
-}
-
-/// `R`'s entries, row by row.
-fn rows(r: &SO3) -> Vec<f64> {
-    r.matrix().transpose().iter().copied().collect()
-}
-
-impl Observe for State<SO3, 3> {
-    fn observe(&self) -> Vec<f64> {
-        let mut v = rows(self.attitude());
-        v.extend(self.velocity.iter());
-        v
-    }
-}
-
-impl Observe for State<SE3, 6> {
-    fn observe(&self) -> Vec<f64> {
-        let mut v = rows(self.attitude());
-        v.extend(self.angular_velocity().iter());
-        v.extend(self.position().iter());
-        v.extend(self.linear_velocity().iter());
-        v
-    }
-}
-
-fn distance(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-/// One step of the estimate study.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct LocalError {
-    pub h: f64,
-    pub nodes: usize,
-    pub step: usize,
-    pub estimate: f64,
-    pub truth: f64,
-}
-
-/// One tolerance of the tolerance study.
-#[derive(Debug, Clone, Serialize)]
-pub struct ToleranceRun {
-    pub tol: f64,
-    pub h: f64,
-    /// The error at the horizon against the reference.
-    pub error: f64,
-    /// The run's own estimate of it (the sum of its local estimates).
-    pub estimated_error: f64,
-    pub wall_time_s: f64,
-    /// `(n, steps with n nodes)`.
-    pub nodes: Vec<(usize, usize)>,
-    pub rejected_steps: usize,
-    /// The fastest fixed `(h, n)` of the grid with an error at most `error`:
-    /// `(h, n, error, time)`.
-    pub best_fixed: Option<(f64, usize, f64, f64)>,
-    pub failure: Option<String>,
-}
-
-/// A fixed `(h, n)` run of the tolerance study's grid.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct FixedRun {
-    pub h: f64,
-    pub nodes: usize,
-    pub error: f64,
-    pub wall_time_s: f64,
-}
-
-/// The local errors of every step of runs with `steps × nodes` to `t_end`.
-fn local_errors<S, C, const D: usize>(
-    make: &dyn Fn(StepSettings) -> Result<Integrator<S, C, D>>,
-    steps: &[f64],
-    nodes: &[usize],
-    t_end: f64,
-    tick: &mut dyn FnMut(),
-) -> Result<Vec<LocalError>>
-where
-    S: GroupLagrangian<D>,
-    C: GroupChart<S::Group, D>,
-    State<ElementOf<S, D>, D>: Observe,
-{
-    let mut out = Vec::new();
-    for &h in steps {
-        for &n in nodes {
-            tick();
-            let run = || -> Result<Vec<LocalError>> {
-                let mut integrator = make(StepSettings::new(h, n)?)?;
-                let mut truth = make(StepSettings::new(h, n + TRUTH_EXTRA_NODES)?)?;
-                let count = integrator.steps_until(t_end)?;
-                let mut rows = Vec::with_capacity(count);
-                for step in 0..count {
-                    let s = *integrator.state();
-                    truth.reset(s.time, s.configuration, s.velocity)?;
-                    truth.step()?;
-                    integrator.step()?;
-                    rows.push(LocalError {
-                        h,
-                        nodes: n,
-                        step,
-                        estimate: integrator.error_estimate(),
-                        truth: distance(&integrator.state().observe(), &truth.state().observe()),
-                    });
-                }
-                Ok(rows)
-            };
-            // A setting the chart cannot follow (a long Cayley step) has no steps to show.
-            if let Ok(rows) = run() {
-                out.extend(rows);
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// Runs `settings` to `t_end` [`REPEATS`] times: the final state, the fastest time, and
-/// the integrator's accounts of the last run.
-fn timed<S, C, const D: usize>(
-    make: &dyn Fn(StepSettings) -> Result<Integrator<S, C, D>>,
-    settings: StepSettings,
-    t_end: f64,
-) -> Result<(Vec<f64>, f64, Integrator<S, C, D>)>
-where
-    S: GroupLagrangian<D>,
-    C: GroupChart<S::Group, D>,
-    State<ElementOf<S, D>, D>: Observe,
-{
-    let mut best = f64::INFINITY;
-    let mut last = None;
-    for _ in 0..REPEATS {
-        let mut integrator = make(settings)?;
-        let steps = integrator.steps_until(t_end)?;
-        let start = Instant::now();
-        for _ in 0..steps {
-            integrator.step()?;
-        }
-        best = best.min(start.elapsed().as_secs_f64());
-        last = Some(integrator);
-    }
-    let integrator = last.expect("REPEATS > 0");
-    Ok((integrator.state().observe(), best, integrator))
-}
-
-/// The tolerance study: `--tol` runs (settings from `adaptive(tol)`), the fixed grid, and
-/// the reference they are measured against, in the chart `make` uses (named `chart`).
-#[allow(clippy::too_many_arguments)]
-fn tolerance_runs<S, C, const D: usize>(
-    make: &dyn Fn(StepSettings) -> Result<Integrator<S, C, D>>,
-    chart: ChartKind,
-    adaptive: &dyn Fn(f64) -> Result<StepSettings>,
-    tols: &[f64],
-    steps: &[f64],
-    nodes: &[usize],
-    t_end: f64,
-    tick: &mut dyn FnMut(),
-) -> Result<(String, Vec<ToleranceRun>, Vec<FixedRun>)>
-where
-    S: GroupLagrangian<D>,
-    C: GroupChart<S::Group, D>,
-    State<ElementOf<S, D>, D>: Observe,
-{
-    let reference_step = t_end / (t_end / 0.25).ceil().max(1.0);
-    let reference = |n: usize| -> Result<Vec<f64>> {
-        let mut integrator = make(StepSettings::new(reference_step, n)?)?;
-        let steps = integrator.steps_until(t_end)?;
-        integrator
-            .run(steps, steps.max(1))
-            .map_err(|source| CliError::Run {
-                context: "reference run".into(),
-                source,
-            })?;
-        Ok(integrator.state().observe())
-    };
-    let truth = reference(REFERENCE_NODES)?;
-    let check = distance(&truth, &reference(REFERENCE_NODES + 4)?);
-    let describe = format!(
-        "a run with h = {reference_step}, n = {REFERENCE_NODES} ({chart} chart, exact matching; \
-         differs from n = {} by {check:.1e} at T = {t_end})",
-        REFERENCE_NODES + 4
-    );
-    let mut fixed = Vec::new();
-    for &h in steps {
-        for &n in nodes {
-            tick();
-            if let Ok((end, time, _)) = timed(make, StepSettings::new(h, n)?, t_end) {
-                fixed.push(FixedRun {
-                    h,
-                    nodes: n,
-                    error: distance(&end, &truth),
-                    wall_time_s: time,
-                });
-            }
-        }
-    }
-    let mut runs = Vec::new();
-    for &tol in tols {
-        tick();
-        let settings = adaptive(tol)?;
-        let mut run = ToleranceRun {
-            tol,
-            h: settings.step(),
-            error: f64::NAN,
-            estimated_error: f64::NAN,
-            wall_time_s: f64::NAN,
-            nodes: Vec::new(),
-            rejected_steps: 0,
-            best_fixed: None,
-            failure: None,
-        };
-        match timed(make, settings, t_end) {
-            Ok((end, time, integrator)) => {
-                run.error = distance(&end, &truth);
-                run.estimated_error = integrator.estimated_global_error();
-                run.wall_time_s = time;
-                run.nodes = integrator.nodes_used().collect();
-                run.rejected_steps = integrator.statistics().rejected_steps;
-                run.best_fixed = fixed
-                    .iter()
-                    .filter(|f| f.error <= run.error.max(check))
-                    .min_by(|a, b| a.wall_time_s.total_cmp(&b.wall_time_s))
-                    .map(|f| (f.h, f.nodes, f.error, f.wall_time_s));
-            }
-            Err(e) => run.failure = Some(e.to_string()),
-        }
-        runs.push(run);
-    }
-    Ok((describe, runs, fixed))
-}
 
 /// The estimate study of `problem`.
 pub fn estimate_study(
@@ -275,63 +32,39 @@ pub fn estimate_study(
 ) -> Result<Vec<LocalError>> {
     let chart = problem.settings.chart();
     let t_end = problem.t_end;
-    match &problem.motion {
+    Ok(match &problem.motion {
         Some(motion) => {
             let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
             local_errors::<_, ChartKind, 6>(&make, steps, nodes, t_end, tick)
         }
         None => {
-            let make = |s: StepSettings| problem.integrator(s.with_chart(chart));
+            let make = |s: StepSettings| Subject::integrator(problem, s.with_chart(chart));
             local_errors::<_, ChartKind, 3>(&make, steps, nodes, t_end, tick)
         }
-    }
+    }?)
 }
 
-/// The tolerance study of `problem`; `adaptive(tol)` gives a `--tol` run's settings.
+/// The tolerance study of `problem`; `settings` holds each `--tol` run's tolerance and
+/// settings.
 pub fn tolerance_study(
     problem: &Problem,
-    adaptive: &dyn Fn(f64) -> Result<StepSettings>,
-    tols: &[f64],
+    settings: &[(f64, StepSettings)],
     steps: &[f64],
     nodes: &[usize],
     tick: &mut dyn FnMut(),
-) -> Result<(String, Vec<ToleranceRun>, Vec<FixedRun>)> {
+) -> Result<ToleranceStudy> {
     let chart = problem.settings.chart();
     let t_end = problem.t_end;
-    match &problem.motion {
+    Ok(match &problem.motion {
         Some(motion) => {
             let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
-            tolerance_runs::<_, ChartKind, 6>(
-                &make, chart, adaptive, tols, steps, nodes, t_end, tick,
-            )
+            tolerance_runs::<_, ChartKind, 6>(&make, chart, settings, steps, nodes, t_end, tick)
         }
         None => {
-            let make = |s: StepSettings| problem.integrator(s.with_chart(chart));
-            tolerance_runs::<_, ChartKind, 3>(
-                &make, chart, adaptive, tols, steps, nodes, t_end, tick,
-            )
+            let make = |s: StepSettings| Subject::integrator(problem, s.with_chart(chart));
+            tolerance_runs::<_, ChartKind, 3>(&make, chart, settings, steps, nodes, t_end, tick)
         }
-    }
-}
-
-/// `log10(estimate / truth)` over the steps above [`LOCAL_FLOOR`]: mean, standard
-/// deviation, least, largest, and the share of steps within a factor 30 either way.
-pub fn calibration(rows: &[LocalError]) -> Option<(f64, f64, f64, f64, f64, usize)> {
-    let logs: Vec<f64> = rows
-        .iter()
-        .filter(|r| r.truth > LOCAL_FLOOR && r.estimate > 0.0)
-        .map(|r| (r.estimate / r.truth).log10())
-        .collect();
-    if logs.is_empty() {
-        return None;
-    }
-    let count = logs.len() as f64;
-    let mean = logs.iter().sum::<f64>() / count;
-    let sd = (logs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / count).sqrt();
-    let lo = logs.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let within = logs.iter().filter(|x| x.abs() <= 30f64.log10()).count() as f64 / count;
-    Some((mean, sd, lo, hi, within, logs.len()))
+    }?)
 }
 
 /// The estimate study as a table: per `(h, n)`, then over all steps.
@@ -550,13 +283,19 @@ pub fn run(options: crate::config::ConvergeOptions, estimate: bool) -> Result<()
         });
         (estimate_table(&rows), json, figure)
     } else {
-        let adaptive = |tol: f64| -> Result<StepSettings> {
-            let mut o = base.clone();
-            o.tol = Some(tol);
-            crate::problem::step_settings(&o, t_end, problem.rate)
-        };
-        let (describe, runs, fixed) =
-            tolerance_study(&problem, &adaptive, &tols, &steps, &nodes, &mut tick)?;
+        let settings = tols
+            .iter()
+            .map(|&tol| {
+                let mut o = base.clone();
+                o.tol = Some(tol);
+                Ok((tol, crate::problem::step_settings(&o, t_end, problem.rate)?))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let ToleranceStudy {
+            reference: describe,
+            runs,
+            fixed,
+        } = tolerance_study(&problem, &settings, &steps, &nodes, &mut tick)?;
         let figure = tolerance_figure(&format!("{system}: --tol runs at T = {t_end}"), &runs);
         let json = serde_json::json!({
             "description": problem.description,

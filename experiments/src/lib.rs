@@ -1,7 +1,7 @@
 //! Numerical experiments on Lie group spectral variational integrators, as a library.
 //!
 //! The studies the `lgsvi` command line runs (`lgsvi converge`, the paper's figures in
-//! `lgsvi reproduce`) are functions here that return data — no files, no strings to
+//! `lgsvi reproduce`, the comparisons of `lgsvi bench`) are functions here that return data — no files, no strings to
 //! parse — so that a library user runs them on their own systems:
 //!
 //! - [`convergence`]: n-refinement (nodes at a fixed step) and h-refinement (steps at a
@@ -11,6 +11,11 @@
 //! - [`fit`]: the geometric factor of an n-refinement series and the algebraic order of
 //!   an h-refinement series, fitted on the asymptotic points only (above the rounding
 //!   floor, below saturation);
+//! - [`tolerance`]: the calibration of the steps' error estimates against their true local
+//!   errors, and tolerance-driven runs beside the fastest fixed `(h, n)` as accurate, for
+//!   any group;
+//! - [`work_precision`]: work-precision points, the fastest run at an error target, the most
+//!   accurate run, and the median timing they share;
 //! - [`conserved`]: how far energy, the Casimir `|μ|²` and the spatial momentum `Rμ` (or
 //!   its conserved component) have moved from their initial values.
 //!
@@ -57,6 +62,8 @@ pub mod convergence;
 mod error;
 pub mod fit;
 mod subject;
+pub mod tolerance;
+pub mod work_precision;
 
 pub use conserved::{Drift, Symmetry, Tracker};
 pub use error::ExperimentError;
