@@ -856,11 +856,6 @@ impl Problem {
     pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<Driven>> {
         Ok(Subject::integrator(self, settings)?)
     }
-
-    /// Whether the system is a free, unforced body (a heavy top without weight counts).
-    pub fn is_free(&self) -> bool {
-        self.system.is_left_invariant() && !self.system.is_forced()
-    }
 }
 
 /// The SO(3) problem as the studies of `lgsvi-experiments` run it.

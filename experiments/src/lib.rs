@@ -16,6 +16,8 @@
 //!   any group;
 //! - [`work_precision`]: work-precision points, the fastest run at an error target, the most
 //!   accurate run, and the median timing they share;
+//! - [`paper`]: the measurements behind the figures of Hall and Leok's paper (n- and
+//!   h-refinement, long runs, momenta on the sphere, the unstable pendulum), as data;
 //! - [`conserved`]: how far energy, the Casimir `|μ|²` and the spatial momentum `Rμ` (or
 //!   its conserved component) have moved from their initial values.
 //!
@@ -61,6 +63,7 @@ pub mod conserved;
 pub mod convergence;
 mod error;
 pub mod fit;
+pub mod paper;
 mod subject;
 pub mod tolerance;
 pub mod work_precision;

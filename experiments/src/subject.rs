@@ -30,6 +30,12 @@ pub trait Subject {
     /// The conservation tracker from the run's initial `state`, with the system's symmetry.
     fn tracker(&self, state: &State) -> Tracker;
 
+    /// Whether the system is free and unforced (left invariant, no force): it then
+    /// conserves `|μ|²` and all of `Rμ`.
+    fn is_free(&self) -> bool {
+        self.system().is_left_invariant() && !self.system().is_forced()
+    }
+
     /// The closed-form solution, where one is known (a free rigid body); `None` otherwise,
     /// and then a study measures against a high-accuracy run.
     fn exact(&self) -> Option<Result<FreeRigidBodyExact, MechanicsError>>;

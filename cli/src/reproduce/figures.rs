@@ -1,12 +1,12 @@
 //! What `reproduce` draws: each figure, and the CSV of its data, from the measurements
 //! (`measure`). Nothing here runs an integrator or writes a file.
 
-use super::measure::{
+use crate::plot::{Figure, Series, SphereFigure, Style};
+use crate::study;
+use lgsvi_experiments::paper::{
     chart_name, matching_name, EnergyRuns, HRefinement, LongRun, NRefinement, SphereRuns,
     UnstableRuns, H_MATCHINGS, N_CONFIGS,
 };
-use crate::plot::{Figure, Series, SphereFigure, Style};
-use crate::study;
 use lgsvi_mechanics::Matching;
 use std::fmt::Write;
 

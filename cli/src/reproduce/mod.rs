@@ -17,6 +17,9 @@ use crate::error::{CliError, Result};
 use crate::plot::{self, Figure, SphereFigure};
 use crate::problem::Problem;
 use clap::Args;
+use lgsvi_experiments::paper;
+use measure::Bars;
+use nalgebra::Vector3;
 use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -163,7 +166,15 @@ fn run_into(options: ReproduceOptions) -> Result<Output> {
     )?;
 
     let name = "fig4_rigid_body_momentum_sphere";
-    let data = measure::sphere_runs(&rigid, quiet)?;
+    let data = paper::sphere_runs(
+        |mu| {
+            let j = rigid.inertia.principal_moments();
+            let mut p = rigid.clone();
+            p.omega0 = Vector3::new(mu.x / j[0], mu.y / j[1], mu.z / j[2]);
+            p
+        },
+        &mut Bars::new(quiet),
+    )?;
     out.sphere(name, &figures::sphere(&data), &figures::sphere_csv(&data))?;
     let _ = writeln!(text, "## Figure 4 — rigid body, body momentum on the sphere |y| = 1 (n = 8, h = 0.5)\n\n![]({name}.png)\n");
     text.push_str(&report::sphere(&data));
@@ -204,7 +215,7 @@ fn run_into(options: ReproduceOptions) -> Result<Output> {
         quiet,
     )?;
 
-    let data = measure::unstable_runs(&pendulum(true)?, quiet)?;
+    let data = paper::unstable_runs(&pendulum(true)?, &mut Bars::new(quiet))?;
     out.figure(
         "fig8_unstable_pendulum_dynamics",
         figures::unstable_dynamics(&data),
@@ -263,8 +274,8 @@ fn n_refinement(
     section: Section,
     system: &Problem,
     quiet: bool,
-) -> Result<Vec<measure::NodeFit>> {
-    let data = measure::n_refinement(system, section.name, quiet)?;
+) -> Result<Vec<paper::NodeFit>> {
+    let data = paper::n_refinement(system, section.name, &mut Bars::new(quiet))?;
     out.figure(
         section.name,
         figures::n_refinement(&data, section.title),
@@ -283,7 +294,7 @@ fn h_refinement(
     system: &Problem,
     quiet: bool,
 ) -> Result<Vec<(usize, lgsvi_mechanics::Matching, Option<f64>)>> {
-    let data = measure::h_refinement(system, section.name, quiet)?;
+    let data = paper::h_refinement(system, section.name, &mut Bars::new(quiet))?;
     out.figure(
         section.name,
         figures::h_refinement(&data, section.title),
@@ -303,7 +314,7 @@ fn energy(
     settings: (f64, usize, usize),
     quiet: bool,
 ) -> Result<Vec<report::EnergySummary>> {
-    let data = measure::energy_runs(system, section.name, settings, quiet)?;
+    let data = paper::energy_runs(system, section.name, settings, &mut Bars::new(quiet))?;
     out.figure(
         section.name,
         figures::energy(&data, section.title),

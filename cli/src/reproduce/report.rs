@@ -1,7 +1,7 @@
 //! What `reproduce` writes in `REPORT.md`: a section per figure and the table of the
 //! paper's claims with a verdict each, from the measurements (`measure`).
 
-use super::measure::{
+use lgsvi_experiments::paper::{
     chart_name, halves_ratio, matching_name, max, EnergyRuns, HRefinement, LongRun, NRefinement,
     NodeFit, SphereRuns, UnstableRuns, N_CONFIGS,
 };
