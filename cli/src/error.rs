@@ -1,7 +1,6 @@
 //! The command line's one error type. Each variant is one line that says what was wrong
 //! and what to change; `main` prints it after `error: ` and exits with a failure code.
 
-use lgsvi_baselines::BaselineError;
 use lgsvi_mechanics::lie::LieError;
 use lgsvi_mechanics::MechanicsError;
 use std::path::PathBuf;
@@ -15,9 +14,9 @@ pub enum CliError {
     /// From a study of `lgsvi-experiments`.
     #[error(transparent)]
     Experiment(#[from] lgsvi_experiments::ExperimentError),
-    /// From a baseline integrator (`bench`).
+    /// From a measurement of `lgsvi-bench`.
     #[error(transparent)]
-    Baseline(#[from] BaselineError),
+    Bench(#[from] lgsvi_bench::BenchError),
     /// A flag's value that the mechanics layer refused.
     #[error("{flag}: {source}")]
     Input {
@@ -144,14 +143,6 @@ pub enum CliError {
          or a heavy top with m g = 0)"
     )]
     NoExactSolution,
-    /// A failure inside a named run.
-    #[error("{context}: {source}")]
-    Run {
-        /// Which run.
-        context: String,
-        /// What failed.
-        source: MechanicsError,
-    },
     /// A config file that cannot be read.
     #[error("cannot read config {}: {source}", path.display())]
     ReadConfig {
@@ -257,9 +248,6 @@ pub enum CliError {
     /// JSON that could not be produced.
     #[error("JSON: {0}")]
     Json(#[from] serde_json::Error),
-    /// The thread pool of a parallel measurement could not be built.
-    #[error("thread pool: {0}")]
-    ThreadPool(#[from] rayon::ThreadPoolBuildError),
 }
 
 /// The command line's result.

@@ -9,8 +9,8 @@ use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
-    Integrator, Lagrangian, LagrangianDerivatives, MechanicsError, OrbitingBody, RigidBody,
-    RigidMotions, StepSettings, DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
+    Integrator, MechanicsError, OrbitingBody, RigidBody, RigidMotions, StepSettings,
+    DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
 };
 use nalgebra::{Matrix3, RealField, SVector, Vector3};
 
@@ -84,37 +84,12 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     Ok(steps as usize)
 }
 
-/// The rotation a `--tol` run's step takes at the initial motion's fastest rate, as a
-/// fraction of what the chart can follow in one step (exp 2π, Cayley π), at most 3 rad:
-/// on the reference cases the fastest fixed `(h, n)` for errors 1e-6 … 1e-13 turn the body
-/// 2.5–4 rad per step (`lgsvi converge --study tolerance`), and a longer step also makes
-/// each node count a smaller change in the error (about 30× per node at 3 rad, 100× at
-/// 1.5 rad), so the tolerance is met more closely.
-const TOLERANCE_STEP_ROTATION: (f64, f64) = (0.5, 3.0);
+pub use lgsvi_experiments::tolerance::{first_nodes as tolerance_first_nodes, pendulum_frequency};
 
-/// The nodes a `--tol` run's first step takes: `3 + ⌈−log₁₀(tol)/2⌉` (5 to 30), the fewest
-/// the reference cases settle on at steps of about 3 rad (6 at 1e-6, 10 at 1e-13); the
-/// nodes only rise from there, as far as the estimates ask. A first guess too low costs
-/// the first step a second solve; one too high would keep the whole run more accurate
-/// (and slower) than asked.
-pub fn tolerance_first_nodes(tol: f64) -> usize {
-    let (least, most) = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES;
-    (3.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
-}
-
-/// The heavy top's small-oscillation frequency `√(m g |ρ| / J_min)` about its least
-/// principal moment, from the moments and the weight's lever `m g |ρ|` (0 for a free body).
-pub fn pendulum_frequency(moments: [f64; 3], weight_lever: f64) -> f64 {
-    let least = moments.iter().copied().fold(f64::INFINITY, f64::min);
-    (weight_lever / least).sqrt()
-}
-
-/// A `--tol` run's step over `[0, t_end]` at the motion's rate `rate` in `chart`: the
-/// whole fraction of `t_end` that turns [`TOLERANCE_STEP_ROTATION`] or less.
+/// A `--tol` run's step over `[0, t_end]` at the motion's rate `rate` in `chart`
+/// (`lgsvi_experiments::tolerance::step_count`), refused above [`MAX_RUN_STEPS`].
 pub fn tolerance_step(t_end: f64, rate: f64, chart: ChartKind) -> Result<f64> {
-    let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(&chart);
-    let rotation = (TOLERANCE_STEP_ROTATION.0 * reach).min(TOLERANCE_STEP_ROTATION.1);
-    let steps = (t_end * rate / rotation).ceil().max(1.0);
+    let steps = lgsvi_experiments::tolerance::step_count(t_end, rate, chart);
     if steps > MAX_RUN_STEPS {
         return Err(CliError::TooManySteps {
             t_end,
@@ -127,7 +102,7 @@ pub fn tolerance_step(t_end: f64, rate: f64, chart: ChartKind) -> Result<f64> {
 }
 
 /// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
-/// takes [`TOLERANCE_STEP_ROTATION`] at the rate `rate` and divides `t_end`, and the
+/// takes `lgsvi_experiments::tolerance::STEP_ROTATION` at the rate `rate` and divides `t_end`, and the
 /// nodes adapt to an error per unit time of `tol / t_end`.
 pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
     let chart = options.chart.map(Into::into).unwrap_or_default();
@@ -193,46 +168,8 @@ pub enum Check {
     Tolerance(f64),
 }
 
-/// A built-in system: one type, so that studies need not be generic.
-#[derive(Debug, Clone, Copy)]
-pub enum System {
-    Free(RigidBody),
-    Top(HeavyTop),
-}
-
-impl Lagrangian for System {
-    fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
-        match self {
-            System::Free(s) => Lagrangian::lagrangian(s, r, w),
-            System::Top(s) => Lagrangian::lagrangian(s, r, w),
-        }
-    }
-    fn is_left_invariant(&self) -> bool {
-        match self {
-            System::Free(s) => Lagrangian::is_left_invariant(s),
-            System::Top(s) => Lagrangian::is_left_invariant(s),
-        }
-    }
-    fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
-        match self {
-            System::Free(s) => s.linear_attitude_term(),
-            System::Top(s) => s.linear_attitude_term(),
-        }
-    }
-    fn velocity_from_momentum(&self, r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
-        match self {
-            System::Free(s) => Lagrangian::velocity_from_momentum(s, r, mu),
-            System::Top(s) => Lagrangian::velocity_from_momentum(s, r, mu),
-        }
-    }
-    // Forwarded: the built-ins' closed forms are ~10× faster than the default dual numbers.
-    fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
-        match self {
-            System::Free(s) => s.derivatives(r, w),
-            System::Top(s) => s.derivatives(r, w),
-        }
-    }
-}
+/// A built-in SO(3) system: one type, so that studies need not be generic.
+pub use lgsvi_experiments::BuiltIn as System;
 
 /// The torque and damping every system accepts (`--torque`, `--damping`): zero for
 /// neither, and then the steps are the unforced system's, bit for bit.

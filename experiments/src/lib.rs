@@ -59,6 +59,7 @@
 //! # }
 //! ```
 
+mod built_in;
 pub mod conserved;
 pub mod convergence;
 mod error;
@@ -68,6 +69,7 @@ mod subject;
 pub mod tolerance;
 pub mod work_precision;
 
+pub use built_in::BuiltIn;
 pub use conserved::{Drift, Symmetry, Tracker};
 pub use error::ExperimentError;
 pub use subject::{Body, Subject};

@@ -10,7 +10,10 @@
 //!   grid that is at least as accurate, with the run's own estimate of its global error and
 //!   its nodes per step.
 //!
-//! Both are generic over the group: the error of a state is the largest difference in the
+//! - **the policy of tolerance-driven runs** ([`step_count`], [`first_nodes`]): the step
+//!   from the initial motion's rate, the first step's nodes from the tolerance.
+//!
+//! Both studies are generic over the group: the error of a state is the largest difference in the
 //! entries of what [`Observe`] lists (`R`, `Ω` and, on SE(3), `x` and `ẋ`).
 
 use crate::error::ExperimentError;
@@ -326,4 +329,39 @@ pub fn calibration(rows: &[LocalError]) -> Option<(f64, f64, f64, f64, f64, usiz
     let hi = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let within = logs.iter().filter(|x| x.abs() <= 30f64.log10()).count() as f64 / count;
     Some((mean, sd, lo, hi, within, logs.len()))
+}
+
+/// The rotation a tolerance-driven run's step takes at the initial motion's fastest rate,
+/// as a fraction of what the chart can follow in one step (exp 2π, Cayley π), at most
+/// 3 rad: on the reference cases the fastest fixed `(h, n)` for errors 1e-6 … 1e-13 turn
+/// the body 2.5–4 rad per step (the tolerance study), and a longer step also makes each
+/// node count a smaller change in the error (about 30× per node at 3 rad, 100× at
+/// 1.5 rad), so the tolerance is met more closely.
+pub const STEP_ROTATION: (f64, f64) = (0.5, 3.0);
+
+/// The nodes a tolerance-driven run's first step takes: `3 + ⌈−log₁₀(tol)/2⌉` within
+/// [`lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES`], the fewest the reference cases settle on
+/// at steps of about 3 rad (6 at 1e-6, 10 at 1e-13); the nodes only rise from there, as
+/// far as the estimates ask. A first guess too low costs the first step a second solve;
+/// one too high would keep the whole run more accurate (and slower) than asked.
+pub fn first_nodes(tol: f64) -> usize {
+    let (least, most) = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES;
+    (3.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
+}
+
+/// The heavy top's small-oscillation frequency `√(m g |ρ| / J_min)` about its least
+/// principal moment, from the moments and the weight's lever `m g |ρ|` (0 for a free
+/// body): with the spin, the rate a tolerance-driven step is sized for.
+pub fn pendulum_frequency(moments: [f64; 3], weight_lever: f64) -> f64 {
+    let least = moments.iter().copied().fold(f64::INFINITY, f64::min);
+    (weight_lever / least).sqrt()
+}
+
+/// The number of steps of a tolerance-driven run over `[0, t_end]` at the motion's rate
+/// `rate` in `chart`: the fewest whole steps that each turn [`STEP_ROTATION`] or less
+/// (at least one); the step is `t_end` over it.
+pub fn step_count(t_end: f64, rate: f64, chart: ChartKind) -> f64 {
+    let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(&chart);
+    let rotation = (STEP_ROTATION.0 * reach).min(STEP_ROTATION.1);
+    (t_end * rate / rotation).ceil().max(1.0)
 }
