@@ -8,9 +8,7 @@
 //! behind each figure, [`figures`] turns data into figures and CSV text, [`report`] into
 //! the Markdown of `REPORT.md`; this module runs them in order and writes the files.
 
-mod figures;
 mod measure;
-mod report;
 
 use crate::config::{ChartArg, MatchingArg, SystemKind};
 use crate::error::{CliError, Result};
@@ -18,6 +16,7 @@ use crate::plot::{self, Figure, SphereFigure};
 use crate::problem::Problem;
 use clap::Args;
 use lgsvi_experiments::paper;
+use lgsvi_reports::{paper as report, paper_figures as figures};
 use measure::Bars;
 use nalgebra::Vector3;
 use std::fmt::Write;

@@ -1,5 +1,5 @@
-//! What `reproduce` writes in `REPORT.md`: a section per figure and the table of the
-//! paper's claims with a verdict each, from the measurements (`measure`).
+//! The paper's report in Markdown: a section per figure and the table of the paper's
+//! claims with a verdict each, from the measurements of `lgsvi_experiments::paper`.
 
 use lgsvi_experiments::paper::{
     chart_name, halves_ratio, matching_name, max, EnergyRuns, HRefinement, LongRun, NRefinement,
@@ -10,7 +10,7 @@ use lgsvi_mechanics::Matching;
 use std::fmt::Write;
 
 /// An error for a table: two significant digits, or `failed` for a run that failed.
-pub(super) fn fmt(e: f64) -> String {
+pub fn fmt(e: f64) -> String {
     if e.is_finite() {
         format!("{e:.1e}")
     } else {
@@ -19,7 +19,7 @@ pub(super) fn fmt(e: f64) -> String {
 }
 
 /// The section of figures 1 and 5.
-pub(super) fn n_refinement(data: &NRefinement) -> String {
+pub fn n_refinement(data: &NRefinement) -> String {
     let mut report = String::new();
     let _ = writeln!(report, "Errors against {}; h = 0.5, T = 10; `failed` = Newton or chart failure (the message is in the CSV).\n", data.reference);
     let _ = writeln!(
@@ -57,7 +57,7 @@ pub(super) fn n_refinement(data: &NRefinement) -> String {
 }
 
 /// The section of figures 2 and 6.
-pub(super) fn h_refinement(data: &HRefinement) -> String {
+pub fn h_refinement(data: &HRefinement) -> String {
     let mut report = String::new();
     let _ = writeln!(report, "Unscaled Cayley chart (the paper's), T = 10, errors against {}. Solid: exact matching; dashed: the paper's.\n", data.reference);
     let _ = writeln!(
@@ -106,7 +106,7 @@ pub(super) fn h_refinement(data: &HRefinement) -> String {
 /// The section of figures 3 and 7: only the quantities the system conserves, `|μ|²` and
 /// `Rμ` for the free body, `e₃·Rμ` (the momentum about gravity) for the pendulum, whose
 /// `|μ|²` is not conserved.
-pub(super) fn energy(data: &EnergyRuns) -> String {
+pub fn energy(data: &EnergyRuns) -> String {
     let mut report = String::new();
     let (h, n, steps) = (data.h, data.n, data.steps);
     let _ = writeln!(report, "h = {h}, n = {n}, {steps} steps (T = {}); the paper's chart with both matchings, and the exp chart.\n", h * steps as f64);
@@ -140,7 +140,7 @@ pub(super) fn energy(data: &EnergyRuns) -> String {
 }
 
 /// The section of figure 4.
-pub(super) fn sphere(data: &SphereRuns) -> String {
+pub fn sphere(data: &SphereRuns) -> String {
     let mut report = String::new();
     let _ = writeln!(report, "Twelve initial momenta on |μ| = 1 (J = diag(3.3, 2.5, 3.4)), {} steps each, unscaled Cayley chart, n = 8, h = 0.5. The curves are the intersections of the sphere with the energy ellipsoids; polhodes circle the smallest (y) and largest (z) axes, and the two families meet at the separatrix through the middle axis (x).\n", data.steps);
     let _ = writeln!(
@@ -162,7 +162,7 @@ pub(super) fn sphere(data: &SphereRuns) -> String {
 }
 
 /// The section of figures 8 and 9.
-pub(super) fn unstable(data: &UnstableRuns) -> String {
+pub fn unstable(data: &UnstableRuns) -> String {
     let mut report = String::new();
     let shown_label = &data.runs[data.shown].0;
     let _ = writeln!(report, "{} steps (T = {}). Figure 8 ({shown_label}): the paper's black-dot steps are the markers, its solid Galerkin curves the lines (16 points per step). Figure 9: energy error of every configuration. The median step rotates the body by {:.0}°; the five largest jumps of the energy error ({shown_label}):\n", data.steps, data.h * data.steps as f64, data.median_angle.to_degrees());
@@ -197,7 +197,7 @@ fn stopped(r: &LongRun) -> Option<String> {
 }
 
 /// The claims table's rows of the unstable pendulum.
-pub(super) fn unstable_findings(data: &UnstableRuns) -> Vec<(String, f64, f64, Option<String>)> {
+pub fn unstable_findings(data: &UnstableRuns) -> Vec<(String, f64, f64, Option<String>)> {
     data.runs
         .iter()
         .map(|(m, r)| {
@@ -213,7 +213,7 @@ pub(super) fn unstable_findings(data: &UnstableRuns) -> Vec<(String, f64, f64, O
 
 /// Everything the claims table needs.
 #[derive(Default)]
-pub(super) struct Findings {
+pub struct Findings {
     pub rb_factors: Vec<NodeFit>,
     pub rb_orders: Vec<(usize, Matching, Option<f64>)>,
     pub rb_energy: Vec<EnergySummary>,
@@ -227,9 +227,9 @@ pub(super) struct Findings {
 
 /// One long run in the claims table: configuration, max energy error, second/first half
 /// ratio, max spatial-momentum drift, max Casimir drift, failure.
-pub(super) type EnergySummary = (String, f64, f64, f64, f64, Option<String>);
+pub type EnergySummary = (String, f64, f64, f64, f64, Option<String>);
 
-pub(super) fn energy_summary(data: &EnergyRuns) -> Vec<EnergySummary> {
+pub fn energy_summary(data: &EnergyRuns) -> Vec<EnergySummary> {
     data.runs
         .iter()
         .map(|(m, r)| {
@@ -246,7 +246,7 @@ pub(super) fn energy_summary(data: &EnergyRuns) -> Vec<EnergySummary> {
         .collect()
 }
 
-pub(super) fn find_factor(v: &[NodeFit], c: ChartKind, m: Matching) -> String {
+pub fn find_factor(v: &[NodeFit], c: ChartKind, m: Matching) -> String {
     v.iter()
         .find(|x| x.0 == c && x.1 == m)
         .and_then(|x| x.2)
@@ -254,7 +254,7 @@ pub(super) fn find_factor(v: &[NodeFit], c: ChartKind, m: Matching) -> String {
         .unwrap_or_else(|| "–".into())
 }
 
-pub(super) fn orders_text(v: &[(usize, Matching, Option<f64>)], m: Matching) -> String {
+pub fn orders_text(v: &[(usize, Matching, Option<f64>)], m: Matching) -> String {
     v.iter()
         .filter(|x| x.1 == m)
         .map(|x| {
@@ -269,16 +269,16 @@ pub(super) fn orders_text(v: &[(usize, Matching, Option<f64>)], m: Matching) -> 
 }
 
 /// An energy error at or below this (relative) is rounding: bounded by any reading.
-pub(super) const ROUNDING_ENERGY: f64 = 1e-13;
+pub const ROUNDING_ENERGY: f64 = 1e-13;
 /// A second-half maximum above this multiple of the first half's counts as growth: a
 /// bounded oscillation keeps the ratio near 1, a random walk of rounding errors near √2,
 /// a linear drift at 2.
-pub(super) const GROWTH_RATIO: f64 = 1.5;
+pub const GROWTH_RATIO: f64 = 1.5;
 /// A fitted order within this of 2(n − 1) matches the prediction.
-pub(super) const ORDER_SLACK: f64 = 0.5;
+pub const ORDER_SLACK: f64 = 0.5;
 
 /// The verdict on "the energy error stays bounded" for one long run.
-pub(super) fn energy_verdict(max_error: f64, ratio: f64, failure: &Option<String>) -> String {
+pub fn energy_verdict(max_error: f64, ratio: f64, failure: &Option<String>) -> String {
     if failure.is_some() {
         "**no** (the run failed)".into()
     } else if max_error <= ROUNDING_ENERGY {
@@ -295,7 +295,7 @@ pub(super) fn energy_verdict(max_error: f64, ratio: f64, failure: &Option<String
 
 /// The orders of one matching that miss 2(n − 1) by more than [`ORDER_SLACK`] (or could
 /// not be fitted), as text; empty when every order matches.
-pub(super) fn order_misses(v: &[(usize, Matching, Option<f64>)], m: Matching) -> Vec<String> {
+pub fn order_misses(v: &[(usize, Matching, Option<f64>)], m: Matching) -> Vec<String> {
     v.iter()
         .filter(|x| x.1 == m)
         .filter_map(|&(n, _, p)| {
@@ -309,7 +309,7 @@ pub(super) fn order_misses(v: &[(usize, Matching, Option<f64>)], m: Matching) ->
         .collect()
 }
 
-pub(super) fn orders_verdict(v: &[(usize, Matching, Option<f64>)], m: Matching) -> String {
+pub fn orders_verdict(v: &[(usize, Matching, Option<f64>)], m: Matching) -> String {
     let misses = order_misses(v, m);
     if misses.is_empty() {
         "**yes**, 2(n − 1) for every n".into()
@@ -319,7 +319,7 @@ pub(super) fn orders_verdict(v: &[(usize, Matching, Option<f64>)], m: Matching) 
 }
 
 /// The table of the paper's claims beside the measurements, each with a verdict.
-pub(super) fn claims(f: &Findings) -> String {
+pub fn claims(f: &Findings) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "## The paper's claims and what lgsvi measured\n");
     let _ = writeln!(s, "Verdicts: **yes** where the measurement supports the claim, **no** where it contradicts it, **partly** where it holds only for some configurations (which, and the numbers, are given).\n");

@@ -1,18 +1,18 @@
 //! What `reproduce` draws: each figure, and the CSV of its data, from the measurements
 //! (`measure`). Nothing here runs an integrator or writes a file.
 
-use crate::plot::{Figure, Series, SphereFigure, Style};
-use crate::study;
+use crate::convergence as study;
 use lgsvi_experiments::paper::{
     chart_name, matching_name, EnergyRuns, HRefinement, LongRun, NRefinement, SphereRuns,
     UnstableRuns, H_MATCHINGS, N_CONFIGS,
 };
 use lgsvi_mechanics::Matching;
+use lgsvi_plot::{Figure, Series, SphereFigure, Style};
 use std::fmt::Write;
 
 /// Figures 1 and 5: error of the one-step map (solid) and of the Galerkin curves (dashed)
 /// against the number of nodes, per configuration.
-pub(super) fn n_refinement(data: &NRefinement, title: &str) -> Figure {
+pub fn n_refinement(data: &NRefinement, title: &str) -> Figure {
     let mut series = Vec::new();
     for (i, &(chart, matching)) in N_CONFIGS.iter().enumerate() {
         let ms = data.config(i);
@@ -41,13 +41,13 @@ pub(super) fn n_refinement(data: &NRefinement, title: &str) -> Figure {
     }
 }
 
-pub(super) fn n_refinement_csv(data: &NRefinement) -> String {
+pub fn n_refinement_csv(data: &NRefinement) -> String {
     study::csv(&data.rows.iter().collect::<Vec<_>>(), "nodes")
 }
 
 /// Figures 2 and 6: error against the step, per node count; exact matching solid, the
 /// paper's dashed.
-pub(super) fn h_refinement(data: &HRefinement, title: &str) -> Figure {
+pub fn h_refinement(data: &HRefinement, title: &str) -> Figure {
     let mut series = Vec::new();
     for (i, &n) in data.nodes.iter().enumerate() {
         for (j, &matching) in H_MATCHINGS.iter().enumerate() {
@@ -74,7 +74,7 @@ pub(super) fn h_refinement(data: &HRefinement, title: &str) -> Figure {
     }
 }
 
-pub(super) fn h_refinement_csv(data: &HRefinement) -> String {
+pub fn h_refinement_csv(data: &HRefinement) -> String {
     study::csv(&data.rows.iter().collect::<Vec<_>>(), "step")
 }
 
@@ -116,12 +116,12 @@ fn energy_error_figure(
 
 /// Figures 3 and 7: relative energy error over the long runs (at most ~1500 points per
 /// series; the CSV has every step).
-pub(super) fn energy(data: &EnergyRuns, title: &str) -> Figure {
+pub fn energy(data: &EnergyRuns, title: &str) -> Figure {
     let stride = (data.steps / 1500).max(1);
     energy_error_figure(title.into(), &data.runs, stride, Style::Line)
 }
 
-pub(super) fn energy_csv(data: &EnergyRuns) -> String {
+pub fn energy_csv(data: &EnergyRuns) -> String {
     let mut csv = String::from("t");
     for (m, _) in &data.runs {
         for q in [
@@ -161,7 +161,7 @@ pub(super) fn energy_csv(data: &EnergyRuns) -> String {
 }
 
 /// Figure 4: the exact matching's body momenta on the sphere.
-pub(super) fn sphere(data: &SphereRuns) -> SphereFigure {
+pub fn sphere(data: &SphereRuns) -> SphereFigure {
     let exact = data
         .runs
         .iter()
@@ -187,7 +187,7 @@ pub(super) fn sphere(data: &SphereRuns) -> SphereFigure {
     }
 }
 
-pub(super) fn sphere_csv(data: &SphereRuns) -> String {
+pub fn sphere_csv(data: &SphereRuns) -> String {
     let mut csv = String::from("trajectory,matching,t,mu_x,mu_y,mu_z\n");
     for (matching, runs) in &data.runs {
         for (i, run) in runs.iter().enumerate() {
@@ -208,7 +208,7 @@ pub(super) fn sphere_csv(data: &SphereRuns) -> String {
 
 /// Figure 8: the centre-of-mass direction `Rρ` of the shown run, at the steps (markers)
 /// and on the Galerkin curves (lines).
-pub(super) fn unstable_dynamics(data: &UnstableRuns) -> Figure {
+pub fn unstable_dynamics(data: &UnstableRuns) -> Figure {
     let (label, run) = &data.runs[data.shown];
     let names = ["x", "y", "z"];
     let mut series = Vec::new();
@@ -245,7 +245,7 @@ pub(super) fn unstable_dynamics(data: &UnstableRuns) -> Figure {
     }
 }
 
-pub(super) fn unstable_dynamics_csv(data: &UnstableRuns) -> String {
+pub fn unstable_dynamics_csv(data: &UnstableRuns) -> String {
     let run = &data.runs[data.shown].1;
     let mut csv = String::from("t,kind,axis_x,axis_y,axis_z\n");
     for (t, a) in run.times.iter().zip(&run.axis) {
@@ -258,7 +258,7 @@ pub(super) fn unstable_dynamics_csv(data: &UnstableRuns) -> String {
 }
 
 /// Figure 9: the energy error of every configuration, every step.
-pub(super) fn unstable_energy(data: &UnstableRuns) -> Figure {
+pub fn unstable_energy(data: &UnstableRuns) -> Figure {
     let title = format!(
         "3D pendulum (unstable): energy error, n = {}, h = {}",
         data.n, data.h
@@ -266,7 +266,7 @@ pub(super) fn unstable_energy(data: &UnstableRuns) -> Figure {
     energy_error_figure(title, &data.runs, 1, Style::LineMarkers)
 }
 
-pub(super) fn unstable_energy_csv(data: &UnstableRuns) -> String {
+pub fn unstable_energy_csv(data: &UnstableRuns) -> String {
     let mut csv = String::from("t");
     for (m, _) in &data.runs {
         let m = m.replace(", ", " / ");
