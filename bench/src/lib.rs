@@ -16,6 +16,7 @@
 
 mod error;
 pub mod long_run;
+pub mod report;
 pub mod so3;
 pub mod space;
 

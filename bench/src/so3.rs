@@ -87,7 +87,7 @@ fn lgsvi_run_with<L: Lagrangian>(
 }
 
 /// The tolerances `10^-k` of the tolerance-driven series.
-pub const TOLERANCES: std::ops::RangeInclusive<i32> = 4..=13;
+const TOLERANCES: std::ops::RangeInclusive<i32> = 4..=13;
 
 /// The prefix of the fixed `(h, n)` lgsvi series' method names (the tolerance-driven
 /// series is "lgsvi --tol").

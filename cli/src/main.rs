@@ -5,7 +5,6 @@
 //! and/or a TOML config and writes JSON or CSV. Errors are one line on standard error and a non-zero exit.
 
 mod bench;
-mod bench_space;
 mod config;
 mod error;
 mod files;
@@ -16,7 +15,6 @@ mod problem;
 mod reproduce;
 mod study;
 mod tolerance;
-mod work_precision;
 
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
