@@ -396,7 +396,7 @@ pub struct Problem {
     pub omega0: Vector3<f64>,
     pub settings: StepSettings,
     /// The initial motion's fastest rate (rad per unit time): the spin plus the system's
-    /// own natural frequency; a `--tol` run's step turns [`TOLERANCE_STEP_ROTATION`] at it.
+    /// own natural frequency; a `--tol` run's step turns `lgsvi_experiments::tolerance::STEP_ROTATION` at it.
     pub rate: f64,
     pub t_end: f64,
     pub every: usize,

@@ -1,15 +1,6 @@
-//! Tolerance-driven runs, measured (`lgsvi converge --study estimate | tolerance`):
-//!
-//! - **estimate**: every step of runs over a grid of `(h, n)` is compared with the step from
-//!   the same state with [`TRUTH_EXTRA_NODES`] more nodes (spectral convergence makes that
-//!   the exact flow to rounding at these steps); the ratio of the step's own error estimate
-//!   ([`Integrator::error_estimate`]) to that true local error is its calibration.
-//! - **tolerance**: `--tol` runs for a list of tolerances against a high-accuracy reference at
-//!   the horizon, each beside the fastest fixed `(h, n)` of a grid that is at least as
-//!   accurate, with the run's own estimate of its global error and its nodes per step.
-//!
-//! Both work for every system `simulate` runs, SO(3) and SE(3); the error of a state is the
-//! largest difference in the entries of `R`, `Ω` and, on SE(3), `x` and `ẋ`.
+//! `lgsvi converge --study estimate | tolerance`: the error-estimate calibration and the
+//! tolerance study of `lgsvi_experiments::tolerance` on the problem the flags describe (SO(3)
+//! or SE(3)), printed and written through `lgsvi_reports::tolerance`.
 
 use crate::error::{CliError, Result};
 use crate::problem::Problem;

@@ -11,7 +11,7 @@ use crate::fit::{algebraic_order, geometric_factor};
 use crate::subject::Subject;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
-use lgsvi_mechanics::{GalerkinCurve, Matching, StepSettings};
+use lgsvi_mechanics::{each, Flow, GalerkinCurve, Integrator, Matching, StepInfo, StepSettings};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 use std::time::Instant;
@@ -216,8 +216,8 @@ fn measure_into<P: Subject>(
     let tracker = subject.tracker(&s0);
     let (mut energy_error, mut drift, mut curve_error) = (0.0f64, 0.0f64, 0.0f64);
     let start = Instant::now();
-    for _ in 0..steps {
-        integrator.step()?;
+    // After every step: the drifts, and the Galerkin curve against the reference.
+    let observe = |integrator: &Integrator<P::System>, _: StepInfo| {
         let s = integrator.state();
         let d = tracker.drift(s.energy(system), s.attitude().matrix(), &s.momentum);
         energy_error = energy_error.max(d.energy);
@@ -232,7 +232,9 @@ fn measure_into<P: Subject>(
                 }
             }
         }
-    }
+        Ok::<_, ExperimentError>(Flow::Continue)
+    };
+    integrator.drive(steps, &mut each(observe))?;
     m.wall_time_s = start.elapsed().as_secs_f64();
     let s = integrator.state();
     let (r_ref, w_ref) = reference.at(s.time)?;

@@ -11,7 +11,7 @@ use crate::error::ExperimentError;
 use crate::fit;
 use crate::subject::Subject;
 use lgsvi_mechanics::lie::ChartKind;
-use lgsvi_mechanics::{Matching, StepSettings};
+use lgsvi_mechanics::{each, Flow, Integrator, Matching, MechanicsError, StepInfo, StepSettings};
 use nalgebra::Vector3;
 use std::time::Instant;
 
@@ -108,14 +108,13 @@ pub fn long_run<P: Subject>(
     };
     record(&mut run, &s0);
     let start = Instant::now();
-    for k in 0..steps {
-        let before = *integrator.state().attitude().matrix();
-        if let Err(e) = integrator.step() {
-            run.failure = Some(e.to_string());
-            break;
-        }
+    // After every step: the invariants, the step's rotation, samples of its curve; a failed
+    // step ends the run with its reason kept.
+    let mut before = *s0.attitude().matrix();
+    let observe = |integrator: &Integrator<P::System>, step: StepInfo| {
         let s = *integrator.state();
         let relative = before.transpose() * s.attitude().matrix();
+        before = *s.attitude().matrix();
         let cos = ((relative.trace() - 1.0) / 2.0).clamp(-1.0, 1.0);
         run.step_angle.push(cos.acos());
         record(&mut run, &s);
@@ -130,9 +129,14 @@ pub fn long_run<P: Subject>(
                 }
             }
         }
-        if k % 50 == 0 {
+        if (step.index - 1).is_multiple_of(50) {
             tick(50);
         }
+        Ok::<_, MechanicsError>(Flow::Continue)
+    };
+    let driven = integrator.drive(steps, &mut each(observe));
+    if let Err(e) = driven {
+        run.failure = Some(e.to_string());
     }
     run.wall_time_s = start.elapsed().as_secs_f64();
     Ok(run)

@@ -98,7 +98,10 @@ pub use group::{
     Rotations, Screw,
 };
 pub use inertia::Inertia;
-pub use integrator::{GalerkinCurve, Integrator, Statistics, Trajectory};
+pub use integrator::{
+    each, Each, Flow, GalerkinCurve, Integrator, Observer, Recorder, Statistics, StepInfo,
+    Trajectory,
+};
 pub use lagrangian::{
     HeavyTop, Lagrangian, LagrangianDerivatives, Potential, RigidBody, RigidBodyInPotential,
 };

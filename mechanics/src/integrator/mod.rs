@@ -4,7 +4,8 @@
 //! By concern: this file holds the integrator's state, construction, accessors, inputs
 //! and reset; [`predictor`] the first guess of each step and the checks that a converged
 //! step is the motion's; [`advance`] a step's attempt, node and step control and commit;
-//! [`linearize`] the exact linearisation of a step; [`run`] the loops over many steps;
+//! [`linearize`] the exact linearisation of a step; [`drive`] the one loop over many steps
+//! and its observers; [`run`] the runs built on it;
 //! [`curve`] the statistics, dense output and trajectories a run returns.
 
 use crate::error::{check_finite, MechanicsError};
@@ -25,12 +26,14 @@ use std::sync::Arc;
 
 mod advance;
 mod curve;
+mod drive;
 mod linearize;
 mod predictor;
 mod run;
 
 use advance::NODES_HOLD;
 pub use curve::{GalerkinCurve, Statistics, Trajectory};
+pub use drive::{each, Each, Flow, Observer, Recorder, StepInfo};
 
 /// Adds `term` to `sum` with Kahan's compensation, `carry` holding what the last additions
 /// lost: long runs add millions of terms (the work of the forces, the error estimates).

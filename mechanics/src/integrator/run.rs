@@ -1,5 +1,8 @@
-//! Driving the integrator over many steps: fixed step counts, to a horizon, with progress.
+//! Driving the integrator over many steps: fixed step counts, to a horizon, with progress
+//! (each through [`Integrator::drive`] and a [`Recorder`], or, for a run whose step
+//! changes, the same recorder on its own loop).
 
+use super::drive::{each, Flow, Recorder, StepInfo};
 use super::*;
 
 /// A horizon `t_end` must be finite and non-negative.
@@ -39,20 +42,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         every: usize,
         mut progress: impl FnMut(usize),
     ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError> {
-        let every = every.max(1);
-        let mut trajectory = Trajectory {
-            states: vec![self.state],
-            newton_iterations: vec![0],
-        };
-        for k in 1..=steps {
-            let iterations = self.step()?;
-            if k % every == 0 || k == steps {
-                trajectory.states.push(self.state);
-                trajectory.newton_iterations.push(iterations);
-            }
-            progress(k);
-        }
-        Ok(trajectory)
+        let mut recorder = Recorder::new(&self.state, every, steps);
+        let report = each(|_: &Self, step: StepInfo| {
+            progress(step.index);
+            Ok::<_, MechanicsError>(Flow::Continue)
+        });
+        self.drive(steps, &mut (&mut recorder, report))?;
+        Ok(recorder.into_trajectory())
     }
 
     /// The number of steps of length `h` from the current time to reach `t_end` or pass
@@ -144,10 +140,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         }
         self.check_end(t_end)?;
         let every = every.max(1);
-        let mut trajectory = Trajectory {
-            states: vec![self.state],
-            newton_iterations: vec![0],
-        };
+        let mut recorder = Recorder::new(&self.state, every, 0);
         let mut k = 0;
         // Within a billionth of a step of the end counts as there (rounding of the sums).
         while t_end - self.state.time > 1e-9 * self.settings.step() {
@@ -160,10 +153,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             k += 1;
             let done = t_end - self.state.time <= 1e-9 * self.settings.step();
             if k % every == 0 || done {
-                trajectory.states.push(self.state);
-                trajectory.newton_iterations.push(iterations);
+                recorder.push(self.state, iterations);
             }
         }
-        Ok(trajectory)
+        Ok(recorder.into_trajectory())
     }
 }
