@@ -183,7 +183,7 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
             .map(|k| {
                 let phase = k as f64 / members as f64 * std::f64::consts::TAU;
                 InitialCondition {
-                    attitude: SO3::exp(&(Vector3::new(phase.cos(), phase.sin(), 0.3) * 0.2)),
+                    configuration: SO3::exp(&(Vector3::new(phase.cos(), phase.sin(), 0.3) * 0.2)),
                     velocity: w0 * (0.9 + 0.2 * k as f64 / members as f64),
                 }
             })
@@ -213,7 +213,7 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
             let starts = initial
                 .iter()
                 .map(|c| State {
-                    attitude: *c.attitude.matrix(),
+                    attitude: *c.configuration.matrix(),
                     momentum: j.component_mul(&c.velocity),
                 })
                 .collect();

@@ -1,4 +1,4 @@
-//! Many initial conditions, integrated in parallel (rayon).
+//! Many initial conditions, integrated in parallel (rayon), for any system on any group.
 //!
 //! Each member gets its own [`Integrator`] (its own workspace), so the members share
 //! nothing but the system and the settings, and the result of each is bit-for-bit the one
@@ -6,35 +6,38 @@
 //! `rayon::ThreadPool::install` to choose the number of threads.
 
 use crate::error::MechanicsError;
+use crate::group::GroupChart;
 use crate::integrator::{Integrator, Statistics};
-use crate::lagrangian::Lagrangian;
 use crate::settings::StepSettings;
 use crate::state::State;
-use lgsvi_lie::SO3;
-use nalgebra::Vector3;
+use crate::system::{ElementOf, GroupLagrangian};
+use lgsvi_lie::{ChartKind, SO3};
+use nalgebra::SVector;
 use rayon::prelude::*;
 
-/// One member's initial condition: attitude and body angular velocity.
+/// One member's initial condition: the configuration `g(0)` and the body velocity `ξ(0)`,
+/// on any group (SO(3) by default: attitude `R(0) = world_from_body` and `Ω(0)`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct InitialCondition {
-    /// `R(0) = world_from_body`.
-    pub attitude: SO3,
-    /// `Ω(0)`, body frame.
-    pub velocity: Vector3<f64>,
+pub struct InitialCondition<E = SO3, const D: usize = 3> {
+    /// `g(0)`: on SO(3), the attitude `R(0) = world_from_body`.
+    pub configuration: E,
+    /// `ξ(0)`, body frame: on SO(3), `Ω(0)`.
+    pub velocity: SVector<f64, D>,
 }
 
 /// What one member of an ensemble ends with.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EnsembleMember {
+pub struct EnsembleMember<E = SO3, const D: usize = 3> {
     /// The state after the last step.
-    pub state: State,
+    pub state: State<E, D>,
     /// Its Newton statistics.
     pub statistics: Statistics,
 }
 
 /// Integrates `steps` steps from every initial condition in parallel and returns, in the
 /// order of `initial`, each member's final state or the error that stopped it (a member's
-/// failure does not stop the others).
+/// failure does not stop the others). Any system on any group: an SO(3) body, a body in
+/// space on SE(3), a gyrostat.
 ///
 /// ```
 /// use lgsvi_mechanics::ensemble::{run_ensemble, InitialCondition};
@@ -45,7 +48,7 @@ pub struct EnsembleMember {
 /// let body = RigidBody::new(Inertia::from_principal_moments([1.0, 2.0, 3.0])?);
 /// let initial: Vec<InitialCondition> = (0..8)
 ///     .map(|k| InitialCondition {
-///         attitude: SO3::identity(),
+///         configuration: SO3::identity(),
 ///         velocity: Vector3::new(1.0, 0.1 * k as f64, 0.5),
 ///     })
 ///     .collect();
@@ -56,20 +59,26 @@ pub struct EnsembleMember {
 /// }
 /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 /// ```
-pub fn run_ensemble<L>(
-    system: &L,
+pub fn run_ensemble<S, const D: usize>(
+    system: &S,
     settings: &StepSettings,
-    initial: &[InitialCondition],
+    initial: &[InitialCondition<ElementOf<S, D>, D>],
     steps: usize,
-) -> Vec<Result<EnsembleMember, MechanicsError>>
+) -> Vec<Result<EnsembleMember<ElementOf<S, D>, D>, MechanicsError>>
 where
-    L: Lagrangian + Clone + Send + Sync,
+    S: GroupLagrangian<D> + Clone + Send + Sync,
+    ElementOf<S, D>: Send + Sync,
+    ChartKind: GroupChart<S::Group, D>,
 {
     initial
         .par_iter()
         .map(|start| {
-            let mut integrator =
-                Integrator::new(system.clone(), *settings, start.attitude, start.velocity)?;
+            let mut integrator = Integrator::new(
+                system.clone(),
+                *settings,
+                start.configuration,
+                start.velocity,
+            )?;
             for _ in 0..steps {
                 integrator.step()?;
             }
