@@ -3,7 +3,7 @@
 
 use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
-use lgsvi_experiments::{Subject, Tracker};
+use lgsvi_experiments::{Subject, Symmetry, Tracker};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
@@ -814,23 +814,15 @@ impl Subject for Problem {
         Integrator::new(self.system, settings, self.attitude0, self.omega0)
     }
 
-    /// The invariant tracker from `state` (the run's start), with this system's symmetry:
-    /// all of `Rμ` for a free body, the component along the heavy top's own gravity
-    /// direction for the top.
+    /// The invariant tracker from `state` (the run's start), with what the system says it
+    /// conserves (`Symmetry::of`): all of `Rμ` for a free body, the component along the
+    /// heavy top's own gravity direction for the top, nothing under a torque or damping.
     fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
-        let axis = if self.is_free() {
-            None
-        } else {
-            match &self.system.system {
-                System::Top(top) => Some(*top.gravity_direction()),
-                System::Free(_) => Some(Vector3::z()),
-            }
-        };
-        Tracker::new(
+        Tracker::with_symmetry(
             state.energy(&self.system),
             state.attitude().matrix(),
             &state.momentum,
-            axis,
+            Symmetry::of(&self.system),
         )
     }
 

@@ -27,6 +27,12 @@ impl Lagrangian for BuiltIn {
             BuiltIn::Top(s) => Lagrangian::is_left_invariant(s),
         }
     }
+    fn symmetry_axis(&self) -> Option<Vector3<f64>> {
+        match self {
+            BuiltIn::Free(s) => s.symmetry_axis(),
+            BuiltIn::Top(s) => s.symmetry_axis(),
+        }
+    }
     fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
         match self {
             BuiltIn::Free(s) => s.linear_attitude_term(),

@@ -2,6 +2,7 @@
 //! initial state's: every study, figure and benchmark measures conservation through
 //! [`Tracker`].
 
+use lgsvi_mechanics::GroupLagrangian;
 use nalgebra::{Matrix3, Vector3};
 
 /// The initial values, and which invariants the system has.
@@ -43,6 +44,23 @@ fn nonzero(x: f64) -> f64 {
     x.max(1e-300)
 }
 
+impl Symmetry {
+    /// What an SO(3) system conserves, as it says itself: all of `Rμ` when it is left
+    /// invariant and unforced, `d·Rμ` for its [`GroupLagrangian::symmetry_generator`] `d`
+    /// when unforced, nothing under a force.
+    pub fn of<S: GroupLagrangian<3>>(system: &S) -> Self {
+        if system.is_forced() {
+            Symmetry::None
+        } else if system.is_left_invariant() {
+            Symmetry::Full
+        } else {
+            system
+                .symmetry_generator()
+                .map_or(Symmetry::None, Symmetry::Axis)
+        }
+    }
+}
+
 impl Tracker {
     /// From the initial energy, attitude and body momentum, and the conserved axis of the
     /// spatial momentum (`None`: all of it is conserved; the axis is normalised here).
@@ -75,6 +93,11 @@ impl Tracker {
                 other => other,
             },
         }
+    }
+
+    /// The symmetry whose momentum it tracks.
+    pub fn symmetry(&self) -> Symmetry {
+        self.symmetry
     }
 
     /// The drifts of a later state.
@@ -141,6 +164,29 @@ mod tests {
         // A body at rest: no division by zero.
         let rest = Tracker::new(0.0, &r, &Vector3::zeros(), None);
         assert!(rest.drift(0.0, &r, &Vector3::zeros()).energy == 0.0);
+        // What a system says it conserves.
+        use lgsvi_mechanics::{BodyTorque, Forced, HeavyTop, Inertia, RigidBody};
+        let inertia = Inertia::from_principal_moments([1.0, 2.0, 2.5]).unwrap();
+        let top = HeavyTop::new(
+            inertia,
+            1.0,
+            9.81,
+            Vector3::z(),
+            Vector3::new(0.0, 3.0, 4.0),
+        )
+        .unwrap();
+        assert_eq!(Symmetry::of(&RigidBody::new(inertia)), Symmetry::Full);
+        assert_eq!(
+            Symmetry::of(&top),
+            Symmetry::Axis(Vector3::new(0.0, 0.6, 0.8))
+        );
+        let torqued = Forced::new(RigidBody::new(inertia), BodyTorque(Vector3::x()));
+        assert_eq!(Symmetry::of(&torqued), Symmetry::None);
+        let untorqued = Forced::new(top, BodyTorque(Vector3::zeros()));
+        assert_eq!(
+            Symmetry::of(&untorqued),
+            Symmetry::Axis(Vector3::new(0.0, 0.6, 0.8))
+        );
         // No symmetry: the momentum drift is not a number, energy and Casimir still are.
         let none = Tracker::with_symmetry(2.0, &r, &mu, Symmetry::None);
         let d = none.drift(3.0, &r, &mu);

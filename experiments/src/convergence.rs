@@ -6,6 +6,7 @@
 //! domain) is kept in the results with its reason and NaN errors: a study reports where the
 //! method stops working rather than stopping itself.
 
+use crate::conserved::Symmetry;
 use crate::error::ExperimentError;
 use crate::fit::{algebraic_order, geometric_factor};
 use crate::subject::Subject;
@@ -154,7 +155,8 @@ pub struct Measurement {
     pub error_curve: f64,
     /// Largest `|E − E₀|/|E₀|` over the steps.
     pub energy_error: f64,
-    /// Largest drift of the conserved spatial momentum ([`crate::Drift`]).
+    /// Largest drift of the conserved spatial momentum ([`crate::Drift`]); NaN for a system
+    /// that conserves none ([`Symmetry::None`]: under a torque or damping).
     pub momentum_drift: f64,
     /// Newton iterations over the run.
     pub newton_iterations: usize,
@@ -248,7 +250,13 @@ fn measure_into<P: Subject>(
         f64::NAN
     };
     m.energy_error = energy_error;
-    m.momentum_drift = drift;
+    // No symmetry, no conserved momentum: NaN says so (the largest of NaN drifts would
+    // read 0, as if conserved exactly).
+    m.momentum_drift = if tracker.symmetry() == Symmetry::None {
+        f64::NAN
+    } else {
+        drift
+    };
     m.newton_iterations = integrator.statistics().newton_iterations;
     Ok(())
 }

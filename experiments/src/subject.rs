@@ -55,9 +55,9 @@ pub struct Body<S> {
 
 impl<S: GroupLagrangian<3, Group = Rotations> + Clone> Body<S> {
     /// `system` from `(attitude0, omega0)`, every run with `settings`' chart, matching and
-    /// Newton Jacobian. Conservation is tracked for all of `Rμ` if the system is left
-    /// invariant (no potential) and unforced, otherwise for none of it until
-    /// [`Body::with_conserved_axis`] names the symmetry.
+    /// Newton Jacobian. Conservation is tracked for what the system says it conserves
+    /// ([`Symmetry::of`]: all of `Rμ` for a free, unforced body, `d·Rμ` for a heavy top's
+    /// gravity direction `d`), unless [`Body::with_conserved_axis`] names another axis.
     pub fn new(system: S, attitude0: SO3, omega0: Vector3<f64>, settings: StepSettings) -> Self {
         Self {
             system,
@@ -98,8 +98,7 @@ impl<S: GroupLagrangian<3, Group = Rotations> + Clone> Subject for Body<S> {
     fn tracker(&self, state: &State) -> Tracker {
         let symmetry = match self.axis {
             Some(d) => Symmetry::Axis(d),
-            None if self.system.is_left_invariant() && !self.system.is_forced() => Symmetry::Full,
-            None => Symmetry::None,
+            None => Symmetry::of(&self.system),
         };
         Tracker::with_symmetry(
             state.energy(&self.system),

@@ -109,6 +109,14 @@ pub trait Lagrangian {
         false
     }
 
+    /// A spatial direction `d` about which `ℓ` is symmetric (`ℓ(exp(θd̂)R, Ω) = ℓ(R, Ω)`),
+    /// so that Noether's theorem conserves `d·Rμ` when no force acts: a heavy top's gravity
+    /// direction. `None` (the default) claims no such symmetry; a left-invariant `ℓ`
+    /// ([`Lagrangian::is_left_invariant`]) conserves all of `Rμ` whatever this says.
+    fn symmetry_axis(&self) -> Option<Vector3<f64>> {
+        None
+    }
+
     /// `(a, b)` when `R` enters `ℓ` only through the single term `aᵀ R b`, i.e.
     /// `ℓ(R, Ω) = k(Ω) + aᵀRb`: a uniform field `a` (world frame) acting on a body-fixed
     /// vector `b`, as gravity on a top (`a = m g d`, `b = ρ`) or a uniform magnetic field
@@ -339,6 +347,10 @@ impl Lagrangian for HeavyTop {
     }
     fn is_left_invariant(&self) -> bool {
         self.mass * self.gravity == 0.0
+    }
+    /// The gravity direction `d`: `d·Rμ` is conserved.
+    fn symmetry_axis(&self) -> Option<Vector3<f64>> {
+        Some(self.gravity_direction)
     }
     /// `a = m g d`, `b = ρ`.
     fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {

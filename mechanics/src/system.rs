@@ -72,6 +72,16 @@ pub trait GroupLagrangian<const D: usize> {
         false
     }
 
+    /// A generator `ζ` of a symmetry of `ℓ` (a one-parameter group acting on the left that
+    /// leaves `ℓ` unchanged), so that Noether's theorem conserves the spatial momentum's
+    /// component `⟨Ad*_{g⁻¹}μ, ζ⟩` when no force acts: on SO(3), an axis `d` with `d·Rμ`
+    /// conserved (a heavy top's gravity direction). `None` (the default) claims no such
+    /// symmetry; a left-invariant `ℓ` conserves all of the spatial momentum whatever this
+    /// says.
+    fn symmetry_generator(&self) -> Option<SVector<f64, D>> {
+        None
+    }
+
     /// `ξ` from `μ` in closed form where known; `None` (the default) makes the integrator
     /// solve `∂ℓ/∂ξ = μ` by Newton.
     fn velocity_from_momentum(
@@ -236,6 +246,9 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
     }
     fn is_left_invariant(&self) -> bool {
         Lagrangian::is_left_invariant(self)
+    }
+    fn symmetry_generator(&self) -> Option<Vector3<f64>> {
+        Lagrangian::symmetry_axis(self)
     }
     fn velocity_from_momentum(
         &self,
@@ -517,6 +530,9 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
     }
     fn is_left_invariant(&self) -> bool {
         self.system.is_left_invariant()
+    }
+    fn symmetry_generator(&self) -> Option<SVector<f64, D>> {
+        self.system.symmetry_generator()
     }
     fn velocity_from_momentum(
         &self,
