@@ -1,6 +1,8 @@
-//! The Newton policy of a step: exact Newton from the predictor's guess, chord steps with
-//! a matrix factored close enough to the solution, backtracking far from it, and stopping
-//! rules that accept a step only at the rounding floor of its equations.
+//! The Newton loop of a step: exact Newton from the predictor's guess, chord steps with a
+//! matrix factored close enough to the solution, backtracking far from it, and stopping
+//! rules that accept a step only at the rounding floor of its equations. The loop is here;
+//! its policies are their own modules: [`convergence`] (the stopping test), [`chord`]
+//! (when a factored matrix is kept) and [`line_search`] (backtracking).
 
 use super::assembly::WorkspaceOf;
 use super::{Element, StepOutcome, Stepper};
@@ -11,34 +13,9 @@ use crate::system::GroupLagrangian;
 use faer::Mat;
 use nalgebra::SVector;
 
-/// A Newton step taken from a residual below this fraction of the largest terms of the
-/// equations lands, by quadratic convergence (measured contraction `r_{k+1} ≈ 0.1 r_k²`
-/// in relative terms on the paper's cases), at an error ~1e-17 of them: below rounding,
-/// so the step is accepted once the residual is at its rounding floor (≤ √ε of the terms)
-/// without a further iteration that could only confirm the floor.
-///
-/// From an iterate this close, the full Newton step is also always taken (no backtracking):
-/// the residual after it is rounding noise, and comparing noise with noise would reject
-/// about half of these steps and keep the previous iterate, whose error — the quadratic
-/// remainder of the step before, ~ the rounding floor but with a fixed sign along a
-/// trajectory — then accumulates: measured, case A (exp, h = 0.5, n = 8), an energy drift
-/// of 1.7e-17 per step (3.1e-13 after 2·10⁴ steps), none without the backtracking
-/// (7e-15, random).
-const QUADRATIC_REGIME: f64 = 1e-8;
-
-/// A Newton matrix factored at an iterate with relative residual `r_f` at or below this is
-/// kept for the rest of the step: each chord step with it (an assembly without Hessians
-/// and two triangular solves, no LU) multiplies the error by ~`r_f` (the matrices differ
-/// by ~`r_f`), and `r₁ ≈ 0.1 r_f²` after the Newton step (measured). Two or three chord
-/// steps then cost less than one more Newton step (measured, case A, n = 10).
-const CHORD_EXPECTED: f64 = 1e-4;
-
-/// Chord steps continue until their predicted remainder (the product of `r_f` and the
-/// error estimate they started from) is below this, far below rounding: a remainder kept
-/// at the rounding floor has a fixed sign along a trajectory and accumulates (see
-/// [`QUADRATIC_REGIME`]), so the iterate is accepted only after it (typical chain from
-/// `r_f = 3e-6`: 7e-13 → 2e-18 → 6e-24).
-const CHORD_REMAINDER: f64 = 1e-20;
+mod chord;
+mod convergence;
+mod line_search;
 
 /// Solves `L U x = b` in place, with `L U` the unit-lower and upper factors that faer's
 /// partial-pivoting LU left in `lu` (the row permutation already applied to `b`): forward
@@ -81,11 +58,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let mut previous_scale = 0.0f64;
         let mut iterations = 0;
         let mut factorizations = 0;
-        // Backtracking: a Newton step that does not lower the residual is halved (from the
-        // last accepted iterate) up to `MAX_HALVINGS` times. Far from the solution (long
-        // steps, the heavy top with the exact matching) the full step can overshoot;
-        // near it the full step is always taken, so convergence stays quadratic.
-        const MAX_HALVINGS: u32 = 8;
+        // Backtracking (`line_search`): the damping of the step being tried.
         let mut damping = 1.0f64;
         // The relative residual of the iterate at which `work.jacobian` was factored in this
         // solve, if it was.
@@ -96,13 +69,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // Whether the last step taken was a chord step.
         let mut last_was_chord = false;
         loop {
-            // After a Newton step from a residual below QUADRATIC_REGIME of its terms, the
-            // error is (quadratic convergence) far below rounding: this assembly is
-            // expected to be the last, and needs no Hessians.
-            let expect_converged = iterations > 0 && previous <= QUADRATIC_REGIME * previous_scale;
-            // With a matrix factored below CHORD_EXPECTED, the next step is a chord step:
-            // assemble without Hessians.
-            let expect_chord = factored_at.is_some_and(|r_f| r_f <= CHORD_EXPECTED);
+            // An assembly expected to be the last, or before a chord step, needs no Hessians.
+            let expect_converged =
+                convergence::expect_converged(iterations, previous, previous_scale);
+            let expect_chord = chord::expect_chord(factored_at);
             // A halved trial point only needs its residual: the Hessians follow if it is
             // accepted and another step is needed.
             let with_hessians = exact && !expect_converged && !expect_chord && damping == 1.0;
@@ -112,12 +82,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 .as_ref()
                 .ok()
                 .map(|_| saved.unwrap_or_else(|| self.assemble(base, mu, work, with_hessians)));
-            let worse = match assembled {
-                // NaN counts as worse; near the solution the full step stands.
-                Some((r, _)) => r.is_nan() || (r >= previous && !expect_converged),
-                None => true,
-            };
-            if iterations > 0 && worse && damping > 0.5f64.powi(MAX_HALVINGS as i32) {
+            let worse = line_search::worse(assembled, previous, expect_converged);
+            if iterations > 0 && worse && line_search::may_halve(damping) {
                 damping *= 0.5;
                 for i in 1..n {
                     for c in 0..D {
@@ -132,16 +98,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             if !residual.is_finite() {
                 return Err(MechanicsError::SingularJacobian { step, time });
             }
-            // Converged: the residual is a few ulps of its largest terms, or — once below
-            // √ε of them — it has stopped halving (the rounding floor of the sums, which
-            // for m·n terms can sit a little above a few ulps). Newton converges
-            // quadratically, so the last accepted step is always taken at the floor.
             let scale = scale.max(f64::MIN_POSITIVE);
-            let tight = 4.0 * f64::EPSILON * scale;
-            let loose = f64::EPSILON.sqrt() * scale;
-            let stagnated = iterations > 0 && residual > 0.5 * previous && residual <= loose;
-            let at_floor =
-                residual <= tight || stagnated || (expect_converged && residual <= loose);
+            let at_floor = convergence::at_rounding_floor(
+                residual,
+                scale,
+                previous,
+                iterations,
+                expect_converged,
+            );
             if at_floor && pending == 0.0 {
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
@@ -161,20 +125,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             } else {
                 relative
             };
-            // A chord step that did not cut the residual tenfold (above the floor) means the
-            // kept matrix is too far off: take a Newton step instead.
-            let slow = last_was_chord
-                && !at_floor
-                && relative > 0.1 * previous / previous_scale.max(f64::MIN_POSITIVE);
-            // The kept matrix's residual, when this step is a chord step with it.
-            let chord = factored_at.filter(|&r_f| {
-                exact && !slow && (r_f <= CHORD_EXPECTED || error * r_f <= CHORD_REMAINDER)
-            });
+            let slow =
+                chord::too_slow(last_was_chord, at_floor, relative, previous, previous_scale);
+            let chord = chord::chord_with(factored_at, exact, slow, error);
             last_was_chord = chord.is_some();
             pending = 0.0;
             if let Some(r_f) = chord {
                 let remainder = error * r_f;
-                if remainder > CHORD_REMAINDER {
+                if remainder > chord::CHORD_REMAINDER {
                     pending = remainder;
                 }
             } else {
