@@ -1,0 +1,124 @@
+//! Gauss–Legendre rules from this crate beside the `gauss-quad` crate's (Bogaert's O(m)
+//! algorithm), on the same machine in the same process: the error of every node and weight
+//! against the committed 34-digit mpmath references (`tests/data/gauss_legendre.txt`, and the
+//! three largest nodes of the rules of 10⁵ and 10⁶ points in
+//! `tests/data/gauss_legendre_extremes.txt`), and the time to build a rule of m = 10² … 10⁶
+//! points (best of 5).
+//!
+//! Errors as the crate's reference tests measure them: the largest absolute node error and
+//! the largest relative weight error, both in units of ε (every node is in [−1, 1]).
+//!
+//! Run: `cargo run --release -p lgsvi-quadrature --example versus_gauss_quad`
+//! (not run by CI: its output is a measurement of times, reported in the README).
+
+use gauss_quad::legendre::GaussLegendre;
+use lgsvi_quadrature::gauss_legendre;
+use std::collections::BTreeMap;
+use std::num::NonZeroUsize;
+use std::time::Instant;
+
+type Rule = Vec<(f64, f64)>;
+
+/// `(node, weight)` pairs, ascending nodes.
+fn ours(m: usize) -> Rule {
+    let rule = gauss_legendre(m).expect("m ≥ 1");
+    rule.iter().collect()
+}
+
+fn theirs(m: usize) -> Rule {
+    let rule = GaussLegendre::new(NonZeroUsize::new(m).expect("m ≥ 1"));
+    let mut pairs: Rule = rule.iter().map(|(x, w)| (*x, *w)).collect();
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pairs
+}
+
+fn read(path: &str) -> BTreeMap<usize, Vec<(usize, f64, f64)>> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let mut table: BTreeMap<usize, Vec<(usize, f64, f64)>> = BTreeMap::new();
+    for line in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let (m, i) = (f[0].parse().unwrap(), f[1].parse().unwrap());
+        table
+            .entry(m)
+            .or_default()
+            .push((i, f[2].parse().unwrap(), f[3].parse().unwrap()));
+    }
+    table
+}
+
+fn errors(rule: &Rule, reference: &[(usize, f64, f64)], from_the_top: bool) -> (f64, f64) {
+    let m = rule.len();
+    let (mut node, mut weight) = (0.0f64, 0.0f64);
+    for &(i, x, w) in reference {
+        let (xi, wi) = if from_the_top {
+            rule[m - 1 - i]
+        } else {
+            rule[i]
+        };
+        node = node.max((xi - x).abs());
+        weight = weight.max((wi - w).abs() / w.abs());
+    }
+    (node / f64::EPSILON, weight / f64::EPSILON)
+}
+
+fn best_of_5(build: impl Fn() -> Rule) -> f64 {
+    (0..5)
+        .map(|_| {
+            let start = Instant::now();
+            std::hint::black_box(build());
+            start.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn main() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
+    println!("errors against 34-digit references [ε]: largest absolute node error, largest relative weight error");
+    println!(
+        "{:>8}  {:>22}  {:>22}",
+        "m", "lgsvi-quadrature", "gauss-quad"
+    );
+    let small = read(&format!("{dir}gauss_legendre.txt"));
+    for (&m, reference) in small.iter().filter(|(&m, _)| m >= 5) {
+        let (a, b) = (
+            errors(&ours(m), reference, false),
+            errors(&theirs(m), reference, false),
+        );
+        println!(
+            "{m:>8}  {:>9.2} {:>12.2}  {:>9.2} {:>12.2}",
+            a.0, a.1, b.0, b.1
+        );
+    }
+    let large = read(&format!("{dir}gauss_legendre_extremes.txt"));
+    for (&m, reference) in &large {
+        let (a, b) = (
+            errors(&ours(m), reference, true),
+            errors(&theirs(m), reference, true),
+        );
+        println!(
+            "{m:>8}  {:>9.2} {:>12.2}  {:>9.2} {:>12.2}   (the {} largest nodes)",
+            a.0,
+            a.1,
+            b.0,
+            b.1,
+            reference.len()
+        );
+    }
+    println!("\ntime to build the rule (best of 5)");
+    println!(
+        "{:>8}  {:>16}  {:>16}  {:>8}",
+        "m", "lgsvi-quadrature", "gauss-quad", "ratio"
+    );
+    for m in [100usize, 1_000, 10_000, 100_000, 1_000_000] {
+        let (a, b) = (best_of_5(|| ours(m)), best_of_5(|| theirs(m)));
+        println!(
+            "{m:>8}  {:>13.3} ms  {:>13.3} ms  {:>8.2}",
+            1e3 * a,
+            1e3 * b,
+            a / b
+        );
+    }
+}
