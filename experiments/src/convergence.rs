@@ -6,7 +6,7 @@
 //! domain) is kept in the results with its reason and NaN errors: a study reports where the
 //! method stops working rather than stopping itself.
 
-use crate::conserved::Symmetry;
+use crate::conserved::largest;
 use crate::error::ExperimentError;
 use crate::fit::{algebraic_order, geometric_factor};
 use crate::subject::Subject;
@@ -156,7 +156,7 @@ pub struct Measurement {
     /// Largest `|E − E₀|/|E₀|` over the steps.
     pub energy_error: f64,
     /// Largest drift of the conserved spatial momentum ([`crate::Drift`]); NaN for a system
-    /// that conserves none ([`Symmetry::None`]: under a torque or damping).
+    /// that conserves none ([`crate::Symmetry::None`]: under a torque or damping).
     pub momentum_drift: f64,
     /// Newton iterations over the run.
     pub newton_iterations: usize,
@@ -223,7 +223,7 @@ fn measure_into<P: Subject>(
         let s = integrator.state();
         let d = tracker.drift(s.energy(system), s.attitude().matrix(), &s.momentum);
         energy_error = energy_error.max(d.energy);
-        drift = drift.max(d.spatial_momentum);
+        drift = largest(drift, d.spatial_momentum);
         if curve_samples > 1 {
             if let Some(curve) = integrator.last_curve() {
                 for j in 1..curve_samples {
@@ -250,13 +250,7 @@ fn measure_into<P: Subject>(
         f64::NAN
     };
     m.energy_error = energy_error;
-    // No symmetry, no conserved momentum: NaN says so (the largest of NaN drifts would
-    // read 0, as if conserved exactly).
-    m.momentum_drift = if tracker.symmetry() == Symmetry::None {
-        f64::NAN
-    } else {
-        drift
-    };
+    m.momentum_drift = drift;
     m.newton_iterations = integrator.statistics().newton_iterations;
     Ok(())
 }

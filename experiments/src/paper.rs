@@ -6,6 +6,7 @@
 //! report needs; nothing here draws, writes or formats. Progress goes to a [`Progress`]
 //! observer (`&mut ()` for none).
 
+use crate::conserved::largest;
 use crate::convergence::{measure, Measurement, Reference};
 use crate::error::ExperimentError;
 use crate::fit;
@@ -151,9 +152,10 @@ pub fn halves_ratio(values: &[f64]) -> f64 {
     second / first.max(1e-300)
 }
 
-/// The largest of `values` (0 for none).
+/// The largest of `values` (0 for none); NaN if any is NaN (a drift not measured, not a
+/// drift of 0).
 pub fn max(values: &[f64]) -> f64 {
-    values.iter().cloned().fold(0.0, f64::max)
+    values.iter().fold(0.0, |a, &b| largest(a, b))
 }
 
 /// The n-refinement configurations: (chart, matching).

@@ -165,9 +165,9 @@ fn run_into(options: ReproduceOptions) -> Result<Output> {
     )?;
 
     let name = "fig4_rigid_body_momentum_sphere";
+    let j = rigid.inertia.principal_moments();
     let data = paper::sphere_runs(
         |mu| {
-            let j = rigid.inertia.principal_moments();
             let mut p = rigid.clone();
             p.omega0 = Vector3::new(mu.x / j[0], mu.y / j[1], mu.z / j[2]);
             p
