@@ -122,21 +122,6 @@ pub enum CliError {
         /// The number of steps of `fitted`.
         steps: f64,
     },
-    /// A state or invariant overflowed.
-    #[error(
-        "step {step} (t = {time}): the {quantity} is not finite ({values}); the inputs overflow \
-         double precision: scale them (other units), or lower the inertia, mass, gravity or velocity"
-    )]
-    Overflow {
-        /// The step.
-        step: usize,
-        /// Its time.
-        time: f64,
-        /// Which quantity.
-        quantity: &'static str,
-        /// Its values.
-        values: String,
-    },
     /// `--exact` for a system without a closed-form solution.
     #[error(
         "the exact solution is known for the free rigid body only (system rigid-body, \
@@ -252,3 +237,16 @@ pub enum CliError {
 
 /// The command line's result.
 pub type Result<T, E = CliError> = std::result::Result<T, E>;
+
+impl CliError {
+    /// A mechanics error that came through a recording or a study as
+    /// [`CliError::Mechanics`], so that one match sees it wherever it arose.
+    pub fn into_mechanics(self) -> Self {
+        match self {
+            CliError::Experiment(lgsvi_experiments::ExperimentError::Mechanics(error)) => {
+                CliError::Mechanics(error)
+            }
+            other => other,
+        }
+    }
+}

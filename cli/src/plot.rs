@@ -5,7 +5,7 @@ use crate::error::CliError;
 use crate::files::Partial;
 #[cfg(test)]
 pub use lgsvi_plot::{inspect, layout, legend_labels, legend_text_width, LEGEND_TEXT_X, SIZE};
-pub use lgsvi_plot::{Drawing, Figure, Series, SphereFigure, Style};
+pub use lgsvi_plot::{Drawing, Figure, SphereFigure};
 use std::path::{Path, PathBuf};
 
 /// The two files a figure with base `base` writes: `base.svg` and `base.png`.

@@ -12,7 +12,7 @@ use lgsvi_mechanics::{
     Integrator, MechanicsError, OrbitingBody, RigidBody, RigidMotions, StepSettings,
     DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
 };
-use nalgebra::{Matrix3, RealField, SVector, Vector3};
+use nalgebra::{Matrix3, SVector, Vector3};
 
 /// The paper's parameters per system (`docs/paper-notes.md` §4): case A and case B.
 pub struct Defaults {
@@ -179,38 +179,7 @@ pub type Drive = (BodyTorque, AngularDamping);
 pub type Driven = Forced<System, Drive>;
 
 /// A built-in SE(3) system.
-#[derive(Debug, Clone, Copy)]
-pub enum MotionSystem {
-    Free(FreeBody),
-    Orbit(OrbitingBody),
-}
-
-impl GroupLagrangian<6> for MotionSystem {
-    type Group = RigidMotions;
-    fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
-        match self {
-            MotionSystem::Free(s) => s.lagrangian(t, g, xi),
-            MotionSystem::Orbit(s) => s.lagrangian(t, g, xi),
-        }
-    }
-    fn is_left_invariant(&self) -> bool {
-        match self {
-            MotionSystem::Free(s) => s.is_left_invariant(),
-            MotionSystem::Orbit(s) => s.is_left_invariant(),
-        }
-    }
-    fn velocity_from_momentum(
-        &self,
-        t: f64,
-        g: &SE3,
-        mu: &SVector<f64, 6>,
-    ) -> Option<SVector<f64, 6>> {
-        match self {
-            MotionSystem::Free(s) => s.velocity_from_momentum(t, g, mu),
-            MotionSystem::Orbit(s) => s.velocity_from_momentum(t, g, mu),
-        }
-    }
-}
+pub use lgsvi_experiments::BuiltInMotion as MotionSystem;
 
 /// An SE(3) run: the system under the run's torque and damping, and its start.
 #[derive(Debug, Clone, Copy)]
@@ -238,14 +207,7 @@ impl Motion {
     }
 }
 
-/// A gyrostat of one of the wheel counts the command line takes.
-#[derive(Debug, Clone, Copy)]
-pub enum AnyGyrostat {
-    One(Gyrostat<1>),
-    Two(Gyrostat<2>),
-    Three(Gyrostat<3>),
-    Four(Gyrostat<4>),
-}
+pub use lgsvi_mechanics::gyrostat::AnyGyrostat;
 
 /// A gyrostat run (`--system gyrostat`): the spacecraft, its wheels' start and their
 /// constant motor torques.
@@ -304,40 +266,7 @@ impl Wheels {
             flag: "--wheel-axes/--wheel-inertia",
             source,
         };
-        let system = match k {
-            1 => {
-                AnyGyrostat::One(Gyrostat::new(j, [vectors[0]], [wheel_inertia[0]]).map_err(input)?)
-            }
-            2 => AnyGyrostat::Two(
-                Gyrostat::new(
-                    j,
-                    [vectors[0], vectors[1]],
-                    [wheel_inertia[0], wheel_inertia[1]],
-                )
-                .map_err(input)?,
-            ),
-            3 => AnyGyrostat::Three(
-                Gyrostat::new(
-                    j,
-                    [vectors[0], vectors[1], vectors[2]],
-                    [wheel_inertia[0], wheel_inertia[1], wheel_inertia[2]],
-                )
-                .map_err(input)?,
-            ),
-            _ => AnyGyrostat::Four(
-                Gyrostat::new(
-                    j,
-                    [vectors[0], vectors[1], vectors[2], vectors[3]],
-                    [
-                        wheel_inertia[0],
-                        wheel_inertia[1],
-                        wheel_inertia[2],
-                        wheel_inertia[3],
-                    ],
-                )
-                .map_err(input)?,
-            ),
-        };
+        let system = AnyGyrostat::new(j, &vectors, &wheel_inertia).map_err(input)?;
         // The wheels as given (the axes before normalising), for the output's description.
         description["wheel_axes"] = axes_given.into();
         description["wheel_inertia"] = wheel_inertia.into();

@@ -17,6 +17,21 @@ pub enum ExperimentError {
         /// What failed.
         source: MechanicsError,
     },
+    /// A recorded state or invariant overflowed ([`crate::record`]).
+    #[error(
+        "step {step} (t = {time}): the {quantity} is not finite ({values}); the inputs overflow \
+         double precision: scale them (other units), or lower the inertia, mass, gravity or velocity"
+    )]
+    Overflow {
+        /// The step.
+        step: usize,
+        /// Its time.
+        time: f64,
+        /// Which quantity.
+        quantity: &'static str,
+        /// Its values.
+        values: String,
+    },
     /// The reference run has no Galerkin curve at this time (it ended before it).
     #[error("reference has no curve at t = {0}")]
     NoReferenceCurve(f64),

@@ -18,6 +18,9 @@
 //!   accurate run, and the median timing they share;
 //! - [`paper`]: the measurements behind the figures of Hall and Leok's paper (n- and
 //!   h-refinement, long runs, momenta on the sphere, the unstable pendulum), as data;
+//! - [`record`]: a run to its horizon, every state checked and every `every`-th recorded
+//!   with its energy, work, translation or wheels and the integrator's statistics (what
+//!   `lgsvi simulate` writes), for SO(3), SE(3) and the gyrostats;
 //! - [`conserved`]: how far energy, the Casimir `|μ|²` and the spatial momentum `Rμ` (or
 //!   its conserved component) have moved from their initial values.
 //!
@@ -65,11 +68,12 @@ pub mod convergence;
 mod error;
 pub mod fit;
 pub mod paper;
+pub mod record;
 mod subject;
 pub mod tolerance;
 pub mod work_precision;
 
-pub use built_in::BuiltIn;
+pub use built_in::{BuiltIn, BuiltInMotion};
 pub use conserved::{Drift, Symmetry, Tracker};
 pub use error::ExperimentError;
 pub use subject::{Body, Subject};

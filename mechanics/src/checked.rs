@@ -51,7 +51,7 @@
 
 use crate::control::GroupLog;
 use crate::error::MechanicsError;
-use crate::integrator::Integrator;
+use crate::integrator::{Flow, Integrator, Observer, StepInfo};
 use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
 use crate::state::State;
 use crate::system::{ElementOf, GroupLagrangian};
@@ -202,6 +202,32 @@ where
             };
         }
         Ok(iterations)
+    }
+
+    /// Takes up to `steps` checked steps, telling `observer` after each with the primary
+    /// run (the companion's difference is [`Checked::difference`]); returns the steps taken
+    /// (fewer when the observer stopped the run): [`Integrator::drive`] for a checked run.
+    ///
+    /// # Errors
+    /// A failed step ([`Checked::step`]'s errors, through the observer's error type) or
+    /// the observer's own.
+    pub fn drive<O: Observer<S, C, D>>(
+        &mut self,
+        steps: usize,
+        observer: &mut O,
+    ) -> Result<usize, O::Error> {
+        for index in 1..=steps {
+            let iterations = self.step()?;
+            let step = StepInfo {
+                index,
+                iterations,
+                last: index == steps,
+            };
+            if observer.after_step(&self.primary, step)? == Flow::Stop {
+                return Ok(index);
+            }
+        }
+        Ok(steps)
     }
 
     /// Sets the control input of both runs ([`Integrator::set_input`]).

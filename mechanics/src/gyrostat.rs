@@ -152,6 +152,69 @@ impl<const K: usize> Gyrostat<K> {
     }
 }
 
+/// A gyrostat whose wheel count (1 to 4) is known only at run time (a command line's,
+/// a configuration file's): one type for the four [`Gyrostat`]s; match on it to run the
+/// one it holds (`Gyrostat<K>` on SO(3) × ℝᴷ is a different configuration group for each
+/// `K`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AnyGyrostat {
+    /// One wheel.
+    One(Gyrostat<1>),
+    /// Two wheels.
+    Two(Gyrostat<2>),
+    /// Three wheels.
+    Three(Gyrostat<3>),
+    /// Four wheels.
+    Four(Gyrostat<4>),
+}
+
+impl AnyGyrostat {
+    /// The gyrostat with as many wheels as `axes` has entries ([`Gyrostat::new`]).
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for 0 or more than 4 wheels, or for
+    /// `wheel_inertia` with another count than `axes`; [`Gyrostat::new`]'s errors.
+    pub fn new(
+        inertia: Matrix3<f64>,
+        axes: &[Vector3<f64>],
+        wheel_inertia: &[f64],
+    ) -> Result<Self, MechanicsError> {
+        if wheel_inertia.len() != axes.len() {
+            return Err(MechanicsError::InvalidSetting {
+                name: "wheel inertia",
+                value: format!("{wheel_inertia:?}"),
+                reason: "one axial inertia per wheel axis",
+            });
+        }
+        fn fixed<T: Copy, const K: usize>(values: &[T]) -> [T; K] {
+            std::array::from_fn(|i| values[i])
+        }
+        Ok(match axes.len() {
+            1 => Self::One(Gyrostat::new(inertia, fixed(axes), fixed(wheel_inertia))?),
+            2 => Self::Two(Gyrostat::new(inertia, fixed(axes), fixed(wheel_inertia))?),
+            3 => Self::Three(Gyrostat::new(inertia, fixed(axes), fixed(wheel_inertia))?),
+            4 => Self::Four(Gyrostat::new(inertia, fixed(axes), fixed(wheel_inertia))?),
+            k => {
+                return Err(MechanicsError::InvalidSetting {
+                    name: "wheels",
+                    value: k.to_string(),
+                    reason: "a gyrostat here has 1 to 4 wheels",
+                })
+            }
+        })
+    }
+
+    /// Its number of wheels.
+    pub fn wheels(&self) -> usize {
+        match self {
+            Self::One(_) => 1,
+            Self::Two(_) => 2,
+            Self::Three(_) => 3,
+            Self::Four(_) => 4,
+        }
+    }
+}
+
 /// Implements the group, its charts and the gyrostat for one wheel count.
 macro_rules! wheels {
     ($k:literal, $d:literal, $jet:literal, $local:literal) => {

@@ -6,6 +6,8 @@
 //! - [`paper`]: the paper's report (`REPORT.md`): a section per figure and the table of
 //!   the paper's claims, each with a verdict from the measurements;
 //! - [`paper_figures`]: the paper's figures and their CSV data;
+//! - [`trajectory`]: a recorded run as `lgsvi simulate` writes it (JSON through serde, CSV
+//!   through the `csv` crate) and its conservation figure;
 //! - [`tolerance`]: the error-estimate calibration and the tolerance study, as tables and
 //!   figures.
 //!
@@ -47,3 +49,4 @@ pub mod convergence;
 pub mod paper;
 pub mod paper_figures;
 pub mod tolerance;
+pub mod trajectory;

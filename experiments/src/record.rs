@@ -1,0 +1,560 @@
+//! A run recorded for output: every `every`-th state of a run to its horizon, with its
+//! energy, the work of its forces, its translation or wheels, and the integrator's
+//! statistics and error accounting — what `lgsvi simulate` writes as JSON or CSV
+//! (`lgsvi_reports::trajectory`), for any group the command line runs.
+//!
+//! Every state is checked on the way (a state or invariant that overflows stops the run
+//! with [`ExperimentError::Overflow`], naming the step and the quantity), the recorded ones
+//! are kept. The run goes through the integrator's one driving loop
+//! ([`Integrator::drive`], or [`Checked::drive`] beside a companion); the integration alone
+//! is timed.
+//!
+//! ```
+//! use lgsvi_experiments::record::{record, Recording};
+//! use lgsvi_mechanics::lie::SO3;
+//! use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+//! use nalgebra::Vector3;
+//!
+//! # fn main() -> Result<(), lgsvi_experiments::ExperimentError> {
+//! let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4])?);
+//! let integrator =
+//!     Integrator::new(body, StepSettings::new(0.5, 8)?, SO3::identity(), Vector3::new(-2.0, 1.9, -1.0))?;
+//! let run: Recording = record(integrator, 10.0, 4, &mut |_| {})?;
+//! assert_eq!(run.steps, 20);
+//! assert_eq!(run.states.len(), 6); // t = 0, 2, 4, 6, 8, 10
+//! assert!((run.energies[5] - run.energies[0]).abs() < 1e-12);
+//! # Ok(())
+//! # }
+//! ```
+
+use crate::error::ExperimentError;
+use lgsvi_mechanics::control::GroupLog;
+use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::gyrostat::BodyWheels;
+use lgsvi_mechanics::lie::{SE3, SO3};
+use lgsvi_mechanics::{
+    each, Checked, Difference, ElementOf, Flow, GroupChart, GroupLagrangian, Integrator, Observer,
+    Rotations, State, StepSettings, ToleranceCheck,
+};
+use nalgebra::{SVector, Vector3};
+use std::time::{Duration, Instant};
+
+/// A recorded run. The attitude columns are SO(3)'s for every group: for a body in space
+/// its rotational part (with [`MotionRecord`] beside it), for a gyrostat the body's
+/// attitude, rate and total angular momentum (with [`WheelRecord`] beside it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recording {
+    /// The recorded states' SO(3) columns (`R`, `Ω`, `μ`).
+    pub states: Vec<State>,
+    /// The Newton iterations of the step that reached each recorded state (0 for the
+    /// initial state and an exact solution).
+    pub newton_iterations: Vec<usize>,
+    /// The energy of each recorded state.
+    pub energies: Vec<f64>,
+    /// The work of the forces and inputs up to each recorded state, for a forced run.
+    pub work: Option<Vec<f64>>,
+    /// Position, velocity and spatial momenta of each recorded state, for a body in space.
+    pub motion: Option<Vec<MotionRecord>>,
+    /// The wheels of each recorded state, for a gyrostat.
+    pub wheels: Option<Vec<WheelRecord>>,
+    /// The integration's wall time (with its companion's for a checked run; summed over
+    /// the runs of a tolerance-driven one), without the checks and the recording.
+    pub wall_time_s: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations over the run.
+    pub newton_iterations_total: usize,
+    /// The most Newton iterations of one step.
+    pub max_newton_iterations: usize,
+    /// Newton matrices assembled and factored (the other iterations reused one).
+    pub factorizations: usize,
+    /// The integrator's error accounting (`None` for an exact solution).
+    pub estimates: Option<Estimates>,
+}
+
+/// What a run's error estimates say.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimates {
+    /// The sum of the local error estimates, or for a checked run the difference its
+    /// companion measured at the end.
+    pub global: f64,
+    /// `(n, steps with n nodes)`, by increasing `n`.
+    pub nodes: Vec<(usize, usize)>,
+    /// Solves redone with more nodes (adaptive runs).
+    pub rejected: usize,
+    /// A checked run's measurement.
+    pub check: Option<CheckRecord>,
+}
+
+/// What a checked run's companion measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckRecord {
+    /// The largest difference along the run, its time and step.
+    pub largest: Difference,
+    /// The sum of the local estimates (the unchecked model), for comparison.
+    pub local_sum: f64,
+    /// Runs taken (the first, and each with a tightened share per step).
+    pub attempts: usize,
+    /// The accepted run's share per step against the first's.
+    pub tightened: f64,
+}
+
+/// The translational part of a recorded state of a body in space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionRecord {
+    /// Centre of mass `x`, world frame.
+    pub position: Vector3<f64>,
+    /// `ẋ`, world frame.
+    pub velocity: Vector3<f64>,
+    /// The spatial momentum `(RJΩ + x × mẋ, mẋ)`: angular momentum about the world
+    /// origin and linear momentum.
+    pub spatial_momentum: SVector<f64, 6>,
+}
+
+/// The wheels of a recorded gyrostat state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelRecord {
+    /// The wheel angles `φ_i` relative to the body.
+    pub angles: Vec<f64>,
+    /// Their rates `φ̇_i`.
+    pub speeds: Vec<f64>,
+    /// The wheels' axial momenta `p_i = I_i (a_iᵀΩ + φ̇_i)`.
+    pub momenta: Vec<f64>,
+}
+
+/// How a state of a group is recorded: its SO(3) columns, and the translation or the
+/// wheels beside them. Implemented for SO(3), SE(3) and the gyrostats' SO(3) × ℝᴷ
+/// (`K = 1..=4`).
+pub trait Columns<const D: usize>: Sized {
+    /// The state's SO(3) columns and what goes beside them.
+    fn columns(state: &State<Self, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>);
+}
+
+impl Columns<3> for SO3 {
+    fn columns(state: &State) -> (State, Option<MotionRecord>, Option<WheelRecord>) {
+        (*state, None, None)
+    }
+}
+
+/// The rotational part as the SO(3) columns, the translation beside them.
+impl Columns<6> for SE3 {
+    fn columns(s: &State<SE3, 6>) -> (State, Option<MotionRecord>, Option<WheelRecord>) {
+        let motion = MotionRecord {
+            position: s.position(),
+            velocity: s.linear_velocity(),
+            spatial_momentum: s.spatial_momentum(),
+        };
+        let rotation = State {
+            time: s.time,
+            configuration: *s.attitude(),
+            momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
+            velocity: s.angular_velocity(),
+        };
+        (rotation, Some(motion), None)
+    }
+}
+
+/// The body's attitude, rate and total angular momentum `h` as the SO(3) columns (the
+/// spatial `Rh` is what the wheels conserve), the wheels beside them: the body momentum is
+/// `(h, p)`, the wheels' axial momenta its last `K` entries as their rates are the
+/// velocity's.
+macro_rules! wheel_columns {
+    ($($k:literal => $d:literal),*) => {$(
+        impl Columns<$d> for BodyWheels<f64, $k> {
+            fn columns(
+                s: &State<Self, $d>,
+            ) -> (State, Option<MotionRecord>, Option<WheelRecord>) {
+                let rotation = State {
+                    time: s.time,
+                    configuration: s.configuration.attitude,
+                    momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
+                    velocity: s.velocity.fixed_rows::<3>(0).into_owned(),
+                };
+                let wheels = WheelRecord {
+                    angles: s.configuration.wheels.iter().copied().collect(),
+                    speeds: s.velocity.iter().skip(3).copied().collect(),
+                    momenta: s.momentum.iter().skip(3).copied().collect(),
+                };
+                (rotation, None, Some(wheels))
+            }
+        }
+    )*};
+}
+wheel_columns!(1 => 4, 2 => 5, 3 => 6, 4 => 7);
+
+/// What steps a recorded run: an integrator alone, or [`Checked`] beside its companion.
+pub trait Runner<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+    /// The run (the primary, for a checked one).
+    fn integrator(&self) -> &Integrator<S, C, D>;
+    /// Takes up to `steps` steps through the driving loop, telling `observer` after each.
+    ///
+    /// # Errors
+    /// A failed step, or the observer's error.
+    fn drive<O: Observer<S, C, D>>(
+        &mut self,
+        steps: usize,
+        observer: &mut O,
+    ) -> Result<usize, O::Error>;
+    /// The checked difference now and at its largest (`None` unchecked).
+    fn checked(&self) -> Option<(f64, Difference)>;
+}
+
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Runner<S, C, D>
+    for Integrator<S, C, D>
+{
+    fn integrator(&self) -> &Integrator<S, C, D> {
+        self
+    }
+    fn drive<O: Observer<S, C, D>>(
+        &mut self,
+        steps: usize,
+        observer: &mut O,
+    ) -> Result<usize, O::Error> {
+        Integrator::drive(self, steps, observer)
+    }
+    fn checked(&self) -> Option<(f64, Difference)> {
+        None
+    }
+}
+
+impl<S, C, const D: usize> Runner<S, C, D> for Checked<S, C, D>
+where
+    S: GroupLagrangian<D> + Clone,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: GroupLog<D>,
+{
+    fn integrator(&self) -> &Integrator<S, C, D> {
+        Checked::integrator(self)
+    }
+    fn drive<O: Observer<S, C, D>>(
+        &mut self,
+        steps: usize,
+        observer: &mut O,
+    ) -> Result<usize, O::Error> {
+        Checked::drive(self, steps, observer)
+    }
+    fn checked(&self) -> Option<(f64, Difference)> {
+        Some((self.difference(), self.largest_difference()))
+    }
+}
+
+/// Checks that a state's SO(3) columns and invariants are finite.
+///
+/// # Errors
+/// [`ExperimentError::Overflow`] naming the first quantity that is not.
+pub fn check_finite(step: usize, state: &State, energy: f64) -> Result<(), ExperimentError> {
+    let pi = state.spatial_momentum();
+    let quantities: [(&'static str, &[f64]); 6] = [
+        ("attitude R", &state.attitude().to_row_major()),
+        ("angular velocity Ω", state.velocity.as_slice()),
+        ("body momentum μ", state.momentum.as_slice()),
+        ("energy", &[energy]),
+        ("Casimir |μ|²", &[state.casimir()]),
+        ("spatial momentum Rμ", pi.as_slice()),
+    ];
+    for (quantity, values) in quantities {
+        if values.iter().any(|x| !x.is_finite()) {
+            return Err(ExperimentError::Overflow {
+                step,
+                time: state.time,
+                quantity,
+                values: format!("{values:?}"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// How often [`record`] reports progress, in steps.
+pub const PROGRESS_EVERY: usize = 64;
+
+/// Runs `runner` to `t_end`, checking every state and recording the initial one, every
+/// `every`-th (at least 1) and the last; `progress(k)` is told the steps taken every
+/// [`PROGRESS_EVERY`] steps. The integration alone is timed (with its companion, for a
+/// checked run): not the checks or the recording.
+///
+/// # Errors
+/// A horizon the step does not divide ([`Integrator::steps_until`]), a failed step, or a
+/// state that overflows ([`ExperimentError::Overflow`]).
+pub fn record<S, C, const D: usize>(
+    mut runner: impl Runner<S, C, D>,
+    t_end: f64,
+    every: usize,
+    progress: &mut dyn FnMut(usize),
+) -> Result<Recording, ExperimentError>
+where
+    S: GroupLagrangian<D> + Copy,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: Columns<D>,
+{
+    let every = every.max(1);
+    let steps = runner.integrator().steps_until(t_end)?;
+    let system = *runner.integrator().system();
+    // Forced: by the system's own force, or by an input (a gyrostat's motor torques).
+    let forced = system.is_forced() || runner.integrator().input().iter().any(|&u| u != 0.0);
+    let (_, motion, wheels) = ElementOf::<S, D>::columns(runner.integrator().state());
+    let mut run = Recording {
+        states: Vec::new(),
+        newton_iterations: Vec::new(),
+        energies: Vec::new(),
+        work: forced.then(Vec::new),
+        motion: motion.map(|_| Vec::new()),
+        wheels: wheels.map(|_| Vec::new()),
+        wall_time_s: 0.0,
+        steps: 0,
+        newton_iterations_total: 0,
+        max_newton_iterations: 0,
+        factorizations: 0,
+        estimates: None,
+    };
+    let mut visit = |k: usize,
+                     state: &State<ElementOf<S, D>, D>,
+                     iterations: Option<usize>,
+                     done: f64|
+     -> Result<(), ExperimentError> {
+        let energy = state.energy(&system);
+        let (rotation, motion, wheels) = ElementOf::<S, D>::columns(state);
+        check_finite(k, &rotation, energy)?;
+        if let Some(motion) = &motion {
+            let translation = [motion.position, motion.velocity];
+            if translation.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
+                return Err(ExperimentError::Overflow {
+                    step: k,
+                    time: state.time,
+                    quantity: "position x or velocity ẋ",
+                    values: format!("{translation:?}"),
+                });
+            }
+        }
+        let Some(iterations) = iterations else {
+            return Ok(());
+        };
+        run.states.push(rotation);
+        run.newton_iterations.push(iterations);
+        run.energies.push(energy);
+        if let Some(work) = run.work.as_mut() {
+            work.push(done);
+        }
+        if let Some(records) = run.motion.as_mut() {
+            records.extend(motion);
+        }
+        if let Some(records) = run.wheels.as_mut() {
+            records.extend(wheels);
+        }
+        Ok(())
+    };
+    visit(0, runner.integrator().state(), Some(0), 0.0)?;
+    // The time between one observer call's end and the next call is a step's.
+    let mut wall_time = Duration::ZERO;
+    let mut since = Instant::now();
+    let mut observer = each(
+        |integrator: &Integrator<S, C, D>, step: lgsvi_mechanics::StepInfo| {
+            wall_time += since.elapsed();
+            let k = step.index;
+            let recorded = k.is_multiple_of(every) || step.last;
+            visit(
+                k,
+                integrator.state(),
+                recorded.then_some(step.iterations),
+                integrator.work_done(),
+            )?;
+            if k.is_multiple_of(PROGRESS_EVERY) {
+                progress(k);
+            }
+            since = Instant::now();
+            Ok::<_, ExperimentError>(Flow::Continue)
+        },
+    );
+    runner.drive(steps, &mut observer)?;
+    let integrator = runner.integrator();
+    let stats = integrator.statistics();
+    let local_sum = integrator.estimated_global_error();
+    let check = runner.checked();
+    run.estimates = Some(Estimates {
+        global: check.map_or(local_sum, |(now, _)| now),
+        nodes: integrator.nodes_used().collect(),
+        rejected: stats.rejected_steps,
+        check: check.map(|(_, largest)| CheckRecord {
+            largest,
+            local_sum,
+            attempts: 1,
+            tightened: 1.0,
+        }),
+    });
+    run.wall_time_s = wall_time.as_secs_f64();
+    run.steps = stats.steps;
+    run.newton_iterations_total = stats.newton_iterations;
+    run.max_newton_iterations = stats.max_newton_iterations;
+    run.factorizations = stats.factorizations;
+    Ok(run)
+}
+
+/// Runs to `t_end` with the integrators `make` builds (its errors are the caller's `E`),
+/// beside their companion, until the companion's measured error is within `tolerance`
+/// ([`ToleranceCheck`]: the first run with `settings`, then up to two with a tightened
+/// share per step). The recording's
+/// [`CheckRecord`] says how many runs it took; its wall time is theirs together.
+///
+/// # Errors
+/// As [`record`]; [`lgsvi_mechanics::MechanicsError::ToleranceNotChecked`] (as
+/// [`ExperimentError::Mechanics`]) when no run met the tolerance.
+pub fn record_to_tolerance<S, C, E, const D: usize>(
+    make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>, E>,
+    settings: StepSettings,
+    tolerance: f64,
+    t_end: f64,
+    every: usize,
+    progress: &mut dyn FnMut(usize),
+) -> Result<Recording, E>
+where
+    S: GroupLagrangian<D> + Copy,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: Columns<D> + GroupLog<D>,
+    E: From<ExperimentError> + From<lgsvi_mechanics::MechanicsError>,
+{
+    let mut policy = ToleranceCheck::new(settings, tolerance)?;
+    let mut wall_time = 0.0;
+    loop {
+        let runner = Checked::new(make(policy.settings())?)?;
+        let mut run = record(runner, t_end, every, progress).map_err(E::from)?;
+        wall_time += run.wall_time_s;
+        run.wall_time_s = wall_time;
+        let check = run
+            .estimates
+            .as_mut()
+            .and_then(|e| e.check.as_mut())
+            .expect("a checked run records its check");
+        check.attempts = policy.attempt();
+        check.tightened = policy.tightened();
+        let largest = check.largest;
+        if policy.judge(largest)? {
+            return Ok(run);
+        }
+    }
+}
+
+/// The exact free-body solution recorded as [`record`] records a run of `steps` steps of
+/// `h`: the initial state, every `every`-th step's time and the last; energies from
+/// `system` (the free body whose solution `body` is).
+///
+/// # Errors
+/// A time the solution cannot be evaluated at, or a state that overflows.
+pub fn record_exact<S: GroupLagrangian<3, Group = Rotations>>(
+    body: &FreeRigidBodyExact,
+    system: &S,
+    h: f64,
+    steps: usize,
+    every: usize,
+) -> Result<Recording, ExperimentError> {
+    let every = every.max(1);
+    let start = Instant::now();
+    let mut states = Vec::new();
+    for k in (0..=steps).filter(|k| k % every == 0 || *k == steps) {
+        states.push(body.state(k as f64 * h)?);
+    }
+    let wall_time_s = start.elapsed().as_secs_f64();
+    let energies: Vec<f64> = states.iter().map(|s| s.energy(system)).collect();
+    for (state, energy) in states.iter().zip(&energies) {
+        // The step the integrator would have reached at this time.
+        check_finite((state.time / h).round() as usize, state, *energy)?;
+    }
+    Ok(Recording {
+        newton_iterations: vec![0; states.len()],
+        states,
+        energies,
+        work: None,
+        motion: None,
+        wheels: None,
+        wall_time_s,
+        steps: 0,
+        newton_iterations_total: 0,
+        max_newton_iterations: 0,
+        factorizations: 0,
+        estimates: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lgsvi_mechanics::{FreeBody, Inertia, RigidBody};
+
+    fn body() -> (RigidBody, Inertia) {
+        let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap();
+        (RigidBody::new(inertia), inertia)
+    }
+
+    #[test]
+    fn a_recording_keeps_what_run_returns_with_the_closed_form_energy() {
+        let (system, inertia) = body();
+        let omega = Vector3::new(-2.0, 1.9, -1.0);
+        let make = || {
+            Integrator::new(
+                system,
+                StepSettings::new(0.5, 8).unwrap(),
+                SO3::identity(),
+                omega,
+            )
+            .unwrap()
+        };
+        let expected = make().run(7, 3).unwrap();
+        let run = record(make(), 3.5, 3, &mut |_| {}).unwrap();
+        // The states and iterations of `Integrator::run` (the Recorder's path), bit for bit.
+        assert_eq!(run.states, expected.states);
+        assert_eq!(run.newton_iterations, expected.newton_iterations);
+        assert_eq!(run.steps, 7);
+        assert!(run.work.is_none() && run.motion.is_none() && run.wheels.is_none());
+        // E = ½ΩᵀJΩ of the initial velocity; the method conserves it to rounding over 7
+        // steps (a few ε of E ≈ 16).
+        let e0 = 0.5 * omega.dot(&(inertia.matrix() * omega));
+        for e in &run.energies {
+            assert!((e - e0).abs() < 1e-13 * e0, "{e} against {e0}");
+        }
+    }
+
+    #[test]
+    fn a_body_in_space_records_its_translation() {
+        let (_, inertia) = body();
+        let system = FreeBody::new(inertia, 2.0).unwrap();
+        let start = SE3::new(SO3::identity(), Vector3::new(1.0, 0.0, 0.0));
+        let velocity = SVector::<f64, 6>::from_column_slice(&[0.3, 0.1, -0.2, 0.1, -0.2, 0.05]);
+        let it =
+            Integrator::new(system, StepSettings::new(0.5, 6).unwrap(), start, velocity).unwrap();
+        let run = record(it, 2.0, 1, &mut |_| {}).unwrap();
+        let motion = run.motion.as_ref().unwrap();
+        assert_eq!(motion.len(), 5);
+        // A free body's centre of mass moves uniformly: x(t) = x₀ + t ẋ₀ with ẋ₀ = R₀v₀, and
+        // its linear momentum is m ẋ₀ throughout.
+        let xdot = Vector3::new(0.1, -0.2, 0.05);
+        for (m, s) in motion.iter().zip(&run.states) {
+            let x = Vector3::new(1.0, 0.0, 0.0) + s.time * xdot;
+            assert!(
+                (m.position - x).amax() < 1e-14,
+                "{} at t = {}",
+                m.position,
+                s.time
+            );
+            assert!((m.spatial_momentum.fixed_rows::<3>(3) - 2.0 * xdot).amax() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn an_overflowing_state_stops_the_run_naming_the_quantity() {
+        let inertia = Inertia::from_principal_moments([1e300, 1e300, 1e300]).unwrap();
+        let it = Integrator::new(
+            RigidBody::new(inertia),
+            StepSettings::new(0.5, 4).unwrap(),
+            SO3::identity(),
+            Vector3::new(1e200, 0.0, 0.0),
+        )
+        .unwrap();
+        // μ = JΩ = 1e500 overflows already at the start.
+        match record(it, 1.0, 1, &mut |_| {}) {
+            Err(ExperimentError::Overflow { step, quantity, .. }) => {
+                assert_eq!(step, 0);
+                assert_eq!(quantity, "body momentum μ");
+            }
+            other => panic!("expected an overflow, got {other:?}"),
+        }
+    }
+}
