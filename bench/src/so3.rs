@@ -4,7 +4,7 @@
 use crate::error::BenchError;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
 use lgsvi_experiments::tolerance;
-use lgsvi_experiments::work_precision::{median_time, Point};
+use lgsvi_experiments::work_precision::{median, median_time, Point};
 use lgsvi_experiments::BuiltIn;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
 use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
@@ -202,8 +202,18 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
     };
     let pool = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build();
     let threads = rayon::current_num_threads();
-    let (failures, one_thread_s) = pool(1)?.install(|| median_time(repeats, run_all));
-    let (_, parallel_s) = pool(threads)?.install(|| median_time(repeats, run_all));
+    // One thread and all of them in turn, repeat by repeat: on a shared machine a load
+    // that comes or goes between two blocks of runs would otherwise make the speed-up.
+    let (one, all) = (pool(1)?, pool(threads)?);
+    let (mut one_thread, mut parallel) = (Vec::new(), Vec::new());
+    let mut failures = 0;
+    for _ in 0..repeats.max(1) {
+        let (f, t) = one.install(|| median_time(1, run_all));
+        one_thread.push(t);
+        failures = f;
+        parallel.push(all.install(|| median_time(1, run_all)).1);
+    }
+    let (one_thread_s, parallel_s) = (median(one_thread), median(parallel));
     // The same initial conditions by DOP853, one trajectory per task on the same pool.
     let peers: Vec<(Model, Vec<State>)> = cases()
         .into_iter()
