@@ -146,11 +146,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let system = &self.system;
         let input = self.input;
         // The force the Gauss points see (the system's and the input), along the step.
-        let at = |time: f64| StepForce {
-            system,
-            time,
-            input: &input,
-        };
+        let at = |time: f64| StepForce::new(system, time, &input);
         let total_force = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| at(t).jet(g, xi);
         let start = FlowStart {
             time: self.state.time,

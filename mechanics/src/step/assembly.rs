@@ -27,6 +27,9 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// The last accepted iterate, for the line search.
     pub(super) xi_accepted: Vec<SVector<f64, D>>,
     pub(super) points: Vec<J>,
+    /// The force's power `F·ξ` at each point in the last assembly (NaN unforced): the
+    /// step's work `Σ w_j F_j·ξ_j` without evaluating the force again.
+    pub(crate) power: Vec<f64>,
     /// Exact matching with configuration terms: `∂q_j/∂x`, `∂q_j/∂v` per point,
     /// `q_j = Ad_{Φ(x_j)⁻¹}ᵀ p_j` (computed once per assembly, used by every column of the
     /// matching rows).
@@ -74,6 +77,7 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             xi: vec![SVector::zeros(); d.n],
             xi_accepted: vec![SVector::zeros(); d.n],
             points: vec![J::zeros(); d.m],
+            power: vec![f64::NAN; d.m],
             dq_dx: vec![SMatrix::zeros(); d.m],
             dq_dv: vec![SMatrix::zeros(); d.m],
             dw_dxi: vec![SMatrix::zeros(); d.n],
@@ -173,7 +177,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 base,
                 time: self.time + d.times[j],
             };
-            point_derivatives(
+            work.power[j] = point_derivatives(
                 &ell,
                 &x,
                 &v,

@@ -252,14 +252,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let system = self.system;
         let (a, b) = (point.a, point.b);
         let at = base.compose(&point.phi);
-        let force = self.forcing.as_ref().map(|input| {
-            StepForce {
-                system,
-                time,
-                input,
-            }
-            .jet(&at, &(a * v))
-        });
+        let force = self
+            .forcing
+            .as_ref()
+            .map(|input| StepForce::new(system, time, input).jet(&at, &(a * v)));
         let mut mixed = PointMixed {
             x: SMatrix::zeros(),
             v: SMatrix::zeros(),

@@ -105,6 +105,21 @@ pub(crate) struct StepForce<'a, S, const D: usize> {
     pub system: &'a S,
     pub time: f64,
     pub input: &'a SVector<f64, D>,
+    /// The power `F·ξ` at the velocity of the last [`PointForce::jet`] (NaN before it):
+    /// the integrand of the step's work, which the Gauss point has at hand.
+    pub power: std::cell::Cell<f64>,
+}
+
+impl<'a, S, const D: usize> StepForce<'a, S, D> {
+    /// The force of `system` and `input` at `time`.
+    pub fn new(system: &'a S, time: f64, input: &'a SVector<f64, D>) -> Self {
+        Self {
+            system,
+            time,
+            input,
+            power: std::cell::Cell::new(f64::NAN),
+        }
+    }
 }
 
 impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForce<'_, S, D> {
@@ -115,6 +130,7 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
             ForceJet::constant(SVector::zeros())
         };
         jet.value += self.input;
+        self.power.set(jet.value.dot(velocity));
         jet
     }
     fn depends_on_configuration(&self) -> bool {
@@ -123,7 +139,9 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
 }
 
 /// Writes one Gauss point's derivatives into `out` (the Hessian only if `with_hessian`),
-/// with the force terms when `forced` (the system's force and `input`).
+/// with the force terms when `forced` (the system's force and `input`); returns the
+/// force's power `F·ξ` at the point (NaN unforced, or where a system's own
+/// [`GroupLagrangian::point_derivatives`] did not ask for the force's jet).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn point_derivatives<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
@@ -133,15 +151,12 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     with_hessian: bool,
     forced: Option<&SVector<f64, D>>,
     out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
-) where
+) -> f64
+where
     S: GroupLagrangian<D>,
     C: GroupChart<S::Group, D>,
 {
-    let force = forced.map(|input| StepForce {
-        system: ell.system,
-        time: ell.time,
-        input,
-    });
+    let force = forced.map(|input| StepForce::new(ell.system, ell.time, input));
     let point = GaussPoint {
         time: ell.time,
         base: ell.base,
@@ -154,6 +169,7 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     if !ell.system.point_derivatives(ell.chart, &point, out) {
         chain_rule(ell, &point, out);
     }
+    force.map_or(f64::NAN, |f| f.power.get())
 }
 
 /// `L(η, ξ) = ℓ(t, g₀ exp(η), ξ)` of the stacked `(η, ξ)` (the exponential to second
