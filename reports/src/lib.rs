@@ -6,6 +6,7 @@
 //! - [`paper`]: the paper's report (`REPORT.md`): a section per figure and the table of
 //!   the paper's claims, each with a verdict from the measurements;
 //! - [`paper_figures`]: the paper's figures and their CSV data;
+//! - [`reproduce`]: the paper's whole job (nine figures, their CSV, `REPORT.md`) as one call;
 //! - [`trajectory`]: a recorded run as `lgsvi simulate` writes it (JSON through serde, CSV
 //!   through the `csv` crate) and its conservation figure;
 //! - [`tolerance`]: the error-estimate calibration and the tolerance study, as tables and
@@ -48,5 +49,6 @@
 pub mod convergence;
 pub mod paper;
 pub mod paper_figures;
+pub mod reproduce;
 pub mod tolerance;
 pub mod trajectory;

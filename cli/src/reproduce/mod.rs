@@ -4,22 +4,19 @@
 //! high-accuracy run, never against the method itself.
 
 //!
-//! Three concerns, one module each: [`measure`] runs the integrator and returns the data
-//! behind each figure, [`figures`] turns data into figures and CSV text, [`report`] into
-//! the Markdown of `REPORT.md`; this module runs them in order and writes the files.
+//! The job itself is `lgsvi_reports::reproduce::paper_job` (measure, draw, report, figure
+//! by figure); here are its subjects, resolved as `simulate` resolves its flags
+//! ([`measure::problem`]), its progress bars and the files it writes.
 
 mod measure;
 
 use crate::config::{ChartArg, MatchingArg, SystemKind};
 use crate::error::{CliError, Result};
 use crate::plot::{self, Figure, SphereFigure};
-use crate::problem::Problem;
 use clap::Args;
-use lgsvi_experiments::paper;
-use lgsvi_reports::{paper as report, paper_figures as figures};
+use lgsvi_reports::reproduce::{paper_job, report_text, Artifact, Subjects};
 use measure::Bars;
 use nalgebra::Vector3;
-use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -78,6 +75,12 @@ impl Output {
         self.files.push(base.with_extension("png"));
         self.write(&format!("{name}.csv"), csv)
     }
+    fn artifact(&mut self, artifact: Artifact<'_>) -> Result<()> {
+        match artifact {
+            Artifact::Figure { name, figure, csv } => self.figure(name, figure.clone(), csv),
+            Artifact::Sphere { name, figure, csv } => self.sphere(name, figure, csv),
+        }
+    }
 }
 
 /// `lgsvi reproduce`.
@@ -104,9 +107,6 @@ fn run_into(options: ReproduceOptions) -> Result<Output> {
         files: Vec::new(),
         figures: Vec::new(),
     };
-    let quiet = options.quiet;
-    let mut text = String::new();
-    let mut f = report::Findings::default();
     let rigid = measure::problem(
         SystemKind::RigidBody,
         PAPER_CHART,
@@ -127,119 +127,24 @@ fn run_into(options: ReproduceOptions) -> Result<Output> {
             unstable,
         )
     };
-    let stable = pendulum(false)?;
-
-    f.rb_factors = n_refinement(
-        &mut out,
-        &mut text,
-        Section {
-            heading: "Figure 1 — rigid body, n-refinement at h = 0.5",
-            name: "fig1_rigid_body_n_refinement",
-            title: "Rigid body: n-refinement at h = 0.5 (T = 10)",
-        },
-        &rigid,
-        quiet,
-    )?;
-    f.rb_orders = h_refinement(
-        &mut out,
-        &mut text,
-        Section {
-            heading: "Figure 2 — rigid body, h-refinement",
-            name: "fig2_rigid_body_h_refinement",
-            title: "Rigid body: h-refinement (unscaled Cayley)",
-        },
-        &rigid,
-        quiet,
-    )?;
-    f.rb_energy = energy(
-        &mut out,
-        &mut text,
-        Section {
-            heading: "Figure 3 — rigid body, energy error over a long run (n = 12, h = 0.5)",
-            name: "fig3_rigid_body_energy",
-            title: "Rigid body: relative energy error, n = 12, h = 0.5",
-        },
-        &rigid,
-        (0.5, 12, 10_000),
-        quiet,
-    )?;
-
-    let name = "fig4_rigid_body_momentum_sphere";
     let j = rigid.inertia.principal_moments();
-    let data = paper::sphere_runs(
-        |mu| {
-            let mut p = rigid.clone();
-            p.omega0 = Vector3::new(mu.x / j[0], mu.y / j[1], mu.z / j[2]);
-            p
-        },
-        &mut Bars::new(quiet),
-    )?;
-    out.sphere(name, &figures::sphere(&data), &figures::sphere_csv(&data))?;
-    let _ = writeln!(text, "## Figure 4 — rigid body, body momentum on the sphere |y| = 1 (n = 8, h = 0.5)\n\n![]({name}.png)\n");
-    text.push_str(&report::sphere(&data));
-    f.sphere = data.summary();
-
-    f.pend_factors = n_refinement(
-        &mut out,
-        &mut text,
-        Section {
-            heading: "Figure 5 — 3D pendulum near the stable equilibrium, n-refinement at h = 0.5",
-            name: "fig5_pendulum_n_refinement",
-            title: "3D pendulum (stable): n-refinement at h = 0.5 (T = 10)",
-        },
-        &stable,
-        quiet,
-    )?;
-    f.pend_orders = h_refinement(
-        &mut out,
-        &mut text,
-        Section {
-            heading: "Figure 6 — 3D pendulum near the stable equilibrium, h-refinement",
-            name: "fig6_pendulum_h_refinement",
-            title: "3D pendulum (stable): h-refinement (unscaled Cayley)",
-        },
-        &stable,
-        quiet,
-    )?;
-    f.pend_energy = energy(
-        &mut out,
-        &mut text,
-        Section {
-            heading: "Figure 7 — 3D pendulum, stable case, energy error (n = 8, h = 1.5)",
-            name: "fig7_pendulum_energy",
-            title: "3D pendulum (stable): relative energy error, n = 8, h = 1.5",
-        },
-        &stable,
-        (1.5, 8, 1000),
-        quiet,
-    )?;
-
-    let data = paper::unstable_runs(&pendulum(true)?, &mut Bars::new(quiet))?;
-    out.figure(
-        "fig8_unstable_pendulum_dynamics",
-        figures::unstable_dynamics(&data),
-        &figures::unstable_dynamics_csv(&data),
-    )?;
-    out.figure(
-        "fig9_unstable_pendulum_energy",
-        figures::unstable_energy(&data),
-        &figures::unstable_energy_csv(&data),
-    )?;
-    let _ = writeln!(text, "## Figures 8 and 9 — 3D pendulum near the unstable equilibrium (n = 20, h = 0.6)\n\n![](fig8_unstable_pendulum_dynamics.png)\n\n![](fig9_unstable_pendulum_energy.png)\n");
-    text.push_str(&report::unstable(&data));
-    f.unstable = report::unstable_findings(&data);
-    f.unstable_jumps = data.jumps;
-
-    let mut full = String::new();
-    let _ = writeln!(
-        full,
-        "# lgsvi reproduce — Hall & Leok, *Lie group spectral variational integrators*\n"
-    );
-    let _ = writeln!(full, "Generated by `lgsvi reproduce` (lgsvi {}) in {:.1} s. Parameters: `docs/paper-notes.md` in the lgsvi repository (rigid body J = diag(3.3, 2.5, 3.4) from J_d = diag(1.3, 2.1, 1.2), Ω(0) = (−2, 1.9, −1), R(0) = I; 3D pendulum J = diag(4.8, 3.0, 3.8) from J_d = diag(1, 2.8, 2), m = 1, g = 9.81, ρ = e₃, Ω(0) = (0.5, −0.5, 0.4), R(0) = I (stable) or diag(−1, 1, −1) (unstable)). The paper's chart is its unscaled Cayley map; every figure is run with the paper's momentum matching and with the exact one. Errors are Frobenius norms against the exact free-body solution or a high-accuracy run (exp chart, h = {}, n = {}), never against the method itself. Each figure has its data in a CSV of the same name.\n",
-        env!("CARGO_PKG_VERSION"), started.elapsed().as_secs_f64(), lgsvi_experiments::convergence::REFERENCE_STEP, lgsvi_experiments::convergence::REFERENCE_NODES);
-    full.push_str(&report::claims(&f));
-    full.push_str(&text);
-    out.write("REPORT.md", &full)?;
+    let from_momentum = |mu: Vector3<f64>| {
+        let mut p = rigid.clone();
+        p.omega0 = Vector3::new(mu.x / j[0], mu.y / j[1], mu.z / j[2]);
+        p
+    };
+    let (stable, unstable) = (pendulum(false)?, pendulum(true)?);
+    let subjects = Subjects {
+        rigid: &rigid,
+        rigid_from_momentum: &from_momentum,
+        stable: &stable,
+        unstable: &unstable,
+    };
+    let mut emit = |artifact: Artifact<'_>| out.artifact(artifact);
+    let job = paper_job(&subjects, &mut emit, &mut Bars::new(options.quiet))?;
+    let seconds = started.elapsed().as_secs_f64();
+    let text = report_text(&job, env!("CARGO_PKG_VERSION"), seconds);
+    out.write("REPORT.md", &text)?;
     println!(
         "lgsvi reproduce: the paper's nine figures in {}/ ({:.1} s)",
         dir.display(),
@@ -248,80 +153,8 @@ fn run_into(options: ReproduceOptions) -> Result<Output> {
     for file in &out.files {
         println!("  {}", file.display());
     }
-    println!("\n{}", report::claims(&f));
+    println!("\n{}", lgsvi_reports::paper::claims(&job.findings));
     Ok(out)
-}
-
-/// A figure's report heading, file name and title.
-struct Section {
-    heading: &'static str,
-    name: &'static str,
-    title: &'static str,
-}
-
-impl Section {
-    /// The report's heading and image link.
-    fn open(&self, text: &mut String) {
-        let _ = writeln!(text, "## {}\n\n![]({}.png)\n", self.heading, self.name);
-    }
-}
-
-/// Figures 1 and 5: measure, draw, report; returns the fits for the claims.
-fn n_refinement(
-    out: &mut Output,
-    text: &mut String,
-    section: Section,
-    system: &Problem,
-    quiet: bool,
-) -> Result<Vec<paper::NodeFit>> {
-    let data = paper::n_refinement(system, section.name, &mut Bars::new(quiet))?;
-    out.figure(
-        section.name,
-        figures::n_refinement(&data, section.title),
-        &figures::n_refinement_csv(&data),
-    )?;
-    section.open(text);
-    text.push_str(&report::n_refinement(&data));
-    Ok(data.fits)
-}
-
-/// Figures 2 and 6; returns the fitted orders.
-fn h_refinement(
-    out: &mut Output,
-    text: &mut String,
-    section: Section,
-    system: &Problem,
-    quiet: bool,
-) -> Result<Vec<(usize, lgsvi_mechanics::Matching, Option<f64>)>> {
-    let data = paper::h_refinement(system, section.name, &mut Bars::new(quiet))?;
-    out.figure(
-        section.name,
-        figures::h_refinement(&data, section.title),
-        &figures::h_refinement_csv(&data),
-    )?;
-    section.open(text);
-    text.push_str(&report::h_refinement(&data));
-    Ok(data.orders)
-}
-
-/// Figures 3 and 7 at `(h, n, steps)`; returns the summary for the claims.
-fn energy(
-    out: &mut Output,
-    text: &mut String,
-    section: Section,
-    system: &Problem,
-    settings: (f64, usize, usize),
-    quiet: bool,
-) -> Result<Vec<report::EnergySummary>> {
-    let data = paper::energy_runs(system, section.name, settings, &mut Bars::new(quiet))?;
-    out.figure(
-        section.name,
-        figures::energy(&data, section.title),
-        &figures::energy_csv(&data),
-    )?;
-    section.open(text);
-    text.push_str(&report::energy(&data));
-    Ok(report::energy_summary(&data))
 }
 
 #[cfg(test)]
