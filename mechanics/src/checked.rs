@@ -51,7 +51,7 @@
 
 use crate::control::GroupLog;
 use crate::error::MechanicsError;
-use crate::integrator::{Flow, Integrator, Observer, StepInfo};
+use crate::integrator::{Integrator, Observer};
 use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
 use crate::state::State;
 use crate::system::{ElementOf, GroupLagrangian};
@@ -216,18 +216,7 @@ where
         steps: usize,
         observer: &mut O,
     ) -> Result<usize, O::Error> {
-        for index in 1..=steps {
-            let iterations = self.step()?;
-            let step = StepInfo {
-                index,
-                iterations,
-                last: index == steps,
-            };
-            if observer.after_step(&self.primary, step)? == Flow::Stop {
-                return Ok(index);
-            }
-        }
-        Ok(steps)
+        crate::integrator::drive_by(self, steps, observer, Checked::step, Checked::integrator)
     }
 
     /// Sets the control input of both runs ([`Integrator::set_input`]).

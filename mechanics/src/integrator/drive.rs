@@ -203,19 +203,36 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         steps: usize,
         observer: &mut O,
     ) -> Result<usize, O::Error> {
-        for index in 1..=steps {
-            let iterations = self.step()?;
-            let step = StepInfo {
-                index,
-                iterations,
-                last: index == steps,
-            };
-            if observer.after_step(self, step)? == Flow::Stop {
-                return Ok(index);
-            }
-        }
-        Ok(steps)
+        drive_by(self, steps, observer, Integrator::step, |it| it)
     }
+}
+
+/// The driving loop over anything that steps (`step`) and shows an integrator (`view`):
+/// [`Integrator::drive`], and [`crate::Checked::drive`] with its primary run.
+pub(crate) fn drive_by<T, S, C, O, const D: usize>(
+    target: &mut T,
+    steps: usize,
+    observer: &mut O,
+    step: fn(&mut T) -> Result<usize, MechanicsError>,
+    view: fn(&T) -> &Integrator<S, C, D>,
+) -> Result<usize, O::Error>
+where
+    S: GroupLagrangian<D>,
+    C: GroupChart<S::Group, D>,
+    O: Observer<S, C, D>,
+{
+    for index in 1..=steps {
+        let iterations = step(target)?;
+        let info = StepInfo {
+            index,
+            iterations,
+            last: index == steps,
+        };
+        if observer.after_step(view(target), info)? == Flow::Stop {
+            return Ok(index);
+        }
+    }
+    Ok(steps)
 }
 
 #[cfg(test)]

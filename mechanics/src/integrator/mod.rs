@@ -33,6 +33,7 @@ mod run;
 
 use advance::NODES_HOLD;
 pub use curve::{GalerkinCurve, Statistics, Trajectory};
+pub(crate) use drive::drive_by;
 pub use drive::{each, Each, Flow, Observer, Recorder, StepInfo};
 
 /// Adds `term` to `sum` with Kahan's compensation, `carry` holding what the last additions
