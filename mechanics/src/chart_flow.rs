@@ -54,13 +54,26 @@ where
     let push = mu_dot - <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&mu) * velocity;
     let pushed = system
         .velocity_from_momentum(start.time, base, &(mu + push))
-        .map_or(0.0, |moved| 2.0 * (moved - velocity).norm().sqrt());
+        .map_or(0.0, |moved| {
+            // The rotational part where the group has one: `√|ΔΩ|` is a frequency for an
+            // angle (a pendulum's `√(mgl/J)`), not for a translation (`√|Δv|` has no time
+            // scale: under uniform gravity it asked for 14 substeps where 4 do).
+            let change = moved - velocity;
+            let speed = <S::Group as ConfigurationGroup<D>>::angular_speed;
+            let has_rotation = speed(&SVector::<f64, D>::repeat(1.0)) > 0.0;
+            2.0 * if has_rotation {
+                speed(&change)
+            } else {
+                change.norm()
+            }
+            .sqrt()
+        });
     let frequency = <S::Group as ConfigurationGroup<D>>::angular_speed(velocity) + pushed;
     let wanted = (h * frequency / SUBSTEP_ANGLE).ceil();
     if wanted.is_nan() || wanted > MAX_SUBSTEPS as f64 {
         return Unavailable;
     }
-    let substeps = (wanted as usize).max(2);
+    let substeps = (wanted as usize).max(3);
     let dt = h / substeps as f64;
     let mut next_node = 0;
     for s in 0..substeps {

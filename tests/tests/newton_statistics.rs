@@ -11,8 +11,12 @@
 
 mod common;
 
-use lgsvi_lie::ChartKind;
-use lgsvi_mechanics::{Matching, StepSettings};
+use lgsvi_lie::{ChartKind, SE3, SO3};
+use lgsvi_mechanics::{
+    FreeBody, GroupChart, GroupLagrangian, Inertia, Integrator, Matching, MechanicsError,
+    OrbitingBody, Screw, Statistics, StepSettings,
+};
+use nalgebra::SVector;
 
 const TABLE: &str = "data/newton_statistics.txt";
 
@@ -47,7 +51,73 @@ fn measured() -> String {
             }
         }
     }
+    // The bodies in space (the orbiting body O1, and a free body with its inertia and
+    // start), in the rotation–translation chart and SE(3)'s screw chart: the closed forms
+    // and the predictor in the chart decide their work.
+    let o1 = lgsvi_cases::case("O1").unwrap();
+    let inertia = Inertia::from_principal_moments(o1.principal_moments().unwrap()).unwrap();
+    let orbit = OrbitingBody::new(inertia, o1.mass.unwrap(), o1.mu.unwrap()).unwrap();
+    let free = FreeBody::new(inertia, o1.mass.unwrap()).unwrap();
+    let start = SE3::new(SO3::identity(), o1.position0.unwrap());
+    let (w0, v0) = (o1.omega0, o1.velocity0.unwrap());
+    let xi = SVector::<f64, 6>::new(w0.x, w0.y, w0.z, v0.x, v0.y, v0.z);
+    for (h, n, steps) in [(0.5, 8, 40), (2.0, 8, 10), (5.0, 12, 4)] {
+        let settings = StepSettings::new(h, n).unwrap();
+        let screw = Screw(ChartKind::Exp);
+        let lines = [
+            (
+                "O1",
+                "exp",
+                line(Integrator::new(orbit, settings, start, xi), steps),
+            ),
+            (
+                "O1-free",
+                "exp",
+                line(Integrator::new(free, settings, start, xi), steps),
+            ),
+            (
+                "O1",
+                "screw(exp)",
+                line(
+                    Integrator::with_chart(orbit, screw, settings, start, xi),
+                    steps,
+                ),
+            ),
+            (
+                "O1-free",
+                "screw(exp)",
+                line(
+                    Integrator::with_chart(free, screw, settings, start, xi),
+                    steps,
+                ),
+            ),
+        ];
+        for (name, chart, work) in lines {
+            out.push_str(&format!("{name} {chart} Exact {h} {n} {steps}: {work}\n"));
+        }
+    }
     out
+}
+
+/// `iterations max factorizations rejected` of `steps` steps of `integrator`, or why it
+/// failed.
+fn line<S, C>(integrator: Result<Integrator<S, C, 6>, MechanicsError>, steps: usize) -> String
+where
+    S: GroupLagrangian<6>,
+    C: GroupChart<S::Group, 6>,
+{
+    let run = || -> Result<Statistics, MechanicsError> {
+        let mut it = integrator?;
+        it.run(steps, steps)?;
+        Ok(*it.statistics())
+    };
+    match run() {
+        Ok(s) => format!(
+            "{} {} {} {}",
+            s.newton_iterations, s.max_newton_iterations, s.factorizations, s.rejected_steps
+        ),
+        Err(e) => format!("failed: {e}"),
+    }
 }
 
 #[test]

@@ -48,9 +48,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         if !constant_velocity {
             self.flow_end = None;
             let mut guess = self.predict_by_flow(false);
-            if guess == FlowGuess::Unavailable
-                && (!self.system.is_left_invariant() || self.forcing().is_some())
-            {
+            if guess == FlowGuess::Unavailable {
                 // Without a flow of its own, where forces act (a potential or a force): the
                 // flow in the chart (measured on the orbiting body O1, h = 2, n = 8: 3.0
                 // iterations and 1.0 Newton matrices per step against 4.0 and 2.0 for the
