@@ -49,14 +49,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             self.flow_end = None;
             let mut guess = self.predict_by_flow(false);
             if guess == FlowGuess::Unavailable {
-                // Without a flow of its own, where forces act (a potential or a force): the
-                // flow in the chart (measured on the orbiting body O1, h = 2, n = 8: 3.0
-                // iterations and 1.0 Newton matrices per step against 4.0 and 2.0 for the
-                // continued curve), unless the continued curve is already as good (a
-                // uniformly accelerated body, where it is exact): it is tried first while
-                // it wins, and every PROBE_CONTINUED steps while it does not. A free body
-                // keeps the continued curve (2.0 iterations per step against the flow's
-                // 3.0 at h = 0.5).
+                // Without a flow of its own: the flow in the chart (measured on the
+                // orbiting body O1, h = 2, n = 8: 3.0 iterations and 1.0 Newton matrices
+                // per step against 4.0 and 2.0 for the continued curve; on a free body in
+                // space spinning as case A, h = 0.5: 1.0 matrices per step against 2.0),
+                // unless the continued curve is already as good (a uniformly accelerated
+                // body, where it is exact): it is tried first while it wins, and every
+                // PROBE_CONTINUED steps while it does not.
                 if self.previous_velocity.is_some()
                     && (self.continued_wins || self.step_index.is_multiple_of(PROBE_CONTINUED))
                     && self.extrapolate()
