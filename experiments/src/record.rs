@@ -72,6 +72,27 @@ pub struct Recording {
     pub estimates: Option<Estimates>,
 }
 
+impl Recording {
+    /// Whether every column has one entry per recorded state (a recording made by
+    /// [`record`] or [`record_exact`] always has; one assembled by hand may not): the
+    /// writers of `lgsvi_reports::trajectory` refuse one that has not.
+    pub fn is_consistent(&self) -> bool {
+        let n = self.states.len();
+        self.newton_iterations.len() == n
+            && self.energies.len() == n
+            && self.work.as_ref().is_none_or(|w| w.len() == n)
+            && self.motion.as_ref().is_none_or(|m| m.len() == n)
+            && self.wheels.as_ref().is_none_or(|w| {
+                w.len() == n
+                    && w.iter().all(|r| {
+                        r.angles.len() == w[0].angles.len()
+                            && r.speeds.len() == r.angles.len()
+                            && r.momenta.len() == r.angles.len()
+                    })
+            })
+    }
+}
+
 /// What a run's error estimates say.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Estimates {
@@ -268,14 +289,16 @@ pub fn check_finite(step: usize, state: &State, energy: f64) -> Result<(), Exper
 /// How often [`record`] reports progress, in steps.
 pub const PROGRESS_EVERY: usize = 64;
 
-/// Runs `runner` to `t_end`, checking every state and recording the initial one, every
+/// Runs `runner` to `t_end` (to the first step at or after it, [`Integrator::steps_until`]),
+/// checking every state and recording the initial one, every
 /// `every`-th (at least 1) and the last; `progress(k)` is told the steps taken every
 /// [`PROGRESS_EVERY`] steps. The integration alone is timed (with its companion, for a
 /// checked run): not the checks or the recording.
 ///
 /// # Errors
-/// A horizon the step does not divide ([`Integrator::steps_until`]), a failed step, or a
-/// state that overflows ([`ExperimentError::Overflow`]).
+/// A horizon that is not finite, lies before the start or needs too many steps, or a run
+/// whose step may change ([`Integrator::steps_until`]); a failed step; a state that
+/// overflows ([`ExperimentError::Overflow`]).
 pub fn record<S, C, const D: usize>(
     mut runner: impl Runner<S, C, D>,
     t_end: f64,

@@ -160,6 +160,18 @@ impl Serialize for Document<'_> {
     }
 }
 
+/// Refuses a recording whose columns do not have one entry per state.
+fn consistent(run: &Recording) -> io::Result<()> {
+    if run.is_consistent() {
+        Ok(())
+    } else {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "a recording's columns must have one entry per recorded state (Recording::is_consistent)",
+        ))
+    }
+}
+
 /// Writes the run as one JSON document on one line, ending in a newline: the recorded
 /// states' columns (`R` row-major, `omega`, `momentum`, `energy`, `casimir`,
 /// `spatial_momentum`, `times`, `newton_iterations_per_step`; `position` and `velocity`
@@ -168,12 +180,14 @@ impl Serialize for Document<'_> {
 /// the error estimates and a checked run's measurement).
 ///
 /// # Errors
-/// Writing to `out`.
+/// Writing to `out`; [`io::ErrorKind::InvalidInput`] for a recording that is not
+/// [`Recording::is_consistent`].
 pub fn write_json<W: Write + ?Sized>(
     run: &Recording,
     description: &serde_json::Value,
     out: &mut W,
 ) -> io::Result<()> {
+    consistent(run)?;
     let document = Document { run, description };
     serde_json::to_writer(&mut *out, &document).map_err(io::Error::other)?;
     out.write_all(b"\n")
@@ -185,8 +199,10 @@ pub fn write_json<W: Write + ?Sized>(
 /// rates and axial momenta; a forced run's rows end with the work done.
 ///
 /// # Errors
-/// Writing to `out`.
+/// Writing to `out`; [`io::ErrorKind::InvalidInput`] for a recording that is not
+/// [`Recording::is_consistent`].
 pub fn write_csv<W: Write + ?Sized>(run: &Recording, out: &mut W) -> io::Result<()> {
+    consistent(run)?;
     let mut csv = csv::Writer::from_writer(&mut *out);
     let failed = |e: csv::Error| io::Error::other(e);
     let mut header: Vec<String> = "t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega_x,omega_y,\
@@ -283,6 +299,19 @@ pub enum Conserved {
 /// components relative to their size.
 pub fn conservation_figure(run: &Recording, name: &str, conserved: Conserved) -> Figure {
     let states = &run.states;
+    let mut figure = Figure {
+        title: format!("{name}: conservation over {} steps", run.steps),
+        x_label: "time t".into(),
+        y_label: "relative error".into(),
+        x_log: false,
+        y_log: true,
+        series: vec![],
+        hlines: vec![],
+    };
+    // An empty or inconsistent recording (not one `record` makes) draws no series.
+    if states.is_empty() || !run.is_consistent() {
+        return figure;
+    }
     let e0 = run.energies[0];
     let scale = e0.abs().max(f64::MIN_POSITIVE);
     let work = |k: usize| run.work.as_ref().map_or(0.0, |w| w[k]);
@@ -333,13 +362,80 @@ pub fn conservation_figure(run: &Recording, name: &str, conserved: Conserved) ->
             color: 1,
         });
     }
-    Figure {
-        title: format!("{name}: conservation over {} steps", run.steps),
-        x_label: "time t".into(),
-        y_label: "relative error".into(),
-        x_log: false,
-        y_log: true,
-        series,
-        hlines: vec![],
+    figure.series = series;
+    figure
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lgsvi_experiments::record::record;
+    use lgsvi_mechanics::lie::SO3;
+    use lgsvi_mechanics::{Forced, Inertia, Integrator, RigidBody, StepSettings};
+
+    fn torqued_run() -> Recording {
+        let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap());
+        let system = Forced::new(
+            body,
+            lgsvi_mechanics::BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
+        );
+        let it = Integrator::new(
+            system,
+            StepSettings::new(0.5, 8).unwrap(),
+            SO3::identity(),
+            Vector3::new(-2.0, 1.9, -1.0),
+        )
+        .unwrap();
+        record(it, 3.0, 2, &mut |_| {}).unwrap()
+    }
+
+    #[test]
+    fn every_number_comes_back_from_the_json_and_the_csv() {
+        let run = torqued_run();
+        let mut json = Vec::new();
+        write_json(&run, &serde_json::json!({}), &mut json).unwrap();
+        let doc: serde_json::Value = serde_json::from_slice(&json).unwrap();
+        // Shortest round-trip digits: each number parses back to the same bits.
+        for (k, s) in run.states.iter().enumerate() {
+            assert_eq!(doc["times"][k].as_f64().unwrap(), s.time);
+            for c in 0..3 {
+                assert_eq!(doc["omega"][k][c].as_f64().unwrap(), s.velocity[c]);
+            }
+            assert_eq!(
+                doc["work"][k].as_f64().unwrap(),
+                run.work.as_ref().unwrap()[k]
+            );
+        }
+        let mut csv = Vec::new();
+        write_csv(&run, &mut csv).unwrap();
+        let text = String::from_utf8(csv).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let work = header.iter().position(|h| *h == "work").unwrap();
+        for (k, line) in text.lines().skip(1).enumerate() {
+            let cells: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+            assert_eq!(cells[0], run.states[k].time);
+            assert_eq!(cells[work], run.work.as_ref().unwrap()[k]);
+        }
+    }
+
+    #[test]
+    fn an_inconsistent_recording_is_refused_not_a_panic() {
+        let mut run = torqued_run();
+        run.energies.pop();
+        let mut out = Vec::new();
+        let error = write_csv(&run, &mut out).unwrap_err();
+        assert_eq!(error.kind(), io::ErrorKind::InvalidInput);
+        let error = write_json(&run, &serde_json::json!({}), &mut out).unwrap_err();
+        assert_eq!(error.kind(), io::ErrorKind::InvalidInput);
+        assert!(conservation_figure(&run, "x", Conserved::Spatial)
+            .series
+            .is_empty());
+        run.states.clear();
+        run.energies.clear();
+        run.newton_iterations.clear();
+        run.work = None;
+        assert!(conservation_figure(&run, "x", Conserved::Spatial)
+            .series
+            .is_empty());
     }
 }
