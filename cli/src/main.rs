@@ -161,20 +161,16 @@ fn tolerance_not_checked(error: CliError, tol: f64, problem: &Problem) -> CliErr
     }
 }
 
-/// The exact free-body solution at the times the integrator would record.
-fn exact_run(problem: &Problem) -> Result<Recording> {
+/// The exact free-body solution at the times the integrator would record, and the
+/// motion's regime (for the output's description).
+fn exact_run(problem: &Problem) -> Result<(Recording, String)> {
     let body = lgsvi_experiments::Subject::exact(problem).ok_or(CliError::NoExactSolution)??;
     let steps = problem
         .integrator(problem.settings)?
         .steps_until(problem.t_end)?;
     let h = problem.settings.step();
-    Ok(record_exact(
-        &body,
-        &problem.system,
-        h,
-        steps,
-        problem.every,
-    )?)
+    let recording = record_exact(&body, &problem.system, h, steps, problem.every)?;
+    Ok((recording, format!("{:?}", body.regime())))
 }
 
 /// A progress bar on standard error, hidden for `--quiet`, for short jobs, or when standard
@@ -200,10 +196,11 @@ const PROGRESS_FROM_STEPS: u64 = 1000;
 /// Resolves the options (config, flags, defaults) and runs.
 fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
     let (problem, options) = Problem::resolve(options)?;
-    let recording = if options.exact {
-        exact_run(&problem)?
+    let (recording, regime) = if options.exact {
+        let (recording, regime) = exact_run(&problem)?;
+        (recording, Some(regime))
     } else {
-        integrate(&problem).map_err(|error| match error.into_mechanics() {
+        let recording = integrate(&problem).map_err(|error| match error.into_mechanics() {
             CliError::Mechanics(lgsvi_mechanics::MechanicsError::ToleranceNotMet {
                 step,
                 time,
@@ -220,18 +217,18 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
                 shorter: problem.settings.step() / 10.0,
             },
             other => other,
-        })?
+        })?;
+        (recording, None)
     };
     let mut description = problem.description.clone();
     description["settings"] =
         Problem::settings_json(&problem.settings, problem.t_end, problem.every);
-    if options.exact {
-        description["solution"] = "exact (Jacobi elliptic functions)".into();
-        if let Some(Ok(body)) = lgsvi_experiments::Subject::exact(&problem) {
-            description["regime"] = format!("{:?}", body.regime()).into();
+    match regime {
+        Some(regime) => {
+            description["solution"] = "exact (Jacobi elliptic functions)".into();
+            description["regime"] = regime.into();
         }
-    } else {
-        description["solution"] = "integrator".into();
+        None => description["solution"] = "integrator".into(),
     }
     let run = Run {
         recording,
