@@ -29,6 +29,25 @@ fn reference(case: &str, t: f64) -> nalgebra::Matrix3<f64> {
         .expect("the references hold t = 10 and t = 100")
 }
 
+/// lgsvi's fixed-`(h, n)` arm of a work-precision sweep: every `n` of every `(h, nodes)` in
+/// `sweeps`, timed whole by `run(h, n)` (median of `repeats`), handed to `push` as method
+/// `lgsvi (exp, h = …)` and knob `n = …`, then `tick`.
+fn lgsvi_fixed_runs<R>(
+    repeats: usize,
+    sweeps: &[(f64, std::ops::RangeInclusive<usize>)],
+    mut run: impl FnMut(f64, usize) -> R,
+    push: &mut impl FnMut(&str, String, R, f64),
+    tick: &mut impl FnMut(),
+) {
+    for (h, nodes) in sweeps {
+        for n in nodes.clone() {
+            let (r, t) = lgsvi_experiments::work_precision::median_time(repeats, || run(*h, n));
+            push(&format!("lgsvi (exp, h = {h})"), format!("n = {n}"), r, t);
+            tick();
+        }
+    }
+}
+
 /// A case this crate names itself: a literal, so its absence is a defect of the build.
 fn named_case(name: &str) -> &'static lgsvi_cases::Case {
     lgsvi_cases::case(name).unwrap_or_else(|e| panic!("{e}"))

@@ -99,13 +99,8 @@ pub fn sweep(repeats: usize, mut tick: impl FnMut()) -> Vec<Point> {
                 let error = result.map(|(r, x)| (r - r_ref).norm().max((x - x_ref).norm()));
                 points.push(Point::new(name, t_end, method, knob, error, time_s));
             };
-            for (h, nodes) in SWEEPS {
-                for n in nodes {
-                    let (r, t) = median_time(repeats, || lgsvi_run(&case, t_end, h, n));
-                    push(&format!("lgsvi (exp, h = {h})"), format!("n = {n}"), r, t);
-                    tick();
-                }
-            }
+            let run = |h, n| lgsvi_run(&case, t_end, h, n);
+            crate::lgsvi_fixed_runs(repeats, &SWEEPS, run, &mut push, &mut tick);
             for k in TOLERANCES {
                 let tol = 10f64.powi(-k);
                 let (r, t) = median_time(repeats, || {
