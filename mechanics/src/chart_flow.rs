@@ -38,8 +38,8 @@ where
             .configuration_gradient;
         let y_dot = chart.left_differential_inverse(y).ok()? * xi;
         let mut mu_dot = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(mu) * xi + p;
-        if let Some(force) = start.force {
-            mu_dot += force(time, &g, &xi).value;
+        if let Some(force) = start.force_value {
+            mu_dot += force(time, &g, &xi);
         }
         (y_dot.iter().chain(mu_dot.iter()).all(|x| x.is_finite())).then_some((y_dot, mu_dot))
     };

@@ -79,8 +79,8 @@ impl<L: Lagrangian> Flow<'_, L> {
             None if !left_invariant => mu_dot += configuration_force(system, &r, &omega),
             None => {}
         }
-        if let Some(force) = self.start.force {
-            mu_dot += force(self.start.time + t, &SO3::from_matrix_unchecked(r), &omega).value;
+        if let Some(force) = self.start.force_value {
+            mu_dot += force(self.start.time + t, &SO3::from_matrix_unchecked(r), &omega);
         }
         (q_dot
             .coords
@@ -296,6 +296,14 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
 pub type ForceAlongStep<'a, G, const D: usize> =
     &'a dyn Fn(f64, &<G as ConfigurationGroup<D>>::Element<f64>, &SVector<f64, D>) -> ForceJet<D>;
 
+/// The value alone of the same force, `(t, g, ξ) ↦ F(t, g, ξ)`: what a flow's stages read,
+/// at a fraction of the cost of its [`ForceJet`].
+pub type ForceValueAlongStep<'a, G, const D: usize> = &'a dyn Fn(
+    f64,
+    &<G as ConfigurationGroup<D>>::Element<f64>,
+    &SVector<f64, D>,
+) -> SVector<f64, D>;
+
 /// The start of a step, as [`crate::GroupLagrangian::flow_guess`] receives it.
 pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
     /// The step's start time `t_k`.
@@ -313,6 +321,9 @@ pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
     /// The total force of a forced step (`None` for an unforced one): `F(t, g, ξ)` at the
     /// absolute time `t`.
     pub force: Option<ForceAlongStep<'a, G, D>>,
+    /// The same force's value alone (`Some` exactly when [`FlowStart::force`] is): the
+    /// value of its jet, bit for bit, without the derivatives.
+    pub force_value: Option<ForceValueAlongStep<'a, G, D>>,
     /// Whether that force depends on the configuration (if not, it may be given any).
     pub force_reads_configuration: bool,
 }

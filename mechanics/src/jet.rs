@@ -33,7 +33,7 @@
 use crate::group::{GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
 use crate::matrix_jet::{axial, unit_hat, MatrixJet};
-use crate::point::{add_force_terms, GaussPoint};
+use crate::point::{add_force_terms, add_force_value, GaussPoint};
 use lgsvi_lie::so3::hat;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, SMatrix, SVector};
@@ -102,7 +102,7 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     // Ω = A(x) v: ∂Ω/∂x = [∂_k A v]_k, ∂Ω/∂v = A.
     let dw_dx = a.first_times(v);
     let Stacked { gradient, hessian } = out;
-    gradient.fill(0.0);
+    *gradient = SVector::zeros();
     gradient
         .fixed_rows_mut::<3>(0)
         .copy_from(&(dw_dx.transpose() * g));
@@ -111,7 +111,7 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         .copy_from(&(a.value.transpose() * g));
     let mut jw = SMatrix::<f64, 3, 9>::zeros();
     if with_hessian {
-        hessian.fill(0.0);
+        *hessian = SMatrix::zeros();
         jw.fixed_view_mut::<3, 3>(0, 0).copy_from(&dw_dx);
         jw.fixed_view_mut::<3, 3>(0, 3).copy_from(&a.value);
         let top = jw.fixed_columns::<6>(0);
@@ -203,15 +203,19 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
             }
         }
     }
-    if let Some(force) = point.force {
-        let jet = force.jet(&SO3::from_matrix_unchecked(r), &omega);
-        // ∂(AᵀF)_b/∂x_k = Fᵀ ∂_k A e_b.
-        let k = if with_hessian {
-            a.first_transposed_times(&jet.value).transpose()
-        } else {
-            Matrix3::zeros()
-        };
-        add_force_terms(out, &jet, &a.value, &dw_dx, &k, with_hessian);
+    match point.force {
+        Some(force) if with_hessian => {
+            let jet = force.jet(&SO3::from_matrix_unchecked(r), &omega);
+            // ∂(AᵀF)_b/∂x_k = Fᵀ ∂_k A e_b.
+            let k = a.first_transposed_times(&jet.value).transpose();
+            add_force_terms(out, &jet, &a.value, &dw_dx, &k, true);
+        }
+        Some(force) => add_force_value(
+            out,
+            &force.value(&SO3::from_matrix_unchecked(r), &omega),
+            &a.value,
+        ),
+        None => {}
     }
     true
 }

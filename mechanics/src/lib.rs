@@ -116,6 +116,7 @@ pub use settings::{
 };
 pub use state::{body_momentum, body_velocity, State};
 pub use system::{
-    AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime, Forced, Forcing,
-    GaussPoint, GroupLagrangian, LocalDerivatives, PointForce, SpaceForce,
+    AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime,
+    ForceValueAlongStep, Forced, Forcing, GaussPoint, GroupLagrangian, LocalDerivatives,
+    PointForce, SpaceForce,
 };

@@ -30,6 +30,16 @@ pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
 pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
     /// The force's jet at the configuration `g` and body velocity `ξ`.
     fn jet(&self, configuration: &G::Element<f64>, velocity: &SVector<f64, D>) -> ForceJet<D>;
+    /// The force's value alone, bit for bit [`PointForce::jet`]'s (what a gradient-only
+    /// assembly reads). The default takes it from the jet; override it where the
+    /// derivatives cost more than the value.
+    fn value(
+        &self,
+        configuration: &G::Element<f64>,
+        velocity: &SVector<f64, D>,
+    ) -> SVector<f64, D> {
+        self.jet(configuration, velocity).value
+    }
     /// Whether the force depends on the configuration (if not, [`PointForce::jet`] may be
     /// given any configuration, and its `configuration` derivative is zero).
     fn depends_on_configuration(&self) -> bool;
@@ -37,6 +47,20 @@ pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
 
 /// Adds a force's terms to a point's derivatives (`crate::step::points`' documentation): `a = A(x)`,
 /// `j = ∂(A(x)v)/∂x`, `k = ∂(A(x)ᵀF)/∂x` at fixed `F` (entry `(row, x component)`).
+/// [`add_force_terms`] for a gradient: `A(x)ᵀF` to the `x` rows, `F` to the `ζ` rows.
+pub(crate) fn add_force_value<J: PointJet, const D: usize>(
+    out: &mut J,
+    value: &SVector<f64, D>,
+    a: &SMatrix<f64, D, D>,
+) {
+    let projected = a.transpose() * value;
+    let gradient = out.gradient_mut();
+    for c in 0..D {
+        gradient[c] += projected[c];
+        gradient[2 * D + c] += value[c];
+    }
+}
+
 pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
     out: &mut J,
     jet: &ForceJet<D>,
@@ -45,12 +69,7 @@ pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
     k: &SMatrix<f64, D, D>,
     with_hessian: bool,
 ) {
-    let projected = a.transpose() * jet.value;
-    let gradient = out.gradient_mut();
-    for c in 0..D {
-        gradient[c] += projected[c];
-        gradient[2 * D + c] += jet.value[c];
-    }
+    add_force_value(out, &jet.value, a);
     if !with_hessian {
         return;
     }

@@ -15,7 +15,7 @@
 //! unforced one, bit for bit (the force terms are skipped, not added as zeros).
 
 use crate::flow::FlowGuess;
-pub use crate::flow::{FlowStart, ForceAlongStep};
+pub use crate::flow::{FlowStart, ForceAlongStep, ForceValueAlongStep};
 use crate::force_jet::ForceJet;
 pub use crate::force_jet::Forcing;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};

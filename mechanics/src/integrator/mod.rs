@@ -18,7 +18,9 @@ use crate::step::assembly::{Workspace, WorkspaceOf};
 use crate::step::points::StepForce;
 use crate::step::tables::Discretisation;
 use crate::step::{StepOutcome, Stepper};
-use crate::system::{ElementOf, FlowStart, ForceAlongStep, GroupLagrangian, PointForce};
+use crate::system::{
+    ElementOf, FlowStart, ForceAlongStep, ForceValueAlongStep, GroupLagrangian, PointForce,
+};
 use lgsvi_lie::{ChartKind, LieGroup, SO3};
 use nalgebra::{SMatrix, SVector};
 use std::marker::PhantomData;

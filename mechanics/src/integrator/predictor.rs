@@ -145,6 +145,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         // The force the Gauss points see (the system's and the input), along the step.
         let at = |time: f64| StepForce::new(system, time, &input);
         let total_force = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| at(t).jet(g, xi);
+        // Its value alone (the jet's, bit for bit), for the flow's stages.
+        let total_value = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| at(t).value(g, xi);
         let start = FlowStart {
             time: self.state.time,
             base: &self.state.configuration,
@@ -155,6 +157,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             force: self
                 .forcing()
                 .map(|_| &total_force as ForceAlongStep<'_, S::Group, D>),
+            force_value: self
+                .forcing()
+                .map(|_| &total_value as ForceValueAlongStep<'_, S::Group, D>),
             force_reads_configuration: at(self.state.time).depends_on_configuration(),
         };
         let done = if in_chart {

@@ -37,7 +37,7 @@
 
 use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction};
-pub(crate) use crate::point::add_force_terms;
+pub(crate) use crate::point::{add_force_terms, add_force_value};
 use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
 use lgsvi_lie::LieGroup;
 use nalgebra::{RealField, SMatrix, SVector};
@@ -132,6 +132,21 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
         jet.value += self.input;
         self.power.set(jet.value.dot(velocity));
         jet
+    }
+    fn value(
+        &self,
+        configuration: &ElementOf<S, D>,
+        velocity: &SVector<f64, D>,
+    ) -> SVector<f64, D> {
+        // As the jet's value: the system's force (zero if it has none) plus the input.
+        let mut value = if self.system.is_forced() {
+            self.system.force(self.time, configuration, velocity)
+        } else {
+            SVector::zeros()
+        };
+        value += self.input;
+        self.power.set(value.dot(velocity));
+        value
     }
     fn depends_on_configuration(&self) -> bool {
         self.system.is_forced() && self.system.force_depends_on_configuration()
@@ -337,14 +352,14 @@ pub(super) fn chain_rule<S, C, const D: usize>(
         } else {
             g[2 * D..3 * D].fill(0.0);
         }
-        if let Some(force) = point.force {
-            let jet = force.jet(&at, &xi);
-            let k = if with_hessian {
-                derivatives.transpose_times(&jet.value)
-            } else {
-                SMatrix::zeros()
-            };
-            add_force_terms(out, &jet, &a, &j, &k, with_hessian);
+        match point.force {
+            Some(force) if with_hessian => {
+                let jet = force.jet(&at, &xi);
+                let k = derivatives.transpose_times(&jet.value);
+                add_force_terms(out, &jet, &a, &j, &k, true);
+            }
+            Some(force) => add_force_value(out, &force.value(&at, &xi), &a),
+            None => {}
         }
     });
 }

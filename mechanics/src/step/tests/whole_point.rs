@@ -240,6 +240,14 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
             }
         }
         assert!(worst <= 1e-12 * scale, "{name}: {worst:e} of {scale:e}");
+        // A gradient-only assembly reads the force's value alone: the jet's, bit for bit
+        // (the predictor's and the points' results must not depend on which was asked).
+        use crate::point::PointForce;
+        use lgsvi_lie::LieGroup;
+        let at = base.compose(&chart.to_group(x));
+        let xi = chart.left_differential(x) * v;
+        let force = super::points::StepForce::new(system, 0.7, input);
+        assert_eq!(force.value(&at, &xi), force.jet(&at, &xi).value, "{name}");
     }
 
     /// A force of the attitude and velocity with no closed form: its jet comes from
