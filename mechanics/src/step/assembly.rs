@@ -58,6 +58,11 @@ pub(crate) struct Workspace<J, const D: usize> {
     pub(super) perm: Vec<usize>,
     pub(super) perm_inv: Vec<usize>,
     pub(super) stack: MemBuffer,
+    /// A linearisation's `F_P` (`D(n−1) × 3D`, column-major: columns `θ`, `μ_k`, `u`),
+    /// and the permuted `−F_P` by rows (row `r`: entry `r` of the `θ`, `μ_k` and `u`
+    /// columns), solved in place for `∂Ξ/∂P`.
+    pub(super) f_p: Vec<f64>,
+    pub(super) sensitivity: Vec<[SVector<f64, D>; 3]>,
     /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
     /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
     /// assembly, saved.
@@ -95,6 +100,8 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             perm: vec![0; unknowns],
             perm_inv: vec![0; unknowns],
             stack: MemBuffer::new(scratch),
+            f_p: vec![0.0; unknowns * 3 * D],
+            sensitivity: vec![[SVector::zeros(); 3]; unknowns],
             guess_assembled: None,
         }
     }

@@ -23,7 +23,7 @@
 //! `∂w/∂θ = Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ M^ζ_j`.
 
 use super::assembly::WorkspaceOf;
-use super::newton::substitute;
+use super::newton::substitute_rows;
 use super::points::StepForce;
 use super::{Element, Stepper};
 use crate::error::MechanicsError;
@@ -115,7 +115,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         self.fill_jacobian(work);
         work.factor();
         // F_P, columns θ (0..D), μ_k (D..2D), u (2D..3D), column-major.
-        let mut f_p = vec![0.0; unknowns * 3 * D];
+        let f_p = &mut work.f_p;
+        f_p.fill(0.0);
         let mut dw_theta = SMatrix::<f64, D, D>::zeros();
         let mut dw_u = SMatrix::<f64, D, D>::zeros();
         let mut last_theta = SMatrix::<f64, D, D>::zeros();
@@ -140,8 +141,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             for i in 1..n - 1 {
                 let theta = (mixed.x * values[i] + mixed.v * slopes[i]) * weight;
                 let u = a_t * (values[i] * weight);
-                add_rows(&mut f_p, unknowns, D * (i - 1), 0, &theta);
-                add_rows(&mut f_p, unknowns, D * (i - 1), 2 * D, &u);
+                add_rows(f_p, unknowns, D * (i - 1), 0, &theta);
+                add_rows(f_p, unknowns, D * (i - 1), 2 * D, &u);
             }
             last_theta += (mixed.x * values[n - 1] + mixed.v * slopes[n - 1]) * weight;
             last_u += a_t * (values[n - 1] * weight);
@@ -150,37 +151,25 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         }
         let transport = work.matching.transport;
         let last = D * (n - 2);
-        add_rows(
-            &mut f_p,
-            unknowns,
-            last,
-            0,
-            &(transport * dw_theta - last_theta),
-        );
-        add_rows(&mut f_p, unknowns, last, D, &transport);
-        add_rows(
-            &mut f_p,
-            unknowns,
-            last,
-            2 * D,
-            &(transport * dw_u - last_u),
-        );
-        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P, column by column with the fresh factors.
-        let mut solution = vec![0.0; unknowns * 3 * D];
-        for (column, out) in f_p
-            .chunks_exact(unknowns)
-            .zip(solution.chunks_exact_mut(unknowns))
-        {
-            for (o, &p) in out.iter_mut().zip(&work.perm) {
-                *o = -column[p];
+        add_rows(f_p, unknowns, last, 0, &(transport * dw_theta - last_theta));
+        add_rows(f_p, unknowns, last, D, &transport);
+        add_rows(f_p, unknowns, last, 2 * D, &(transport * dw_u - last_u));
+        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P with the fresh factors, the 3D columns solved together (one
+        // at a time, the substitutions were a quarter of a linearisation).
+        let solution = &mut work.sensitivity;
+        for (row, &p) in solution.iter_mut().zip(&work.perm) {
+            for (family, part) in row.iter_mut().enumerate() {
+                for (c, e) in part.iter_mut().enumerate() {
+                    *e = -f_p[(D * family + c) * unknowns + p];
+                }
             }
-            substitute(&work.jacobian, out);
-            if !out.iter().all(|e| e.is_finite()) {
-                return Err(MechanicsError::SingularJacobian {
-                    step,
-                    time: self.time,
-                });
-            }
+        }
+        substitute_rows(&work.jacobian, solution);
+        if !solution.iter().flatten().flatten().all(|e| e.is_finite()) {
+            return Err(MechanicsError::SingularJacobian {
+                step,
+                time: self.time,
+            });
         }
         let xi_n = work.xi[n - 1];
         let phi_n = self.chart.to_group(&xi_n);
@@ -190,9 +179,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
         let configured = self.needs_configuration();
         let mut blocks = [[SMatrix::<f64, D, D>::zeros(); 3]; 2];
-        for (p, column) in solution.chunks_exact(unknowns).enumerate() {
+        let solution = &work.sensitivity;
+        // Entry `row` of column `(family, c)`.
+        let entry = |row: usize, family: usize, c: usize| solution[row][family][c];
+        for p in 0..3 * D {
             let (family, c) = (p / D, p % D);
-            let dxi_n = SVector::<f64, D>::from_column_slice(&column[last..]);
+            let dxi_n = SVector::<f64, D>::from_fn(|r, _| entry(last + r, family, c));
             let mut theta = a_n * dxi_n;
             let mut dw: SVector<f64, D> = match family {
                 0 => dw_theta.column(c).into_owned(),
@@ -203,8 +195,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 theta += ad_n_inverse.column(c);
             }
             if configured {
-                for (k, delta) in column.chunks_exact(D).enumerate() {
-                    dw += work.dw_dxi[k + 1] * SVector::<f64, D>::from_column_slice(delta);
+                for k in 0..n - 1 {
+                    let delta = SVector::<f64, D>::from_fn(|r, _| entry(D * k + r, family, c));
+                    dw += work.dw_dxi[k + 1] * delta;
                 }
             }
             let momentum = ad_n.transpose() * dw + c_end * (a_n * dxi_n);

@@ -41,6 +41,36 @@ pub(super) fn substitute(lu: &Mat<f64>, b: &mut [f64]) {
     }
 }
 
+/// [`substitute`] for `3D` right-hand sides at once, stored by rows (row `r` holds entry
+/// `r` of every right-hand side, as three `D`-vectors): each elimination is one row
+/// update `3D` wide, which vectorises, where one column's substitution is a chain of short
+/// loops.
+pub(super) fn substitute_rows<const D: usize>(lu: &Mat<f64>, b: &mut [[SVector<f64, D>; 3]]) {
+    let size = b.len();
+    for k in 0..size {
+        let bk = b[k];
+        let below = &lu.col_as_slice(k)[k + 1..];
+        for (x, &l) in b[k + 1..].iter_mut().zip(below) {
+            for (xf, bf) in x.iter_mut().zip(&bk) {
+                *xf -= bf * l;
+            }
+        }
+    }
+    for k in (0..size).rev() {
+        let column = lu.col_as_slice(k);
+        let pivot = column[k];
+        for e in b[k].iter_mut() {
+            *e /= pivot;
+        }
+        let bk = b[k];
+        for (x, &u) in b[..k].iter_mut().zip(&column[..k]) {
+            for (xf, bf) in x.iter_mut().zip(&bk) {
+                *xf -= bf * u;
+            }
+        }
+    }
+}
+
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
     /// Newton on the step's equations from the guess in `work.xi`.
     pub(crate) fn solve(
