@@ -301,8 +301,9 @@ pub(super) fn chain_rule<S, C, const D: usize>(
             // matrices where the formula has 18, and fewer where ℓ's own derivatives have
             // no mixed block (L_ηξ = 0: every system with local_derivatives) or no
             // configuration block (L_ηη = 0: a free body).
-            let mixed = l_ex.iter().any(|&e| e != 0.0);
-            let configured = l_ee.iter().any(|&e| e != 0.0);
+            // (Slices: nalgebra's element iterator costs several instructions an entry.)
+            let mixed = l_ex.as_slice().iter().any(|&e| e != 0.0);
+            let configured = l_ee.as_slice().iter().any(|&e| e != 0.0);
             let mut t1 = SMatrix::<f64, D, D>::zeros();
             let mut t2 = l_xx * j;
             if configured {
