@@ -75,8 +75,9 @@ pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
     }
     if jet
         .velocity
+        .as_slice()
         .iter()
-        .chain(jet.configuration.iter())
+        .chain(jet.configuration.as_slice())
         .all(|&e| e == 0.0)
     {
         // A force constant at the point (a torque, a profile in time, the input): only
