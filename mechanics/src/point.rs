@@ -45,8 +45,6 @@ pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
     fn depends_on_configuration(&self) -> bool;
 }
 
-/// Adds a force's terms to a point's derivatives (`crate::step::points`' documentation): `a = A(x)`,
-/// `j = ∂(A(x)v)/∂x`, `k = ∂(A(x)ᵀF)/∂x` at fixed `F` (entry `(row, x component)`).
 /// [`add_force_terms`] for a gradient: `A(x)ᵀF` to the `x` rows, `F` to the `ζ` rows.
 pub(crate) fn add_force_value<J: PointJet, const D: usize>(
     out: &mut J,
@@ -61,6 +59,8 @@ pub(crate) fn add_force_value<J: PointJet, const D: usize>(
     }
 }
 
+/// Adds a force's terms to a point's derivatives (`crate::step::points`' documentation): `a = A(x)`,
+/// `j = ∂(A(x)v)/∂x`, `k = ∂(A(x)ᵀF)/∂x` at fixed `F` (entry `(row, x component)`).
 pub(crate) fn add_force_terms<J: PointJet, const D: usize>(
     out: &mut J,
     jet: &ForceJet<D>,

@@ -154,8 +154,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         add_rows(f_p, unknowns, last, 0, &(transport * dw_theta - last_theta));
         add_rows(f_p, unknowns, last, D, &transport);
         add_rows(f_p, unknowns, last, 2 * D, &(transport * dw_u - last_u));
-        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P with the fresh factors, the 3D columns solved together (one
-        // at a time, the substitutions were a quarter of a linearisation).
+        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P with the fresh factors, the 3D columns solved together
+        // (`docs/performance.md` §5.4).
         let solution = &mut work.sensitivity;
         for (row, &p) in solution.iter_mut().zip(&work.perm) {
             for (family, part) in row.iter_mut().enumerate() {
