@@ -6,11 +6,15 @@
 //! The fit samples `f` at `n = 17, 33, 65, …` Chebyshev–Lobatto points until the
 //! coefficients reach a plateau at the tolerance, and chops them there (the plateau and
 //! chop rule of Aurentz & Trefethen, "Chopping a Chebyshev series", ACM TOMS 2017, as
-//! chebfun applies it). Values ↔ coefficients go through the `O(n²)` cosine transform of
-//! [`chebyshev_coefficient_matrix`](crate::chebyshev_coefficient_matrix); the fit stops at
-//! [`MAX_FIT_POINTS`] samples.
+//! chebfun applies it). Values ↔ coefficients go through the DCT-I
+//! ([`chebyshev_coefficients`](crate::chebyshev_coefficients),
+//! [`chebyshev_values`](crate::chebyshev_values): an FFT from
+//! [`FFT_FROM`](crate::FFT_FROM) points on, `O(n log n)`); the fit stops at
+//! [`MAX_FIT_POINTS`] samples. Composition `g ∘ f` is a new fit of the composed function
+//! ([`Chebyshev::compose`], [`Chebyshev::compose_with`]), the range of `f` its extrema
+//! ([`Chebyshev::range`]).
 
-use crate::coefficients::chebyshev_coefficients;
+use crate::coefficients::{chebyshev_coefficients, chebyshev_values};
 use crate::error::SpectralError;
 use crate::nodes::chebyshev_lobatto;
 use nalgebra::{DMatrix, DVector};
@@ -158,9 +162,10 @@ impl Chebyshev {
     /// The values at the `len()` Chebyshev–Lobatto points (at least two), ascending: the
     /// inverse of [`Chebyshev::from_values`].
     pub fn values(&self) -> Vec<f64> {
-        let n = self.len().max(2);
-        let nodes = chebyshev_lobatto(n, -1.0, 1.0).expect("n ≥ 2 on [−1, 1]");
-        nodes.iter().map(|&t| self.clenshaw(t)).collect()
+        if self.len() == 1 {
+            return vec![self.coefficients[0]; 2];
+        }
+        chebyshev_values(&self.coefficients).expect("at least two coefficients")
     }
 
     /// `f(x)` by Clenshaw's recurrence.
@@ -379,6 +384,74 @@ impl Chebyshev {
             b: self.b,
             coefficients: product,
         })
+    }
+
+    /// The least and the largest value of the series on `[a, b]`: at the ends or at a root
+    /// of the derivative ([`Chebyshev::roots`] of [`Chebyshev::derivative`]).
+    ///
+    /// ```
+    /// use lgsvi_spectral::Chebyshev;
+    /// let f = Chebyshev::fit(|x| x.sin(), 0.0, 3.0)?;
+    /// let (low, high) = f.range();
+    /// assert!(low.abs() < 1e-15); // sin at 0
+    /// assert!((high - 1.0).abs() < 1e-15); // sin at π/2
+    /// # Ok::<(), lgsvi_spectral::SpectralError>(())
+    /// ```
+    pub fn range(&self) -> (f64, f64) {
+        let ends = [self.clenshaw(-1.0), self.clenshaw(1.0)];
+        let inner = self
+            .derivative()
+            .roots()
+            .into_iter()
+            .map(|x| self.clenshaw(self.map_in(x)));
+        ends.into_iter()
+            .chain(inner)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    }
+
+    /// `g ∘ f` on `[a, b]`: a new adaptive fit (as [`Chebyshev::fit`]) of `x ↦ g(f(x))`.
+    ///
+    /// ```
+    /// use lgsvi_spectral::Chebyshev;
+    /// let f = Chebyshev::fit(|x| x.cos(), -1.0, 2.0)?;
+    /// let h = f.compose(f64::exp)?; // e^{cos x}
+    /// assert!((h.evaluate(0.5)? - 0.5f64.cos().exp()).abs() < 1e-14);
+    /// # Ok::<(), lgsvi_spectral::SpectralError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Chebyshev::fit`] ([`SpectralError::NonFiniteValue`] where `g` is not finite,
+    /// [`SpectralError::NotResolved`] where `g ∘ f` needs more than [`MAX_FIT_POINTS`]).
+    pub fn compose(&self, mut g: impl FnMut(f64) -> f64) -> Result<Chebyshev, SpectralError> {
+        Self::fit(|x| g(self.clenshaw(self.map_in(x))), self.a, self.b)
+    }
+
+    /// `outer ∘ self` on `self`'s interval, where `self`'s [`Chebyshev::range`] lies in
+    /// `outer`'s interval (to the rounding of its ends): a new adaptive fit.
+    ///
+    /// ```
+    /// use lgsvi_spectral::Chebyshev;
+    /// let inner = Chebyshev::fit(|x| x * x, -1.0, 1.0)?; // range [0, 1]
+    /// let outer = Chebyshev::fit(|y| (3.0 * y).sin(), 0.0, 1.0)?;
+    /// let h = inner.compose_with(&outer)?;
+    /// assert!((h.evaluate(0.3)? - (3.0 * 0.09f64).sin()).abs() < 1e-14);
+    /// assert!(outer.compose_with(&inner).is_ok()); // sin(3y) on [0, 1] stays in [−1, 1]
+    /// let narrow = Chebyshev::fit(|y| y, 0.0, 0.5)?;
+    /// assert!(inner.compose_with(&narrow).is_err()); // x² reaches 1, outside [0, 0.5]
+    /// # Ok::<(), lgsvi_spectral::SpectralError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`SpectralError::OutsideInterval`] naming the extreme value of `self` that lies
+    /// outside `outer`'s interval; as [`Chebyshev::fit`].
+    pub fn compose_with(&self, outer: &Chebyshev) -> Result<Chebyshev, SpectralError> {
+        let (low, high) = self.range();
+        for value in [low, high] {
+            outer.reference(value)?;
+        }
+        self.compose(|y| outer.clenshaw(outer.map_in(y)))
     }
 
     /// The values at `points` (each checked as in [`Chebyshev::evaluate`]).

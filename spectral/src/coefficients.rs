@@ -63,9 +63,15 @@ pub fn chebyshev_coefficient_matrix(n: usize) -> Result<Matrix, SpectralError> {
     Ok(matrix)
 }
 
+/// From this many values on, the transforms go through the FFT (`O(n log n)`); below, the
+/// cosine sums directly (faster there, and bit for bit what earlier versions computed).
+pub const FFT_FROM: usize = 65;
+
 /// The Chebyshev coefficients `c_0, …, c_{n−1}` of the interpolant through `values` at the
 /// `n = values.len()` Chebyshev–Lobatto nodes (ascending), as
-/// [`chebyshev_coefficient_matrix`] defines them; `O(n²)` operations.
+/// [`chebyshev_coefficient_matrix`] defines them: the cosine sums directly below
+/// [`FFT_FROM`] values, from there a real-to-real DCT-I through a complex FFT of the even
+/// extension (length `2(n − 1)`, `O(n log n)`).
 ///
 /// # Errors
 /// [`SpectralError::TooFewNodes`] for fewer than two values.
@@ -83,8 +89,88 @@ pub fn chebyshev_coefficient_matrix(n: usize) -> Result<Matrix, SpectralError> {
 /// # Ok::<(), lgsvi_spectral::SpectralError>(())
 /// ```
 pub fn chebyshev_coefficients(values: &[f64]) -> Result<Vec<f64>, SpectralError> {
-    let matrix = chebyshev_coefficient_matrix(values.len())?;
-    Ok(matrix
-        .mul_vec(values)
-        .expect("the matrix has one column per value"))
+    let n = values.len();
+    if n < FFT_FROM {
+        let matrix = chebyshev_coefficient_matrix(n)?;
+        return Ok(matrix
+            .mul_vec(values)
+            .expect("the matrix has one column per value"));
+    }
+    // G_k = Σ_j g_j e^{−iπjk/N} over the even extension g = (f_0 … f_N, f_{N−1} … f_1)
+    // is 2 Σ''_j f_j cos(πjk/N), so c_k = (−1)^k G_k / (N γ_k).
+    let last = n - 1;
+    let g = dct1(values);
+    Ok(g.iter()
+        .enumerate()
+        .map(|(k, &gk)| {
+            let gamma = if k == 0 || k == last { 2.0 } else { 1.0 };
+            let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+            sign * gk / (last as f64 * gamma)
+        })
+        .collect())
+}
+
+/// The values `p(t_j)` at the `n = coefficients.len()` Chebyshev–Lobatto nodes (ascending)
+/// of the series `p = Σ_k c_k T_k`: the inverse of [`chebyshev_coefficients`], by the same
+/// DCT-I (`O(n log n)` from [`FFT_FROM`] coefficients; Clenshaw's sums below).
+///
+/// # Errors
+/// [`SpectralError::TooFewNodes`] for fewer than two coefficients.
+///
+/// # Example
+/// ```
+/// use lgsvi_spectral::{chebyshev_coefficients, chebyshev_values};
+/// let values: Vec<f64> = (0..100).map(|j| (j as f64 * 0.1).sin()).collect();
+/// let back = chebyshev_values(&chebyshev_coefficients(&values)?)?;
+/// assert!(values.iter().zip(&back).all(|(a, b)| (a - b).abs() < 1e-14));
+/// # Ok::<(), lgsvi_spectral::SpectralError>(())
+/// ```
+pub fn chebyshev_values(coefficients: &[f64]) -> Result<Vec<f64>, SpectralError> {
+    let n = coefficients.len();
+    if n < 2 {
+        return Err(SpectralError::TooFewNodes {
+            kind: "Chebyshev-Lobatto",
+            n,
+            min: 2,
+        });
+    }
+    let last = n - 1;
+    // p(t_j) = Σ_k c_k (−1)^k cos(πjk/N) = ½ G_j of e_k = (−1)^k c_k γ_k.
+    let e: Vec<f64> = coefficients
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            let gamma = if k == 0 || k == last { 2.0 } else { 1.0 };
+            let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+            sign * gamma * c
+        })
+        .collect();
+    if n < FFT_FROM {
+        return Ok((0..n)
+            .map(|j| {
+                (0..n)
+                    .map(|k| {
+                        let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+                        let phase = (j * k) % (2 * last);
+                        sign * coefficients[k] * (PI * phase as f64 / last as f64).cos()
+                    })
+                    .sum::<f64>()
+            })
+            .collect());
+    }
+    Ok(dct1(&e).into_iter().map(|g| 0.5 * g).collect())
+}
+
+/// `G_k = 2 Σ''_j f_j cos(πjk/N)`, `k = 0 … N` (the unnormalised DCT-I), from one complex
+/// FFT of length `2N` of the even extension of `f`.
+fn dct1(f: &[f64]) -> Vec<f64> {
+    use rustfft::num_complex::Complex;
+    let last = f.len() - 1;
+    let len = 2 * last;
+    let mut buffer: Vec<Complex<f64>> = (0..len)
+        .map(|j| Complex::new(if j <= last { f[j] } else { f[len - j] }, 0.0))
+        .collect();
+    let mut planner = rustfft::FftPlanner::new();
+    planner.plan_fft_forward(len).process(&mut buffer);
+    buffer[..=last].iter().map(|z| z.re).collect()
 }

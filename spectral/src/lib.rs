@@ -11,13 +11,14 @@
 //!   and derivative matrices at a set of points (`B[j][i] = φ_i(c_j)`,
 //!   `D[j][i] = φ_i'(c_j)`, row-major [`Matrix`]), and the differentiation matrix on the
 //!   nodes.
-//! - Chebyshev coefficients of the interpolant through Chebyshev–Lobatto values
-//!   ([`chebyshev_coefficients`], [`chebyshev_coefficient_matrix`]): the decay a spectral
-//!   method reads its own error from.
+//! - Chebyshev coefficients of the interpolant through Chebyshev–Lobatto values and back
+//!   ([`chebyshev_coefficients`], [`chebyshev_values`]: the DCT-I, by an FFT from
+//!   [`FFT_FROM`] points on; [`chebyshev_coefficient_matrix`]): the decay a spectral method
+//!   reads its own error from.
 //! - [`Chebyshev`]: a function held as its Chebyshev series, fitted adaptively to machine
 //!   precision (chebfun's plateau and chop rule), with Clenshaw evaluation that refuses
 //!   points outside its interval, derivative, indefinite and definite integrals, roots
-//!   (colleague-matrix eigenvalues), sums and products.
+//!   (colleague-matrix eigenvalues), range, sums, products and composition.
 //!
 //! # Conventions
 //! - `n` is the number of nodes; the degree is `n − 1`.
@@ -49,7 +50,9 @@ mod nodes;
 
 pub use barycentric::Barycentric;
 pub use chebyshev::{Chebyshev, MAX_FIT_POINTS};
-pub use coefficients::{chebyshev_coefficient_matrix, chebyshev_coefficients};
+pub use coefficients::{
+    chebyshev_coefficient_matrix, chebyshev_coefficients, chebyshev_values, FFT_FROM,
+};
 pub use error::SpectralError;
 pub use matrix::Matrix;
 pub use nodes::{chebyshev_first_kind, chebyshev_lobatto};
