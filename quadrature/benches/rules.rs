@@ -1,7 +1,10 @@
-//! Rule construction for m = 10, 100, 1000, and, for the choice of eigensolver, the same
-//! Golub–Welsch eigenproblem solved by nalgebra's dense symmetric eigensolver.
+//! Rule construction for m = 10, 100, 1000 (the classical weighted rules up to 10⁴: their
+//! `O(m)` march), and, for the choice of eigensolver, the same Golub–Welsch eigenproblem
+//! solved by nalgebra's dense symmetric eigensolver.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use lgsvi_quadrature::{gauss_legendre, gauss_lobatto, golub_welsch};
+use lgsvi_quadrature::{
+    gauss_hermite, gauss_jacobi, gauss_laguerre, gauss_legendre, gauss_lobatto, golub_welsch,
+};
 use std::hint::black_box;
 
 fn construction(c: &mut Criterion) {
@@ -12,6 +15,17 @@ fn construction(c: &mut Criterion) {
         });
         group.bench_with_input(BenchmarkId::new("gauss_lobatto", m), &m, |b, &m| {
             b.iter(|| gauss_lobatto(black_box(m)).unwrap())
+        });
+    }
+    for m in [100usize, 1000, 10_000] {
+        group.bench_with_input(BenchmarkId::new("gauss_hermite", m), &m, |b, &m| {
+            b.iter(|| gauss_hermite(black_box(m)).unwrap())
+        });
+        group.bench_with_input(BenchmarkId::new("gauss_laguerre", m), &m, |b, &m| {
+            b.iter(|| gauss_laguerre(black_box(m), 0.5).unwrap())
+        });
+        group.bench_with_input(BenchmarkId::new("gauss_jacobi", m), &m, |b, &m| {
+            b.iter(|| gauss_jacobi(black_box(m), 0.5, -0.5).unwrap())
         });
     }
     group.finish();

@@ -79,6 +79,17 @@ pub enum QuadratureError {
         /// Right end.
         b: f64,
     },
+    /// The Gauss–Jacobi rule asked for has no Gauss–Kronrod extension with real nodes
+    /// inside `(−1, 1)` and positive weights.
+    #[error("the {points}-point Gauss-Jacobi rule with α = {alpha}, β = {beta} has no Gauss-Kronrod extension with real nodes inside (−1, 1) and positive weights; take exponents with α = β in (−1/2, 3/2] (every n has one), fewer points, or a Gauss-Legendre pair on a mapped integrand")]
+    NoKronrodExtension {
+        /// The Gauss points asked for.
+        points: usize,
+        /// `α`.
+        alpha: f64,
+        /// `β`.
+        beta: f64,
+    },
     /// The implicit QL iteration did not converge (it converges in practice; this guards
     /// against pathological input such as entries spanning hundreds of orders of magnitude).
     #[error("the tridiagonal eigenvalue iteration did not converge for eigenvalue {index} in {iterations} sweeps")]

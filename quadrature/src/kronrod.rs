@@ -1,7 +1,9 @@
 //! Gauss–Kronrod rules: the `2n + 1`-point extension of the `n`-point Gauss–Legendre rule
 //! that keeps its nodes, and with it an error estimate from one set of function values.
 
-use crate::classical::rule_from_recurrence;
+use crate::classical::{
+    check_exponent, gauss_jacobi, jacobi_coefficients, jacobi_mass, rule_from_recurrence,
+};
 use crate::double_double::DoubleDouble as Dd;
 use crate::error::at_least;
 use crate::rule::{Rule, RuleKind};
@@ -29,7 +31,8 @@ use crate::QuadratureError;
 pub struct GaussKronrod {
     kronrod: Rule,
     gauss_weights: Vec<f64>,
-    half_length: f64,
+    /// The Gauss weights on the reference interval `[−1, 1]`, mapped afresh by `on`.
+    reference_gauss_weights: Vec<f64>,
 }
 
 impl GaussKronrod {
@@ -39,16 +42,21 @@ impl GaussKronrod {
     /// As [`Rule::on`].
     pub fn on(&self, a: f64, b: f64) -> Result<Self, QuadratureError> {
         let kronrod = self.kronrod.on(a, b)?;
+        // The Kronrod rule's own scale: (b − a)/2, or its power α + β + 1 for a weight.
         let half_length = 0.5 * (b - a);
+        let scale = match self.kronrod.weight_exponents() {
+            None => half_length,
+            Some((alpha, beta)) => half_length.powf(alpha + beta + 1.0),
+        };
         let gauss_weights = self
-            .gauss_weights
+            .reference_gauss_weights
             .iter()
-            .map(|w| w / self.half_length * half_length)
+            .map(|w| w * scale)
             .collect();
         Ok(Self {
             kronrod,
             gauss_weights,
-            half_length,
+            reference_gauss_weights: self.reference_gauss_weights.clone(),
         })
     }
 
@@ -94,7 +102,125 @@ impl GaussKronrod {
 /// [`QuadratureError::TooFewPoints`] for `n = 0`; those of Golub–Welsch (not expected).
 pub fn gauss_kronrod(n: usize) -> Result<GaussKronrod, QuadratureError> {
     at_least("Gauss-Kronrod (Gauss points)", n, 1)?;
-    let (alpha, beta) = laurie(n);
+    // Legendre: α_k = 0, β_0 = 2, β_k = k²/(4k² − 1).
+    let (a, b) = monic(n, |count| {
+        let squares = (1..=count)
+            .map(|k| {
+                let k2 = (k * k) as f64;
+                Dd::from_f64(k2).div(Dd::from_f64(4.0 * k2 - 1.0))
+            })
+            .collect();
+        (vec![Dd::from_f64(0.0); count], squares)
+    });
+    let gauss = gauss_legendre(n)?;
+    let (nodes, weights, gauss_weights) = extension(n, a, b, 2.0, true, &gauss)
+        .expect("the Gauss-Legendre rule has a Kronrod extension for every n");
+    Ok(GaussKronrod {
+        kronrod: Rule::with_weight(RuleKind::GaussKronrod, nodes, weights, (-1.0, 1.0), None),
+        reference_gauss_weights: gauss_weights.clone(),
+        gauss_weights,
+    })
+}
+
+/// The Gauss–Kronrod pair extending the `n`-point Gauss–Jacobi rule
+/// ([`gauss_jacobi`](crate::gauss_jacobi)) of the weight `(1 − x)^α (1 + x)^β` to `2n + 1`
+/// points, where that extension has real nodes inside `(−1, 1)` and positive weights; its
+/// weighted [`GaussKronrod::integrate`] gives the Kronrod value of
+/// `∫ (1 − x)^α (1 + x)^β f(x) dx` and `|K − G|`. The Gegenbauer weights `α = β ∈ (−½, 3/2]`
+/// have one for every `n` (Gautschi & Notaris 1988; the Chebyshev weight of the second kind
+/// among them; the first kind's puts nodes on `±1`, refused here); other
+/// exponents for some `n` or none (measured against the reference: `(2, 1)` and `(3, 3)`
+/// up to `n = 20`; `(½, −½)` puts a node on an end for every `n`). Laguerre and Hermite
+/// weights have none for most `n`, which is why this crate offers none.
+///
+/// Same method as [`gauss_kronrod`]: Laurie's algorithm on the Jacobi recurrence in
+/// double-double, the rule of the resulting Jacobi matrix, the embedded Gauss nodes and
+/// weights exactly [`gauss_jacobi`](crate::gauss_jacobi)'s.
+///
+/// ```
+/// use lgsvi_quadrature::gauss_kronrod_jacobi;
+/// // ∫ √(1 − x²) eˣ dx = π I₁(1) = 1.7754996892121809…, with 7 Gauss and 15 Kronrod points.
+/// let pair = gauss_kronrod_jacobi(7, 0.5, 0.5)?;
+/// let (value, estimate) = pair.integrate(f64::exp);
+/// assert!((value - 1.775_499_689_212_180_9).abs() < 1e-15);
+/// assert!(estimate < 1e-12);
+/// # Ok::<(), lgsvi_quadrature::QuadratureError>(())
+/// ```
+///
+/// # Errors
+/// [`QuadratureError::TooFewPoints`] for `n = 0`; [`QuadratureError::InvalidExponent`] for
+/// `α` or `β` ≤ −1 or not finite; [`QuadratureError::NoKronrodExtension`] where the
+/// extension has complex nodes, nodes outside `(−1, 1)` or a weight that is not positive.
+pub fn gauss_kronrod_jacobi(
+    n: usize,
+    alpha: f64,
+    beta: f64,
+) -> Result<GaussKronrod, QuadratureError> {
+    at_least("Gauss-Kronrod-Jacobi (Gauss points)", n, 1)?;
+    check_exponent("alpha", alpha)?;
+    check_exponent("beta", beta)?;
+    let mass = jacobi_mass(alpha, beta);
+    let (a, mut b) = monic(n, |count| jacobi_coefficients(count, alpha, beta));
+    b[0] = Dd::from_f64(mass);
+    let gauss = gauss_jacobi(n, alpha, beta)?;
+    let (nodes, weights, gauss_weights) = extension(n, a, b, mass, alpha == beta, &gauss).ok_or(
+        QuadratureError::NoKronrodExtension {
+            points: n,
+            alpha,
+            beta,
+        },
+    )?;
+    Ok(GaussKronrod {
+        kronrod: Rule::with_weight(
+            RuleKind::GaussKronrodJacobi,
+            nodes,
+            weights,
+            (-1.0, 1.0),
+            Some((alpha, beta)),
+        ),
+        reference_gauss_weights: gauss_weights.clone(),
+        gauss_weights,
+    })
+}
+
+/// The monic recurrence `(a_k, b_k)`, `k < 2n + 1`, with the first `⌊3n/2⌋ + 1` entries
+/// filled from `coefficients(count) → (a_0 … a_{count−1}, b_1 … b_count)` (`b_0` left for
+/// the caller: the mass), the rest zero, as Laurie's algorithm takes them.
+fn monic(n: usize, coefficients: impl FnOnce(usize) -> (Vec<Dd>, Vec<Dd>)) -> (Vec<Dd>, Vec<Dd>) {
+    let len = 2 * n + 1;
+    let count = (3 * n).div_ceil(2) + 1;
+    let (diagonal, squares) = coefficients(count);
+    let zero = Dd::from_f64(0.0);
+    let mut a = vec![zero; len];
+    let mut b = vec![zero; len];
+    for k in 0..count.min(len) {
+        a[k] = diagonal[k];
+        b[k] = if k == 0 {
+            Dd::from_f64(2.0)
+        } else {
+            squares[k - 1]
+        };
+    }
+    (a, b)
+}
+
+/// The Kronrod rule of the recurrence `(a, b)` (Laurie's algorithm, then the rule of its
+/// Jacobi matrix) with the Gauss rule's nodes in it exactly: `(nodes, Kronrod weights, Gauss
+/// weights in the Kronrod nodes' order)`, or `None` where the extension is not real with
+/// nodes inside `(−1, 1)` and positive weights.
+fn extension(
+    n: usize,
+    a: Vec<Dd>,
+    b: Vec<Dd>,
+    mass: f64,
+    symmetric: bool,
+    gauss: &Rule,
+) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+    let (alpha, beta) = laurie(n, a, b);
+    // A Kronrod matrix with a non-positive β_k has complex nodes (Laurie 1997).
+    if !beta[1..].iter().all(|b| b.hi > 0.0 && b.hi.is_finite()) {
+        return None;
+    }
     // √β_1 … √β_{2n}, and 1 to scale the last step of the recurrence (only p_m's zeros
     // matter there).
     let off: Vec<Dd> = beta[1..]
@@ -102,38 +228,32 @@ pub fn gauss_kronrod(n: usize) -> Result<GaussKronrod, QuadratureError> {
         .map(|b| b.sqrt())
         .chain([Dd::from_f64(1.0)])
         .collect();
-    let (mut nodes, weights) = rule_from_recurrence(alpha, off, 2.0, true)?;
+    let (mut nodes, weights) = rule_from_recurrence(alpha, off, mass, symmetric).ok()?;
     let m = 2 * n + 1;
-    let gauss = gauss_legendre(n)?;
+    let inside = nodes.iter().all(|&x| x > -1.0 && x < 1.0);
+    let positive = weights.iter().all(|&w| w > 0.0 && w.is_finite());
+    if nodes.len() != m || !inside || !positive {
+        return None;
+    }
     let mut gauss_weights = vec![0.0; m];
     for (i, (&x, &w)) in gauss.nodes().iter().zip(gauss.weights()).enumerate() {
+        // The Kronrod nodes interlace with the Gauss nodes, which they contain.
+        if (nodes[2 * i + 1] - x).abs() > 1e-10 {
+            return None;
+        }
         nodes[2 * i + 1] = x;
         gauss_weights[2 * i + 1] = w;
     }
-    Ok(GaussKronrod {
-        kronrod: Rule::with_weight(RuleKind::GaussKronrod, nodes, weights, (-1.0, 1.0), None),
-        gauss_weights,
-        half_length: 1.0,
-    })
+    Some((nodes, weights, gauss_weights))
 }
 
 /// Laurie's algorithm: the recurrence coefficients `(α_k, β_k)`, `k < 2n + 1`, of the
-/// Kronrod rule extending the `n`-point Gauss–Legendre rule (`β_0 = 2`, the mass), in
-/// double-double (in double, the rounding of its recurrences left Kronrod weights 115ε off
-/// at n = 25). A transcription of `r_kronrod` (Laurie 1997; Gautschi's OPQ), indices from 0.
-fn laurie(n: usize) -> (Vec<Dd>, Vec<Dd>) {
-    let len = 2 * n + 1;
+/// Kronrod rule extending the `n`-point Gauss rule of the monic recurrence `(a, b)` (given
+/// for `k ≤ ⌈3n/2⌉`, `b_0` the mass), in double-double (in double, the rounding of its
+/// recurrences left Kronrod weights 115ε off at n = 25). A transcription of `r_kronrod`
+/// (Laurie 1997; Gautschi's OPQ), indices from 0.
+fn laurie(n: usize, mut a: Vec<Dd>, mut b: Vec<Dd>) -> (Vec<Dd>, Vec<Dd>) {
     let zero = Dd::from_f64(0.0);
-    let (mut a, mut b) = (vec![zero; len], vec![zero; len]);
-    // Legendre: α_k = 0, β_0 = 2, β_k = k²/(4k² − 1), needed up to ⌈3n/2⌉.
-    for (k, bk) in b.iter_mut().enumerate().take((3 * n).div_ceil(2) + 1) {
-        *bk = if k == 0 {
-            Dd::from_f64(2.0)
-        } else {
-            let k2 = (k * k) as f64;
-            Dd::from_f64(k2).div(Dd::from_f64(4.0 * k2 - 1.0))
-        };
-    }
     let half = n / 2 + 2;
     let (mut s, mut t) = (vec![zero; half], vec![zero; half]);
     t[1] = b[n + 1];

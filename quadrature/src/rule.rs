@@ -27,6 +27,10 @@ pub enum RuleKind {
     /// Gauss–Kronrod (Legendre): `m = 2n + 1` points extending the `n`-point Gauss rule;
     /// exact for degree `3n + 1` (`3n + 2` for odd `n`).
     GaussKronrod,
+    /// Gauss–Kronrod–Jacobi, weight `(1 − x)^α (1 + x)^β`: `m = 2n + 1` points extending the
+    /// `n`-point Gauss–Jacobi rule; exact for degree `3n + 1` (one more for odd `n` where
+    /// `α = β`, by symmetry).
+    GaussKronrodJacobi,
 }
 
 impl RuleKind {
@@ -45,6 +49,7 @@ impl RuleKind {
                 let n = (m - 1) / 2;
                 3 * n + 1 + n % 2
             }
+            RuleKind::GaussKronrodJacobi => 3 * ((m - 1) / 2) + 1,
         }
     }
 }
