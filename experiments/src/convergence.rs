@@ -63,14 +63,17 @@ impl Reference {
             let steps = integrator.steps_until(t_end)?;
             let mut states = vec![(*integrator.state().attitude(), integrator.state().velocity)];
             let mut curves = Vec::with_capacity(steps);
-            for _ in 0..steps {
-                integrator.step().map_err(|source| ExperimentError::Run {
+            let record = |it: &Integrator<P::System>, _: StepInfo| {
+                states.push((*it.state().attitude(), it.state().velocity));
+                curves.extend(it.last_curve());
+                Ok::<_, lgsvi_mechanics::MechanicsError>(Flow::Continue)
+            };
+            integrator
+                .drive(steps, &mut each(record))
+                .map_err(|source| ExperimentError::Run {
                     context: "reference run".into(),
                     source,
                 })?;
-                states.push((*integrator.state().attitude(), integrator.state().velocity));
-                curves.extend(integrator.last_curve());
-            }
             Ok((states, curves))
         };
         let (states, curves) = run(REFERENCE_NODES)?;

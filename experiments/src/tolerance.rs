@@ -19,7 +19,8 @@
 use crate::error::ExperimentError;
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
-    ElementOf, GroupChart, GroupLagrangian, Integrator, MechanicsError, State, StepSettings,
+    each, ElementOf, Flow, GroupChart, GroupLagrangian, Integrator, MechanicsError, State,
+    StepInfo, StepSettings,
 };
 use serde::Serialize;
 use std::time::Instant;
@@ -167,19 +168,22 @@ where
                 let mut truth = make(StepSettings::new(h, n + TRUTH_EXTRA_NODES)?)?;
                 let count = integrator.steps_until(t_end)?;
                 let mut rows = Vec::with_capacity(count);
-                for step in 0..count {
-                    let s = *integrator.state();
-                    truth.reset(s.time, s.configuration, s.velocity)?;
+                // The truth takes each step from where the run stood before it.
+                let mut before = *integrator.state();
+                let compare = |it: &Integrator<S, C, D>, info: StepInfo| {
+                    truth.reset(before.time, before.configuration, before.velocity)?;
                     truth.step()?;
-                    integrator.step()?;
                     rows.push(LocalError {
                         h,
                         nodes: n,
-                        step,
-                        estimate: integrator.error_estimate(),
-                        truth: distance(&integrator.state().observe(), &truth.state().observe()),
+                        step: info.index - 1,
+                        estimate: it.error_estimate(),
+                        truth: distance(&it.state().observe(), &truth.state().observe()),
                     });
-                }
+                    before = *it.state();
+                    Ok::<_, ExperimentError>(Flow::Continue)
+                };
+                integrator.drive(count, &mut each(compare))?;
                 Ok(rows)
             };
             // A setting the chart cannot follow (a long Cayley step) has no steps to show.
@@ -210,9 +214,8 @@ where
         let mut integrator = make(settings)?;
         let steps = integrator.steps_until(t_end)?;
         let start = Instant::now();
-        for _ in 0..steps {
-            integrator.step()?;
-        }
+        let none = |_: &Integrator<S, C, D>, _: StepInfo| Ok::<_, ExperimentError>(Flow::Continue);
+        integrator.drive(steps, &mut each(none))?;
         best = best.min(start.elapsed().as_secs_f64());
         last = Some(integrator);
     }
