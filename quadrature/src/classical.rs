@@ -666,14 +666,14 @@ mod march_tests {
     }
 
     /// Every node the same double and every weight within 8ε (each route is within about
-    /// 3ε of the 60-digit references), for Hermite, five Laguerre and seven Jacobi weights
-    /// (exponents near −1 and a strongly unsymmetric one among them), even and odd `m`,
-    /// small and large.
+    /// 3ε of the 60-digit references), for Hermite, six Laguerre and nine Jacobi weights
+    /// (exponents near −1, large ones and strongly unsymmetric ones among them), even and
+    /// odd `m`, small and large.
     #[test]
     fn the_march_and_the_polish_agree() {
         for m in [20usize, 21, 100, 201, 1000] {
             let mut families = vec![("hermite".to_string(), hermite(m))];
-            for alpha in [0.0, 0.5, -0.5, 2.0, -0.9] {
+            for alpha in [0.0, 0.5, -0.5, 2.0, -0.9, 40.0] {
                 families.push((format!("laguerre {alpha}"), laguerre(m, alpha)));
             }
             for (alpha, beta) in [
@@ -684,6 +684,8 @@ mod march_tests {
                 (1.5, 1.5),
                 (-0.9, -0.9),
                 (4.0, -0.5),
+                (20.0, 0.5),
+                (-0.99, 30.0),
             ] {
                 families.push((format!("jacobi {alpha} {beta}"), jacobi(m, alpha, beta)));
             }
