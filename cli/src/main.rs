@@ -23,7 +23,9 @@ use lgsvi_mechanics::control::GroupLog;
 use lgsvi_mechanics::{
     Checked, ElementOf, GroupChart, GroupLagrangian, Integrator, MechanicsError, StepSettings,
 };
-use lgsvi_reports::trajectory::{conservation_figure, write_csv, write_json, Conserved};
+use lgsvi_reports::trajectory::{
+    conservation_figure, settings_json, write_csv, write_json, Conserved,
+};
 use problem::Problem;
 use std::process::ExitCode;
 
@@ -221,8 +223,7 @@ fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
         (recording, None)
     };
     let mut description = problem.description.clone();
-    description["settings"] =
-        Problem::settings_json(&problem.settings, problem.t_end, problem.every);
+    description["settings"] = settings_json(&problem.settings, problem.t_end, problem.every);
     match regime {
         Some(regime) => {
             description["solution"] = "exact (Jacobi elliptic functions)".into();

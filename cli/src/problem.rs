@@ -698,26 +698,6 @@ impl Problem {
         Ok((problem, options))
     }
 
-    /// The settings as JSON.
-    pub fn settings_json(settings: &StepSettings, t_end: f64, every: usize) -> serde_json::Value {
-        let mut json = serde_json::json!({
-            "h": settings.step(), "nodes": settings.nodes(), "degree": settings.degree(),
-            "quadrature_points": settings.quadrature_points(), "chart": settings.chart().to_string(),
-            "matching": format!("{:?}", settings.matching()).to_lowercase(),
-            "jacobian": match settings.jacobian() { lgsvi_mechanics::NewtonJacobian::Exact => "exact", _ => "finite-difference" },
-            "t_end": t_end, "every": every,
-        });
-        if let Some(adaptive) = settings.adaptive() {
-            // The nodes vary per step: the first step's count is only where the run began
-            // (the steps per count are `stats.nodes_histogram`).
-            json["first_nodes"] = settings.nodes().into();
-            json["nodes"] = "per step: stats.nodes_histogram".into();
-            json["error_per_unit_time"] = adaptive.rate.into();
-            json["node_range"] = serde_json::json!([adaptive.min_nodes, adaptive.max_nodes]);
-        }
-        json
-    }
-
     /// An integrator for this problem with other settings (SO(3) systems).
     pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<Driven>> {
         Ok(Subject::integrator(self, settings)?)

@@ -3,6 +3,7 @@
 //! [`lgsvi_plot::Figure`], so that a library user renders their own studies the same way.
 //!
 //! - [`convergence`]: a convergence study's console table and CSV;
+//! - [`linearization`]: a step's linearisation as JSON, the coordinates in words;
 //! - [`paper`]: the paper's report (`REPORT.md`): a section per figure and the table of
 //!   the paper's claims, each with a verdict from the measurements;
 //! - [`paper_figures`]: the paper's figures and their CSV data;
@@ -47,6 +48,7 @@
 //! ```
 
 pub mod convergence;
+pub mod linearization;
 pub mod paper;
 pub mod paper_figures;
 pub mod reproduce;

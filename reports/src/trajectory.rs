@@ -33,6 +33,7 @@
 //! ```
 
 use lgsvi_experiments::record::Recording;
+use lgsvi_mechanics::{NewtonJacobian, StepSettings};
 use lgsvi_plot::{Figure, Series, Style};
 use nalgebra::Vector3;
 use serde::ser::{SerializeMap, Serializer};
@@ -170,6 +171,29 @@ fn consistent(run: &Recording) -> io::Result<()> {
             "a recording's columns must have one entry per recorded state (Recording::is_consistent)",
         ))
     }
+}
+
+/// A run's step settings as the `settings` of its JSON description: `h`, `nodes`, `degree`,
+/// `quadrature_points`, `chart`, `matching`, `jacobian`, `t_end`, `every`; with adaptive
+/// nodes, the first step's count, `nodes_histogram`'s pointer, the error per unit time and
+/// the node range.
+pub fn settings_json(settings: &StepSettings, t_end: f64, every: usize) -> serde_json::Value {
+    let mut json = serde_json::json!({
+        "h": settings.step(), "nodes": settings.nodes(), "degree": settings.degree(),
+        "quadrature_points": settings.quadrature_points(), "chart": settings.chart().to_string(),
+        "matching": format!("{:?}", settings.matching()).to_lowercase(),
+        "jacobian": match settings.jacobian() { NewtonJacobian::Exact => "exact", _ => "finite-difference" },
+        "t_end": t_end, "every": every,
+    });
+    if let Some(adaptive) = settings.adaptive() {
+        // The nodes vary per step: the first step's count is only where the run began
+        // (the steps per count are `stats.nodes_histogram`).
+        json["first_nodes"] = settings.nodes().into();
+        json["nodes"] = "per step: stats.nodes_histogram".into();
+        json["error_per_unit_time"] = adaptive.rate.into();
+        json["node_range"] = serde_json::json!([adaptive.min_nodes, adaptive.max_nodes]);
+    }
+    json
 }
 
 /// Writes the run as one JSON document on one line, ending in a newline: the recorded
