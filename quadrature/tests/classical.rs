@@ -16,7 +16,11 @@ const EPS: f64 = f64::EPSILON;
 type Table = BTreeMap<(String, String, usize), Vec<(usize, f64, f64)>>;
 
 fn table() -> Table {
-    let text = include_str!("data/gauss_classical.txt");
+    parse(include_str!("data/gauss_classical.txt"))
+}
+
+/// Lines `family params m i node weight`, `#` for comments.
+fn parse(text: &str) -> Table {
     let mut out = Table::new();
     for line in text
         .lines()
@@ -274,20 +278,7 @@ fn classical_rules_refuse_what_they_cannot_do() {
 /// (−0.7, 0.3), (1.5, 1.5)).
 #[test]
 fn large_rules_match_the_reference() {
-    let text = include_str!("data/gauss_classical_large.txt");
-    let mut table = Table::new();
-    for line in text
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-    {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        let key = (f[0].to_string(), f[1].to_string(), f[2].parse().unwrap());
-        table.entry(key).or_default().push((
-            f[3].parse().unwrap(),
-            f[4].parse().unwrap(),
-            f[5].parse().unwrap(),
-        ));
-    }
+    let table = parse(include_str!("data/gauss_classical_large.txt"));
     assert_eq!(table.len(), 12, "six weights at two sizes");
     for ((family, params, m), rows) in &table {
         let rule = build(family, params, *m);
