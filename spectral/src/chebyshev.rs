@@ -345,6 +345,11 @@ impl Chebyshev {
                 x
             })
             .collect();
+        // A candidate Newton could not bring to a zero of the series (a spurious real
+        // eigenvalue at an end, clamped there) is not a root: keep those where the series
+        // vanishes to its rounding (Σ|c_k| bounds every value it takes).
+        let scale: f64 = self.coefficients.iter().map(|c| c.abs()).sum();
+        roots.retain(|&x| self.clenshaw(self.map_in(x)).abs() <= 1e3 * f64::EPSILON * scale);
         roots.sort_by(f64::total_cmp);
         roots
     }

@@ -255,3 +255,17 @@ fn compositions_and_ranges_match_closed_forms() {
         Err(SpectralError::OutsideInterval { .. })
     ));
 }
+
+/// Every root `roots` returns is a zero of the series: sin(5x)/(1 + x²) on [−2, 3] has eight
+/// (kπ/5 in the interval); a spurious real eigenvalue of the colleague matrix at the end
+/// x = 3 (where f = 0.065), which Newton clamps there, is not one of them.
+#[test]
+fn roots_are_zeros_of_the_series() {
+    let f = |x: f64| (5.0 * x).sin() / (1.0 + x * x);
+    let roots = Chebyshev::fit(f, -2.0, 3.0).unwrap().roots();
+    assert_eq!(roots.len(), 8, "{roots:?}");
+    for (k, r) in roots.iter().enumerate() {
+        let exact = (k as f64 - 3.0) * PI / 5.0;
+        assert!((r - exact).abs() < 1e-14, "root {k}: {r} vs {exact}");
+    }
+}
