@@ -67,8 +67,8 @@ struct Local {
 impl Ode {
     fn local(&self, c: f64) -> Local {
         let x = Dd::from_f64(c);
-        let [p0, p1, p2] = self.p;
-        let p = p0.add(x.mul(p1.add(x.mul(p2))));
+        let [_, p1, p2] = self.p;
+        let p = self.p_at(x);
         Local {
             inv_p: Dd::from_f64(1.0).div(p),
             q: self.q[0].add(x.mul(self.q[1])),
@@ -79,12 +79,18 @@ impl Ode {
         }
     }
 
+    /// `P(x) = p₀ + x(p₁ + x p₂)` in double-double at a double-double `x`.
+    fn p_at(&self, x: Dd) -> Dd {
+        let [p0, p1, p2] = self.p;
+        p0.add(x.mul(p1.add(x.mul(p2))))
+    }
+
     /// `P(x)`, `P'(x)`, `Q(x)`, formed in double-double and rounded: `1 − x²` near `±1`
     /// keeps its relative accuracy (in double it would lose `1/(1 − x²)` ulps).
     pub(crate) fn at(&self, x: f64) -> (f64, f64, f64) {
         let xd = Dd::from_f64(x);
-        let [p0, p1, p2] = self.p;
-        let p = p0.add(xd.mul(p1.add(xd.mul(p2))));
+        let [_, p1, p2] = self.p;
+        let p = self.p_at(xd);
         let dp = p1.add(xd.mul(p2).scale(2.0));
         let q = self.q[0].add(xd.mul(self.q[1]));
         (p.to_f64(), dp.to_f64(), q.to_f64())
@@ -362,8 +368,7 @@ pub(crate) fn march(
         let x_true = Dd::from_f64(x).add(delta);
         let t_true = x_true.sub(Dd::from_f64(point.c)).div(Dd::from_f64(sigma));
         let (_, slope) = horner_dd(&a_dd, t_true);
-        let [p0, p1, p2] = ode.p;
-        let p_true = p0.add(x_true.mul(p1.add(x_true.mul(p2))));
+        let p_true = ode.p_at(x_true);
         let (mantissa, k) = libm::frexp(slope.div_f64(sigma).to_f64());
         let rho = 1.0 / (p_true.to_f64() * mantissa * mantissa);
         if !(rho.is_finite() && rho > 0.0) {
