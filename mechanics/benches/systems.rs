@@ -6,14 +6,16 @@
 //!
 //! `cargo bench -p lgsvi-mechanics --bench systems` (add `-- --quick` for a short run).
 use criterion::{criterion_group, criterion_main, Criterion};
+use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::lie::{SE3, SO3};
+use lgsvi_mechanics::LocalDerivatives;
 use lgsvi_mechanics::{
     AngularDamping, BodyInField, BodyTorque, FieldPotential, ForceOfTime, Forced, FreeBody,
     GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody, Potential, RigidBody,
     RigidBodyInPotential, Screw, SpaceForce, StepSettings,
 };
-use nalgebra::{Matrix3, RealField, SVector, Vector3};
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
 /// Steps per measured iteration.
 const STEPS: usize = 20;
@@ -43,6 +45,53 @@ struct GravityAndDipole;
 impl FieldPotential for GravityAndDipole {
     fn potential<T: RealField + Copy>(&self, _t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
         x.z * nalgebra::convert::<f64, T>(9.81) - r[(2, 0)] * nalgebra::convert::<f64, T>(0.3)
+    }
+}
+
+/// The free body in space on the product SO(3) × ℝ³ (the gyrostat's group with three
+/// components, the position in the world frame, `ℓ = ½ΩᵀJΩ + ½m|ẋ|²`, `m = 1`): the same
+/// discrete map as SE(3)'s rotation–translation chart, for comparing the two groups' cost.
+#[derive(Debug, Clone, Copy)]
+struct ProductFreeBody(Matrix3<f64>);
+impl GroupLagrangian<6> for ProductFreeBody {
+    type Group = BodyAndWheels<3>;
+    fn lagrangian<T: RealField + Copy>(
+        &self,
+        _t: f64,
+        _g: &BodyWheels<T, 3>,
+        xi: &SVector<T, 6>,
+    ) -> T {
+        let j: Matrix3<T> = self.0.map(nalgebra::convert);
+        let (w, v) = (xi.fixed_rows::<3>(0), xi.fixed_rows::<3>(3));
+        (w.dot(&(j * w)) + v.dot(&v)) * nalgebra::convert::<f64, T>(0.5)
+    }
+    fn is_left_invariant(&self) -> bool {
+        true
+    }
+    fn velocity_from_momentum(
+        &self,
+        _t: f64,
+        _g: &BodyWheels<f64, 3>,
+        mu: &SVector<f64, 6>,
+    ) -> Option<SVector<f64, 6>> {
+        let w = self.0.try_inverse()? * mu.fixed_rows::<3>(0);
+        Some(SVector::<f64, 6>::new(w.x, w.y, w.z, mu[3], mu[4], mu[5]))
+    }
+    fn local_derivatives(
+        &self,
+        _t: f64,
+        _g: &BodyWheels<f64, 3>,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<6>> {
+        let mut m = SMatrix::<f64, 6, 6>::identity();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.0);
+        Some(LocalDerivatives {
+            configuration_gradient: SVector::zeros(),
+            momentum: m * xi,
+            configuration_hessian: SMatrix::zeros(),
+            velocity_hessian: if with_hessian { m } else { SMatrix::zeros() },
+        })
     }
 }
 
@@ -172,6 +221,38 @@ fn bench(c: &mut Criterion) {
         c,
         "space_orbiting_body_linearized",
         Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
+    );
+    // The same free body on the product SO(3) × ℝ³ (same discrete map, other group).
+    let product_start = BodyWheels {
+        attitude: SO3::identity(),
+        wheels: Vector3::zeros(),
+    };
+    bench_steps(
+        c,
+        "space_free_body_on_product",
+        Integrator::new(
+            ProductFreeBody(inertia().matrix()),
+            settings(),
+            product_start,
+            xi,
+        )
+        .unwrap(),
+    );
+    // A spacecraft with three reaction wheels along its axes (SO(3) × ℝ³), wheels spinning.
+    let craft = Gyrostat::new(
+        inertia().matrix(),
+        [Vector3::x(), Vector3::y(), Vector3::z()],
+        [0.01; 3],
+    )
+    .unwrap();
+    let wheel_start = BodyWheels {
+        attitude: SO3::identity(),
+        wheels: Vector3::zeros(),
+    };
+    bench_steps(
+        c,
+        "gyrostat_three_wheels",
+        Integrator::new(craft, settings(), wheel_start, xi).unwrap(),
     );
     // SE(3)'s own (screw-motion) chart, for comparison with the default
     // rotation–translation chart.

@@ -43,10 +43,14 @@
 //! ```
 
 use crate::error::{check_finite, MechanicsError};
-use crate::group::{ConfigurationGroup, GroupChart, Rotations, Stacked};
+use crate::group::{
+    dual_number_derivatives, ChartDerivatives, ConfigurationGroup, GroupChart, Rotations, Stacked,
+};
+use crate::matrix_jet::MatrixJet;
 use crate::system::{GroupLagrangian, LocalDerivatives};
 use lgsvi_lie::{Chart, LieError, LieGroup, So3Chart, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
+use num_dual::{Dual2_64, Dual64};
 
 /// An element of SO(3) × ℝᴷ: the attitude `R = world_from_body` and the wheel angles.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -215,6 +219,15 @@ impl AnyGyrostat {
     }
 }
 
+/// The derivatives of an SO(3) chart on the attitude and the identity on ℝᴷ
+/// (`A = diag(A_ω(ω), I)`) in closed form, from the Rodrigues jet of `A_ω`, which depends
+/// on `ω` alone: with `x = (ω, φ)`, `∂(Av)/∂ω = [∂_kA_ω v_ω ; 0]_k`,
+/// `∂(Aᵀg)/∂ω = [∂_kA_ωᵀ g_ω ; 0]_k`, `∇²(μᵀAv) = ⟨μ_ω v_ωᵀ, ∂²A_ω⟩` in the `ω` block,
+/// nothing in `φ` (the identity's derivatives vanish).
+struct AttitudeTimesVectorDerivatives {
+    a: MatrixJet,
+}
+
 /// Implements the group, its charts and the gyrostat for one wheel count.
 macro_rules! wheels {
     ($k:literal, $d:literal, $jet:literal, $local:literal) => {
@@ -346,6 +359,38 @@ macro_rules! wheels {
             }
         }
 
+        impl ChartDerivatives<$d> for AttitudeTimesVectorDerivatives {
+            fn differential(&self) -> SMatrix<f64, $d, $d> {
+                let mut a = SMatrix::<f64, $d, $d>::identity();
+                a.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.a.value);
+                a
+            }
+            fn differential_times(&self, v: &SVector<f64, $d>) -> SMatrix<f64, $d, $d> {
+                let mut out = SMatrix::<f64, $d, $d>::zeros();
+                out.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&self.a.first_times(&v.fixed_rows::<3>(0).into_owned()));
+                out
+            }
+            fn transpose_times(&self, g: &SVector<f64, $d>) -> SMatrix<f64, $d, $d> {
+                let mut out = SMatrix::<f64, $d, $d>::zeros();
+                out.fixed_view_mut::<3, 3>(0, 0).copy_from(
+                    &self
+                        .a
+                        .first_transposed_times(&g.fixed_rows::<3>(0).into_owned())
+                        .transpose(),
+                );
+                out
+            }
+            fn second(&self, mu: &SVector<f64, $d>, v: &SVector<f64, $d>) -> SMatrix<f64, $d, $d> {
+                let mut out = SMatrix::<f64, $d, $d>::zeros();
+                out.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&self.a.second_contracted(
+                        &(mu.fixed_rows::<3>(0) * v.fixed_rows::<3>(0).transpose()),
+                    ));
+                out
+            }
+        }
+
         /// The SO(3) chart on the attitude, the identity on the wheel angles.
         impl<C: So3Chart + Send + Sync> GroupChart<BodyAndWheels<$k>, $d> for C {
             fn name(&self) -> &'static str {
@@ -406,6 +451,45 @@ macro_rules! wheels {
             }
             fn max_rotation_angle(&self) -> f64 {
                 So3Chart::max_rotation_angle(self)
+            }
+            /// `(Φ(ω) p_ω, p_φ)` (`Ad_{Φ⁻¹}ᵀ = diag(Φ(ω), I)`), from `Φ`'s Rodrigues
+            /// coefficients where the chart has them.
+            fn coadjoint_to_start(
+                &self,
+                x: &SVector<f64, $d>,
+                p: &SVector<f64, $d>,
+            ) -> SVector<f64, $d> {
+                let w = x.fixed_rows::<3>(0).into_owned();
+                let pw = p.fixed_rows::<3>(0).into_owned();
+                let turned = match self.rotation_matrix_coefficients(w.norm_squared()) {
+                    Some(c) => c.times(&w, &pw),
+                    None => self.rotation_matrix(&w) * pw,
+                };
+                let mut out = *p;
+                out.fixed_rows_mut::<3>(0).copy_from(&turned);
+                out
+            }
+            /// In closed form ([`AttitudeTimesVectorDerivatives`]) where the chart has a
+            /// Rodrigues form, by dual numbers otherwise.
+            fn with_derivatives<R>(
+                &self,
+                x: &SVector<f64, $d>,
+                second: bool,
+                f: impl FnOnce(&dyn ChartDerivatives<$d>) -> R,
+            ) -> R {
+                let w = x.fixed_rows::<3>(0).into_owned();
+                let s = w.norm_squared();
+                let jet = if second {
+                    self.rotation_left_differential_coefficients(Dual2_64::new(s, 1.0, 0.0))
+                        .map(|a| MatrixJet::from_rodrigues(&a, &w))
+                } else {
+                    self.rotation_left_differential_coefficients(Dual64::new(s, 1.0))
+                        .map(|a| MatrixJet::from_rodrigues_first_order(&a, &w))
+                };
+                match jet {
+                    Some(a) => f(&AttitudeTimesVectorDerivatives { a }),
+                    None => dual_number_derivatives::<BodyAndWheels<$k>, Self, R, $d>(self, x, f),
+                }
             }
         }
 
