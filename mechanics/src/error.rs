@@ -112,8 +112,9 @@ pub enum MechanicsError {
     /// Newton converged, but to an attitude that is not the continuation of the motion
     /// (checked against the system's own flow over the step): an aliased root.
     #[error(
-        "step {step} (t = {time}): Newton converged to an attitude {distance:.3} rad away from \
-         the motion's continuation (an aliased root of the {chart} chart); take a smaller step h{advice}"
+        "step {step} (t = {time}): Newton converged to an attitude {} (an aliased root of the \
+         {chart} chart); take a smaller step h{advice}",
+        away_from_flow(*distance)
     )]
     AliasedRoot {
         /// The step that failed (0-based).
@@ -250,5 +251,15 @@ pub(crate) fn check_finite(what: &'static str, values: &[f64]) -> Result<(), Mec
             what,
             value: format!("{values:?}"),
         })
+    }
+}
+
+/// Where an aliased root lies from the flow's end, for [`MechanicsError::AliasedRoot`]'s
+/// message (a distance that is not finite is said so, not printed as "NaN rad").
+fn away_from_flow(distance: f64) -> String {
+    if distance.is_finite() {
+        format!("{distance:.3} rad away from the motion's continuation")
+    } else {
+        "whose distance from the motion's continuation is not finite".into()
     }
 }

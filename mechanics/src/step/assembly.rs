@@ -14,11 +14,9 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::{Matching, NewtonJacobian};
 use crate::system::GroupLagrangian;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::factor;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{DMatrix, SMatrix, SVector};
 
 /// Preallocated buffers of the Newton iteration: nothing is allocated per step.
 pub(crate) struct Workspace<J, const D: usize> {
@@ -52,12 +50,11 @@ pub(crate) struct Workspace<J, const D: usize> {
     gradient_scale: Vec<f64>,
     pub(super) residual: Vec<f64>,
     trial: Vec<f64>,
-    pub(super) jacobian: Mat<f64>,
+    /// The Newton matrix, then its LU factors ([`super::lu`]): contiguous column-major.
+    pub(super) jacobian: DMatrix<f64>,
     /// The Newton (or chord) step `−J⁻¹F`, kept for the backtracking.
     pub(super) delta: Vec<f64>,
     pub(super) perm: Vec<usize>,
-    pub(super) perm_inv: Vec<usize>,
-    pub(super) stack: MemBuffer,
     /// A linearisation's `F_P` (`D(n−1) × 3D`, column-major: columns `θ`, `μ_k`, `u`),
     /// and the permuted `−F_P` by rows (row `r`: entry `r` of the `θ`, `μ_k` and `u`
     /// columns), solved in place for `∂Ξ/∂P`.
@@ -72,12 +69,6 @@ pub(crate) struct Workspace<J, const D: usize> {
 impl<J: PointJet, const D: usize> Workspace<J, D> {
     pub fn new(d: &Discretisation) -> Self {
         let unknowns = D * (d.n - 1);
-        let scratch = factor::lu_in_place_scratch::<usize, f64>(
-            unknowns,
-            unknowns,
-            Par::Seq,
-            Default::default(),
-        );
         Self {
             xi: vec![SVector::zeros(); d.n],
             xi_accepted: vec![SVector::zeros(); d.n],
@@ -95,11 +86,9 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             gradient_scale: vec![0.0; d.n],
             residual: vec![0.0; unknowns],
             trial: vec![0.0; unknowns],
-            jacobian: Mat::zeros(unknowns, unknowns),
+            jacobian: DMatrix::zeros(unknowns, unknowns),
             delta: vec![0.0; unknowns],
             perm: vec![0; unknowns],
-            perm_inv: vec![0; unknowns],
-            stack: MemBuffer::new(scratch),
             f_p: vec![0.0; unknowns * 3 * D],
             sensitivity: vec![[SVector::zeros(); 3]; unknowns],
             guess_assembled: None,
@@ -111,17 +100,10 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
         self.guess_assembled = None;
     }
 
-    /// Factors the Newton matrix in place (partial-pivoting LU: `perm`, `perm_inv`), for
-    /// [`super::newton::substitute`].
+    /// Factors the Newton matrix in place (partial-pivoting LU, [`super::lu`]: `perm`),
+    /// for [`super::newton::substitute`].
     pub(super) fn factor(&mut self) {
-        factor::lu_in_place(
-            self.jacobian.as_mut(),
-            &mut self.perm,
-            &mut self.perm_inv,
-            Par::Seq,
-            MemStack::new(&mut self.stack),
-            Default::default(),
-        );
+        super::lu::lu_in_place(&mut self.jacobian, &mut self.perm);
     }
 }
 

@@ -213,7 +213,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
 
 /// Writes a `D × D` block into the Newton matrix with its top-left entry at `(row, col)`.
 fn put_block<const D: usize>(
-    jac: &mut faer::Mat<f64>,
+    jac: &mut nalgebra::DMatrix<f64>,
     row: usize,
     col: usize,
     block: &SMatrix<f64, D, D>,

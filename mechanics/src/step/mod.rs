@@ -21,11 +21,13 @@
 //! | [`points`] | one Gauss point's `ℓ̃` and its derivatives (closed form or dual numbers), forces |
 //! | [`assembly`] | the residual and the exact Newton matrix from the points |
 //! | [`matching`] | the momentum-matching equations, their Jacobian rows, the momentum update |
+//! | [`lu`] | the Newton matrix's LU factorisation (run-time SIMD dispatch) |
 //! | [`newton`] | the Newton / chord policy and its stopping rules |
 //! | [`linearize`] | the exact linearisation of a converged step (implicit function theorem) |
 
 pub(crate) mod assembly;
 pub(crate) mod linearize;
+pub(crate) mod lu;
 pub(crate) mod matching;
 pub(crate) mod newton;
 pub(crate) mod points;

@@ -10,29 +10,29 @@ use crate::error::MechanicsError;
 use crate::group::GroupChart;
 use crate::settings::NewtonJacobian;
 use crate::system::GroupLagrangian;
-use faer::Mat;
-use nalgebra::SVector;
+use nalgebra::{DMatrix, SVector};
 
 mod chord;
 mod convergence;
 mod line_search;
 
-/// Solves `L U x = b` in place, with `L U` the unit-lower and upper factors that faer's
-/// partial-pivoting LU left in `lu` (the row permutation already applied to `b`): forward
-/// and back substitution by columns. For one right-hand side of the sizes a step has
-/// (`3(n − 1)` ≤ ~70), faer's blocked triangular solves spend more in dispatch than in
-/// arithmetic (`docs/performance.md` §6).
-pub(super) fn substitute(lu: &Mat<f64>, b: &mut [f64]) {
+/// Solves `L U x = b` in place, with `L U` the unit-lower and upper factors that
+/// [`super::lu::lu_in_place`] left in `lu` (the row permutation already applied to `b`):
+/// forward and back substitution down the columns of `lu`'s contiguous storage. For one
+/// right-hand side of the sizes a step has (`3(n − 1)` ≤ ~70), faer's blocked triangular
+/// solves spend more in dispatch than in arithmetic (`docs/performance.md` §6).
+pub(super) fn substitute(lu: &DMatrix<f64>, b: &mut [f64]) {
     let size = b.len();
+    let column_of = |k: usize| &lu.as_slice()[k * size..(k + 1) * size];
     for k in 0..size {
         let bk = b[k];
-        let below = &lu.col_as_slice(k)[k + 1..];
+        let below = &column_of(k)[k + 1..];
         for (x, l) in b[k + 1..].iter_mut().zip(below) {
             *x -= l * bk;
         }
     }
     for k in (0..size).rev() {
-        let column = lu.col_as_slice(k);
+        let column = column_of(k);
         b[k] /= column[k];
         let bk = b[k];
         for (x, u) in b[..k].iter_mut().zip(&column[..k]) {
@@ -45,11 +45,12 @@ pub(super) fn substitute(lu: &Mat<f64>, b: &mut [f64]) {
 /// `r` of every right-hand side, as three `D`-vectors): each elimination is one row
 /// update `3D` wide, which vectorises, where one column's substitution is a chain of short
 /// loops.
-pub(super) fn substitute_rows<const D: usize>(lu: &Mat<f64>, b: &mut [[SVector<f64, D>; 3]]) {
+pub(super) fn substitute_rows<const D: usize>(lu: &DMatrix<f64>, b: &mut [[SVector<f64, D>; 3]]) {
     let size = b.len();
+    let column_of = |k: usize| &lu.as_slice()[k * size..(k + 1) * size];
     for k in 0..size {
         let bk = b[k];
-        let below = &lu.col_as_slice(k)[k + 1..];
+        let below = &column_of(k)[k + 1..];
         for (x, &l) in b[k + 1..].iter_mut().zip(below) {
             for (xf, bf) in x.iter_mut().zip(&bk) {
                 *xf -= bf * l;
@@ -57,7 +58,7 @@ pub(super) fn substitute_rows<const D: usize>(lu: &Mat<f64>, b: &mut [[SVector<f
         }
     }
     for k in (0..size).rev() {
-        let column = lu.col_as_slice(k);
+        let column = column_of(k);
         let pivot = column[k];
         for e in b[k].iter_mut() {
             *e /= pivot;
