@@ -21,6 +21,7 @@ mod line_search;
 /// forward and back substitution down the columns of `lu`'s contiguous storage. For one
 /// right-hand side of the sizes a step has (`3(n − 1)` ≤ ~70), faer's blocked triangular
 /// solves spend more in dispatch than in arithmetic (`docs/performance.md` §6).
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 pub(super) fn substitute(lu: &DMatrix<f64>, b: &mut [f64]) {
     let size = b.len();
     let column_of = |k: usize| &lu.as_slice()[k * size..(k + 1) * size];
@@ -45,6 +46,7 @@ pub(super) fn substitute(lu: &DMatrix<f64>, b: &mut [f64]) {
 /// `r` of every right-hand side, as three `D`-vectors): each elimination is one row
 /// update `3D` wide, which vectorises, where one column's substitution is a chain of short
 /// loops.
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 pub(super) fn substitute_rows<const D: usize>(lu: &DMatrix<f64>, b: &mut [[SVector<f64, D>; 3]]) {
     let size = b.len();
     let column_of = |k: usize| &lu.as_slice()[k * size..(k + 1) * size];
