@@ -469,8 +469,9 @@ macro_rules! wheels {
                 out.fixed_rows_mut::<3>(0).copy_from(&turned);
                 out
             }
-            /// In closed form ([`AttitudeTimesVectorDerivatives`]) where the chart has a
-            /// Rodrigues form, by dual numbers otherwise.
+            /// In closed form (those of the attitude's `A(ω)`, from its Rodrigues jet: the
+            /// identity on ℝᴷ has none) where the chart has a Rodrigues form, by dual
+            /// numbers otherwise.
             fn with_derivatives<R>(
                 &self,
                 x: &SVector<f64, $d>,
