@@ -452,19 +452,18 @@ macro_rules! wheels {
             fn max_rotation_angle(&self) -> f64 {
                 So3Chart::max_rotation_angle(self)
             }
-            /// `(Φ(ω) p_ω, p_φ)` (`Ad_{Φ⁻¹}ᵀ = diag(Φ(ω), I)`), from `Φ`'s Rodrigues
-            /// coefficients where the chart has them.
+            /// `(Φ(ω) p_ω, p_φ)` (`Ad_{Φ⁻¹}ᵀ = diag(Φ(ω), I)`): the SO(3) chart's transport
+            /// on the attitude, the identity on ℝᴷ.
             fn coadjoint_to_start(
                 &self,
                 x: &SVector<f64, $d>,
                 p: &SVector<f64, $d>,
             ) -> SVector<f64, $d> {
-                let w = x.fixed_rows::<3>(0).into_owned();
-                let pw = p.fixed_rows::<3>(0).into_owned();
-                let turned = match self.rotation_matrix_coefficients(w.norm_squared()) {
-                    Some(c) => c.times(&w, &pw),
-                    None => self.rotation_matrix(&w) * pw,
-                };
+                let turned = GroupChart::<Rotations, 3>::coadjoint_to_start(
+                    self,
+                    &x.fixed_rows::<3>(0).into_owned(),
+                    &p.fixed_rows::<3>(0).into_owned(),
+                );
                 let mut out = *p;
                 out.fixed_rows_mut::<3>(0).copy_from(&turned);
                 out

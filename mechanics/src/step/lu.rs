@@ -2,9 +2,9 @@
 //! has (`D(n − 1)`: 21 unknowns for SO(3) at `n = 8`, 42 for a body in space) and compiled
 //! twice: for the x86-64 baseline and with AVX2 (chosen at run time by `multiversion`, so
 //! one binary runs on any x86-64 and uses the wider registers where the processor has
-//! them). The work is the rank-one update of the trailing columns, one `axpy` down each
-//! column of the contiguous column-major storage, which the compiler vectorises in both
-//! versions.
+//! them). The work is the update of the trailing columns, two pivots at a time: one sweep
+//! down each column of the contiguous column-major storage applies both rank-one updates,
+//! which the compiler vectorises in both versions.
 //!
 //! Why not faer's `lu_in_place`: at these sizes its blocked recursion spends much of its
 //! time in dispatch (a `matmul` call per column of its unblocked kernel, the kernels'
