@@ -5,11 +5,11 @@ use crate::error::CliError;
 use clap::{Args, ValueEnum};
 use lgsvi_mechanics::lie::{ChartKind, LieError, SO3};
 use lgsvi_mechanics::{Matching, NewtonJacobian, MAX_NODES};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// A built-in system.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SystemKind {
     /// The free rigid body, `ℓ = ½ΩᵀJΩ`.
@@ -28,14 +28,20 @@ pub enum SystemKind {
 }
 
 impl SystemKind {
-    /// Whether the system lives on SE(3) (has a position and a velocity).
-    pub fn is_rigid_motion(self) -> bool {
-        matches!(self, SystemKind::Se3Body | SystemKind::OrbitingBody)
+    /// The name `--system` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            SystemKind::RigidBody => "rigid-body",
+            SystemKind::HeavyTop => "heavy-top",
+            SystemKind::Se3Body => "se3-body",
+            SystemKind::OrbitingBody => "orbiting-body",
+            SystemKind::Gyrostat => "gyrostat",
+        }
     }
 }
 
 /// The chart, for the command line and config files.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ChartArg {
     /// The exponential map (default).
@@ -57,7 +63,7 @@ impl From<ChartArg> for ChartKind {
 }
 
 /// The momentum matching.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum MatchingArg {
     /// The exact derivative of the discrete Lagrangian (default; conserves momenta).
@@ -76,7 +82,7 @@ impl From<MatchingArg> for Matching {
 }
 
 /// The Newton matrix.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum JacobianArg {
     /// Exact, by automatic differentiation (default).
@@ -95,7 +101,7 @@ impl From<JacobianArg> for NewtonJacobian {
 }
 
 /// Output format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Format {
     /// One JSON document (default).
@@ -136,7 +142,7 @@ fn nine(text: &str) -> Result<[f64; 9], String> {
     numbers::<9>(text)
 }
 /// A comma-separated list of numbers of any length (one flag value, or a TOML array).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(transparent)]
 pub struct Numbers(pub Vec<f64>);
 
@@ -155,7 +161,7 @@ fn list(text: &str) -> Result<Numbers, String> {
 
 /// The options of `lgsvi simulate`: every one may also come from `--config FILE`
 /// (same names, kebab-case keys, numbers and arrays as TOML values); flags win.
-#[derive(Debug, Clone, Default, Args, Deserialize)]
+#[derive(Debug, Clone, Default, Args, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 pub struct SimulateOptions {
     /// Built-in system [default: rigid-body].
@@ -296,74 +302,17 @@ pub struct SimulateOptions {
     pub config: Option<PathBuf>,
 }
 
-macro_rules! overlay {
-    ($base:ident, $top:ident, $($field:ident),*) => {
-        $( if $top.$field.is_some() { $base.$field = $top.$field.clone(); } )*
-    };
-}
-
 impl SimulateOptions {
     /// The file's options with these flags laid over them.
     pub fn merged_with_config(self) -> Result<Self, CliError> {
         let Some(path) = self.config.clone() else {
             return Ok(self);
         };
-        let mut base = read_config(&path)?;
-        let top = self;
-        overlay!(
-            base,
-            top,
-            system,
-            inertia,
-            inertia_d,
-            inertia_tensor,
-            omega0,
-            attitude0,
-            quaternion0,
-            mass,
-            mu,
-            position0,
-            velocity0,
-            torque,
-            damping,
-            wheel_axes,
-            wheel_inertia,
-            wheel_speeds0,
-            wheel_torque,
-            gravity,
-            com,
-            gravity_direction,
-            h,
-            nodes,
-            quad,
-            tol,
-            chart,
-            matching,
-            jacobian,
-            t_end,
-            every,
-            format,
-            out,
-            plot
-        );
-        // One inertia: the command line's, whichever form it takes.
-        if top.inertia.is_some() || top.inertia_d.is_some() || top.inertia_tensor.is_some() {
-            base.inertia = top.inertia;
-            base.inertia_d = top.inertia_d;
-            base.inertia_tensor = top.inertia_tensor;
-        }
-        if top.attitude0.is_some() {
-            base.quaternion0 = None;
-        }
-        if top.quaternion0.is_some() {
-            base.attitude0 = None;
-        }
-        base.quiet |= top.quiet;
-        base.exact |= top.exact;
-        base.no_check |= top.no_check;
-        base.check |= top.check;
-        base.config = Some(path);
-        Ok(base)
+        let (mut table, _) = read_config_table(&path)?;
+        table.remove("converge");
+        let mut merged: Self = overlaid(table, &self, &path, "")?;
+        merged.config = Some(path);
+        Ok(merged)
     }
 
     /// The system, defaulting to the rigid body.
@@ -393,10 +342,34 @@ impl SimulateOptions {
     }
 }
 
-fn read_config(path: &Path) -> Result<SimulateOptions, CliError> {
-    let (mut table, _) = read_config_table(path)?;
-    table.remove("converge");
-    deserialize_naming_the_key::<SimulateOptions>(table, path, "")
+/// `table` (from a config file) with the options given as flags (`flags`) laid over it,
+/// deserialized: a flag replaces its key; one inertia and one attitude, the command
+/// line's if it gives one.
+pub fn overlaid<T: Serialize + serde::de::DeserializeOwned>(
+    mut table: toml::Table,
+    flags: &T,
+    path: &Path,
+    prefix: &str,
+) -> Result<T, CliError> {
+    // Options not given are `None` (left out of the table) or `false`.
+    let given = toml::Table::try_from(flags).map_err(|e| config_error(path, &e.to_string()))?;
+    for (key, value) in given {
+        if value == toml::Value::Boolean(false) {
+            continue;
+        }
+        let group: &[&str] = match key.as_str() {
+            "inertia" | "inertia-d" | "inertia-tensor" => {
+                &["inertia", "inertia-d", "inertia-tensor"]
+            }
+            "attitude0" | "quaternion0" => &["attitude0", "quaternion0"],
+            _ => &[],
+        };
+        for other in group {
+            table.remove(*other);
+        }
+        table.insert(key, value);
+    }
+    deserialize_naming_the_key(table, path, prefix)
 }
 
 /// Deserializes a config table; a refused value's message names its key (`prefix` before
@@ -445,7 +418,7 @@ pub fn read_config_table(path: &Path) -> Result<(toml::Table, Option<toml::Table
 }
 
 /// Which refinements `lgsvi converge` runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum StudyKind {
     /// n-refinement at fixed h.
@@ -497,7 +470,7 @@ pub(crate) fn node_count(text: &str) -> Result<usize, String> {
 }
 
 /// `lgsvi converge`: the system and integrator flags of `simulate`, plus the study's.
-#[derive(Debug, Clone, Default, Args, Deserialize)]
+#[derive(Debug, Clone, Default, Args, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 // simulate's `--exact` and `--every` do not apply to a study (they are refused if given).
 #[command(mut_arg("exact", |a| a.hide(true)), mut_arg("every", |a| a.hide(true)))]

@@ -59,7 +59,7 @@ pub enum CliError {
         /// The system chosen.
         system: &'static str,
         /// The systems it applies to.
-        applies: &'static str,
+        applies: String,
     },
     /// A `simulate` flag given to `converge`.
     #[error("{flag} is a simulate option; {why}")]

@@ -17,16 +17,6 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-/// The temporary path beside `path` that [`Partial::commit`] renames over it: a hidden name that
-/// keeps the extension (plotters picks the image format from it).
-pub fn partial_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "output".into());
-    path.with_file_name(format!(".partial-{}-{name}", std::process::id()))
-}
-
 /// Where a write to `path` lands: through symbolic links (at most 40, as the kernel
 /// allows) to the file they name.
 pub fn resolve(path: &Path) -> PathBuf {
@@ -53,26 +43,50 @@ fn is_special(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|meta| !meta.is_file() && !meta.is_dir())
 }
 
-/// A temporary file removed when dropped, unless [`Partial::commit`] renamed it.
+/// A temporary file beside a destination (a hidden name that keeps the destination's
+/// name, so plotters picks the image format from its extension), removed when dropped
+/// unless [`Partial::commit`] renamed it onto the destination.
 pub struct Partial {
-    path: PathBuf,
+    path: tempfile::TempPath,
     target: PathBuf,
-    done: bool,
 }
 
 impl Partial {
     /// The temporary file for a write to `path` (through links).
-    pub fn new(path: &Path) -> Self {
-        Self::beside(resolve(path))
-    }
-
-    /// The temporary file for a write to `target`, already resolved through links.
-    fn beside(target: PathBuf) -> Self {
-        Self {
-            path: partial_path(&target),
+    ///
+    /// # Errors
+    /// [`CliError::Write`] naming `path` when no file can be created beside it.
+    pub fn new(path: &Path) -> Result<Self> {
+        let target = resolve(path);
+        let name = target.file_name().map(|n| n.to_string_lossy().into_owned());
+        let dir = match target.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => dir,
+            _ => Path::new("."),
+        };
+        let mut builder = tempfile::Builder::new();
+        // The mode File::create gives (0666 less the umask), not a temporary file's 0600:
+        // the output is renamed into place, and others may need to read it.
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+        let created = builder
+            .prefix(".partial-")
+            .suffix(&format!("-{}", name.as_deref().unwrap_or("output")))
+            .tempfile_in(dir)
+            .map_err(|e| CliError::Write {
+                path: path.to_path_buf(),
+                source: std::io::Error::new(
+                    e.kind(),
+                    format!(
+                        "cannot create a file in {} to write it and rename it into place \
+                         ({e}); write elsewhere",
+                        dir.display()
+                    ),
+                ),
+            })?;
+        Ok(Self {
+            path: created.into_temp_path(),
             target,
-            done: false,
-        }
+        })
     }
 
     /// The temporary file's path.
@@ -84,21 +98,12 @@ impl Partial {
     ///
     /// # Errors
     /// [`CliError::Write`] naming `shown` (the path as the user gave it).
-    pub fn commit(mut self, shown: &Path) -> Result<()> {
-        std::fs::rename(&self.path, &self.target).map_err(|source| CliError::Write {
+    pub fn commit(self, shown: &Path) -> Result<()> {
+        let failed = |source| CliError::Write {
             path: shown.to_path_buf(),
             source,
-        })?;
-        self.done = true;
-        Ok(())
-    }
-}
-
-impl Drop for Partial {
-    fn drop(&mut self) {
-        if !self.done {
-            let _ = std::fs::remove_file(&self.path);
-        }
+        };
+        self.path.persist(&self.target).map_err(|e| failed(e.error))
     }
 }
 
@@ -125,25 +130,12 @@ pub fn write_with(
         let mut out = BufWriter::new(file);
         return write(&mut out).and_then(|()| out.flush()).map_err(failed);
     }
-    let partial = Partial::beside(target);
-    let result = (|| {
-        let file = File::create(partial.path()).map_err(|e| {
-            let dir = partial.path().parent().unwrap_or(Path::new("."));
-            std::io::Error::new(
-                e.kind(),
-                format!(
-                    "cannot create a file in {} to write it and rename it into place ({e}); \
-                     write elsewhere",
-                    dir.display()
-                ),
-            )
-        })?;
-        let mut out = BufWriter::new(file);
-        write(&mut out)?;
-        let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()
-    })();
-    result.map_err(failed)?;
+    let partial = Partial::new(path)?;
+    let mut out = BufWriter::new(File::create(partial.path()).map_err(failed)?);
+    write(&mut out)
+        .and_then(|()| out.into_inner().map_err(|e| e.into_error()))
+        .and_then(|file| file.sync_all())
+        .map_err(failed)?;
     partial.commit(path)
 }
 
@@ -271,17 +263,36 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// An output gets the mode a created file gets (0666 less the umask), not a temporary
+    /// file's 0600.
+    #[cfg(unix)]
+    #[test]
+    fn an_output_is_as_readable_as_a_created_file() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = scratch("mode");
+        std::fs::write(dir.join("plain"), b"").unwrap();
+        write(&dir.join("out.json"), b"{}").unwrap();
+        let mode = |name: &str| {
+            std::fs::metadata(dir.join(name))
+                .unwrap()
+                .permissions()
+                .mode()
+        };
+        assert_eq!(mode("out.json") & 0o777, mode("plain") & 0o777);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// A temporary file that is not committed is removed (a plot failing half-drawn).
     #[test]
     fn an_uncommitted_partial_is_removed() {
         let dir = scratch("partial");
-        let partial = Partial::new(&dir.join("fig.svg"));
+        let partial = Partial::new(&dir.join("fig.svg")).unwrap();
         std::fs::write(partial.path(), b"<svg").unwrap();
         let path = partial.path().to_path_buf();
         assert!(path.exists());
         drop(partial);
         assert!(!path.exists());
-        let partial = Partial::new(&dir.join("fig.svg"));
+        let partial = Partial::new(&dir.join("fig.svg")).unwrap();
         std::fs::write(partial.path(), b"<svg/>").unwrap();
         partial.commit(&dir.join("fig.svg")).unwrap();
         assert_eq!(std::fs::read(dir.join("fig.svg")).unwrap(), b"<svg/>");

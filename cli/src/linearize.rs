@@ -7,8 +7,7 @@ use crate::error::{CliError, Result};
 use crate::files;
 use crate::problem::Problem;
 use clap::Args;
-use lgsvi_mechanics::Coordinates;
-use lgsvi_reports::linearization::fill;
+use lgsvi_reports::linearization::linearize;
 use lgsvi_reports::trajectory::settings_json;
 use serde_json::json;
 
@@ -62,52 +61,13 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
     let out = base.out.clone();
     let momentum = options.momentum;
     let (problem, _) = Problem::resolve(options.base)?;
-    let coordinates = if momentum {
-        Coordinates::Momentum
-    } else {
-        Coordinates::Velocity
-    };
     let mut report = json!({
         "command": "linearize",
         "description": problem.description,
-        "settings": settings_json(&problem.settings, problem.settings.step(), 1),
+        "settings": settings_json(&problem.settings(), problem.settings().step(), 1),
         "coordinates_kind": if momentum { "momentum" } else { "velocity" },
     });
-    if let Some(wheels) = &problem.wheels {
-        use crate::problem::AnyGyrostat;
-        macro_rules! linearise {
-            ($craft:expr, $k:literal, $d:literal) => {{
-                let step = wheels
-                    .integrator::<$k, $d>(
-                        $craft,
-                        problem.settings,
-                        problem.attitude0,
-                        problem.omega0,
-                    )?
-                    .linearize()?;
-                let matrices = (step.a(coordinates), step.b(coordinates));
-                fill(&mut report, &step, matrices, momentum);
-            }};
-        }
-        match wheels.system {
-            AnyGyrostat::One(craft) => linearise!(craft, 1, 4),
-            AnyGyrostat::Two(craft) => linearise!(craft, 2, 5),
-            AnyGyrostat::Three(craft) => linearise!(craft, 3, 6),
-            AnyGyrostat::Four(craft) => linearise!(craft, 4, 7),
-        }
-    } else if let Some(motion) = &problem.motion {
-        let step = motion.integrator(problem.settings)?.linearize()?;
-        let (a, b) = if momentum {
-            (step.a(coordinates).clone(), step.b(coordinates).clone())
-        } else {
-            step.world_frame()
-        };
-        fill(&mut report, &step, (&a, &b), momentum);
-    } else {
-        let step = problem.integrator(problem.settings)?.linearize()?;
-        let matrices = (step.a(coordinates), step.b(coordinates));
-        fill(&mut report, &step, matrices, momentum);
-    }
+    linearize(&problem.scenario, problem.settings(), momentum, &mut report)?;
     let text = serde_json::to_string_pretty(&report)? + "\n";
     match &out {
         Some(path) => files::write(path, text.as_bytes()),

@@ -18,11 +18,9 @@ mod tolerance;
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
 use error::{CliError, Result};
-use lgsvi_experiments::record::{record, record_exact, record_to_tolerance, Columns, Recording};
-use lgsvi_mechanics::control::GroupLog;
-use lgsvi_mechanics::{
-    Checked, ElementOf, GroupChart, GroupLagrangian, Integrator, MechanicsError, StepSettings,
-};
+use lgsvi_experiments::record::{record_exact, Recording};
+use lgsvi_experiments::Subject;
+use lgsvi_mechanics::MechanicsError;
 use lgsvi_reports::trajectory::{
     conservation_figure, settings_json, write_csv, write_json, Conserved,
 };
@@ -64,72 +62,36 @@ enum Command {
     Reproduce(reproduce::ReproduceOptions),
 }
 
-/// A finished run and the inputs as given, for the output's `description`.
-pub struct Run {
-    pub recording: Recording,
-    pub description: serde_json::Value,
-}
-
-/// The run the problem describes, recorded.
+/// The run the problem describes, recorded; a `--tol` run that failed says what to change.
 fn integrate(problem: &Problem) -> Result<Recording> {
-    if let Some(wheels) = &problem.wheels {
-        use problem::AnyGyrostat;
-        macro_rules! run {
-            ($craft:expr, $k:literal, $d:literal) => {
-                integrate_with(problem, |settings| {
-                    wheels.integrator::<$k, $d>($craft, settings, problem.attitude0, problem.omega0)
-                })
-            };
-        }
-        return match wheels.system {
-            AnyGyrostat::One(craft) => run!(craft, 1, 4),
-            AnyGyrostat::Two(craft) => run!(craft, 2, 5),
-            AnyGyrostat::Three(craft) => run!(craft, 3, 6),
-            AnyGyrostat::Four(craft) => run!(craft, 4, 7),
-        };
-    }
-    match &problem.motion {
-        None => integrate_with(problem, |settings| problem.integrator(settings)),
-        Some(motion) => integrate_with(problem, |settings| Ok(motion.integrator(settings)?)),
-    }
-}
-
-/// Runs to the problem's horizon with the integrators `make` builds (the problem's
-/// settings, or a `--tol` run's tightened ones): unchecked, one run; checked, beside the
-/// companion (`--check`), or until [`lgsvi_mechanics::ToleranceCheck`] accepts a run or
-/// refuses (`--tol` without `--no-check`).
-fn integrate_with<S, C, const D: usize>(
-    problem: &Problem,
-    make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>>,
-) -> Result<Recording>
-where
-    S: GroupLagrangian<D> + Copy,
-    C: GroupChart<S::Group, D>,
-    ElementOf<S, D>: Columns<D> + GroupLog<D>,
-{
-    let steps = problem::whole_steps(problem.t_end, problem.settings.step())?;
+    let settings = problem.settings();
+    let steps = problem::whole_steps(problem.t_end, settings.step())?;
     let bar = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut progress = |k: usize| bar.set_position(k as u64);
     let (t_end, every) = (problem.t_end, problem.every);
-    let recorded = match problem.check {
-        problem::Check::None => record(make(problem.settings)?, t_end, every, &mut progress),
-        problem::Check::Measure => {
-            let runner = Checked::new(make(problem.settings)?)?;
-            record(runner, t_end, every, &mut progress)
-        }
-        problem::Check::Tolerance(tol) => {
-            return record_to_tolerance(make, problem.settings, tol, t_end, every, &mut progress)
-                .map_err(|error| tolerance_not_checked(error, tol, problem));
-        }
-    };
+    let recorded = problem
+        .scenario
+        .record(settings, problem.check, t_end, every, &mut progress);
     bar.finish_and_clear();
-    Ok(recorded?)
-}
-
-/// A `--tol` run that no run met, with what to change.
-fn tolerance_not_checked(error: CliError, tol: f64, problem: &Problem) -> CliError {
-    match error.into_mechanics() {
+    let h = settings.step();
+    recorded.map_err(|error| match CliError::from(error).into_mechanics() {
+        CliError::Mechanics(MechanicsError::ToleranceNotMet {
+            step,
+            time,
+            estimate,
+            budget,
+            nodes,
+            ..
+        }) => CliError::ToleranceNotMet {
+            step,
+            time,
+            estimate,
+            budget,
+            nodes,
+            shorter: h / 10.0,
+        },
         CliError::Mechanics(MechanicsError::ToleranceNotChecked {
+            tolerance: tol,
             attempts,
             tightened,
             measured,
@@ -155,23 +117,22 @@ fn tolerance_not_checked(error: CliError, tol: f64, problem: &Problem) -> CliErr
                 format!(
                     "the motion amplifies each step's error: raise --tol, or shorten the \
                      step (--h {:?} or less)",
-                    problem.settings.step() / 3.0
+                    h / 3.0
                 )
             },
         },
         other => other,
-    }
+    })
 }
 
 /// The exact free-body solution at the times the integrator would record, and the
 /// motion's regime (for the output's description).
 fn exact_run(problem: &Problem) -> Result<(Recording, String)> {
-    let body = lgsvi_experiments::Subject::exact(problem).ok_or(CliError::NoExactSolution)??;
-    let steps = problem
-        .integrator(problem.settings)?
-        .steps_until(problem.t_end)?;
-    let h = problem.settings.step();
-    let recording = record_exact(&body, &problem.system, h, steps, problem.every)?;
+    let scenario = &problem.scenario;
+    let body = Subject::exact(scenario).ok_or(CliError::NoExactSolution)??;
+    let steps = Subject::integrator(scenario, problem.settings())?.steps_until(problem.t_end)?;
+    let h = problem.settings().step();
+    let recording = record_exact(&body, &scenario.system, h, steps, problem.every)?;
     Ok((recording, format!("{:?}", body.regime())))
 }
 
@@ -194,57 +155,6 @@ pub fn progress_bar(len: u64, message: &str, unit: &str, quiet: bool) -> indicat
 
 /// Runs of at least this many steps show a progress bar (on a terminal, unless `--quiet`).
 const PROGRESS_FROM_STEPS: u64 = 1000;
-
-/// Resolves the options (config, flags, defaults) and runs.
-fn simulate(options: SimulateOptions) -> Result<(Run, SimulateOptions)> {
-    let (problem, options) = Problem::resolve(options)?;
-    let (recording, regime) = if options.exact {
-        let (recording, regime) = exact_run(&problem)?;
-        (recording, Some(regime))
-    } else {
-        let recording = integrate(&problem).map_err(|error| match error.into_mechanics() {
-            CliError::Mechanics(lgsvi_mechanics::MechanicsError::ToleranceNotMet {
-                step,
-                time,
-                estimate,
-                budget,
-                nodes,
-                ..
-            }) => CliError::ToleranceNotMet {
-                step,
-                time,
-                estimate,
-                budget,
-                nodes,
-                shorter: problem.settings.step() / 10.0,
-            },
-            other => other,
-        })?;
-        (recording, None)
-    };
-    let mut description = problem.description.clone();
-    description["settings"] = settings_json(&problem.settings, problem.t_end, problem.every);
-    match regime {
-        Some(regime) => {
-            description["solution"] = "exact (Jacobi elliptic functions)".into();
-            description["regime"] = regime.into();
-        }
-        None => description["solution"] = "integrator".into(),
-    }
-    let run = Run {
-        recording,
-        description,
-    };
-    if let Some(warning) = run
-        .recording
-        .estimates
-        .as_ref()
-        .and_then(|e| estimate_warning(e.global))
-    {
-        eprintln!("{warning}");
-    }
-    Ok((run, options))
-}
 
 /// Refuses outputs of one run that land on one file (`--out p.svg --plot p`).
 fn check_outputs(options: &SimulateOptions) -> Result<()> {
@@ -275,31 +185,37 @@ fn estimate_warning(estimated: f64) -> Option<String> {
     })
 }
 
+/// `lgsvi simulate`: resolves the options (config, flags, defaults), runs (or evaluates
+/// the exact solution), warns of a large estimated error, draws and writes.
 fn run_simulate(options: SimulateOptions) -> Result<()> {
     check_outputs(&options)?;
-    let (run, options) = simulate(options)?;
+    let (problem, options) = Problem::resolve(options)?;
+    let mut description = problem.description.clone();
+    description["settings"] = settings_json(&problem.settings(), problem.t_end, problem.every);
+    description["solution"] = "integrator".into();
+    let recording = if options.exact {
+        let (recording, regime) = exact_run(&problem)?;
+        description["solution"] = "exact (Jacobi elliptic functions)".into();
+        description["regime"] = regime.into();
+        recording
+    } else {
+        integrate(&problem)?
+    };
+    let estimate = recording.estimates.as_ref().map(|e| e.global);
+    if let Some(warning) = estimate.and_then(estimate_warning) {
+        eprintln!("{warning}");
+    }
     if let Some(base) = &options.plot {
-        let name = run.description["system"]
-            .as_str()
-            .unwrap_or("run")
-            .to_string();
-        let conserved = match name.as_str() {
-            "orbiting-body" => Conserved::AngularAboutOrigin,
-            "heavy-top" => match run.description["gravity_direction"].as_array() {
-                Some(d) if d.len() == 3 => Conserved::Along(nalgebra::Vector3::from_iterator(
-                    d.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)),
-                )),
-                _ => Conserved::Spatial,
-            },
-            _ => Conserved::Spatial,
-        };
-        let figure = conservation_figure(&run.recording, &name, conserved);
-        plot::save(&figure, base)?;
+        let conserved = Conserved::of(&problem.scenario);
+        plot::save(
+            &conservation_figure(&recording, problem.name, conserved),
+            base,
+        )?;
     }
     let format = options.format.unwrap_or(config::Format::Json);
     let write = |out: &mut dyn std::io::Write| match format {
-        config::Format::Json => write_json(&run.recording, &run.description, out),
-        config::Format::Csv => write_csv(&run.recording, out),
+        config::Format::Json => write_json(&recording, &description, out),
+        config::Format::Csv => write_csv(&recording, out),
     };
     match &options.out {
         Some(path) => files::write_with(path, |out| write(out)),

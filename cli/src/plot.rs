@@ -3,9 +3,7 @@
 
 use crate::error::CliError;
 use crate::files::Partial;
-#[cfg(test)]
-pub use lgsvi_plot::{inspect, layout, legend_labels, legend_text_width, LEGEND_TEXT_X, SIZE};
-pub use lgsvi_plot::{Drawing, Figure, SphereFigure};
+pub use lgsvi_plot::Drawing;
 use std::path::{Path, PathBuf};
 
 /// The two files a figure with base `base` writes: `base.svg` and `base.png`.
@@ -17,7 +15,7 @@ pub fn plot_paths(base: &Path) -> (PathBuf, PathBuf) {
 pub fn save(fig: &impl Drawing, base: &Path) -> Result<(), CliError> {
     let (svg_path, png_path) = plot_paths(base);
     // Removed on every error: no `.partial-*` file is left behind.
-    let (svg_partial, png_partial) = (Partial::new(&svg_path), Partial::new(&png_path));
+    let (svg_partial, png_partial) = (Partial::new(&svg_path)?, Partial::new(&png_path)?);
     let failed = |path: &Path| {
         let path = path.to_path_buf();
         move |e: lgsvi_plot::PlotError| CliError::Plot {

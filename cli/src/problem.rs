@@ -3,47 +3,34 @@
 
 use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
-use lgsvi_experiments::{Subject, Symmetry, Tracker};
-use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
-use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
+pub use lgsvi_experiments::record::Check;
+use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
+use lgsvi_experiments::{BuiltIn, ExperimentError};
+use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::{
-    AngularDamping, BodyTorque, Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia,
-    Integrator, MechanicsError, OrbitingBody, RigidBody, RigidMotions, StepSettings,
-    DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR,
+    AngularDamping, BodyTorque, Inertia, MechanicsError, StepSettings, DEFAULT_ADAPTIVE_NODES,
+    ROUNDING_FLOOR,
 };
-use nalgebra::{Matrix3, SVector, Vector3};
+use nalgebra::{Matrix3, Vector3};
+use serde_json::Value;
 
-/// The paper's parameters per system (`docs/paper-notes.md` §4): case A and case B.
-pub struct Defaults {
-    pub inertia_d: [f64; 3],
-    pub omega0: [f64; 3],
-}
-
-pub fn defaults(system: SystemKind) -> Defaults {
-    let case = named_case(match system {
-        SystemKind::RigidBody | SystemKind::Se3Body => "A",
-        SystemKind::HeavyTop => "B",
-        SystemKind::Gyrostat => {
-            // A small spacecraft: J = diag(10, 12, 8) with the wheels locked, i.e.
-            // J_d = (5, 3, 7), turning slowly.
-            return Defaults {
-                inertia_d: [5.0, 3.0, 7.0],
-                omega0: [0.01, -0.02, 0.03],
-            };
-        }
-        SystemKind::OrbitingBody => {
-            // The orbiting body's reference case (cases/data/se3_forced_refs.json, O1):
-            // J = diag(0.3, 0.2, 0.4), i.e. J_d = (0.15, 0.25, 0.05).
-            return Defaults {
-                inertia_d: [0.15, 0.25, 0.05],
-                omega0: [0.2, -0.3, 0.5],
-            };
-        }
-    });
-    Defaults {
-        inertia_d: case.inertia_d.expect("the paper's cases state J_d"),
-        omega0: case.omega0.into(),
+/// The paper's parameters per system (`docs/paper-notes.md` §4), `(J_d, Ω₀)`: case A and
+/// case B; a small spacecraft for the gyrostat (`J = diag(10, 12, 8)` with the wheels
+/// locked, turning slowly); the orbiting body's reference case O1 of
+/// `cases/data/se3_forced_refs.json` (`J = diag(0.3, 0.2, 0.4)`).
+fn defaults(system: SystemKind) -> ([f64; 3], [f64; 3]) {
+    let case = |name| {
+        let case = named_case(name);
+        (
+            case.inertia_d.expect("the paper's cases state J_d"),
+            case.omega0.into(),
+        )
+    };
+    match system {
+        SystemKind::RigidBody | SystemKind::Se3Body => case("A"),
+        SystemKind::HeavyTop => case("B"),
+        SystemKind::Gyrostat => ([5.0, 3.0, 7.0], [0.01, -0.02, 0.03]),
+        SystemKind::OrbitingBody => ([0.15, 0.25, 0.05], [0.2, -0.3, 0.5]),
     }
 }
 
@@ -84,7 +71,7 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     Ok(steps as usize)
 }
 
-pub use lgsvi_experiments::tolerance::{first_nodes as tolerance_first_nodes, pendulum_frequency};
+pub use lgsvi_experiments::tolerance::first_nodes as tolerance_first_nodes;
 
 /// A `--tol` run's step over `[0, t_end]` at the motion's rate `rate` in `chart`
 /// (`lgsvi_experiments::tolerance::step_count`), refused above [`MAX_RUN_STEPS`].
@@ -157,176 +144,13 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
         .with_jacobian(options.jacobian.map(Into::into).unwrap_or_default()))
 }
 
-/// Whether and how a companion checks a run (`lgsvi_mechanics::Checked`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Check {
-    /// Unchecked: `estimated_error` is the sum of the local estimates.
-    None,
-    /// A fixed run measured by its companion (`--check`).
-    Measure,
-    /// A `--tol` run accepted or refused by the check (`ToleranceCheck`).
-    Tolerance(f64),
-}
-
-/// A built-in SO(3) system: one type, so that studies need not be generic.
-pub use lgsvi_experiments::BuiltIn as System;
-
-/// The torque and damping every system accepts (`--torque`, `--damping`): zero for
-/// neither, and then the steps are the unforced system's, bit for bit.
-pub type Drive = (BodyTorque, AngularDamping);
-
-/// A built-in SO(3) system under the run's torque and damping.
-pub type Driven = Forced<System, Drive>;
-
-/// A built-in SE(3) system.
-pub use lgsvi_experiments::BuiltInMotion as MotionSystem;
-
-/// An SE(3) run: the system under the run's torque and damping, and its start.
-#[derive(Debug, Clone, Copy)]
-pub struct Motion {
-    pub system: Forced<MotionSystem, Drive>,
-    pub start: SE3,
-    pub velocity0: SVector<f64, 6>,
-}
-
-impl Motion {
-    /// An integrator in the settings' chart.
-    pub fn integrator(
-        &self,
-        settings: StepSettings,
-    ) -> std::result::Result<
-        Integrator<Forced<MotionSystem, Drive>, lgsvi_mechanics::lie::ChartKind, 6>,
-        MechanicsError,
-    > {
-        let chart = settings.chart();
-        debug_assert_eq!(
-            GroupChart::<RigidMotions, 6>::name(&chart),
-            chart.to_string()
-        );
-        Integrator::new(self.system, settings, self.start, self.velocity0)
-    }
-}
-
-pub use lgsvi_mechanics::gyrostat::AnyGyrostat;
-
-/// A gyrostat run (`--system gyrostat`): the spacecraft, its wheels' start and their
-/// constant motor torques.
-#[derive(Debug, Clone)]
-pub struct Wheels {
-    pub system: AnyGyrostat,
-    pub speeds0: Vec<f64>,
-    pub torque: Vec<f64>,
-}
-
-impl Wheels {
-    /// From the wheel flags and the spacecraft's inertia with the wheels locked; the
-    /// wheels as given go into `description`.
-    fn resolve(
-        options: &SimulateOptions,
-        inertia: &Inertia,
-        description: &mut serde_json::Value,
-    ) -> Result<Self> {
-        let axes_given = options
-            .wheel_axes
-            .clone()
-            .map(|n| n.0)
-            .unwrap_or_else(|| vec![1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
-        let k = axes_given.len() / 3;
-        if !axes_given.len().is_multiple_of(3) || !(1..=4).contains(&k) {
-            return Err(CliError::Invalid {
-                flag: "--wheel-axes",
-                value: format!("{axes_given:?}"),
-                reason: "three numbers per wheel, 1 to 4 wheels".into(),
-            });
-        }
-        let per_wheel = |flag: &'static str, given: &Option<Numbers>, default: f64| {
-            let values = given
-                .clone()
-                .map(|n| n.0)
-                .unwrap_or_else(|| vec![default; k]);
-            if values.len() == k {
-                Ok(values)
-            } else {
-                Err(CliError::Invalid {
-                    flag,
-                    value: format!("{values:?}"),
-                    reason: format!("one number per wheel: --wheel-axes gives {k}"),
-                })
-            }
-        };
-        let wheel_inertia = per_wheel("--wheel-inertia", &options.wheel_inertia, 0.05)?;
-        let speeds0 = per_wheel("--wheel-speeds0", &options.wheel_speeds0, 0.0)?;
-        let torque = per_wheel("--wheel-torque", &options.wheel_torque, 0.0)?;
-        let j = inertia.matrix();
-        let vectors: Vec<Vector3<f64>> = axes_given
-            .chunks_exact(3)
-            .map(Vector3::from_column_slice)
-            .collect();
-        let input = |source| CliError::Input {
-            flag: "--wheel-axes/--wheel-inertia",
-            source,
-        };
-        let system = AnyGyrostat::new(j, &vectors, &wheel_inertia).map_err(input)?;
-        // The wheels as given (the axes before normalising), for the output's description.
-        description["wheel_axes"] = axes_given.into();
-        description["wheel_inertia"] = wheel_inertia.into();
-        description["wheel_speeds0"] = speeds0.clone().into();
-        description["wheel_torque"] = torque.clone().into();
-        Ok(Self {
-            system,
-            speeds0,
-            torque,
-        })
-    }
-
-    /// An integrator for `craft` (this run's gyrostat with `K` wheels, `D = 3 + K`) from
-    /// `(R₀, φ = 0)` with velocity `(Ω₀, φ̇₀)`, the motor torques set as its input
-    /// `(0, τ_m)`.
-    pub fn integrator<const K: usize, const D: usize>(
-        &self,
-        craft: Gyrostat<K>,
-        settings: StepSettings,
-        attitude: SO3,
-        omega: Vector3<f64>,
-    ) -> Result<Integrator<Gyrostat<K>, ChartKind, D>>
-    where
-        Gyrostat<K>: GroupLagrangian<D, Group = BodyAndWheels<K>>,
-        BodyAndWheels<K>: lgsvi_mechanics::ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
-        ChartKind: GroupChart<BodyAndWheels<K>, D>,
-    {
-        let mut velocity = SVector::<f64, D>::zeros();
-        let mut input = SVector::<f64, D>::zeros();
-        velocity.fixed_rows_mut::<3>(0).copy_from(&omega);
-        for i in 0..K {
-            velocity[3 + i] = self.speeds0[i];
-            input[3 + i] = self.torque[i];
-        }
-        let start = BodyWheels {
-            attitude,
-            wheels: SVector::<f64, K>::zeros(),
-        };
-        let mut integrator = Integrator::new(craft, settings, start, velocity)?;
-        integrator.set_input(input)?;
-        Ok(integrator)
-    }
-}
-
 /// Everything a run needs.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    /// The SO(3) system (for an SE(3) run, its rotational part as a free body: unused).
-    pub system: Driven,
-    /// The SE(3) run, for `--system se3-body` and `orbiting-body`.
-    pub motion: Option<Motion>,
-    /// The gyrostat run, for `--system gyrostat`.
-    pub wheels: Option<Wheels>,
-    pub inertia: Inertia,
-    pub attitude0: SO3,
-    pub omega0: Vector3<f64>,
-    pub settings: StepSettings,
-    /// The initial motion's fastest rate (rad per unit time): the spin plus the system's
-    /// own natural frequency; a `--tol` run's step turns `lgsvi_experiments::tolerance::STEP_ROTATION` at it.
-    pub rate: f64,
+    /// The system, its start and the run's settings.
+    pub scenario: Scenario,
+    /// The system's name (`--system`).
+    pub name: &'static str,
     pub t_end: f64,
     pub every: usize,
     pub quiet: bool,
@@ -337,161 +161,184 @@ pub struct Problem {
     pub description: serde_json::Value,
 }
 
+/// Refuses a system's flag given for another system: the first, in the order below.
+fn check_applicable(options: &SimulateOptions, kind: SystemKind) -> Result<()> {
+    use SystemKind::*;
+    let (top, moving, wheels) = (
+        &[HeavyTop][..],
+        &[Se3Body, OrbitingBody][..],
+        &[Gyrostat][..],
+    );
+    let (massive, bodies) = (&[HeavyTop, Se3Body, OrbitingBody], &[RigidBody, HeavyTop]);
+    let forced = &[RigidBody, HeavyTop, Se3Body, OrbitingBody][..];
+    let mass_why = match kind {
+        Gyrostat => "(a gyrostat's inertia J holds its mass distribution)",
+        _ => "(a free rotating body's motion does not depend on its mass)",
+    };
+    let mass_applies = format!("heavy-top, se3-body and orbiting-body {mass_why}");
+    let o = options;
+    let rows: [(&'static str, bool, &[SystemKind], &str); 14] = [
+        ("--mass", o.mass.is_some(), massive, &mass_applies),
+        ("--gravity", o.gravity.is_some(), top, "the heavy top (--system heavy-top)"),
+        ("--com", o.com.is_some(), top, "the heavy top (--system heavy-top)"),
+        ("--gravity-direction", o.gravity_direction.is_some(), top, "the heavy top (--system heavy-top)"),
+        ("--torque", o.torque.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat's wheels take --wheel-torque)"),
+        ("--damping", o.damping.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body"),
+        ("--exact", o.exact, bodies, "the free rigid body (--system rigid-body)"),
+        ("--position0", o.position0.is_some(), moving, "se3-body and orbiting-body"),
+        ("--velocity0", o.velocity0.is_some(), moving, "se3-body and orbiting-body"),
+        ("--wheel-axes", o.wheel_axes.is_some(), wheels, "the gyrostat (--system gyrostat)"),
+        ("--wheel-inertia", o.wheel_inertia.is_some(), wheels, "the gyrostat (--system gyrostat)"),
+        ("--wheel-speeds0", o.wheel_speeds0.is_some(), wheels, "the gyrostat (--system gyrostat)"),
+        ("--wheel-torque", o.wheel_torque.is_some(), wheels, "the gyrostat (--system gyrostat)"),
+        ("--mu", o.mu.is_some(), &[OrbitingBody], "orbiting-body"),
+    ];
+    match rows
+        .iter()
+        .find(|(_, given, on, _)| *given && !on.contains(&kind))
+    {
+        // The free body's own message: it is the heavy top without gravity.
+        Some((flag, _, on, _)) if kind == RigidBody && *on == top => {
+            Err(CliError::HeavyTopOnly { flag })
+        }
+        Some((flag, _, _, applies)) => Err(CliError::NotForSystem {
+            flag,
+            system: kind.name(),
+            applies: applies.to_string(),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The inertia from whichever of `--inertia`, `--inertia-d`, `--inertia-tensor` is given
+/// (the system's default if none).
+fn inertia(options: &SimulateOptions, default_jd: [f64; 3]) -> Result<Inertia> {
+    let input = |flag| move |source| CliError::Input { flag, source };
+    match (options.inertia, options.inertia_d, options.inertia_tensor) {
+        (Some(j), None, None) => Inertia::from_principal_moments(j).map_err(input("--inertia")),
+        (None, Some(jd), None) => Inertia::from_paper_jd(jd).map_err(input("--inertia-d")),
+        (None, None, Some(t)) => {
+            Inertia::from_tensor(Matrix3::from_row_slice(&t)).map_err(input("--inertia-tensor"))
+        }
+        (None, None, None) => Ok(Inertia::from_paper_jd(default_jd)?),
+        (Some(_), Some(_), _) => Err(CliError::Conflict("--inertia", "--inertia-d")),
+        (Some(_), _, Some(_)) => Err(CliError::Conflict("--inertia", "--inertia-tensor")),
+        (_, Some(_), Some(_)) => Err(CliError::Conflict("--inertia-d", "--inertia-tensor")),
+    }
+}
+
+/// The system's own parameters from the flags over their defaults; those given go into
+/// `description`.
+fn model(o: &SimulateOptions, kind: SystemKind, description: &mut Value) -> Result<Model> {
+    let or = |given: Option<[f64; 3]>, default: Vector3<f64>| given.map_or(default, Vector3::from);
+    Ok(match kind {
+        SystemKind::RigidBody => Model::RigidBody,
+        SystemKind::Gyrostat => Model::Gyrostat(wheels(o, description)?),
+        SystemKind::HeavyTop => {
+            let paper = named_case("B");
+            // The compiled-in case B has both (checked by the cases' test).
+            let top = Top {
+                mass: o.mass.unwrap_or(paper.mass.expect("case B's mass")),
+                gravity: o.gravity.unwrap_or(paper.gravity.expect("case B's g")),
+                com: or(o.com, Vector3::z()),
+                direction: or(o.gravity_direction, Vector3::z()),
+            };
+            description["mass"] = top.mass.into();
+            description["gravity"] = top.gravity.into();
+            description["com"] = top.com.as_slice().into();
+            Model::HeavyTop(top)
+        }
+        SystemKind::Se3Body | SystemKind::OrbitingBody => {
+            let orbit = Orbit::default();
+            let orbiting = kind == SystemKind::OrbitingBody;
+            let start = if orbiting {
+                orbit.body
+            } else {
+                Space::default()
+            };
+            let body = Space {
+                mass: o.mass.unwrap_or(start.mass),
+                position: or(o.position0, start.position),
+                velocity: or(o.velocity0, start.velocity),
+            };
+            description["mass"] = body.mass.into();
+            description["position0"] = body.position.as_slice().into();
+            description["velocity0"] = body.velocity.as_slice().into();
+            if orbiting {
+                let mu = o.mu.unwrap_or(orbit.mu);
+                description["mu"] = mu.into();
+                Model::Orbiting(Orbit { body, mu })
+            } else {
+                Model::FreeInSpace(body)
+            }
+        }
+    })
+}
+
+/// The gyrostat's wheels from the wheel flags: one to four axes (the body axes unless
+/// given), one inertia, start speed and motor torque per wheel; the wheels as given (the
+/// axes before normalising) go into `description`.
+fn wheels(options: &SimulateOptions, description: &mut Value) -> Result<Wheels> {
+    let given = |n: &Option<Numbers>| n.clone().map(|n| n.0);
+    let axes =
+        given(&options.wheel_axes).unwrap_or_else(|| vec![1., 0., 0., 0., 1., 0., 0., 0., 1.]);
+    let k = axes.len() / 3;
+    if !axes.len().is_multiple_of(3) || !(1..=4).contains(&k) {
+        return Err(CliError::Invalid {
+            flag: "--wheel-axes",
+            value: format!("{axes:?}"),
+            reason: "three numbers per wheel, 1 to 4 wheels".into(),
+        });
+    }
+    let per_wheel = |flag: &'static str, values: Option<Vec<f64>>, default: &[f64]| {
+        let values = values.unwrap_or_else(|| default.to_vec());
+        if values.len() == k {
+            Ok(values)
+        } else {
+            Err(CliError::Invalid {
+                flag,
+                value: format!("{values:?}"),
+                reason: format!("one number per wheel: --wheel-axes gives {k}"),
+            })
+        }
+    };
+    let defaults = Wheels::on(
+        axes.chunks_exact(3)
+            .map(Vector3::from_column_slice)
+            .collect(),
+    );
+    let mut wheels = defaults.clone();
+    wheels.inertia = per_wheel(
+        "--wheel-inertia",
+        given(&options.wheel_inertia),
+        &defaults.inertia,
+    )?;
+    wheels.speeds0 = per_wheel(
+        "--wheel-speeds0",
+        given(&options.wheel_speeds0),
+        &defaults.speeds0,
+    )?;
+    wheels.torque = per_wheel(
+        "--wheel-torque",
+        given(&options.wheel_torque),
+        &defaults.torque,
+    )?;
+    description["wheel_axes"] = axes.into();
+    description["wheel_inertia"] = wheels.inertia.clone().into();
+    description["wheel_speeds0"] = wheels.speeds0.clone().into();
+    description["wheel_torque"] = wheels.torque.clone().into();
+    Ok(wheels)
+}
+
 impl Problem {
     /// Resolves config file, flags and defaults.
     pub fn resolve(options: SimulateOptions) -> Result<(Problem, SimulateOptions)> {
         let mut options = options.merged_with_config()?;
         let kind = options.system();
-        let d = defaults(kind);
-        if options.omega0.is_none() {
-            options.omega0 = Some(d.omega0);
-        }
-        let inertia = match (options.inertia, options.inertia_d, options.inertia_tensor) {
-            (Some(j), None, None) => {
-                Inertia::from_principal_moments(j).map_err(|source| CliError::Input {
-                    flag: "--inertia",
-                    source,
-                })?
-            }
-            (None, Some(jd), None) => {
-                Inertia::from_paper_jd(jd).map_err(|source| CliError::Input {
-                    flag: "--inertia-d",
-                    source,
-                })?
-            }
-            (None, None, Some(t)) => {
-                Inertia::from_tensor(Matrix3::from_row_slice(&t)).map_err(|source| {
-                    CliError::Input {
-                        flag: "--inertia-tensor",
-                        source,
-                    }
-                })?
-            }
-            (None, None, None) => Inertia::from_paper_jd(d.inertia_d)?,
-            (Some(_), Some(_), _) => return Err(CliError::Conflict("--inertia", "--inertia-d")),
-            (Some(_), _, Some(_)) => {
-                return Err(CliError::Conflict("--inertia", "--inertia-tensor"))
-            }
-            (_, Some(_), Some(_)) => {
-                return Err(CliError::Conflict("--inertia-d", "--inertia-tensor"))
-            }
-        };
-        let name = match kind {
-            SystemKind::RigidBody => "rigid-body",
-            SystemKind::HeavyTop => "heavy-top",
-            SystemKind::Se3Body => "se3-body",
-            SystemKind::OrbitingBody => "orbiting-body",
-            SystemKind::Gyrostat => "gyrostat",
-        };
-        let not_for = |flag: &'static str, applies: &'static str| CliError::NotForSystem {
-            flag,
-            system: name,
-            applies,
-        };
-        if kind == SystemKind::RigidBody {
-            // The mass is the heavy top's and the bodies in space's (its help says so).
-            if options.mass.is_some() {
-                return Err(not_for(
-                    "--mass",
-                    "heavy-top, se3-body and orbiting-body (a free rotating body's motion does \
-                     not depend on its mass)",
-                ));
-            }
-            for (flag, given) in [
-                ("--gravity", options.gravity.is_some()),
-                ("--com", options.com.is_some()),
-                ("--gravity-direction", options.gravity_direction.is_some()),
-            ] {
-                if given {
-                    return Err(CliError::HeavyTopOnly { flag });
-                }
-            }
-        }
-        if kind.is_rigid_motion() {
-            for (flag, given) in [
-                ("--gravity", options.gravity.is_some()),
-                ("--com", options.com.is_some()),
-                ("--gravity-direction", options.gravity_direction.is_some()),
-            ] {
-                if given {
-                    return Err(not_for(flag, "the heavy top (--system heavy-top)"));
-                }
-            }
-            if options.exact {
-                return Err(not_for(
-                    "--exact",
-                    "the free rigid body (--system rigid-body)",
-                ));
-            }
-        } else {
-            for (flag, given) in [
-                ("--position0", options.position0.is_some()),
-                ("--velocity0", options.velocity0.is_some()),
-            ] {
-                if given {
-                    return Err(not_for(flag, "se3-body and orbiting-body"));
-                }
-            }
-        }
-        if kind == SystemKind::Gyrostat {
-            for (flag, given, applies) in [
-                (
-                    "--mass",
-                    options.mass.is_some(),
-                    "heavy-top, se3-body and orbiting-body (a gyrostat's inertia J holds its \
-                     mass distribution)",
-                ),
-                (
-                    "--gravity",
-                    options.gravity.is_some(),
-                    "the heavy top (--system heavy-top)",
-                ),
-                (
-                    "--com",
-                    options.com.is_some(),
-                    "the heavy top (--system heavy-top)",
-                ),
-                (
-                    "--gravity-direction",
-                    options.gravity_direction.is_some(),
-                    "the heavy top (--system heavy-top)",
-                ),
-                (
-                    "--torque",
-                    options.torque.is_some(),
-                    "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat's wheels \
-                     take --wheel-torque)",
-                ),
-                (
-                    "--damping",
-                    options.damping.is_some(),
-                    "rigid-body, heavy-top, se3-body and orbiting-body",
-                ),
-                (
-                    "--exact",
-                    options.exact,
-                    "the free rigid body (--system rigid-body)",
-                ),
-            ] {
-                if given {
-                    return Err(not_for(flag, applies));
-                }
-            }
-        } else {
-            for (flag, given) in [
-                ("--wheel-axes", options.wheel_axes.is_some()),
-                ("--wheel-inertia", options.wheel_inertia.is_some()),
-                ("--wheel-speeds0", options.wheel_speeds0.is_some()),
-                ("--wheel-torque", options.wheel_torque.is_some()),
-            ] {
-                if given {
-                    return Err(not_for(flag, "the gyrostat (--system gyrostat)"));
-                }
-            }
-        }
-        if options.mu.is_some() && kind != SystemKind::OrbitingBody {
-            return Err(not_for("--mu", "orbiting-body"));
-        }
+        let (default_jd, default_omega0) = defaults(kind);
+        let omega0 = Vector3::from(*options.omega0.get_or_insert(default_omega0));
+        let inertia = inertia(&options, default_jd)?;
+        check_applicable(&options, kind)?;
         let torque = Vector3::from(options.torque.unwrap_or([0.0; 3]));
         let damping = options.damping.unwrap_or(0.0);
         if !(damping.is_finite() && damping >= 0.0) {
@@ -501,7 +348,6 @@ impl Problem {
                 reason: "the damping c of the torque −cΩ must be finite and non-negative".into(),
             });
         }
-        let drive: Drive = (BodyTorque(torque), AngularDamping(damping));
         let t_end = options.t_end.unwrap_or(10.0);
         if !(t_end.is_finite() && t_end >= 0.0) {
             return Err(CliError::Invalid {
@@ -551,13 +397,14 @@ impl Problem {
             .inertia_d
             .or(
                 (options.inertia.is_none() && options.inertia_tensor.is_none())
-                    .then_some(d.inertia_d),
+                    .then_some(default_jd),
             )
             .unwrap_or(inertia.paper_jd());
         let mut description = serde_json::json!({
             "inertia_J": inertia_j,
             "inertia_Jd": inertia_jd,
             "omega0": options.omega0,
+            "system": kind.name(),
         });
         if let Some(t) = options.inertia_tensor {
             description["inertia_tensor"] = t.as_slice().into();
@@ -571,120 +418,17 @@ impl Problem {
         if let Some(tol) = options.tol {
             description["tolerance"] = tol.into();
         }
-        description["system"] = name.into();
-        let mut motion = None;
-        let mut wheels = None;
-        // The fastest natural motion besides the spin, for the step of a --tol run.
-        let mut frequency = 0.0;
-        let system = match kind {
-            SystemKind::RigidBody => System::Free(RigidBody::new(inertia)),
-            SystemKind::Gyrostat => {
-                let run = Wheels::resolve(&options, &inertia, &mut description)?;
-                // The wheels' spin joins the fastest motion a --tol step must follow.
-                frequency = run.speeds0.iter().fold(0.0f64, |m, w| m.max(w.abs()));
-                wheels = Some(run);
-                System::Free(RigidBody::new(inertia))
-            }
-            SystemKind::Se3Body | SystemKind::OrbitingBody => {
-                let orbiting = kind == SystemKind::OrbitingBody;
-                let mass = options.mass.unwrap_or(1.0);
-                let input = |flag| move |source| CliError::Input { flag, source };
-                let (x0, v0) = if orbiting {
-                    ([3.0, 0.0, 0.0], [0.0, 0.55, 0.05])
-                } else {
-                    ([0.0; 3], [0.0; 3])
-                };
-                let position = Vector3::from(options.position0.unwrap_or(x0));
-                let velocity = Vector3::from(options.velocity0.unwrap_or(v0));
-                let inner = if orbiting {
-                    let mu = options.mu.unwrap_or(1.0);
-                    description["mu"] = mu.into();
-                    // At (or next to) the attracting centre the potential −μm/r and its
-                    // gradient-gradient terms ~ μm/r³ are singular or overflow.
-                    // |x| without underflow (1e-300 squared is zero).
-                    let scale = position.amax();
-                    let r = if scale > 0.0 {
-                        scale * (position / scale).norm()
-                    } else {
-                        0.0
-                    };
-                    if mu != 0.0 && !(r > 0.0 && (mu * mass / r.powi(3)).is_finite()) {
-                        return Err(CliError::Invalid {
-                            flag: "--position0",
-                            value: format!("{:?}", position.as_slice()),
-                            reason: format!(
-                                "the orbiting body starts at the attracting centre (r = {r:e}), \
-                                 where the potential −μm/r and its gravity gradient are \
-                                 singular: start it away from the origin"
-                            ),
-                        });
-                    }
-                    // The gravity gradient's Hessian forms x xᵀ (xᵀJx) ~ r⁴ |J|, which
-                    // overflows from about r = 1e77 (measured: 1e70 runs, 1e80 fails).
-                    if mu != 0.0 && r > 1e75 {
-                        return Err(CliError::Invalid {
-                            flag: "--position0",
-                            value: format!("{:?}", position.as_slice()),
-                            reason: format!(
-                                "the orbiting body starts at r = {r:e}, where its gravity \
-                                 gradient's terms (of order r⁴) overflow double precision \
-                                 (r ≤ 1e75): express lengths in larger units"
-                            ),
-                        });
-                    }
-                    // The gravity-gradient libration, √3 times the orbit's mean motion.
-                    frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
-                    MotionSystem::Orbit(
-                        OrbitingBody::new(inertia, mass, mu).map_err(input("--mass/--mu"))?,
-                    )
-                } else {
-                    MotionSystem::Free(FreeBody::new(inertia, mass).map_err(input("--mass"))?)
-                };
-                description["mass"] = mass.into();
-                description["position0"] = position.as_slice().into();
-                description["velocity0"] = velocity.as_slice().into();
-                let attitude = options.attitude()?;
-                let omega = Vector3::from(options.omega0.unwrap_or(d.omega0));
-                // Body velocities: (Ω, v) with ẋ = R v.
-                let v = attitude.matrix().transpose() * velocity;
-                motion = Some(Motion {
-                    system: Forced::new(inner, drive),
-                    start: SE3::new(attitude, position),
-                    velocity0: SVector::<f64, 6>::new(omega.x, omega.y, omega.z, v.x, v.y, v.z),
-                });
-                System::Free(RigidBody::new(inertia))
-            }
-            SystemKind::HeavyTop => {
-                let paper = named_case("B");
-                // The compiled-in case B has both (checked by the cases' test).
-                let mass = options.mass.unwrap_or(paper.mass.expect("case B's mass"));
-                let gravity = options
-                    .gravity
-                    .unwrap_or(paper.gravity.expect("case B's g"));
-                let com = Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0]));
-                let direction = Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0]));
-                let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
-                frequency =
-                    pendulum_frequency(inertia.principal_moments(), mass * gravity * com.norm());
-                description["mass"] = mass.into();
-                description["gravity"] = gravity.into();
-                description["com"] = com.as_slice().into();
-                description["gravity_direction"] = top.gravity_direction().as_slice().into();
-                System::Top(top)
-            }
-        };
-        let omega0 = Vector3::from(options.omega0.unwrap_or(d.omega0));
-        let rate = omega0.norm() + frequency;
-        let settings = step_settings(&options, t_end, rate)?;
+        let model = model(&options, kind, &mut description)?;
+        let drive = (BodyTorque(torque), AngularDamping(damping));
+        let scenario = Scenario::driven(model, inertia, options.attitude()?, omega0, drive)
+            .map_err(scenario_error)?;
+        if let BuiltIn::Top(top) = &scenario.system.system {
+            description["gravity_direction"] = top.gravity_direction().as_slice().into();
+        }
+        let settings = step_settings(&options, t_end, scenario.rate())?;
         let problem = Problem {
-            system: Forced::new(system, drive),
-            motion,
-            wheels,
-            inertia,
-            attitude0: options.attitude()?,
-            omega0,
-            settings,
-            rate,
+            scenario: scenario.with_settings(settings),
+            name: kind.name(),
             t_end,
             every,
             quiet: options.quiet,
@@ -698,46 +442,28 @@ impl Problem {
         Ok((problem, options))
     }
 
-    /// An integrator for this problem with other settings (SO(3) systems).
-    pub fn integrator(&self, settings: StepSettings) -> Result<Integrator<Driven>> {
-        Ok(Subject::integrator(self, settings)?)
+    /// The run's settings.
+    pub fn settings(&self) -> StepSettings {
+        self.scenario.settings
     }
 }
 
-/// The SO(3) problem as the studies of `lgsvi-experiments` run it.
-impl Subject for Problem {
-    type System = Driven;
-
-    fn system(&self) -> &Driven {
-        &self.system
-    }
-
-    fn settings(&self) -> StepSettings {
-        self.settings
-    }
-
-    fn integrator(
-        &self,
-        settings: StepSettings,
-    ) -> std::result::Result<Integrator<Driven>, MechanicsError> {
-        Integrator::new(self.system, settings, self.attitude0, self.omega0)
-    }
-
-    /// The invariant tracker from `state` (the run's start), with what the system says it
-    /// conserves (`Symmetry::of`): all of `Rμ` for a free body, the component along the
-    /// heavy top's own gravity direction for the top, nothing under a torque or damping.
-    fn tracker(&self, state: &lgsvi_mechanics::State) -> Tracker {
-        Tracker::with_symmetry(
-            state.energy(&self.system),
-            state.attitude().matrix(),
-            &state.momentum,
-            Symmetry::of(&self.system),
-        )
-    }
-
-    /// The exact solution, for a free body.
-    fn exact(&self) -> Option<std::result::Result<FreeRigidBodyExact, MechanicsError>> {
-        self.is_free()
-            .then(|| FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0))
+/// A scenario's refusal, naming the flags.
+fn scenario_error(error: ExperimentError) -> CliError {
+    match error {
+        ExperimentError::Parameter { parameter, source } => CliError::Input {
+            flag: match parameter {
+                "mass" => "--mass",
+                "mass/mu" => "--mass/--mu",
+                _ => "--wheel-axes/--wheel-inertia",
+            },
+            source,
+        },
+        ExperimentError::InvalidStart { value, reason } => CliError::Invalid {
+            flag: "--position0",
+            value,
+            reason,
+        },
+        other => other.into(),
     }
 }

@@ -11,16 +11,10 @@ use lgsvi_reports::convergence::{csv, table};
 pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     let mut options = options;
     if let Some(path) = options.base.config.clone() {
-        let (_, table) = crate::config::read_config_table(&path)?;
-        if let Some(table) = table {
-            let file: ConvergeOptions =
-                crate::config::deserialize_naming_the_key(table, &path, "[converge] ")?;
-            options.study = options.study.or(file.study);
-            options.nodes_range = options.nodes_range.or(file.nodes_range);
-            options.steps = options.steps.or(file.steps);
-            options.step_nodes = options.step_nodes.or(file.step_nodes);
-            options.curve_samples = options.curve_samples.or(file.curve_samples);
-            options.tols = options.tols.or(file.tols);
+        if let (_, Some(table)) = crate::config::read_config_table(&path)? {
+            let base = std::mem::take(&mut options.base);
+            options = crate::config::overlaid(table, &options, &path, "[converge] ")?;
+            options.base = base;
         }
     }
     if options.base.no_check || options.base.check {
@@ -59,23 +53,20 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
         return crate::tolerance::run(options, kind == StudyKind::Estimate);
     }
     let (problem, base) = Problem::resolve(options.base)?;
-    if problem.wheels.is_some() {
+    if problem.scenario.wheels.is_some() {
         return Err(CliError::NotForSystem {
             flag: "converge",
             system: "gyrostat",
-            applies: "rigid-body, heavy-top, se3-body and orbiting-body",
+            applies: "rigid-body, heavy-top, se3-body and orbiting-body".into(),
         });
     }
-    if problem.motion.is_some() {
+    if problem.scenario.motion.is_some() {
         return Err(CliError::NotForSystem {
             flag: "converge",
-            system: if base.system() == crate::config::SystemKind::OrbitingBody {
-                "orbiting-body"
-            } else {
-                "se3-body"
-            },
+            system: problem.name,
             applies: "the SO(3) systems (rigid-body, heavy-top) for --study nodes, step and \
-                 both; --study estimate and tolerance run every system",
+                 both; --study estimate and tolerance run every system"
+                .into(),
         });
     }
     let [first, last] = options.nodes_range.unwrap_or([2, 16]);
@@ -127,16 +118,18 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
         "runs",
         problem.quiet,
     );
-    let reference = Reference::for_subject(&problem, t_end)?;
+    let reference = Reference::for_subject(&problem.scenario, t_end)?;
     let refinement = Refinement {
-        h: problem.settings.step(),
+        h: problem.settings().step(),
         nodes,
         steps,
         step_nodes,
         t_end,
         curve_samples,
     };
-    let result = study(&problem, &reference, &refinement, || progress.inc(1))?;
+    let result = study(&problem.scenario, &reference, &refinement, || {
+        progress.inc(1)
+    })?;
     progress.finish_and_clear();
     print!("{}", table(&result));
     if let Some(path) = &base.out {

@@ -4,59 +4,10 @@
 
 use crate::error::{CliError, Result};
 use crate::problem::Problem;
-use lgsvi_experiments::tolerance::{
-    calibration, local_errors, tolerance_runs, LocalError, ToleranceStudy, TRUTH_EXTRA_NODES,
-};
-use lgsvi_experiments::Subject;
-use lgsvi_mechanics::lie::ChartKind;
-use lgsvi_mechanics::StepSettings;
+use lgsvi_experiments::tolerance::{calibration, ToleranceStudy, TRUTH_EXTRA_NODES};
 use lgsvi_reports::tolerance::{
     estimate_figure, estimate_table, tolerance_figure, tolerance_table,
 };
-
-/// The estimate study of `problem`.
-pub fn estimate_study(
-    problem: &Problem,
-    steps: &[f64],
-    nodes: &[usize],
-    tick: &mut dyn FnMut(),
-) -> Result<Vec<LocalError>> {
-    let chart = problem.settings.chart();
-    let t_end = problem.t_end;
-    Ok(match &problem.motion {
-        Some(motion) => {
-            let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
-            local_errors::<_, ChartKind, 6>(&make, steps, nodes, t_end, tick)
-        }
-        None => {
-            let make = |s: StepSettings| Subject::integrator(problem, s.with_chart(chart));
-            local_errors::<_, ChartKind, 3>(&make, steps, nodes, t_end, tick)
-        }
-    }?)
-}
-
-/// The tolerance study of `problem`; `settings` holds each `--tol` run's tolerance and
-/// settings.
-pub fn tolerance_study(
-    problem: &Problem,
-    settings: &[(f64, StepSettings)],
-    steps: &[f64],
-    nodes: &[usize],
-    tick: &mut dyn FnMut(),
-) -> Result<ToleranceStudy> {
-    let chart = problem.settings.chart();
-    let t_end = problem.t_end;
-    Ok(match &problem.motion {
-        Some(motion) => {
-            let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
-            tolerance_runs::<_, ChartKind, 6>(&make, chart, settings, steps, nodes, t_end, tick)
-        }
-        None => {
-            let make = |s: StepSettings| Subject::integrator(problem, s.with_chart(chart));
-            tolerance_runs::<_, ChartKind, 3>(&make, chart, settings, steps, nodes, t_end, tick)
-        }
-    }?)
-}
 
 /// The default grid of steps (each divides the default horizon 10).
 pub const DEFAULT_STEPS: [f64; 5] = [0.25, 0.5, 0.625, 1.0, 1.25];
@@ -67,14 +18,15 @@ pub fn run(options: crate::config::ConvergeOptions, estimate: bool) -> Result<()
     let steps_given = options.steps.clone();
     let range = options.nodes_range;
     let (problem, base) = Problem::resolve(options.base)?;
-    if problem.wheels.is_some() {
+    if problem.scenario.wheels.is_some() {
         return Err(CliError::NotForSystem {
             flag: "converge",
             system: "gyrostat",
-            applies: "rigid-body, heavy-top, se3-body and orbiting-body",
+            applies: "rigid-body, heavy-top, se3-body and orbiting-body".into(),
         });
     }
     let t_end = problem.t_end;
+    let chart = problem.settings().chart();
     let steps = steps_given.unwrap_or_else(|| DEFAULT_STEPS.to_vec());
     for &h in &steps {
         crate::problem::whole_steps(t_end, h).map_err(|e| CliError::ConfigValue {
@@ -109,7 +61,9 @@ pub fn run(options: crate::config::ConvergeOptions, estimate: bool) -> Result<()
         .unwrap_or("system")
         .to_string();
     let (text, json, figure) = if estimate {
-        let rows = estimate_study(&problem, &steps, &nodes, &mut tick)?;
+        let rows = problem
+            .scenario
+            .local_errors(chart, &steps, &nodes, t_end, &mut tick)?;
         let figure = estimate_figure(
             &format!("{system}: local error estimate against the true local error"),
             &rows,
@@ -127,14 +81,19 @@ pub fn run(options: crate::config::ConvergeOptions, estimate: bool) -> Result<()
             .map(|&tol| {
                 let mut o = base.clone();
                 o.tol = Some(tol);
-                Ok((tol, crate::problem::step_settings(&o, t_end, problem.rate)?))
+                Ok((
+                    tol,
+                    crate::problem::step_settings(&o, t_end, problem.scenario.rate())?,
+                ))
             })
             .collect::<Result<Vec<_>>>()?;
         let ToleranceStudy {
             reference: describe,
             runs,
             fixed,
-        } = tolerance_study(&problem, &settings, &steps, &nodes, &mut tick)?;
+        } = problem
+            .scenario
+            .tolerance_runs(chart, &settings, &steps, &nodes, t_end, &mut tick)?;
         let figure = tolerance_figure(&format!("{system}: --tol runs at T = {t_end}"), &runs);
         let json = serde_json::json!({
             "description": problem.description,

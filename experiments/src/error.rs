@@ -32,6 +32,25 @@ pub enum ExperimentError {
         /// Its values.
         values: String,
     },
+    /// A system's parameter that its constructor refused.
+    #[error("{parameter}: {source}")]
+    Parameter {
+        /// The parameter(s), as `lgsvi simulate`'s flags name them (`mass/mu`).
+        parameter: &'static str,
+        /// Why.
+        source: MechanicsError,
+    },
+    /// A start the system cannot take (the orbiting body at its attracting centre).
+    #[error("invalid start {value}: {reason}")]
+    InvalidStart {
+        /// The start, as given.
+        value: String,
+        /// Why, and what to change.
+        reason: String,
+    },
+    /// A study of SO(3) and SE(3) systems asked of a gyrostat.
+    #[error("this study runs SO(3) and SE(3) systems, not a gyrostat")]
+    NotForGyrostat,
     /// The reference run has no Galerkin curve at this time (it ended before it).
     #[error("reference has no curve at t = {0}")]
     NoReferenceCurve(f64),

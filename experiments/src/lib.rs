@@ -21,6 +21,8 @@
 //! - [`record`]: a run to its horizon, every state checked and every `every`-th recorded
 //!   with its energy, work, translation or wheels and the integrator's statistics (what
 //!   `lgsvi simulate` writes), for SO(3), SE(3) and the gyrostats;
+//! - [`scenario`]: the built-in systems (free body, heavy top, body in space, orbiting body,
+//!   gyrostat) built from plain parameters and run as one type, whatever their group;
 //! - [`conserved`]: how far energy, the Casimir `|μ|²` and the spatial momentum `Rμ` (or
 //!   its conserved component) have moved from their initial values.
 //!
@@ -69,6 +71,7 @@ mod error;
 pub mod fit;
 pub mod paper;
 pub mod record;
+pub mod scenario;
 mod subject;
 pub mod tolerance;
 pub mod work_precision;
@@ -77,3 +80,6 @@ pub use built_in::{BuiltIn, BuiltInMotion};
 pub use conserved::{Drift, Symmetry, Tracker};
 pub use error::ExperimentError;
 pub use subject::{Body, Subject};
+
+#[doc(hidden)]
+pub use lgsvi_mechanics::gyrostat as __gyrostat;

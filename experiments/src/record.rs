@@ -289,6 +289,18 @@ pub fn check_finite(step: usize, state: &State, energy: f64) -> Result<(), Exper
 /// How often [`record`] reports progress, in steps.
 pub const PROGRESS_EVERY: usize = 64;
 
+/// Whether and how a companion checks a run ([`lgsvi_mechanics::Checked`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Check {
+    /// Unchecked: the estimated error is the sum of the steps' local estimates.
+    None,
+    /// A fixed run measured by its companion (the same steps with 2 more nodes).
+    Measure,
+    /// A tolerance-driven run accepted or refused by its check
+    /// ([`lgsvi_mechanics::ToleranceCheck`], [`record_to_tolerance`]).
+    Tolerance(f64),
+}
+
 /// Runs `runner` to `t_end` (to the first step at or after it, [`Integrator::steps_until`]),
 /// checking every state and recording the initial one, every
 /// `every`-th (at least 1) and the last; `progress(k)` is told the steps taken every
@@ -452,6 +464,36 @@ where
         let largest = check.largest;
         if policy.judge(largest)? {
             return Ok(run);
+        }
+    }
+}
+
+/// Runs to `t_end` with the integrators `make` builds from `settings`, as `check` says:
+/// unchecked, one run ([`record`]); beside its companion ([`Check::Measure`]); or until
+/// [`lgsvi_mechanics::ToleranceCheck`] accepts a run or refuses ([`Check::Tolerance`],
+/// [`record_to_tolerance`]).
+///
+/// # Errors
+/// [`record`]'s and [`record_to_tolerance`]'s.
+pub fn record_checked<S, C, const D: usize>(
+    make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>, lgsvi_mechanics::MechanicsError>,
+    settings: StepSettings,
+    check: Check,
+    t_end: f64,
+    every: usize,
+    progress: &mut dyn FnMut(usize),
+) -> Result<Recording, ExperimentError>
+where
+    S: GroupLagrangian<D> + Copy,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: Columns<D> + GroupLog<D>,
+{
+    match check {
+        Check::None => record(make(settings)?, t_end, every, progress),
+        Check::Measure => record(Checked::new(make(settings)?)?, t_end, every, progress),
+        Check::Tolerance(tol) => {
+            let make = |s| make(s).map_err(ExperimentError::from);
+            record_to_tolerance(make, settings, tol, t_end, every, progress)
         }
     }
 }

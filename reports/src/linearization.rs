@@ -2,9 +2,11 @@
 //! coordinates in words, and the states before and after the step, for the rigid body on
 //! SO(3), the body in space on SE(3) and the gyrostat on SO(3) × ℝᴷ.
 
+use lgsvi_experiments::scenario::Scenario;
+use lgsvi_experiments::Subject;
 use lgsvi_mechanics::gyrostat::BodyWheels;
 use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
-use lgsvi_mechanics::{State, StepLinearization};
+use lgsvi_mechanics::{Coordinates, MechanicsError, State, StepLinearization, StepSettings};
 use nalgebra::DMatrix;
 use serde_json::{json, Value};
 
@@ -133,4 +135,45 @@ pub fn fill<E: Described, const D: usize>(
     report["after"] = E::state_json(&step.end);
     report["step"] = json!({ "h": step.h, "nodes": step.nodes });
     report["coordinates"] = E::coordinates(momentum).into();
+}
+
+/// Linearises one step of `scenario` with `settings` from its start and writes it into
+/// `report` ([`fill`]): in momentum coordinates with `momentum`, else in velocity
+/// coordinates (an SE(3) body's in the world frame, [`StepLinearization::world_frame`]).
+///
+/// # Errors
+/// The integrator's construction or the step's.
+pub fn linearize(
+    scenario: &Scenario,
+    settings: StepSettings,
+    momentum: bool,
+    report: &mut Value,
+) -> Result<(), MechanicsError> {
+    let coordinates = match momentum {
+        true => Coordinates::Momentum,
+        false => Coordinates::Velocity,
+    };
+    let (attitude, omega) = (scenario.attitude0, scenario.omega0);
+    if let Some(wheels) = &scenario.wheels {
+        lgsvi_experiments::each_gyrostat!(wheels.system, (craft, K, D) => {
+            let step = wheels.integrator::<K, D>(craft, settings, attitude, omega)?.linearize()?;
+            fill(report, &step, (step.a(coordinates), step.b(coordinates)), momentum);
+        });
+    } else if let Some(motion) = &scenario.motion {
+        let step = motion.integrator(settings)?.linearize()?;
+        let (a, b) = match momentum {
+            true => (step.a(coordinates).clone(), step.b(coordinates).clone()),
+            false => step.world_frame(),
+        };
+        fill(report, &step, (&a, &b), momentum);
+    } else {
+        let step = Subject::integrator(scenario, settings)?.linearize()?;
+        fill(
+            report,
+            &step,
+            (step.a(coordinates), step.b(coordinates)),
+            momentum,
+        );
+    }
+    Ok(())
 }

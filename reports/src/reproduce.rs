@@ -4,19 +4,36 @@
 //! it is drawn, and `REPORT.md`'s text (the claims table with a verdict per claim, then a
 //! section per figure). The caller decides where the files go.
 //!
-//! The subjects are the caller's: the free rigid body of case A, the 3D pendulum near its
-//! stable equilibrium (case B) and near its unstable one (case C), in the paper's chart
-//! (its unscaled Cayley map) — the command line resolves them as `lgsvi simulate` resolves
-//! its flags.
+//! The subjects are the free rigid body of case A, the 3D pendulum near its stable
+//! equilibrium (case B) and near its unstable one (case C) of `lgsvi-cases`, in the paper's
+//! chart (its unscaled Cayley map): [`PaperSubjects`]. A library user regenerates the
+//! paper without the binary:
+//!
+//! ```no_run
+//! use lgsvi_reports::reproduce::{report_text, Artifact, PaperSubjects};
+//! # fn main() -> Result<(), lgsvi_experiments::ExperimentError> {
+//! let mut emit = |artifact: Artifact<'_>| -> Result<(), lgsvi_experiments::ExperimentError> {
+//!     if let Artifact::Figure { name, csv, .. } = artifact {
+//!         println!("{name}: {} rows", csv.lines().count() - 1);
+//!     }
+//!     Ok(())
+//! };
+//! let job = PaperSubjects::new()?.job(&mut emit, &mut ())?;
+//! println!("{}", report_text(&job, "0.1.0", 0.0));
+//! # Ok(())
+//! # }
+//! ```
 
 use crate::paper::{self as report, EnergySummary, Findings};
 use crate::paper_figures as figures;
 use lgsvi_experiments::convergence::{REFERENCE_NODES, REFERENCE_STEP};
 use lgsvi_experiments::paper::{self, NodeFit, Progress};
+use lgsvi_experiments::scenario::{Model, Scenario, Top};
 use lgsvi_experiments::{ExperimentError, Subject};
-use lgsvi_mechanics::Matching;
+use lgsvi_mechanics::lie::{ChartKind, SO3};
+use lgsvi_mechanics::{Inertia, Matching, MechanicsError, NewtonJacobian, StepSettings};
 use lgsvi_plot::{Figure, SphereFigure};
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use std::fmt::Write;
 
 /// A figure of the job, with its data as CSV text, under its file name (no extension).
@@ -40,6 +57,92 @@ pub enum Artifact<'a> {
         /// Its data.
         csv: &'a str,
     },
+}
+
+/// The paper's three subjects as [`Scenario`]s, with its parameters (`lgsvi-cases`' cases
+/// A, B, C: `J = tr(J_d) I − J_d`, the pendulum's centre of mass on `e₃` and gravity along
+/// it) and settings (`h = 0.5`, 8 nodes, the unscaled Cayley chart, exact matching).
+#[derive(Debug, Clone)]
+pub struct PaperSubjects {
+    /// The free rigid body (case A).
+    pub rigid: Scenario,
+    /// The pendulum near its stable equilibrium (case B).
+    pub stable: Scenario,
+    /// The pendulum near its unstable equilibrium (case C: case B from case C's attitude).
+    pub unstable: Scenario,
+}
+
+impl PaperSubjects {
+    /// The paper's subjects.
+    ///
+    /// # Errors
+    /// None for the compiled-in cases (their test checks them); an [`ExperimentError`]
+    /// were they invalid.
+    pub fn new() -> Result<Self, ExperimentError> {
+        let settings = StepSettings::new(0.5, 8)?
+            .with_chart(ChartKind::CayleyUnscaled)
+            .with_matching(Matching::Exact)
+            .with_jacobian(NewtonJacobian::default());
+        let case = |name: &str| {
+            lgsvi_cases::case(name).map_err(|e| MechanicsError::InvalidSetting {
+                name: "case",
+                value: e.to_string(),
+                reason: "not among the compiled-in cases",
+            })
+        };
+        let missing = |what: &str| MechanicsError::InvalidSetting {
+            name: "case",
+            value: what.into(),
+            reason: "missing from the compiled-in cases",
+        };
+        let scenario = |name: &str, model: Model, attitude: &Matrix3<f64>| {
+            let case = case(name)?;
+            let jd = case.inertia_d.ok_or_else(|| missing("J_d"))?;
+            let attitude =
+                SO3::try_from_row_major(std::array::from_fn(|i| attitude[(i / 3, i % 3)]))
+                    .map_err(MechanicsError::from)?;
+            let inertia = Inertia::from_paper_jd(jd)?;
+            let scenario = Scenario::new(model, inertia, attitude, case.omega0)?;
+            Ok::<_, ExperimentError>(scenario.with_settings(settings))
+        };
+        let b = case("B")?;
+        let top = Model::HeavyTop(Top {
+            mass: b.mass.ok_or_else(|| missing("case B's mass"))?,
+            gravity: b.gravity.ok_or_else(|| missing("case B's g"))?,
+            com: Vector3::z(),
+            direction: Vector3::z(),
+        });
+        let c = case("C")?.attitude0;
+        Ok(Self {
+            rigid: scenario("A", Model::RigidBody, &Matrix3::identity())?,
+            stable: scenario("B", top.clone(), &Matrix3::identity())?,
+            unstable: scenario("B", top, &c)?,
+        })
+    }
+
+    /// The paper's job on these subjects ([`paper_job`]).
+    ///
+    /// # Errors
+    /// [`paper_job`]'s.
+    pub fn job<E: From<ExperimentError>>(
+        &self,
+        emit: &mut dyn FnMut(Artifact<'_>) -> Result<(), E>,
+        progress: &mut dyn Progress,
+    ) -> Result<PaperJob, E> {
+        let j = self.rigid.inertia.principal_moments();
+        let from_momentum = |mu: Vector3<f64>| {
+            let mut p = self.rigid.clone();
+            p.omega0 = Vector3::new(mu.x / j[0], mu.y / j[1], mu.z / j[2]);
+            p
+        };
+        let subjects = Subjects {
+            rigid: &self.rigid,
+            rigid_from_momentum: &from_momentum,
+            stable: &self.stable,
+            unstable: &self.unstable,
+        };
+        paper_job(&subjects, emit, progress)
+    }
 }
 
 /// The subjects of the paper's job.

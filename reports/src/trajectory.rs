@@ -33,6 +33,8 @@
 //! ```
 
 use lgsvi_experiments::record::Recording;
+use lgsvi_experiments::scenario::{Motion, Scenario};
+use lgsvi_experiments::{BuiltIn, BuiltInMotion};
 use lgsvi_mechanics::{NewtonJacobian, StepSettings};
 use lgsvi_plot::{Figure, Series, Style};
 use nalgebra::Vector3;
@@ -316,6 +318,20 @@ pub enum Conserved {
     AngularAboutOrigin,
     /// The component `d·Rμ` along a spatial direction (a heavy top's gravity direction).
     Along(Vector3<f64>),
+}
+
+impl Conserved {
+    /// What a built-in scenario conserves when unforced: the orbiting body its angular
+    /// momentum about the attracting centre, the heavy top the component along its own
+    /// gravity direction, the free bodies all of their spatial momentum.
+    pub fn of(scenario: &Scenario) -> Self {
+        let orbit = |m: &Motion| matches!(m.system.system, BuiltInMotion::Orbit(_));
+        match (&scenario.motion, &scenario.system.system) {
+            (Some(motion), _) if orbit(motion) => Conserved::AngularAboutOrigin,
+            (None, BuiltIn::Top(top)) => Conserved::Along(*top.gravity_direction()),
+            _ => Conserved::Spatial,
+        }
+    }
 }
 
 /// The conservation figure of a run: `|E − E₀ − W|/|E₀|` (the energy balance; `W = 0`

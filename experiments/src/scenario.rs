@@ -1,0 +1,664 @@
+//! A built-in system and its start from plain parameters: the systems `lgsvi simulate`
+//! names (the free rigid body, the heavy top, the free body in space, the body orbiting a
+//! point mass, the gyrostat), built, checked and run as one type, whatever their group.
+//!
+//! ```
+//! use lgsvi_experiments::record::Check;
+//! use lgsvi_experiments::scenario::{Model, Orbit, Scenario};
+//! use lgsvi_mechanics::lie::SO3;
+//! use lgsvi_mechanics::{Inertia, StepSettings};
+//! use nalgebra::Vector3;
+//!
+//! # fn main() -> Result<(), lgsvi_experiments::ExperimentError> {
+//! let inertia = Inertia::from_principal_moments([0.3, 0.2, 0.4])?;
+//! let orbit = Model::Orbiting(Orbit::default()); // μ = m = 1 from (3, 0, 0)
+//! let scenario = Scenario::new(orbit, inertia, SO3::identity(), Vector3::new(0.2, -0.3, 0.5))?;
+//! let settings = StepSettings::new(1.0, 8)?;
+//! let run = scenario.record(settings, Check::None, 10.0, 1, &mut |_| {})?;
+//! assert_eq!(run.steps, 10);
+//! # Ok(())
+//! # }
+//! ```
+
+use crate::built_in::{BuiltIn, BuiltInMotion};
+use crate::conserved::{Symmetry, Tracker};
+use crate::record::{record_checked, Check, Recording};
+use crate::tolerance::{
+    local_errors, pendulum_frequency, tolerance_runs, LocalError, ToleranceStudy,
+};
+use crate::{ExperimentError, Subject};
+use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat};
+use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
+use lgsvi_mechanics::{
+    AngularDamping, BodyTorque, ConfigurationGroup, Forced, FreeBody, GroupChart, GroupLagrangian,
+    HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody, RigidBody, State, StepSettings,
+};
+use nalgebra::{SVector, Vector3};
+
+/// The torque and damping every built-in system takes: zero for neither, and then the
+/// steps are the unforced system's, bit for bit.
+pub type Drive = (BodyTorque, AngularDamping);
+
+/// A built-in SO(3) system under a torque and damping.
+pub type Driven = Forced<BuiltIn, Drive>;
+
+/// A built-in SE(3) system under a torque and damping.
+pub type DrivenMotion = Forced<BuiltInMotion, Drive>;
+
+/// The heavy top's parameters: mass `m`, gravity `g`, centre of mass `ρ` in the body
+/// frame and the world direction gravity pulls in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Top {
+    /// Mass `m ≥ 0`.
+    pub mass: f64,
+    /// Gravitational acceleration `g`.
+    pub gravity: f64,
+    /// Centre of mass `ρ`, body frame.
+    pub com: Vector3<f64>,
+    /// The direction gravity pulls in, world frame (normalised by [`HeavyTop::new`]).
+    pub direction: Vector3<f64>,
+}
+
+/// A body in space: its mass and its centre of mass's start, world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Space {
+    /// Mass `m > 0`.
+    pub mass: f64,
+    /// The centre of mass `x(0)`.
+    pub position: Vector3<f64>,
+    /// Its velocity `ẋ(0)`.
+    pub velocity: Vector3<f64>,
+}
+
+impl Default for Space {
+    /// Unit mass at rest at the origin.
+    fn default() -> Self {
+        Self {
+            mass: 1.0,
+            position: Vector3::zeros(),
+            velocity: Vector3::zeros(),
+        }
+    }
+}
+
+/// A body orbiting a point mass of gravitational parameter `μ = GM` at the origin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orbit {
+    /// The body in space (mass, start).
+    pub body: Space,
+    /// `μ = GM ≥ 0`.
+    pub mu: f64,
+}
+
+impl Default for Orbit {
+    /// `μ = m = 1` from `x = (3, 0, 0)` at `ẋ = (0, 0.55, 0.05)`: a slightly inclined,
+    /// eccentric orbit (the circular speed at r = 3 is 0.577).
+    fn default() -> Self {
+        Self {
+            body: Space {
+                mass: 1.0,
+                position: Vector3::new(3.0, 0.0, 0.0),
+                velocity: Vector3::new(0.0, 0.55, 0.05),
+            },
+            mu: 1.0,
+        }
+    }
+}
+
+/// A gyrostat's 1 to 4 wheels: axes (body frame), axial inertias, initial spin rates
+/// relative to the body and constant motor torques, one entry per wheel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wheels {
+    /// The axes (normalised by [`Gyrostat::new`]).
+    pub axes: Vec<Vector3<f64>>,
+    /// Each wheel's axial inertia `I_i > 0`.
+    pub inertia: Vec<f64>,
+    /// Each wheel's initial spin rate.
+    pub speeds0: Vec<f64>,
+    /// Each wheel's motor torque (the body takes the reaction).
+    pub torque: Vec<f64>,
+}
+
+impl Wheels {
+    /// Wheels on `axes`, each of axial inertia 0.05, at rest, without torque.
+    pub fn on(axes: Vec<Vector3<f64>>) -> Self {
+        let k = axes.len();
+        Self {
+            axes,
+            inertia: vec![0.05; k],
+            speeds0: vec![0.0; k],
+            torque: vec![0.0; k],
+        }
+    }
+}
+
+impl Default for Wheels {
+    /// Three wheels on the body axes.
+    fn default() -> Self {
+        Self::on(vec![Vector3::x(), Vector3::y(), Vector3::z()])
+    }
+}
+
+/// Which built-in system, with its own parameters (the inertia, attitude and angular
+/// velocity are every system's: [`Scenario::new`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Model {
+    /// The free rigid body on SO(3).
+    RigidBody,
+    /// The heavy top on SO(3).
+    HeavyTop(Top),
+    /// The free body in space on SE(3).
+    FreeInSpace(Space),
+    /// The body orbiting a point mass on SE(3) (MacCullagh's potential).
+    Orbiting(Orbit),
+    /// A spacecraft with reaction wheels on SO(3) × ℝᴷ (inertia with the wheels locked).
+    Gyrostat(Wheels),
+}
+
+/// An SE(3) run: the system under its torque and damping, and its start (body
+/// velocities `(Ω, v)` with `ẋ = R v`).
+#[derive(Debug, Clone, Copy)]
+pub struct Motion {
+    /// The system.
+    pub system: DrivenMotion,
+    /// `(R₀, x₀)`.
+    pub start: SE3,
+    /// `(Ω₀, v₀)`.
+    pub velocity0: SVector<f64, 6>,
+}
+
+impl Motion {
+    /// An integrator from the start, in the settings' chart.
+    ///
+    /// # Errors
+    /// [`Integrator::new`]'s.
+    pub fn integrator(
+        &self,
+        settings: StepSettings,
+    ) -> Result<Integrator<DrivenMotion, ChartKind, 6>, MechanicsError> {
+        Integrator::new(self.system, settings, self.start, self.velocity0)
+    }
+}
+
+/// A gyrostat run: the spacecraft, its wheels' start and their motor torques.
+#[derive(Debug, Clone)]
+pub struct WheelRun {
+    /// The spacecraft, as many wheels as it has.
+    pub system: AnyGyrostat,
+    /// The wheels' initial spin rates.
+    pub speeds0: Vec<f64>,
+    /// Their motor torques.
+    pub torque: Vec<f64>,
+}
+
+impl WheelRun {
+    /// An integrator for `craft` (this run's gyrostat with `K` wheels, `D = 3 + K`) from
+    /// `(R₀, φ = 0)` with velocity `(Ω₀, φ̇₀)`, the motor torques set as its input
+    /// `(0, τ_m)`.
+    ///
+    /// # Errors
+    /// [`Integrator::new`]'s and [`Integrator::set_input`]'s.
+    pub fn integrator<const K: usize, const D: usize>(
+        &self,
+        craft: Gyrostat<K>,
+        settings: StepSettings,
+        attitude: SO3,
+        omega: Vector3<f64>,
+    ) -> Result<Integrator<Gyrostat<K>, ChartKind, D>, MechanicsError>
+    where
+        Gyrostat<K>: GroupLagrangian<D, Group = BodyAndWheels<K>>,
+        BodyAndWheels<K>: ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
+        ChartKind: GroupChart<BodyAndWheels<K>, D>,
+    {
+        let mut velocity = SVector::<f64, D>::zeros();
+        let mut input = SVector::<f64, D>::zeros();
+        velocity.fixed_rows_mut::<3>(0).copy_from(&omega);
+        for i in 0..K {
+            velocity[3 + i] = self.speeds0[i];
+            input[3 + i] = self.torque[i];
+        }
+        let start = BodyWheels {
+            attitude,
+            wheels: SVector::<f64, K>::zeros(),
+        };
+        let mut integrator = Integrator::new(craft, settings, start, velocity)?;
+        integrator.set_input(input)?;
+        Ok(integrator)
+    }
+}
+
+/// `$body` once per gyrostat size, with `$craft` the gyrostat and `$k`, `$d` its wheels
+/// and dimension as literals.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! each_gyrostat {
+    ($any:expr, ($craft:ident, $k:tt, $d:tt) => $body:expr) => {{
+        use $crate::__gyrostat::AnyGyrostat as __Any;
+        match $any {
+            __Any::One($craft) => $crate::__each_gyrostat_arm!(1, 4, $k, $d, $body),
+            __Any::Two($craft) => $crate::__each_gyrostat_arm!(2, 5, $k, $d, $body),
+            __Any::Three($craft) => $crate::__each_gyrostat_arm!(3, 6, $k, $d, $body),
+            __Any::Four($craft) => $crate::__each_gyrostat_arm!(4, 7, $k, $d, $body),
+        }
+    }};
+}
+
+/// One arm of [`each_gyrostat`]: `$k`, `$d` bound as constants.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! __each_gyrostat_arm {
+    ($kv:literal, $dv:literal, $k:ident, $d:ident, $body:expr) => {{
+        #[allow(non_upper_case_globals)]
+        const $k: usize = $kv;
+        #[allow(non_upper_case_globals)]
+        const $d: usize = $dv;
+        $body
+    }};
+}
+
+/// A built-in system from its start, ready to run: on SO(3) (`motion` and `wheels` both
+/// `None`), on SE(3) (`motion`) or a gyrostat (`wheels`).
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// The SO(3) system (for an SE(3) or gyrostat run, its rotational part as a free body:
+    /// unused).
+    pub system: Driven,
+    /// The SE(3) run.
+    pub motion: Option<Motion>,
+    /// The gyrostat run.
+    pub wheels: Option<WheelRun>,
+    /// The inertia (with the wheels locked, for a gyrostat).
+    pub inertia: Inertia,
+    /// `R(0)`.
+    pub attitude0: SO3,
+    /// `Ω(0)`.
+    pub omega0: Vector3<f64>,
+    /// The fastest natural motion besides the spin, rad per unit time: the heavy top's
+    /// pendulum frequency, the orbiting body's gravity-gradient libration, the wheels'
+    /// fastest spin; zero for a free body.
+    pub frequency: f64,
+    /// The settings of [`Subject::settings`] (the studies' chart, matching and Newton
+    /// Jacobian): ten nodes at `h = 0.5` unless [`Scenario::with_settings`] says otherwise.
+    pub settings: StepSettings,
+}
+
+impl Scenario {
+    /// `model` of `inertia` from `(attitude0, omega0)`, without torque or damping.
+    ///
+    /// # Errors
+    /// A system's constructor's refusal ([`ExperimentError::Parameter`] naming the
+    /// parameters), or an orbiting body at (or next to) the attracting centre or too far
+    /// out for double precision ([`ExperimentError::InvalidStart`]).
+    pub fn new(
+        model: Model,
+        inertia: Inertia,
+        attitude0: SO3,
+        omega0: Vector3<f64>,
+    ) -> Result<Self, ExperimentError> {
+        let none = (BodyTorque(Vector3::zeros()), AngularDamping(0.0));
+        Self::driven(model, inertia, attitude0, omega0, none)
+    }
+
+    /// As [`Scenario::new`], under a constant body torque and an angular damping (the
+    /// gyrostat's wheels take their motor torques instead: give it zero torque and damping).
+    ///
+    /// # Errors
+    /// As [`Scenario::new`].
+    pub fn driven(
+        model: Model,
+        inertia: Inertia,
+        attitude0: SO3,
+        omega0: Vector3<f64>,
+        drive: Drive,
+    ) -> Result<Self, ExperimentError> {
+        let parameter = |parameter| move |source| ExperimentError::Parameter { parameter, source };
+        let mut scenario = Self {
+            system: Forced::new(BuiltIn::Free(RigidBody::new(inertia)), drive),
+            motion: None,
+            wheels: None,
+            inertia,
+            attitude0,
+            omega0,
+            frequency: 0.0,
+            settings: StepSettings::new(0.5, 10)?,
+        };
+        let (inner, body) = match model {
+            Model::RigidBody => return Ok(scenario),
+            Model::HeavyTop(top) => {
+                let Top {
+                    mass,
+                    gravity,
+                    com,
+                    direction,
+                } = top;
+                let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
+                let lever = mass * gravity * com.norm();
+                scenario.frequency = pendulum_frequency(inertia.principal_moments(), lever);
+                scenario.system = Forced::new(BuiltIn::Top(top), drive);
+                return Ok(scenario);
+            }
+            Model::Gyrostat(wheels) => {
+                let j = inertia.matrix();
+                let system = AnyGyrostat::new(j, &wheels.axes, &wheels.inertia)
+                    .map_err(parameter("wheel-axes/wheel-inertia"))?;
+                // The wheels' spin joins the fastest motion a --tol step must follow.
+                scenario.frequency = wheels.speeds0.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+                scenario.wheels = Some(WheelRun {
+                    system,
+                    speeds0: wheels.speeds0,
+                    torque: wheels.torque,
+                });
+                return Ok(scenario);
+            }
+            Model::FreeInSpace(body) => {
+                let free = FreeBody::new(inertia, body.mass).map_err(parameter("mass"))?;
+                (BuiltInMotion::Free(free), body)
+            }
+            Model::Orbiting(Orbit { body, mu }) => {
+                let r = checked_orbit_radius(&body, mu)?;
+                // The gravity-gradient libration, √3 times the orbit's mean motion.
+                scenario.frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
+                let orbiting =
+                    OrbitingBody::new(inertia, body.mass, mu).map_err(parameter("mass/mu"))?;
+                (BuiltInMotion::Orbit(orbiting), body)
+            }
+        };
+        let v = attitude0.matrix().transpose() * body.velocity;
+        let w = omega0;
+        scenario.motion = Some(Motion {
+            system: Forced::new(inner, drive),
+            start: SE3::new(attitude0, body.position),
+            velocity0: SVector::<f64, 6>::new(w.x, w.y, w.z, v.x, v.y, v.z),
+        });
+        Ok(scenario)
+    }
+
+    /// The scenario with other base settings ([`Subject::settings`]).
+    pub fn with_settings(mut self, settings: StepSettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// The initial motion's fastest rate, rad per unit time: the spin plus
+    /// [`Scenario::frequency`] (a tolerance-driven run's step turns a fixed angle at it).
+    pub fn rate(&self) -> f64 {
+        self.omega0.norm() + self.frequency
+    }
+
+    /// Runs to `t_end` with `settings`, checked as `check` says, recording every
+    /// `every`-th state ([`record_checked`]).
+    ///
+    /// # Errors
+    /// [`record_checked`]'s.
+    pub fn record(
+        &self,
+        settings: StepSettings,
+        check: Check,
+        t_end: f64,
+        every: usize,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Recording, ExperimentError> {
+        if let Some(wheels) = &self.wheels {
+            let (attitude, omega) = (self.attitude0, self.omega0);
+            return crate::each_gyrostat!(wheels.system, (craft, K, D) => record_checked(
+                |s| wheels.integrator::<K, D>(craft, s, attitude, omega),
+                settings, check, t_end, every, progress,
+            ));
+        }
+        match &self.motion {
+            None => record_checked(
+                |s| Subject::integrator(self, s),
+                settings,
+                check,
+                t_end,
+                every,
+                progress,
+            ),
+            Some(motion) => record_checked(
+                |s| motion.integrator(s),
+                settings,
+                check,
+                t_end,
+                every,
+                progress,
+            ),
+        }
+    }
+
+    /// The local errors of every step of runs with `steps × nodes` to `t_end`, in the
+    /// chart of `chart` ([`local_errors`]); SO(3) and SE(3) systems.
+    ///
+    /// # Errors
+    /// [`local_errors`]'s; [`ExperimentError::NotForGyrostat`] for a gyrostat.
+    pub fn local_errors(
+        &self,
+        chart: ChartKind,
+        steps: &[f64],
+        nodes: &[usize],
+        t_end: f64,
+        tick: &mut dyn FnMut(),
+    ) -> Result<Vec<LocalError>, ExperimentError> {
+        self.not_gyrostat()?;
+        match &self.motion {
+            Some(motion) => {
+                let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
+                local_errors::<_, ChartKind, 6>(&make, steps, nodes, t_end, tick)
+            }
+            None => {
+                let make = |s: StepSettings| Subject::integrator(self, s.with_chart(chart));
+                local_errors::<_, ChartKind, 3>(&make, steps, nodes, t_end, tick)
+            }
+        }
+    }
+
+    /// Tolerance-driven runs with `settings` (tolerance and settings) against a
+    /// reference and the grid `steps × nodes` of fixed runs, in `chart`
+    /// ([`tolerance_runs`]); SO(3) and SE(3) systems.
+    ///
+    /// # Errors
+    /// [`tolerance_runs`]'s; [`ExperimentError::NotForGyrostat`] for a gyrostat.
+    pub fn tolerance_runs(
+        &self,
+        chart: ChartKind,
+        settings: &[(f64, StepSettings)],
+        steps: &[f64],
+        nodes: &[usize],
+        t_end: f64,
+        tick: &mut dyn FnMut(),
+    ) -> Result<ToleranceStudy, ExperimentError> {
+        self.not_gyrostat()?;
+        match &self.motion {
+            Some(motion) => {
+                let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
+                tolerance_runs::<_, ChartKind, 6>(&make, chart, settings, steps, nodes, t_end, tick)
+            }
+            None => {
+                let make = |s: StepSettings| Subject::integrator(self, s.with_chart(chart));
+                tolerance_runs::<_, ChartKind, 3>(&make, chart, settings, steps, nodes, t_end, tick)
+            }
+        }
+    }
+
+    fn not_gyrostat(&self) -> Result<(), ExperimentError> {
+        match self.wheels {
+            Some(_) => Err(ExperimentError::NotForGyrostat),
+            None => Ok(()),
+        }
+    }
+}
+
+/// `|x|` of the orbiting body's start, refused where the potential `−μm/r` and its
+/// gravity gradient are singular or overflow.
+fn checked_orbit_radius(body: &Space, mu: f64) -> Result<f64, ExperimentError> {
+    let position = body.position;
+    // |x| without underflow (1e-300 squared is zero).
+    let scale = position.amax();
+    let r = if scale > 0.0 {
+        scale * (position / scale).norm()
+    } else {
+        0.0
+    };
+    let invalid = |reason| ExperimentError::InvalidStart {
+        value: format!("{:?}", position.as_slice()),
+        reason,
+    };
+    // At (or next to) the attracting centre the potential −μm/r and its
+    // gradient-gradient terms ~ μm/r³ are singular or overflow.
+    if mu != 0.0 && !(r > 0.0 && (mu * body.mass / r.powi(3)).is_finite()) {
+        return Err(invalid(format!(
+            "the orbiting body starts at the attracting centre (r = {r:e}), where the \
+             potential −μm/r and its gravity gradient are singular: start it away from the \
+             origin"
+        )));
+    }
+    // The gravity gradient's Hessian forms x xᵀ (xᵀJx) ~ r⁴ |J|, which overflows from
+    // about r = 1e77 (measured: 1e70 runs, 1e80 fails).
+    if mu != 0.0 && r > 1e75 {
+        return Err(invalid(format!(
+            "the orbiting body starts at r = {r:e}, where its gravity gradient's terms (of \
+             order r⁴) overflow double precision (r ≤ 1e75): express lengths in larger units"
+        )));
+    }
+    Ok(r)
+}
+
+/// The SO(3) scenario as the studies of this crate run it (for an SE(3) or gyrostat
+/// scenario, its rotational part as a free body: use [`Scenario::record`],
+/// [`Scenario::local_errors`] and [`Scenario::tolerance_runs`] for those).
+impl Subject for Scenario {
+    type System = Driven;
+
+    fn system(&self) -> &Driven {
+        &self.system
+    }
+
+    fn settings(&self) -> StepSettings {
+        self.settings
+    }
+
+    fn integrator(&self, settings: StepSettings) -> Result<Integrator<Driven>, MechanicsError> {
+        Integrator::new(self.system, settings, self.attitude0, self.omega0)
+    }
+
+    /// The invariant tracker from `state` (the run's start), with what the system says it
+    /// conserves (`Symmetry::of`): all of `Rμ` for a free body, the component along the
+    /// heavy top's own gravity direction for the top, nothing under a torque or damping.
+    fn tracker(&self, state: &State) -> Tracker {
+        Tracker::with_symmetry(
+            state.energy(&self.system),
+            state.attitude().matrix(),
+            &state.momentum,
+            Symmetry::of(&self.system),
+        )
+    }
+
+    /// The exact solution, for a free body.
+    fn exact(&self) -> Option<Result<FreeRigidBodyExact, MechanicsError>> {
+        self.is_free()
+            .then(|| FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inertia() -> Inertia {
+        Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap()
+    }
+
+    /// The scenario's orbiting body is the one built by hand: start `(R₀, x₀)`, body
+    /// velocity `v = R₀ᵀẋ₀`, the same steps to the last bit.
+    #[test]
+    fn an_orbit_runs_as_the_integrator_built_by_hand() {
+        let attitude = SO3::exp(&Vector3::new(0.3, -0.2, 0.5));
+        let omega = Vector3::new(0.2, -0.3, 0.5);
+        let orbit = Orbit::default();
+        let scenario = Scenario::new(Model::Orbiting(orbit), inertia(), attitude, omega).unwrap();
+        let settings = StepSettings::new(1.0, 8).unwrap();
+        let run = scenario
+            .record(settings, Check::None, 5.0, 1, &mut |_| {})
+            .unwrap();
+        let body = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
+        let v = attitude.matrix().transpose() * orbit.body.velocity;
+        let xi = SVector::<f64, 6>::new(omega.x, omega.y, omega.z, v.x, v.y, v.z);
+        let start = SE3::new(attitude, orbit.body.position);
+        let mut by_hand = Integrator::new(body, settings, start, xi).unwrap();
+        for _ in 0..5 {
+            by_hand.step().unwrap();
+        }
+        let last = run.motion.as_ref().unwrap().last().unwrap();
+        assert_eq!(last.position, by_hand.state().position());
+        // The libration joins the spin in the rate: √(3μ/r³) at r = 3.
+        assert_eq!(scenario.frequency, (3.0f64 / 27.0).sqrt());
+    }
+
+    /// An orbiting body at the attracting centre, next to it, or too far out for double
+    /// precision is refused with the reason; μ = 0 (no attraction) is not.
+    #[test]
+    fn an_orbit_starting_where_gravity_is_singular_is_refused() {
+        for (x, says) in [
+            (0.0, "attracting centre"),
+            (1e-120, "attracting centre"),
+            (1e80, "overflow"),
+        ] {
+            let mut orbit = Orbit::default();
+            orbit.body.position = Vector3::new(x, 0.0, 0.0);
+            let error = Scenario::new(
+                Model::Orbiting(orbit),
+                inertia(),
+                SO3::identity(),
+                Vector3::zeros(),
+            )
+            .unwrap_err();
+            assert!(
+                matches!(error, ExperimentError::InvalidStart { .. }),
+                "{error}"
+            );
+            assert!(error.to_string().contains(says), "{error}");
+            orbit.mu = 0.0;
+            assert!(Scenario::new(
+                Model::Orbiting(orbit),
+                inertia(),
+                SO3::identity(),
+                Vector3::zeros()
+            )
+            .is_ok());
+        }
+    }
+
+    /// The studies of SO(3) and SE(3) systems refuse a gyrostat with a typed error; its
+    /// parameters' refusals name them.
+    #[test]
+    fn a_gyrostat_is_refused_where_it_does_not_fit() {
+        let craft = Scenario::new(
+            Model::Gyrostat(Wheels::default()),
+            inertia(),
+            SO3::identity(),
+            Vector3::zeros(),
+        )
+        .unwrap();
+        let refused = craft.local_errors(ChartKind::Exp, &[0.5], &[5], 1.0, &mut || {});
+        assert!(matches!(refused, Err(ExperimentError::NotForGyrostat)));
+        let mut wheels = Wheels::default();
+        wheels.inertia[1] = -1.0;
+        let error = Scenario::new(
+            Model::Gyrostat(wheels),
+            inertia(),
+            SO3::identity(),
+            Vector3::zeros(),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                error,
+                ExperimentError::Parameter {
+                    parameter: "wheel-axes/wheel-inertia",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
+}
