@@ -117,19 +117,17 @@ pub fn run(options: BenchOptions) -> Result<()> {
             options.long_run_h.unwrap_or(0.5),
             options.long_run_nodes.unwrap_or(8),
         );
-        let mut settings = long_run_settings(h, n).map_err(|e| CliError::Invalid {
-            flag: "--long-run-h/--long-run-nodes",
-            value: format!("{h}, {n}"),
-            reason: e.to_string(),
+        let mut settings = long_run_settings(h, n).map_err(|e| {
+            CliError::invalid(
+                "--long-run-h/--long-run-nodes",
+                format!("{h}, {n}"),
+                e.to_string(),
+            )
         })?;
         if let Some(rate) = options.long_run_tol {
             settings = settings
                 .with_tolerance(rate)
-                .map_err(|e| CliError::Invalid {
-                    flag: "--long-run-tol",
-                    value: rate.to_string(),
-                    reason: e.to_string(),
-                })?;
+                .map_err(|e| CliError::invalid("--long-run-tol", rate, e.to_string()))?;
         }
         return run_long(&dir, settings, steps, members, options.quiet);
     }

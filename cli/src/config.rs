@@ -132,15 +132,6 @@ fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
     Ok(out)
 }
 
-fn three(text: &str) -> Result<[f64; 3], String> {
-    numbers::<3>(text)
-}
-fn four(text: &str) -> Result<[f64; 4], String> {
-    numbers::<4>(text)
-}
-fn nine(text: &str) -> Result<[f64; 9], String> {
-    numbers::<9>(text)
-}
 /// A comma-separated list of numbers of any length (one flag value, or a TOML array).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(transparent)]
@@ -168,23 +159,23 @@ pub struct SimulateOptions {
     #[arg(long, value_enum)]
     pub system: Option<SystemKind>,
     /// Standard principal moments of inertia J = diag(a, b, c) [default: the paper's, per system].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, conflicts_with = "inertia_d", value_name = "A,B,C")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, conflicts_with = "inertia_d", value_name = "A,B,C")]
     pub inertia: Option<[f64; 3]>,
     /// The paper's nonstandard inertia J_d = diag(a, b, c), J = tr(J_d) I − J_d.
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "A,B,C")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "A,B,C")]
     pub inertia_d: Option<[f64; 3]>,
     /// Full body-frame inertia tensor J, 9 numbers row-major (symmetric, positive
     /// definite, principal moments obeying the triangle inequality); instead of --inertia.
-    #[arg(long, value_parser = nine, allow_hyphen_values = true, conflicts_with_all = ["inertia", "inertia_d"], value_name = "J11,...,J33")]
+    #[arg(long, value_parser = numbers::<9>, allow_hyphen_values = true, conflicts_with_all = ["inertia", "inertia_d"], value_name = "J11,...,J33")]
     pub inertia_tensor: Option<[f64; 9]>,
     /// Initial body angular velocity Ω(0) [default: the paper's, per system].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub omega0: Option<[f64; 3]>,
     /// Initial attitude R(0) = world_from_body, 9 numbers row-major [default: identity].
-    #[arg(long, value_parser = nine, allow_hyphen_values = true, conflicts_with = "quaternion0", value_name = "R11,...,R33")]
+    #[arg(long, value_parser = numbers::<9>, allow_hyphen_values = true, conflicts_with = "quaternion0", value_name = "R11,...,R33")]
     pub attitude0: Option<[f64; 9]>,
     /// Initial attitude as a unit quaternion (w, x, y, z), Hamilton convention.
-    #[arg(long, value_parser = four, allow_hyphen_values = true, value_name = "W,X,Y,Z")]
+    #[arg(long, value_parser = numbers::<4>, allow_hyphen_values = true, value_name = "W,X,Y,Z")]
     pub quaternion0: Option<[f64; 4]>,
     /// Heavy top, se3-body, orbiting-body: mass m [default: 1].
     #[arg(long, allow_hyphen_values = true)]
@@ -194,14 +185,14 @@ pub struct SimulateOptions {
     pub mu: Option<f64>,
     /// SE(3) systems: initial centre of mass x(0), world frame [default: 3,0,0 for
     /// orbiting-body, 0,0,0 for se3-body].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub position0: Option<[f64; 3]>,
     /// SE(3) systems: initial centre-of-mass velocity ẋ(0), world frame [default:
     /// 0,0.55,0.05 for orbiting-body, 0,0,0 for se3-body].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub velocity0: Option<[f64; 3]>,
     /// A constant body-frame torque τ on the body (every system) [default: none].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub torque: Option<[f64; 3]>,
     /// Angular damping: a torque −cΩ with c ≥ 0 (every system) [default: 0].
     #[arg(long, allow_hyphen_values = true, value_name = "C")]
@@ -225,10 +216,10 @@ pub struct SimulateOptions {
     #[arg(long, allow_hyphen_values = true)]
     pub gravity: Option<f64>,
     /// Heavy top: centre of mass ρ in the body frame [default: 0,0,1].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub com: Option<[f64; 3]>,
     /// Heavy top: the direction gravity pulls in, world frame [default: 0,0,1, the paper's e₃].
-    #[arg(long, value_parser = three, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(long, value_parser = numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub gravity_direction: Option<[f64; 3]>,
     /// Step h, between 1e-280 and 1e280 [default: 0.5].
     #[arg(long, allow_hyphen_values = true)]

@@ -152,51 +152,17 @@ pub enum CliError {
         /// Why.
         source: std::io::Error,
     },
-    /// A `--tol` run whose step cannot meet its share of the tolerance (the library's
-    /// `ToleranceNotMet`, with the command line's remedies).
-    #[error(
-        "step {step} (t = {time}): the error estimate {estimate:.1e} stays above the step's \
-         share {budget:.1e} of --tol at {nodes} nodes, the most a --tol run takes: raise \
-         --tol, or shorten the step (--h {shorter:?} or less)"
-    )]
-    ToleranceNotMet {
-        /// The step that failed (0-based).
-        step: usize,
-        /// Its start time.
-        time: f64,
-        /// Its error estimate.
-        estimate: f64,
-        /// Its share of the tolerance.
-        budget: f64,
-        /// The nodes it was solved with.
-        nodes: usize,
-        /// A step a tenth as long.
-        shorter: f64,
+    /// A `--tol` run that failed: the library's `ToleranceNotMet` (a step cannot meet its
+    /// share of the tolerance) or `ToleranceNotChecked` (the companion check measured more
+    /// than the tolerance on every attempt), with the command line's remedies for a run of
+    /// step `h`.
+    #[error("{}", tolerance_message(source, *h))]
+    Tolerance {
+        /// The library's error.
+        source: MechanicsError,
+        /// The run's step.
+        h: f64,
     },
-    /// A `--tol` run whose companion check measured more than `CHECK_ACCEPTS · tol` on
-    /// every attempt.
-    #[error(
-        "--tol {tol:e} not met: after {attempts} run(s), the last with a share per step \
-         {tightened:.0e}× below the first's, the run still differs by {measured:.1e} from its \
-         check (the same steps with 2 more nodes) at t = {time} (step {step}); {advice}"
-    )]
-    ToleranceNotChecked {
-        /// The tolerance.
-        tol: f64,
-        /// Runs taken.
-        attempts: usize,
-        /// The last run's share per step against the first's.
-        tightened: f64,
-        /// The largest difference of the last run.
-        measured: f64,
-        /// Where it was measured.
-        time: f64,
-        /// Its step (1-based).
-        step: usize,
-        /// What to change.
-        advice: String,
-    },
-
     /// Two outputs of one run on the same file.
     #[error(
         "{first} and {second} would both write {}: the later would replace the earlier; give \
@@ -235,10 +201,70 @@ pub enum CliError {
     Json(#[from] serde_json::Error),
 }
 
+/// A `--tol` run's failure in the command line's terms: what happened, and which flag to
+/// change.
+fn tolerance_message(error: &MechanicsError, h: f64) -> String {
+    match *error {
+        MechanicsError::ToleranceNotMet {
+            step,
+            time,
+            estimate,
+            budget,
+            nodes,
+            ..
+        } => format!(
+            "step {step} (t = {time}): the error estimate {estimate:.1e} stays above the step's \
+             share {budget:.1e} of --tol at {nodes} nodes, the most a --tol run takes: raise \
+             --tol, or shorten the step (--h {:?} or less)",
+            h / 10.0
+        ),
+        MechanicsError::ToleranceNotChecked {
+            tolerance,
+            attempts,
+            tightened,
+            measured,
+            time,
+            step,
+            at_floor,
+            best,
+        } => {
+            let advice = if at_floor {
+                format!(
+                    "at the rounding of every step (4ε), this motion amplifies rounding errors \
+                     to about that (the closest of the runs: {best:.1e}): ask for --tol \
+                     {best:.0e} or more"
+                )
+            } else {
+                format!(
+                    "the motion amplifies each step's error: raise --tol, or shorten the step \
+                     (--h {:?} or less)",
+                    h / 3.0
+                )
+            };
+            format!(
+                "--tol {tolerance:e} not met: after {attempts} run(s), the last with a share per \
+                 step {tightened:.0e}× below the first's, the run still differs by \
+                 {measured:.1e} from its check (the same steps with 2 more nodes) at t = {time} \
+                 (step {step}); {advice}"
+            )
+        }
+        ref other => other.to_string(),
+    }
+}
+
 /// The command line's result.
 pub type Result<T, E = CliError> = std::result::Result<T, E>;
 
 impl CliError {
+    /// [`CliError::Invalid`]: `flag`'s `value` refused, and why.
+    pub fn invalid(flag: &'static str, value: impl ToString, reason: impl Into<String>) -> Self {
+        CliError::Invalid {
+            flag,
+            value: value.to_string(),
+            reason: reason.into(),
+        }
+    }
+
     /// A mechanics error that came through a recording or a study as
     /// [`CliError::Mechanics`], so that one match sees it wherever it arose.
     pub fn into_mechanics(self) -> Self {

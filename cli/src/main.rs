@@ -18,8 +18,7 @@ mod tolerance;
 use clap::{Parser, Subcommand};
 use config::SimulateOptions;
 use error::{CliError, Result};
-use lgsvi_experiments::record::{record_exact, Recording};
-use lgsvi_experiments::Subject;
+use lgsvi_experiments::record::Recording;
 use lgsvi_mechanics::MechanicsError;
 use lgsvi_reports::trajectory::{
     conservation_figure, settings_json, write_csv, write_json, Conserved,
@@ -68,72 +67,21 @@ fn integrate(problem: &Problem) -> Result<Recording> {
     let steps = problem::whole_steps(problem.t_end, settings.step())?;
     let bar = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut progress = |k: usize| bar.set_position(k as u64);
-    let (t_end, every) = (problem.t_end, problem.every);
+    let (t_end, every, check) = (problem.t_end, problem.every, problem.check);
     let recorded = problem
         .scenario
-        .record(settings, problem.check, t_end, every, &mut progress);
+        .record(settings, check, t_end, every, &mut progress);
     bar.finish_and_clear();
-    let h = settings.step();
     recorded.map_err(|error| match CliError::from(error).into_mechanics() {
-        CliError::Mechanics(MechanicsError::ToleranceNotMet {
-            step,
-            time,
-            estimate,
-            budget,
-            nodes,
-            ..
-        }) => CliError::ToleranceNotMet {
-            step,
-            time,
-            estimate,
-            budget,
-            nodes,
-            shorter: h / 10.0,
-        },
-        CliError::Mechanics(MechanicsError::ToleranceNotChecked {
-            tolerance: tol,
-            attempts,
-            tightened,
-            measured,
-            time,
-            step,
-            at_floor,
-            best,
-            ..
-        }) => CliError::ToleranceNotChecked {
-            tol,
-            attempts,
-            tightened,
-            measured,
-            time,
-            step,
-            advice: if at_floor {
-                format!(
-                    "at the rounding of every step (4ε), this motion amplifies rounding \
-                     errors to about that (the closest of the runs: {best:.1e}): ask for \
-                     --tol {best:.0e} or more"
-                )
-            } else {
-                format!(
-                    "the motion amplifies each step's error: raise --tol, or shorten the \
-                     step (--h {:?} or less)",
-                    h / 3.0
-                )
-            },
+        CliError::Mechanics(
+            source @ (MechanicsError::ToleranceNotMet { .. }
+            | MechanicsError::ToleranceNotChecked { .. }),
+        ) => CliError::Tolerance {
+            source,
+            h: settings.step(),
         },
         other => other,
     })
-}
-
-/// The exact free-body solution at the times the integrator would record, and the
-/// motion's regime (for the output's description).
-fn exact_run(problem: &Problem) -> Result<(Recording, String)> {
-    let scenario = &problem.scenario;
-    let body = Subject::exact(scenario).ok_or(CliError::NoExactSolution)??;
-    let steps = Subject::integrator(scenario, problem.settings())?.steps_until(problem.t_end)?;
-    let h = problem.settings().step();
-    let recording = record_exact(&body, &scenario.system, h, steps, problem.every)?;
-    Ok((recording, format!("{:?}", body.regime())))
 }
 
 /// A progress bar on standard error, hidden for `--quiet`, for short jobs, or when standard
@@ -194,9 +142,12 @@ fn run_simulate(options: SimulateOptions) -> Result<()> {
     description["settings"] = settings_json(&problem.settings(), problem.t_end, problem.every);
     description["solution"] = "integrator".into();
     let recording = if options.exact {
-        let (recording, regime) = exact_run(&problem)?;
+        let exact = problem
+            .scenario
+            .record_exact(problem.settings(), problem.t_end, problem.every);
+        let (recording, regime) = exact.ok_or(CliError::NoExactSolution)??;
         description["solution"] = "exact (Jacobi elliptic functions)".into();
-        description["regime"] = regime.into();
+        description["regime"] = format!("{regime:?}").into();
         recording
     } else {
         integrate(&problem)?

@@ -5,8 +5,8 @@ use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 pub use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
+use lgsvi_experiments::tolerance::{first_nodes, step_count};
 use lgsvi_experiments::{BuiltIn, ExperimentError};
-use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, Inertia, MechanicsError, StepSettings, DEFAULT_ADAPTIVE_NODES,
     ROUNDING_FLOOR,
@@ -71,34 +71,21 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     Ok(steps as usize)
 }
 
-pub use lgsvi_experiments::tolerance::first_nodes as tolerance_first_nodes;
-
-/// A `--tol` run's step over `[0, t_end]` at the motion's rate `rate` in `chart`
-/// (`lgsvi_experiments::tolerance::step_count`), refused above [`MAX_RUN_STEPS`].
-pub fn tolerance_step(t_end: f64, rate: f64, chart: ChartKind) -> Result<f64> {
-    let steps = lgsvi_experiments::tolerance::step_count(t_end, rate, chart);
-    if steps > MAX_RUN_STEPS {
-        return Err(CliError::TooManySteps {
-            t_end,
-            h: t_end / steps,
-            steps,
-            most: MAX_RUN_STEPS,
-        });
-    }
-    Ok(t_end / steps)
-}
-
 /// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
-/// takes `lgsvi_experiments::tolerance::STEP_ROTATION` at the rate `rate` and divides `t_end`, and the
-/// nodes adapt to an error per unit time of `tol / t_end`.
+/// turns `lgsvi_experiments::tolerance::STEP_ROTATION` at the rate `rate` and divides
+/// `t_end` (`step_count`; refused above [`MAX_RUN_STEPS`] before anything else), and the nodes adapt
+/// to an error per unit time of `tol / t_end`.
 pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
     let chart = options.chart.map(Into::into).unwrap_or_default();
     let h = match (options.h, options.tol) {
         (Some(h), _) => h,
-        (None, Some(_)) if t_end > 0.0 => tolerance_step(t_end, rate, chart)?,
+        (None, Some(_)) if t_end > 0.0 => {
+            let h = t_end / step_count(t_end, rate, chart);
+            whole_steps(t_end, h).map(|_| h)?
+        }
         _ => 0.5,
     };
-    let first = options.tol.map_or(10, tolerance_first_nodes);
+    let first = options.tol.map_or(10, first_nodes);
     let mut settings = StepSettings::new(h, options.nodes.unwrap_or(first))?;
     if let Some(m) = options.quad {
         settings = settings.with_quadrature_points(m)?;
@@ -106,14 +93,14 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
     if let Some(tol) = options.tol {
         let (least, most) = DEFAULT_ADAPTIVE_NODES;
         if let Some(n) = options.nodes.filter(|n| !(least..=most).contains(n)) {
-            return Err(CliError::Invalid {
-                flag: "--nodes",
-                value: n.to_string(),
-                reason: format!(
+            return Err(CliError::invalid(
+                "--nodes",
+                n,
+                format!(
                     "with --tol, --nodes is the first step's count within the adaptive \
                      range {least} to {most}"
                 ),
-            });
+            ));
         }
         // The library refuses a step's share below the rounding of a step (4ε; the
         // tolerance's positivity was checked with the other flags): said here as the
@@ -124,15 +111,15 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
                 MechanicsError::InvalidSetting { name: "tol", .. } => {
                     let steps = (t_end.max(h) / h).round().max(1.0);
                     let floor = steps * ROUNDING_FLOOR;
-                    CliError::Invalid {
-                        flag: "--tol",
-                        value: format!("{tol:e}"),
-                        reason: format!(
+                    CliError::invalid(
+                        "--tol",
+                        format!("{tol:e}"),
+                        format!(
                             "below what double precision can deliver over this run: {steps} \
                              steps of h = {h} round to about {floor:.1e} (4ε each); ask for at \
                              least that, or take longer steps (--h)"
                         ),
-                    }
+                    )
                 }
                 other => other.into(),
             })?;
@@ -284,22 +271,22 @@ fn wheels(options: &SimulateOptions, description: &mut Value) -> Result<Wheels> 
         given(&options.wheel_axes).unwrap_or_else(|| vec![1., 0., 0., 0., 1., 0., 0., 0., 1.]);
     let k = axes.len() / 3;
     if !axes.len().is_multiple_of(3) || !(1..=4).contains(&k) {
-        return Err(CliError::Invalid {
-            flag: "--wheel-axes",
-            value: format!("{axes:?}"),
-            reason: "three numbers per wheel, 1 to 4 wheels".into(),
-        });
+        return Err(CliError::invalid(
+            "--wheel-axes",
+            format!("{axes:?}"),
+            "three numbers per wheel, 1 to 4 wheels",
+        ));
     }
     let per_wheel = |flag: &'static str, values: Option<Vec<f64>>, default: &[f64]| {
         let values = values.unwrap_or_else(|| default.to_vec());
         if values.len() == k {
             Ok(values)
         } else {
-            Err(CliError::Invalid {
+            Err(CliError::invalid(
                 flag,
-                value: format!("{values:?}"),
-                reason: format!("one number per wheel: --wheel-axes gives {k}"),
-            })
+                format!("{values:?}"),
+                format!("one number per wheel: --wheel-axes gives {k}"),
+            ))
         }
     };
     let defaults = Wheels::on(
@@ -341,54 +328,36 @@ impl Problem {
         check_applicable(&options, kind)?;
         let torque = Vector3::from(options.torque.unwrap_or([0.0; 3]));
         let damping = options.damping.unwrap_or(0.0);
-        if !(damping.is_finite() && damping >= 0.0) {
-            return Err(CliError::Invalid {
-                flag: "--damping",
-                value: damping.to_string(),
-                reason: "the damping c of the torque −cΩ must be finite and non-negative".into(),
-            });
-        }
         let t_end = options.t_end.unwrap_or(10.0);
-        if !(t_end.is_finite() && t_end >= 0.0) {
-            return Err(CliError::Invalid {
-                flag: "--t-end",
-                value: t_end.to_string(),
-                reason: "must be finite and non-negative".into(),
-            });
-        }
-        if let Some(tol) = options.tol {
-            if !(tol.is_finite() && tol > 0.0) {
-                return Err(CliError::Invalid {
-                    flag: "--tol",
-                    value: tol.to_string(),
-                    reason: "the accuracy must be positive and finite, e.g. 1e-10".into(),
-                });
-            }
-            if options.quad.is_some() {
-                return Err(CliError::Conflict("--tol", "--quad"));
-            }
-            if options.check {
-                return Err(CliError::Invalid {
-                    flag: "--check",
-                    value: "given".into(),
-                    reason: "--tol runs are checked anyway (--no-check skips it): drop --check"
-                        .into(),
-                });
-            }
-        } else if options.no_check {
-            return Err(CliError::Invalid {
-                flag: "--no-check",
-                value: "given".into(),
-                reason: "it skips the check of a --tol run: give --tol, or drop --no-check".into(),
-            });
-        }
         let every = options.every.unwrap_or(1);
+        let tol = options.tol;
+        let invalid = |flag, value: &dyn std::fmt::Display, reason: &str| {
+            Err(CliError::invalid(flag, value, reason))
+        };
+        if !(damping.is_finite() && damping >= 0.0) {
+            let reason = "the damping c of the torque −cΩ must be finite and non-negative";
+            return invalid("--damping", &damping, reason);
+        }
+        if !(t_end.is_finite() && t_end >= 0.0) {
+            return invalid("--t-end", &t_end, "must be finite and non-negative");
+        }
+        if let Some(tol) = tol.filter(|t| !(t.is_finite() && *t > 0.0)) {
+            let reason = "the accuracy must be positive and finite, e.g. 1e-10";
+            return invalid("--tol", &tol, reason);
+        }
+        if tol.is_some() && options.quad.is_some() {
+            return Err(CliError::Conflict("--tol", "--quad"));
+        }
+        if tol.is_some() && options.check {
+            let reason = "--tol runs are checked anyway (--no-check skips it): drop --check";
+            return invalid("--check", &"given", reason);
+        }
+        if tol.is_none() && options.no_check {
+            let reason = "it skips the check of a --tol run: give --tol, or drop --no-check";
+            return invalid("--no-check", &"given", reason);
+        }
         if every == 0 {
-            return Err(CliError::Invalid {
-                flag: "--every",
-                value: "0".into(),
-                reason: "keep every K-th step with K ≥ 1".into(),
-            });
+            return invalid("--every", &0, "keep every K-th step with K ≥ 1");
         }
         // The inertia as the user gave it (J or J_d), the other form derived from it, so the
         // description echoes the input without the rounding of a round trip.

@@ -17,48 +17,44 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             options.base = base;
         }
     }
-    if options.base.no_check || options.base.check {
-        return Err(CliError::SimulateOnly {
-            flag: if options.base.check {
-                "--check"
-            } else {
-                "--no-check"
-            },
-            why: "converge measures every run's error against a reference itself",
-        });
-    }
-    if options.base.exact {
-        return Err(CliError::SimulateOnly {
-            flag: "--exact",
-            why: "converge always measures against the exact solution when there is one",
-        });
-    }
-    if options.base.every.is_some() {
-        return Err(CliError::SimulateOnly {
-            flag: "--every",
-            why: "converge measures every step",
-        });
+    let base = &options.base;
+    let measures = "converge measures every run's error against a reference itself";
+    let exact = "converge always measures against the exact solution when there is one";
+    for (flag, given, why) in [
+        ("--check", base.check, measures),
+        ("--no-check", base.no_check, measures),
+        ("--exact", base.exact, exact),
+        (
+            "--every",
+            base.every.is_some(),
+            "converge measures every step",
+        ),
+    ] {
+        if given {
+            return Err(CliError::SimulateOnly { flag, why });
+        }
     }
     if let Some(samples) = options.curve_samples {
         if !(1..=MAX_CURVE_SAMPLES).contains(&samples) {
-            return Err(CliError::Invalid {
-                flag: "--curve-samples",
-                value: samples.to_string(),
-                reason: format!("from 1 (no curve check) to {MAX_CURVE_SAMPLES}"),
-            });
+            return Err(CliError::invalid(
+                "--curve-samples",
+                samples,
+                format!("from 1 (no curve check) to {MAX_CURVE_SAMPLES}"),
+            ));
         }
     }
     let kind = options.study.unwrap_or(StudyKind::Both);
-    if matches!(kind, StudyKind::Estimate | StudyKind::Tolerance) {
-        return crate::tolerance::run(options, kind == StudyKind::Estimate);
-    }
-    let (problem, base) = Problem::resolve(options.base)?;
+    let (problem, base) = Problem::resolve(std::mem::take(&mut options.base))?;
     if problem.scenario.wheels.is_some() {
         return Err(CliError::NotForSystem {
             flag: "converge",
             system: "gyrostat",
             applies: "rigid-body, heavy-top, se3-body and orbiting-body".into(),
         });
+    }
+    if matches!(kind, StudyKind::Estimate | StudyKind::Tolerance) {
+        let estimate = kind == StudyKind::Estimate;
+        return crate::tolerance::run(&options, problem, base, estimate);
     }
     if problem.scenario.motion.is_some() {
         return Err(CliError::NotForSystem {

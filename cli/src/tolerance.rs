@@ -13,18 +13,17 @@ use lgsvi_reports::tolerance::{
 pub const DEFAULT_STEPS: [f64; 5] = [0.25, 0.5, 0.625, 1.0, 1.25];
 
 /// `lgsvi converge --study estimate` (`estimate`) or `--study tolerance`.
-pub fn run(options: crate::config::ConvergeOptions, estimate: bool) -> Result<()> {
-    let tols = options.tols.clone();
-    let steps_given = options.steps.clone();
-    let range = options.nodes_range;
-    let (problem, base) = Problem::resolve(options.base)?;
-    if problem.scenario.wheels.is_some() {
-        return Err(CliError::NotForSystem {
-            flag: "converge",
-            system: "gyrostat",
-            applies: "rigid-body, heavy-top, se3-body and orbiting-body".into(),
-        });
-    }
+pub fn run(
+    options: &crate::config::ConvergeOptions,
+    problem: Problem,
+    base: crate::config::SimulateOptions,
+    estimate: bool,
+) -> Result<()> {
+    let (tols, steps_given, range) = (
+        options.tols.clone(),
+        options.steps.clone(),
+        options.nodes_range,
+    );
     let t_end = problem.t_end;
     let chart = problem.settings().chart();
     let steps = steps_given.unwrap_or_else(|| DEFAULT_STEPS.to_vec());

@@ -22,12 +22,12 @@
 
 use crate::built_in::{BuiltIn, BuiltInMotion};
 use crate::conserved::{Symmetry, Tracker};
-use crate::record::{record_checked, Check, Recording};
+use crate::record::{record_checked, record_exact, Check, Recording};
 use crate::tolerance::{
     local_errors, pendulum_frequency, tolerance_runs, LocalError, ToleranceStudy,
 };
 use crate::{ExperimentError, Subject};
-use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::exact::{FreeRigidBodyExact, Regime};
 use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
@@ -424,6 +424,27 @@ impl Scenario {
                 progress,
             ),
         }
+    }
+
+    /// The exact solution of a free rigid body (Jacobi elliptic functions) recorded as
+    /// [`Scenario::record`] would record a run with `settings` to `t_end` ([`record_exact`]),
+    /// and the motion's regime; `None` for a system without a closed form.
+    ///
+    /// # Errors
+    /// [`FreeRigidBodyExact::new`]'s, [`Integrator::steps_until`]'s, [`record_exact`]'s.
+    pub fn record_exact(
+        &self,
+        settings: StepSettings,
+        t_end: f64,
+        every: usize,
+    ) -> Option<Result<(Recording, Regime), ExperimentError>> {
+        let exact = Subject::exact(self)?;
+        Some((|| {
+            let body = exact?;
+            let steps = Subject::integrator(self, settings)?.steps_until(t_end)?;
+            let recording = record_exact(&body, &self.system, settings.step(), steps, every)?;
+            Ok((recording, body.regime()))
+        })())
     }
 
     /// The local errors of every step of runs with `steps × nodes` to `t_end`, in the
