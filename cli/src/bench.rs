@@ -132,7 +132,7 @@ pub fn run(options: BenchOptions) -> Result<()> {
         return run_long(&dir, settings, steps, members, options.quiet);
     }
     let total = (2 * 2 * runs_per_case() + lgsvi_bench::space::runs()) as u64;
-    let progress = crate::progress_bar(total, "bench", "runs", options.quiet);
+    let progress = crate::progress::bar(total, "bench", "runs", options.quiet);
     let points = sweep(repeats, || progress.inc(1));
     let space_points = lgsvi_bench::space::sweep(repeats, || progress.inc(1));
     progress.finish_and_clear();
@@ -173,12 +173,12 @@ fn run_long(
     members: usize,
     quiet: bool,
 ) -> Result<()> {
-    let progress = crate::progress_bar(steps as u64, "long run (lgsvi)", "steps", quiet);
+    let progress = crate::progress::bar(steps as u64, "long run (lgsvi)", "steps", quiet);
     let run = long_run(settings, steps, 500, |k| progress.inc(k))?;
     progress.finish_and_clear();
     let trend = if members > 0 {
         let total = (members * steps) as u64;
-        let progress = crate::progress_bar(total, "energy trend (ensemble)", "steps", quiet);
+        let progress = crate::progress::bar(total, "energy trend (ensemble)", "steps", quiet);
         let trend = energy_trend(settings, steps, members, |k| progress.inc(k))?;
         progress.finish_and_clear();
         Some(trend)

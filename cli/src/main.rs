@@ -11,6 +11,7 @@ mod files;
 mod linearize;
 mod plot;
 mod problem;
+mod progress;
 mod reproduce;
 mod study;
 mod tolerance;
@@ -65,7 +66,7 @@ enum Command {
 fn integrate(problem: &Problem) -> Result<Recording> {
     let settings = problem.settings();
     let steps = problem::whole_steps(problem.t_end, settings.step())?;
-    let bar = progress_bar(steps as u64, "integrating", "steps", problem.quiet);
+    let bar = progress::bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut progress = |k: usize| bar.set_position(k as u64);
     let (t_end, every, check) = (problem.t_end, problem.every, problem.check);
     let recorded = problem
@@ -83,26 +84,6 @@ fn integrate(problem: &Problem) -> Result<Recording> {
         other => other,
     })
 }
-
-/// A progress bar on standard error, hidden for `--quiet`, for short jobs, or when standard
-/// error is not a terminal (so files and pipes never receive control characters).
-pub fn progress_bar(len: u64, message: &str, unit: &str, quiet: bool) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    let short = unit == "steps" && len < PROGRESS_FROM_STEPS;
-    if quiet || short || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(len);
-    let template = format!("{{msg:28}} [{{bar:40}}] {{pos}}/{{len}} {unit}, {{eta}} left");
-    if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar.set_message(message.to_string());
-    bar
-}
-
-/// Runs of at least this many steps show a progress bar (on a terminal, unless `--quiet`).
-const PROGRESS_FROM_STEPS: u64 = 1000;
 
 /// Refuses outputs of one run that land on one file (`--out p.svg --plot p`).
 fn check_outputs(options: &SimulateOptions) -> Result<()> {

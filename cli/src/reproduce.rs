@@ -9,8 +9,8 @@
 
 use crate::error::{CliError, Result};
 use crate::plot::{self, Drawing};
+use crate::progress::Bars;
 use clap::Args;
-use lgsvi_experiments::paper::Progress;
 use lgsvi_reports::reproduce::{report_text, Artifact, PaperSubjects};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -68,28 +68,6 @@ impl Output {
             }
         };
         self.write(&format!("{name}.csv"), csv)
-    }
-}
-
-/// `reproduce`'s progress bars: one per measurement, none when quiet.
-struct Bars {
-    quiet: bool,
-    bar: Option<indicatif::ProgressBar>,
-}
-
-impl Progress for Bars {
-    fn begin(&mut self, what: &str, units: u64) {
-        self.bar = Some(crate::progress_bar(units, what, "units", self.quiet));
-    }
-    fn advance(&mut self, units: u64) {
-        if let Some(bar) = &self.bar {
-            bar.inc(units);
-        }
-    }
-    fn end(&mut self) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
-        }
     }
 }
 

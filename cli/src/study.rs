@@ -108,7 +108,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     };
     let curve_samples = options.curve_samples.unwrap_or(8).max(1);
     let t_end = problem.t_end;
-    let progress = crate::progress_bar(
+    let progress = crate::progress::bar(
         (nodes.len() + steps.len() * step_nodes.len()) as u64,
         "converge",
         "runs",

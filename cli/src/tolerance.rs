@@ -53,7 +53,7 @@ pub fn run(
     } else {
         steps.len() * nodes.len() + tols.len()
     };
-    let progress = crate::progress_bar(runs as u64, "converge", "runs", problem.quiet);
+    let progress = crate::progress::bar(runs as u64, "converge", "runs", problem.quiet);
     let mut tick = || progress.inc(1);
     let system = problem.description["system"]
         .as_str()
