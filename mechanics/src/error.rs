@@ -37,7 +37,7 @@ pub enum MechanicsError {
     /// Newton's iteration did not converge.
     #[error(
         "step {step} (t = {time}): Newton did not converge in {iterations} iterations \
-         (residual {residual:e}); take a smaller step h, more nodes, or the exp chart"
+         (residual {residual:e}); take a smaller step h or more nodes{advice}"
     )]
     NewtonDiverged {
         /// The step that failed (0-based).
@@ -48,6 +48,10 @@ pub enum MechanicsError {
         iterations: usize,
         /// The last residual norm.
         residual: f64,
+        /// The chart's own advice ([`crate::GroupChart::advice`]): another chart that
+        /// follows longer steps, where there is one; empty for the exp chart, which
+        /// already does.
+        advice: &'static str,
     },
     /// `Ω` could not be recovered from `μ` (the Lagrangian is not convex in `Ω` there).
     #[error(
@@ -77,14 +81,14 @@ pub enum MechanicsError {
         most: f64,
     },
     /// The Newton matrix is singular (or the iteration produced non-finite numbers).
-    #[error(
-        "step {step} (t = {time}): singular Newton system; take a smaller step h or the exp chart"
-    )]
+    #[error("step {step} (t = {time}): singular Newton system; take a smaller step h{advice}")]
     SingularJacobian {
         /// The step that failed.
         step: usize,
         /// Its start time.
         time: f64,
+        /// The chart's own advice, as for [`MechanicsError::NewtonDiverged`].
+        advice: &'static str,
     },
     /// The motion turns the body further within one step than the chart can follow: a
     /// root Newton found would be an aliased one (energy and momenta conserved, the

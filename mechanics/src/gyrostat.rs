@@ -452,6 +452,9 @@ macro_rules! wheels {
             fn max_rotation_angle(&self) -> f64 {
                 So3Chart::max_rotation_angle(self)
             }
+            fn advice(&self) -> &'static str {
+                GroupChart::<Rotations, 3>::advice(self)
+            }
             /// `(Φ(ω) p_ω, p_φ)` (`Ad_{Φ⁻¹}ᵀ = diag(Φ(ω), I)`): the SO(3) chart's transport
             /// on the attitude, the identity on ℝᴷ.
             fn coadjoint_to_start(

@@ -134,6 +134,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
             .ok_or(MechanicsError::SingularJacobian {
                 step: index,
                 time: start.time,
+                advice: "",
             })?;
         let t_out_inverse = blocks(&identity, &zero, &(-q_out_inverse * p_out), &q_out_inverse);
         let a_velocity = &t_out_inverse * &a_momentum * t_in;

@@ -338,3 +338,39 @@ fn a_degenerate_lagrangian_is_named_as_the_cause() {
         "{error}"
     );
 }
+
+/// A step Newton cannot solve says what to change, and never suggests the chart the run
+/// already takes: the Cayley charts suggest exp (which follows up to 2π per step), exp
+/// suggests nothing beyond a smaller step or more nodes. (One iteration allowed: no step
+/// converges in it.)
+#[test]
+fn a_failed_solve_suggests_another_chart_only_where_there_is_one() {
+    use lgsvi_mechanics::lie::ChartKind;
+    for (chart, suggests_exp) in [
+        (ChartKind::Exp, false),
+        (ChartKind::Cayley, true),
+        (ChartKind::CayleyUnscaled, true),
+    ] {
+        let settings = StepSettings::new(0.5, 8)
+            .unwrap()
+            .with_chart(chart)
+            .with_max_newton_iterations(1);
+        let body = RigidBody::new(inertia());
+        let mut integrator = Integrator::new(body, settings, SO3::identity(), omega0()).unwrap();
+        let error = integrator.step().unwrap_err();
+        assert!(
+            matches!(error, MechanicsError::NewtonDiverged { .. }),
+            "{error}"
+        );
+        let message = error.to_string();
+        assert!(
+            message.contains("smaller step h or more nodes"),
+            "{message}"
+        );
+        assert_eq!(
+            message.contains("exp chart"),
+            suggests_exp,
+            "{chart:?}: {message}"
+        );
+    }
+}

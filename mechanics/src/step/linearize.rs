@@ -169,6 +169,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             return Err(MechanicsError::SingularJacobian {
                 step,
                 time: self.time,
+                advice: self.chart.advice(),
             });
         }
         let xi_n = work.xi[n - 1];

@@ -129,7 +129,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             in_domain?;
             let (residual, scale) = assembled.unwrap_or((f64::NAN, 0.0));
             if !residual.is_finite() {
-                return Err(MechanicsError::SingularJacobian { step, time });
+                return Err(MechanicsError::SingularJacobian {
+                    step,
+                    time,
+                    advice: self.chart.advice(),
+                });
             }
             let scale = scale.max(f64::MIN_POSITIVE);
             let at_floor = convergence::at_rounding_floor(
@@ -148,6 +152,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     time,
                     iterations,
                     residual,
+                    advice: self.chart.advice(),
                 });
             }
             // The error after the last step: the residual bounds it, and so does a pending
@@ -189,7 +194,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             damping = 1.0;
             let deltas = &work.delta;
             if !deltas.iter().all(|x| x.is_finite()) {
-                return Err(MechanicsError::SingularJacobian { step, time });
+                return Err(MechanicsError::SingularJacobian {
+                    step,
+                    time,
+                    advice: self.chart.advice(),
+                });
             }
             for (xi, delta) in work.xi[1..].iter_mut().zip(deltas.chunks_exact(D)) {
                 *xi += SVector::<f64, D>::from_column_slice(delta);
