@@ -342,24 +342,23 @@ pub fn overlaid<T: Serialize + serde::de::DeserializeOwned>(
     path: &Path,
     prefix: &str,
 ) -> Result<T, CliError> {
-    // Options not given are `None` (left out of the table) or `false`.
     let given = toml::Table::try_from(flags).map_err(|e| config_error(path, &e.to_string()))?;
-    for (key, value) in given {
-        if value == toml::Value::Boolean(false) {
-            continue;
-        }
-        let group: &[&str] = match key.as_str() {
-            "inertia" | "inertia-d" | "inertia-tensor" => {
-                &["inertia", "inertia-d", "inertia-tensor"]
-            }
-            "attitude0" | "quaternion0" => &["attitude0", "quaternion0"],
-            _ => &[],
-        };
-        for other in group {
-            table.remove(*other);
-        }
-        table.insert(key, value);
+    let groups = [
+        &["inertia", "inertia-d", "inertia-tensor"][..],
+        &["attitude0", "quaternion0"],
+    ];
+    for group in groups
+        .into_iter()
+        .filter(|g| g.iter().any(|k| given.contains_key(*k)))
+    {
+        group.iter().for_each(|key| drop(table.remove(*key)));
     }
+    // Options not given are `None` (left out of `given`) or `false`.
+    table.extend(
+        given
+            .into_iter()
+            .filter(|(_, value)| value != &toml::Value::Boolean(false)),
+    );
     deserialize_naming_the_key(table, path, prefix)
 }
 
@@ -367,7 +366,7 @@ pub fn overlaid<T: Serialize + serde::de::DeserializeOwned>(
 /// it, e.g. `[converge] `): the first entry that fails on its own. A table read into a
 /// value carries no positions, and "invalid type: floating point `8.0`, expected usize"
 /// alone does not say which of twenty keys holds it.
-pub fn deserialize_naming_the_key<T: serde::de::DeserializeOwned>(
+fn deserialize_naming_the_key<T: serde::de::DeserializeOwned>(
     table: toml::Table,
     path: &Path,
     prefix: &str,

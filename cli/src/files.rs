@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 /// Where a write to `path` lands: through symbolic links (at most 40, as the kernel
 /// allows) to the file they name.
-pub fn resolve(path: &Path) -> PathBuf {
+fn resolve(path: &Path) -> PathBuf {
     let mut current = path.to_path_buf();
     for _ in 0..40 {
         match std::fs::symlink_metadata(&current) {
@@ -38,14 +38,52 @@ pub fn resolve(path: &Path) -> PathBuf {
     current
 }
 
+/// The error of a write to `path` (as the user gave it) that failed for `source`.
+fn failed(path: &Path) -> impl Fn(std::io::Error) -> CliError + Copy + '_ {
+    move |source| CliError::Write {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
 /// Whether `path` (resolved) exists and is not a regular file: written directly.
 fn is_special(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|meta| !meta.is_file() && !meta.is_dir())
 }
 
-/// A temporary file beside a destination (a hidden name that keeps the destination's
-/// name, so plotters picks the image format from its extension), removed when dropped
-/// unless [`Partial::commit`] renamed it onto the destination.
+/// A temporary file beside `target` (already resolved through links) for a write to
+/// `shown` (the path as the user gave it): a hidden name that keeps the destination's, so
+/// plotters picks the image format from its extension; removed when dropped.
+fn temporary(target: &Path, shown: &Path) -> Result<tempfile::NamedTempFile> {
+    let name = target.file_name().map(|n| n.to_string_lossy().into_owned());
+    let dir = match target.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    // The mode File::create gives (0666 less the umask), not a temporary file's 0600: the
+    // output is renamed into place, and others may need to read it.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let suffix = format!("-{}", name.as_deref().unwrap_or("output"));
+    let created = builder.prefix(".partial-").suffix(&suffix).tempfile_in(dir);
+    created.map_err(|e| {
+        // The system's reason, without the temporary file's random name.
+        let text = e.to_string();
+        let reason = text
+            .rsplit_once(" at path ")
+            .map_or(text.as_str(), |(r, _)| r);
+        let dir = dir.display();
+        let message = format!(
+            "cannot create a file in {dir} to write it and rename it into place ({reason}); \
+             write elsewhere"
+        );
+        failed(shown)(std::io::Error::new(e.kind(), message))
+    })
+}
+
+/// A temporary file beside a destination, to be written by path (a figure), removed when
+/// dropped unless [`Partial::commit`] renamed it onto the destination.
 pub struct Partial {
     path: tempfile::TempPath,
     target: PathBuf,
@@ -58,35 +96,8 @@ impl Partial {
     /// [`CliError::Write`] naming `path` when no file can be created beside it.
     pub fn new(path: &Path) -> Result<Self> {
         let target = resolve(path);
-        let name = target.file_name().map(|n| n.to_string_lossy().into_owned());
-        let dir = match target.parent() {
-            Some(dir) if !dir.as_os_str().is_empty() => dir,
-            _ => Path::new("."),
-        };
-        let mut builder = tempfile::Builder::new();
-        // The mode File::create gives (0666 less the umask), not a temporary file's 0600:
-        // the output is renamed into place, and others may need to read it.
-        #[cfg(unix)]
-        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-        let created = builder
-            .prefix(".partial-")
-            .suffix(&format!("-{}", name.as_deref().unwrap_or("output")))
-            .tempfile_in(dir)
-            .map_err(|e| CliError::Write {
-                path: path.to_path_buf(),
-                source: std::io::Error::new(
-                    e.kind(),
-                    format!(
-                        "cannot create a file in {} to write it and rename it into place \
-                         ({e}); write elsewhere",
-                        dir.display()
-                    ),
-                ),
-            })?;
-        Ok(Self {
-            path: created.into_temp_path(),
-            target,
-        })
+        let path = temporary(&target, path)?.into_temp_path();
+        Ok(Self { path, target })
     }
 
     /// The temporary file's path.
@@ -99,11 +110,9 @@ impl Partial {
     /// # Errors
     /// [`CliError::Write`] naming `shown` (the path as the user gave it).
     pub fn commit(self, shown: &Path) -> Result<()> {
-        let failed = |source| CliError::Write {
-            path: shown.to_path_buf(),
-            source,
-        };
-        self.path.persist(&self.target).map_err(|e| failed(e.error))
+        self.path
+            .persist(&self.target)
+            .map_err(|e| failed(shown)(e.error))
     }
 }
 
@@ -117,10 +126,7 @@ pub fn write_with(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<()> {
-    let failed = |source| CliError::Write {
-        path: path.to_path_buf(),
-        source,
-    };
+    let failed = failed(path);
     let target = resolve(path);
     if is_special(&target) {
         let file = std::fs::OpenOptions::new()
@@ -130,13 +136,17 @@ pub fn write_with(
         let mut out = BufWriter::new(file);
         return write(&mut out).and_then(|()| out.flush()).map_err(failed);
     }
-    let partial = Partial::new(path)?;
-    let mut out = BufWriter::new(File::create(partial.path()).map_err(failed)?);
+    let partial = temporary(&target, path)?;
+    // Written through its own handle (no second open by name).
+    let mut out = BufWriter::new(partial.as_file().try_clone().map_err(failed)?);
     write(&mut out)
         .and_then(|()| out.into_inner().map_err(|e| e.into_error()))
         .and_then(|file| file.sync_all())
         .map_err(failed)?;
-    partial.commit(path)
+    partial
+        .persist(&target)
+        .map(|_| ())
+        .map_err(|e| failed(e.error))
 }
 
 /// Writes `contents` to `path` atomically.

@@ -23,42 +23,29 @@ pub struct LinearizeOptions {
 
 /// Runs `lgsvi linearize`.
 pub fn run(options: LinearizeOptions) -> Result<()> {
-    let base = &options.base;
+    let b = &options.base;
+    let fixed = "linearize takes one step of fixed --h and --nodes";
+    let measures = "linearize takes one step and measures nothing";
+    let integrator = "linearize linearises the integrator's step";
     for (flag, given, why) in [
         (
             "--t-end",
-            base.t_end.is_some(),
+            b.t_end.is_some(),
             "linearize takes one step of --h",
         ),
-        ("--every", base.every.is_some(), "linearize takes one step"),
-        ("--format", base.format.is_some(), "linearize writes JSON"),
-        ("--plot", base.plot.is_some(), "linearize draws nothing"),
-        (
-            "--exact",
-            base.exact,
-            "linearize linearises the integrator's step",
-        ),
-        (
-            "--check",
-            base.check,
-            "linearize takes one step and measures nothing",
-        ),
-        (
-            "--no-check",
-            base.no_check,
-            "linearize takes one step of fixed --h and --nodes",
-        ),
-        (
-            "--tol",
-            base.tol.is_some(),
-            "linearize takes one step of fixed --h and --nodes",
-        ),
+        ("--every", b.every.is_some(), "linearize takes one step"),
+        ("--format", b.format.is_some(), "linearize writes JSON"),
+        ("--plot", b.plot.is_some(), "linearize draws nothing"),
+        ("--exact", b.exact, integrator),
+        ("--check", b.check, measures),
+        ("--no-check", b.no_check, fixed),
+        ("--tol", b.tol.is_some(), fixed),
     ] {
         if given {
             return Err(CliError::SimulateOnly { flag, why });
         }
     }
-    let out = base.out.clone();
+    let out = b.out.clone();
     let momentum = options.momentum;
     let (problem, _) = Problem::resolve(options.base)?;
     let mut report = json!({

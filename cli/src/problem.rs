@@ -3,7 +3,7 @@
 
 use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
-pub use lgsvi_experiments::record::Check;
+use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
 use lgsvi_experiments::tolerance::{first_nodes, step_count};
 use lgsvi_experiments::{BuiltIn, ExperimentError};
@@ -36,7 +36,7 @@ fn defaults(system: SystemKind) -> ([f64; 3], [f64; 3]) {
 
 /// A case the binary names itself (`"A"`, `"B"`, `"C"`, `"O1"`, `"F1"`): a literal, so
 /// its absence would be a defect of the build (the cases crate's tests list them).
-pub fn named_case(name: &str) -> &'static lgsvi_cases::Case {
+fn named_case(name: &str) -> &'static lgsvi_cases::Case {
     lgsvi_cases::case(name).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -424,7 +424,9 @@ fn scenario_error(error: ExperimentError) -> CliError {
             flag: match parameter {
                 "mass" => "--mass",
                 "mass/mu" => "--mass/--mu",
-                _ => "--wheel-axes/--wheel-inertia",
+                "axes/inertia" => "--wheel-axes/--wheel-inertia",
+                "speeds0/torque" => "--wheel-speeds0/--wheel-torque",
+                _ => "--torque/--damping",
             },
             source,
         },

@@ -55,10 +55,7 @@ pub fn run(
     };
     let progress = crate::progress::bar(runs as u64, "converge", "runs", problem.quiet);
     let mut tick = || progress.inc(1);
-    let system = problem.description["system"]
-        .as_str()
-        .unwrap_or("system")
-        .to_string();
+    let system = problem.name;
     let (text, json, figure) = if estimate {
         let rows = problem
             .scenario

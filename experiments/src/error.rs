@@ -35,7 +35,8 @@ pub enum ExperimentError {
     /// A system's parameter that its constructor refused.
     #[error("{parameter}: {source}")]
     Parameter {
-        /// The parameter(s), as `lgsvi simulate`'s flags name them (`mass/mu`).
+        /// The parameter(s), as the model's fields name them (`mass`, `mass/mu`,
+        /// `axes/inertia`, `speeds0/torque`, `drive`).
         parameter: &'static str,
         /// Why.
         source: MechanicsError,

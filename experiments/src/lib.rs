@@ -27,7 +27,8 @@
 //!   its conserved component) have moved from their initial values.
 //!
 //! A study runs a [`Subject`]: a system, its start and its settings. [`Body`] is the
-//! ready-made one; the command line implements the trait for its own resolved problem.
+//! ready-made one; [`scenario::Scenario`] is the built-in systems' (what the command line
+//! runs).
 //!
 //! ```
 //! use lgsvi_experiments::convergence::{study, Reference, Refinement};

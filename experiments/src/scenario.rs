@@ -228,10 +228,10 @@ impl WheelRun {
     }
 }
 
-/// `$body` once per gyrostat size, with `$craft` the gyrostat and `$k`, `$d` its wheels
-/// and dimension as literals.
+/// `$body` once per size of an [`AnyGyrostat`], with `$craft` the gyrostat and `$k`, `$d`
+/// constants bound to its number of wheels and its dimension `3 + K`:
+/// `each_gyrostat!(any, (craft, K, D) => run::<K, D>(craft))`.
 #[macro_export]
-#[doc(hidden)]
 macro_rules! each_gyrostat {
     ($any:expr, ($craft:ident, $k:tt, $d:tt) => $body:expr) => {{
         use $crate::__gyrostat::AnyGyrostat as __Any;
@@ -287,9 +287,12 @@ impl Scenario {
     /// `model` of `inertia` from `(attitude0, omega0)`, without torque or damping.
     ///
     /// # Errors
-    /// A system's constructor's refusal ([`ExperimentError::Parameter`] naming the
-    /// parameters), or an orbiting body at (or next to) the attracting centre or too far
-    /// out for double precision ([`ExperimentError::InvalidStart`]).
+    /// A system's constructor's refusal: [`ExperimentError::Parameter`] naming the
+    /// parameters (the free body in space's and the orbiting body's mass and `μ`, the
+    /// wheels' axes, inertias and their counts), the heavy top's as
+    /// [`ExperimentError::Mechanics`] (its message names them); an orbiting body at (or next
+    /// to) the attracting centre or too far out for double precision
+    /// ([`ExperimentError::InvalidStart`]).
     pub fn new(
         model: Model,
         inertia: Inertia,
@@ -301,7 +304,8 @@ impl Scenario {
     }
 
     /// As [`Scenario::new`], under a constant body torque and an angular damping (the
-    /// gyrostat's wheels take their motor torques instead: give it zero torque and damping).
+    /// gyrostat's wheels take their motor torques instead: a gyrostat under a non-zero
+    /// drive is refused).
     ///
     /// # Errors
     /// As [`Scenario::new`].
@@ -339,9 +343,28 @@ impl Scenario {
                 return Ok(scenario);
             }
             Model::Gyrostat(wheels) => {
+                let k = wheels.axes.len();
+                let (speeds, torques) = (wheels.speeds0.len(), wheels.torque.len());
+                if speeds != k || torques != k {
+                    let source = MechanicsError::InvalidSetting {
+                        name: "wheel speeds and torques",
+                        value: format!("{speeds} and {torques} for {k} wheels"),
+                        reason: "one start speed and one motor torque per wheel",
+                    };
+                    return Err(parameter("speeds0/torque")(source));
+                }
+                if drive.0 .0 != Vector3::zeros() || drive.1 .0 != 0.0 {
+                    let source = MechanicsError::InvalidSetting {
+                        name: "body torque and damping",
+                        value: format!("{:?}, {}", drive.0 .0.as_slice(), drive.1 .0),
+                        reason: "a gyrostat takes its wheels' motor torques (Wheels::torque), \
+                                 not a body torque or damping",
+                    };
+                    return Err(parameter("drive")(source));
+                }
                 let j = inertia.matrix();
                 let system = AnyGyrostat::new(j, &wheels.axes, &wheels.inertia)
-                    .map_err(parameter("wheel-axes/wheel-inertia"))?;
+                    .map_err(parameter("axes/inertia"))?;
                 // The wheels' spin joins the fastest motion a --tol step must follow.
                 scenario.frequency = wheels.speeds0.iter().fold(0.0f64, |m, w| m.max(w.abs()));
                 scenario.wheels = Some(WheelRun {
@@ -357,8 +380,11 @@ impl Scenario {
             }
             Model::Orbiting(Orbit { body, mu }) => {
                 let r = checked_orbit_radius(&body, mu)?;
-                // The gravity-gradient libration, √3 times the orbit's mean motion.
-                scenario.frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
+                // The gravity-gradient libration, √3 times the orbit's mean motion (none
+                // without attraction, wherever the body starts).
+                if mu != 0.0 {
+                    scenario.frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
+                }
                 let orbiting =
                     OrbitingBody::new(inertia, body.mass, mu).map_err(parameter("mass/mu"))?;
                 (BuiltInMotion::Orbit(orbiting), body)
@@ -574,9 +600,11 @@ impl Subject for Scenario {
         )
     }
 
-    /// The exact solution, for a free body.
+    /// The exact solution, for a free, unforced body on SO(3) (not for the rotational part
+    /// of an SE(3) or gyrostat scenario: that is not their motion).
     fn exact(&self) -> Option<Result<FreeRigidBodyExact, MechanicsError>> {
-        self.is_free()
+        let rotation_only = self.motion.is_none() && self.wheels.is_none();
+        (rotation_only && self.is_free())
             .then(|| FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0))
     }
 }
@@ -639,13 +667,15 @@ mod tests {
             );
             assert!(error.to_string().contains(says), "{error}");
             orbit.mu = 0.0;
-            assert!(Scenario::new(
+            let free = Scenario::new(
                 Model::Orbiting(orbit),
                 inertia(),
                 SO3::identity(),
-                Vector3::zeros()
+                Vector3::zeros(),
             )
-            .is_ok());
+            .unwrap();
+            // No attraction, no libration to follow (not 0/0 at the origin).
+            assert_eq!(free.frequency, 0.0);
         }
     }
 
@@ -675,11 +705,53 @@ mod tests {
             matches!(
                 error,
                 ExperimentError::Parameter {
-                    parameter: "wheel-axes/wheel-inertia",
+                    parameter: "axes/inertia",
                     ..
                 }
             ),
             "{error}"
         );
+        // A start speed or a motor torque missing for a wheel, or a body torque the
+        // wheels would not see: refused, never a panic or a silent drop.
+        let mut wheels = Wheels::default();
+        wheels.speeds0.pop();
+        let short = Scenario::new(
+            Model::Gyrostat(wheels),
+            inertia(),
+            SO3::identity(),
+            Vector3::zeros(),
+        );
+        assert!(
+            matches!(
+                short,
+                Err(ExperimentError::Parameter {
+                    parameter: "speeds0/torque",
+                    ..
+                })
+            ),
+            "{short:?}"
+        );
+        let drive = (BodyTorque(Vector3::x()), AngularDamping(0.0));
+        let model = Model::Gyrostat(Wheels::default());
+        let driven = Scenario::driven(model, inertia(), SO3::identity(), Vector3::zeros(), drive);
+        assert!(
+            matches!(
+                driven,
+                Err(ExperimentError::Parameter {
+                    parameter: "drive",
+                    ..
+                })
+            ),
+            "{driven:?}"
+        );
+        // The exact free-body solution is not a gyrostat's (nor an SE(3) body's) motion.
+        assert!(craft
+            .record_exact(StepSettings::new(0.5, 8).unwrap(), 1.0, 1)
+            .is_none());
+        let space = Model::FreeInSpace(Space::default());
+        let body = Scenario::new(space, inertia(), SO3::identity(), Vector3::x()).unwrap();
+        assert!(Subject::exact(&body).is_none());
+        let free = Scenario::new(Model::RigidBody, inertia(), SO3::identity(), Vector3::x());
+        assert!(Subject::exact(&free.unwrap()).is_some());
     }
 }
