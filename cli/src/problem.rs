@@ -73,20 +73,20 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
 
 /// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
 /// turns `lgsvi_experiments::tolerance::STEP_ROTATION` at the rate `rate` and divides
-/// `t_end` (`step_count`; refused above [`MAX_RUN_STEPS`] before anything else), and the nodes adapt
-/// to an error per unit time of `tol / t_end`.
+/// `t_end` (`step_count`), and the nodes adapt to an error per unit time of `tol / t_end`.
+/// Every step must divide `t_end` in at most [`MAX_RUN_STEPS`] steps.
 pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
     let chart = options.chart.map(Into::into).unwrap_or_default();
     let h = match (options.h, options.tol) {
         (Some(h), _) => h,
-        (None, Some(_)) if t_end > 0.0 => {
-            let h = t_end / step_count(t_end, rate, chart);
-            whole_steps(t_end, h).map(|_| h)?
-        }
+        (None, Some(_)) if t_end > 0.0 => t_end / step_count(t_end, rate, chart),
         _ => 0.5,
     };
     let first = options.tol.map_or(10, first_nodes);
     let mut settings = StepSettings::new(h, options.nodes.unwrap_or(first))?;
+    // A step the library takes, then a whole number of them, before the tolerance's share
+    // per step is judged (a share of a 10¹²-step run is below any floor).
+    whole_steps(t_end, h)?;
     if let Some(m) = options.quad {
         settings = settings.with_quadrature_points(m)?;
     }
@@ -124,7 +124,6 @@ pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result
                 other => other.into(),
             })?;
     }
-    whole_steps(t_end, h)?;
     Ok(settings
         .with_chart(chart)
         .with_matching(options.matching.map(Into::into).unwrap_or_default())

@@ -21,7 +21,6 @@
 //! ```
 
 use crate::built_in::{BuiltIn, BuiltInMotion};
-use crate::conserved::{Symmetry, Tracker};
 use crate::record::{record_checked, record_exact, Check, Recording};
 use crate::tolerance::{
     local_errors, pendulum_frequency, tolerance_runs, LocalError, ToleranceStudy,
@@ -32,7 +31,7 @@ use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     AngularDamping, BodyTorque, ConfigurationGroup, Forced, FreeBody, GroupChart, GroupLagrangian,
-    HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody, RigidBody, State, StepSettings,
+    HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody, RigidBody, StepSettings,
 };
 use nalgebra::{SVector, Vector3};
 
@@ -588,18 +587,6 @@ impl Subject for Scenario {
         Integrator::new(self.system, settings, self.attitude0, self.omega0)
     }
 
-    /// The invariant tracker from `state` (the run's start), with what the system says it
-    /// conserves (`Symmetry::of`): all of `Rμ` for a free body, the component along the
-    /// heavy top's own gravity direction for the top, nothing under a torque or damping.
-    fn tracker(&self, state: &State) -> Tracker {
-        Tracker::with_symmetry(
-            state.energy(&self.system),
-            state.attitude().matrix(),
-            &state.momentum,
-            Symmetry::of(&self.system),
-        )
-    }
-
     /// The exact solution, for a free, unforced body on SO(3) (not for the rotational part
     /// of an SE(3) or gyrostat scenario: that is not their motion).
     fn exact(&self) -> Option<Result<FreeRigidBodyExact, MechanicsError>> {
@@ -615,6 +602,11 @@ mod tests {
 
     fn inertia() -> Inertia {
         Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap()
+    }
+
+    /// `model` of [`inertia`] from the identity, at rest.
+    fn at_rest(model: Model) -> Result<Scenario, ExperimentError> {
+        Scenario::new(model, inertia(), SO3::identity(), Vector3::zeros())
     }
 
     /// The scenario's orbiting body is the one built by hand: start `(R₀, x₀)`, body
@@ -654,26 +646,14 @@ mod tests {
         ] {
             let mut orbit = Orbit::default();
             orbit.body.position = Vector3::new(x, 0.0, 0.0);
-            let error = Scenario::new(
-                Model::Orbiting(orbit),
-                inertia(),
-                SO3::identity(),
-                Vector3::zeros(),
-            )
-            .unwrap_err();
+            let error = at_rest(Model::Orbiting(orbit)).unwrap_err();
             assert!(
                 matches!(error, ExperimentError::InvalidStart { .. }),
                 "{error}"
             );
             assert!(error.to_string().contains(says), "{error}");
             orbit.mu = 0.0;
-            let free = Scenario::new(
-                Model::Orbiting(orbit),
-                inertia(),
-                SO3::identity(),
-                Vector3::zeros(),
-            )
-            .unwrap();
+            let free = at_rest(Model::Orbiting(orbit)).unwrap();
             // No attraction, no libration to follow (not 0/0 at the origin).
             assert_eq!(free.frequency, 0.0);
         }
@@ -683,24 +663,12 @@ mod tests {
     /// parameters' refusals name them.
     #[test]
     fn a_gyrostat_is_refused_where_it_does_not_fit() {
-        let craft = Scenario::new(
-            Model::Gyrostat(Wheels::default()),
-            inertia(),
-            SO3::identity(),
-            Vector3::zeros(),
-        )
-        .unwrap();
+        let craft = at_rest(Model::Gyrostat(Wheels::default())).unwrap();
         let refused = craft.local_errors(ChartKind::Exp, &[0.5], &[5], 1.0, &mut || {});
         assert!(matches!(refused, Err(ExperimentError::NotForGyrostat)));
         let mut wheels = Wheels::default();
         wheels.inertia[1] = -1.0;
-        let error = Scenario::new(
-            Model::Gyrostat(wheels),
-            inertia(),
-            SO3::identity(),
-            Vector3::zeros(),
-        )
-        .unwrap_err();
+        let error = at_rest(Model::Gyrostat(wheels)).unwrap_err();
         assert!(
             matches!(
                 error,
@@ -715,12 +683,7 @@ mod tests {
         // wheels would not see: refused, never a panic or a silent drop.
         let mut wheels = Wheels::default();
         wheels.speeds0.pop();
-        let short = Scenario::new(
-            Model::Gyrostat(wheels),
-            inertia(),
-            SO3::identity(),
-            Vector3::zeros(),
-        );
+        let short = at_rest(Model::Gyrostat(wheels));
         assert!(
             matches!(
                 short,

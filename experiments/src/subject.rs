@@ -27,8 +27,22 @@ pub trait Subject {
         settings: StepSettings,
     ) -> Result<Integrator<Self::System>, MechanicsError>;
 
-    /// The conservation tracker from the run's initial `state`, with the system's symmetry.
-    fn tracker(&self, state: &State) -> Tracker;
+    /// What the run conserves: by default what the system says it conserves
+    /// ([`Symmetry::of`]: all of `Rμ` for a free, unforced body, `d·Rμ` for a heavy top's
+    /// gravity direction `d`, nothing under a torque or damping).
+    fn symmetry(&self) -> Symmetry {
+        Symmetry::of(self.system())
+    }
+
+    /// The conservation tracker from the run's initial `state`, with [`Subject::symmetry`].
+    fn tracker(&self, state: &State) -> Tracker {
+        Tracker::with_symmetry(
+            state.energy(self.system()),
+            state.attitude().matrix(),
+            &state.momentum,
+            self.symmetry(),
+        )
+    }
 
     /// Whether the system is free and unforced (left invariant, no force): it then
     /// conserves `|μ|²` and all of `Rμ`.
@@ -95,17 +109,8 @@ impl<S: GroupLagrangian<3, Group = Rotations> + Clone> Subject for Body<S> {
     fn integrator(&self, settings: StepSettings) -> Result<Integrator<S>, MechanicsError> {
         Integrator::new(self.system.clone(), settings, self.attitude0, self.omega0)
     }
-    fn tracker(&self, state: &State) -> Tracker {
-        let symmetry = match self.axis {
-            Some(d) => Symmetry::Axis(d),
-            None => Symmetry::of(&self.system),
-        };
-        Tracker::with_symmetry(
-            state.energy(&self.system),
-            state.attitude().matrix(),
-            &state.momentum,
-            symmetry,
-        )
+    fn symmetry(&self) -> Symmetry {
+        self.axis.map_or(Symmetry::of(&self.system), Symmetry::Axis)
     }
     fn exact(&self) -> Option<Result<FreeRigidBodyExact, MechanicsError>> {
         self.exact
