@@ -14,9 +14,10 @@
 //! symmetry of `ℓ` exactly.
 
 use crate::error::{check_finite, MechanicsError};
-use crate::group::RigidMotions;
+use crate::group::{GroupChart, RigidMotions, Stacked};
 use crate::inertia::Inertia;
 use crate::lagrangian::kinetic;
+use crate::point::GaussPoint;
 use crate::system::{GroupLagrangian, LocalDerivatives};
 use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::SE3;
@@ -249,6 +250,15 @@ impl FreeBody {
 
 impl GroupLagrangian<6> for FreeBody {
     type Group = RigidMotions;
+    /// By 3 × 3 blocks on the rotation–translation chart (`crate::step::rotation_translation`).
+    fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, RigidMotions, 6>,
+        out: &mut Stacked<18>,
+    ) -> bool {
+        crate::step::rotation_translation::point_derivatives(self, chart, point, out)
+    }
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, _g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
     }
@@ -339,6 +349,15 @@ impl<V: FieldPotential> BodyInField<V> {
 
 impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
     type Group = RigidMotions;
+    /// By 3 × 3 blocks on the rotation–translation chart (`crate::step::rotation_translation`).
+    fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, RigidMotions, 6>,
+        out: &mut Stacked<18>,
+    ) -> bool {
+        crate::step::rotation_translation::point_derivatives(self, chart, point, out)
+    }
     fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
             - self
@@ -464,6 +483,15 @@ impl OrbitingBody {
 
 impl GroupLagrangian<6> for OrbitingBody {
     type Group = RigidMotions;
+    /// By 3 × 3 blocks on the rotation–translation chart (`crate::step::rotation_translation`).
+    fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, RigidMotions, 6>,
+        out: &mut Stacked<18>,
+    ) -> bool {
+        crate::step::rotation_translation::point_derivatives(self, chart, point, out)
+    }
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
             - self.potential(g.rotation().matrix(), g.translation())

@@ -384,6 +384,14 @@ pub trait ChartDerivatives<const D: usize> {
     /// `∇²_x (μᵀ A(x) v)` (only asked for when [`GroupChart::with_derivatives`] was
     /// called with `second`).
     fn second(&self, mu: &SVector<f64, D>, v: &SVector<f64, D>) -> SMatrix<f64, D, D>;
+    /// SE(3)'s rotation–translation chart (`A = diag(A(ω), Φ(ω)ᵀ)`) as the Rodrigues jets
+    /// of `A(ω)` and `Φ(ω)`, from which the built-in SE(3) systems take a Gauss point's
+    /// derivatives by 3 × 3 blocks; `None` (the default) for every other chart. Its type
+    /// cannot be named outside this crate: the method is this crate's own fast path.
+    #[doc(hidden)]
+    fn rotation_translation(&self) -> Option<(&MatrixJet, &MatrixJet)> {
+        None
+    }
 }
 
 /// [`ChartDerivatives`] by dual numbers: `A` at first-order dual numbers in `x` (one

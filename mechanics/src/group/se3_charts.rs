@@ -47,6 +47,9 @@ impl ChartDerivatives<6> for RotationTranslationDerivatives {
         let zero = Matrix3::zeros();
         blocks(&ww, &zero, &zero, &zero)
     }
+    fn rotation_translation(&self) -> Option<(&MatrixJet, &MatrixJet)> {
+        Some((&self.a, &self.phi))
+    }
 }
 
 /// The rotation–translation chart of SE(3), the default for every [`So3Chart`] on
@@ -121,6 +124,21 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
     }
     fn advice(&self) -> &'static str {
         so3_advice(self)
+    }
+    /// `Ad_{Φ⁻¹}ᵀ p = (P p_ω + u × P p_u, P p_u)` for `Φ(x) = (P, u)` (`Ad_{(R, x)} =
+    /// [[R, 0], [x̂R, R]]`), `P` applied from its Rodrigues coefficients.
+    fn coadjoint_to_start(&self, x: &SVector<f64, 6>, p: &SVector<f64, 6>) -> SVector<f64, 6> {
+        let (w, u) = split(x);
+        let (pw, pu) = split(p);
+        let (turned_w, turned_u) = match self.rotation_matrix_coefficients(w.norm_squared()) {
+            Some(c) => (c.times(&w, &pw), c.times(&w, &pu)),
+            None => {
+                let rotation = self.rotation_matrix(&w);
+                (rotation * pw, rotation * pu)
+            }
+        };
+        let q = turned_w + u.cross(&turned_u);
+        SVector::<f64, 6>::new(q.x, q.y, q.z, turned_u.x, turned_u.y, turned_u.z)
     }
     fn with_derivatives<R>(
         &self,

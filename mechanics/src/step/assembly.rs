@@ -265,12 +265,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             1.0,
             Par::Seq,
         );
-        let jac = &mut work.jacobian;
-        for i in 1..n - 1 {
-            let source = work.action_hessian.col_as_slice(i);
-            for (r, rows) in source.chunks_exact(unknowns).enumerate() {
-                for (col, &value) in rows.iter().enumerate() {
-                    jac[(D * (i - 1) + r, col)] = value;
+        // The interior rows: column i of the product holds the rows of ξⁱ's equation one
+        // after the other, i.e. those rows transposed. Written down the Newton matrix's
+        // columns (its storage order; row by row the stores were a tenth of a step's time on
+        // SE(3), measured with perf on the orbiting body).
+        let jac = work.jacobian.as_mut_slice();
+        for (col, target) in jac.chunks_exact_mut(unknowns).enumerate() {
+            for i in 1..n - 1 {
+                let source = work.action_hessian.col_as_slice(i);
+                for (r, entry) in target[D * (i - 1)..D * i].iter_mut().enumerate() {
+                    *entry = source[r * unknowns + col];
                 }
             }
         }

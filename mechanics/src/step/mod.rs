@@ -31,6 +31,7 @@ pub(crate) mod lu;
 pub(crate) mod matching;
 pub(crate) mod newton;
 pub(crate) mod points;
+pub(crate) mod rotation_translation;
 pub(crate) mod tables;
 
 use crate::settings::{Matching, StepSettings};

@@ -36,7 +36,7 @@
 //! §6), which the tests keep as the independent reference.
 
 use crate::force_jet::ForceJet;
-use crate::group::{ConfigurationGroup, GroupChart, PointJet, StackedFunction};
+use crate::group::{ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction};
 pub(crate) use crate::point::{add_force_terms, add_force_value};
 use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
 use lgsvi_lie::LieGroup;
@@ -214,153 +214,167 @@ pub(super) fn chain_rule<S, C, const D: usize>(
     S: GroupLagrangian<D>,
     C: GroupChart<S::Group, D>,
 {
+    ell.chart
+        .with_derivatives(point.x, point.with_hessian, |derivatives| {
+            chain_rule_with(ell, point, derivatives, out);
+        });
+}
+
+/// The generic chain rule with the chart's derivatives at the point in hand.
+pub(crate) fn chain_rule_with<S, C, const D: usize>(
+    ell: &EllTilde<'_, S, C, D>,
+    point: &GaussPoint<'_, S::Group, D>,
+    derivatives: &dyn ChartDerivatives<D>,
+    out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+) where
+    S: GroupLagrangian<D>,
+    C: GroupChart<S::Group, D>,
+{
     let (x, v) = (point.x, point.v);
     let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
-    ell.chart.with_derivatives(x, with_hessian, |derivatives| {
-        let chart = ell.chart;
-        let at = ell.base.compose(&chart.to_group(x));
-        let a = derivatives.differential();
-        let xi = a * v;
-        let local = Local {
-            system: ell.system,
-            at: &at,
-            time: ell.time,
-        };
-        // L's gradient (p, μ) and Hessian blocks: over ξ alone for a left-invariant ℓ (p = 0),
-        // else over (η, ξ) in the group's 2D-variable storage.
-        let mut l_ee = SMatrix::<f64, D, D>::zeros();
-        let mut l_ex = SMatrix::<f64, D, D>::zeros();
-        let l_xx;
-        let (p, mu);
-        if let Some(local) = ell
-            .system
-            .local_derivatives(ell.time, &at, &xi, with_hessian)
-        {
-            // The system's own closed form of L's derivatives.
-            p = local.configuration_gradient;
-            mu = local.momentum;
-            l_ee = local.configuration_hessian;
-            l_xx = local.velocity_hessian;
-        } else if ell.system.is_left_invariant() {
-            p = SVector::<f64, D>::zeros();
-            if with_hessian {
-                let (_, gradient, hessian) = num_dual::hessian(
-                    |w: SVector<Dual2SVec64<D>, D>| {
-                        let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
-                        ell.system.lagrangian(ell.time, &g, &w)
-                    },
-                    &xi,
-                );
-                mu = gradient;
-                l_xx = hessian;
-            } else {
-                // A gradient-only assembly: first-order dual numbers, no Hessian.
-                let (_, gradient) = num_dual::gradient(
-                    |w: SVector<DualSVec64<D>, D>| {
-                        let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
-                        ell.system.lagrangian(ell.time, &g, &w)
-                    },
-                    &xi,
-                );
-                mu = gradient;
-                l_xx = SMatrix::zeros();
-            }
-        } else {
-            let origin = SVector::<f64, D>::zeros();
-            let mut jet = <<S::Group as ConfigurationGroup<D>>::LocalJet as PointJet>::zeros();
-            if with_hessian {
-                jet.set_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
-                let block = |r0: usize, c0: usize| {
-                    SMatrix::<f64, D, D>::from_fn(|r, c| jet.hessian(r0 + r, c0 + c))
-                };
-                l_ee = block(0, 0);
-                l_ex = block(0, D);
-                l_xx = block(D, D);
-            } else {
-                jet.set_gradient_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
-                l_xx = SMatrix::zeros();
-            }
-            p = SVector::<f64, D>::from_column_slice(&jet.gradient()[..D]);
-            mu = SVector::<f64, D>::from_column_slice(&jet.gradient()[D..2 * D]);
-        }
-        // A's first derivatives, contracted three ways (closed form, or one dual evaluation of
-        // A(x)).
-        let j = derivatives.differential_times(v);
-        let gradient_x = a.transpose() * p + j.transpose() * mu;
-        let gradient_v = a.transpose() * mu;
+    let chart = ell.chart;
+    let at = ell.base.compose(&chart.to_group(x));
+    let a = derivatives.differential();
+    let xi = a * v;
+    let local = Local {
+        system: ell.system,
+        at: &at,
+        time: ell.time,
+    };
+    // L's gradient (p, μ) and Hessian blocks: over ξ alone for a left-invariant ℓ (p = 0),
+    // else over (η, ξ) in the group's 2D-variable storage.
+    let mut l_ee = SMatrix::<f64, D, D>::zeros();
+    let mut l_ex = SMatrix::<f64, D, D>::zeros();
+    let l_xx;
+    let (p, mu);
+    if let Some(local) = ell
+        .system
+        .local_derivatives(ell.time, &at, &xi, with_hessian)
+    {
+        // The system's own closed form of L's derivatives.
+        p = local.configuration_gradient;
+        mu = local.momentum;
+        l_ee = local.configuration_hessian;
+        l_xx = local.velocity_hessian;
+    } else if ell.system.is_left_invariant() {
+        p = SVector::<f64, D>::zeros();
         if with_hessian {
-            // K(b, a) = ∂(Aᵀp)_b/∂x_a = pᵀ∂_aA e_b, the transpose of K_ab; M likewise.
-            let k = derivatives.transpose_times(&p).transpose();
-            let m = derivatives.transpose_times(&mu).transpose();
-            let h = derivatives.second(&mu, v);
-            let at_ = a.transpose();
-            let jt = j.transpose();
-            // The products grouped (L_ηη, L_ξξ symmetric, L_ξη = L_ηξᵀ):
-            // T₁ = L_ηη A + L_ηξ J, T₂ = L_ξη A + L_ξξ J; then H_xx = AᵀT₁ + JᵀT₂ + …,
-            // H_xv = T₂ᵀA + M, H_xζ = T₁ᵀ + …, H_vζ = (L_ηξ A)ᵀ: 12 products of D × D
-            // matrices where the formula has 18, and fewer where ℓ's own derivatives have
-            // no mixed block (L_ηξ = 0: every system with local_derivatives) or no
-            // configuration block (L_ηη = 0: a free body).
-            // (Slices: nalgebra's element iterator costs several instructions an entry.)
-            let mixed = l_ex.as_slice().iter().any(|&e| e != 0.0);
-            let configured = l_ee.as_slice().iter().any(|&e| e != 0.0);
-            let mut t1 = SMatrix::<f64, D, D>::zeros();
-            let mut t2 = l_xx * j;
-            if configured {
-                t1 = l_ee * a;
-            }
-            let mut l_ex_a = SMatrix::<f64, D, D>::zeros();
-            if mixed {
-                t1 += l_ex * j;
-                t2 += l_ex.transpose() * a;
-                l_ex_a = l_ex * a;
-            }
-            let mut h_xx = jt * t2 + (k + k.transpose()) * 0.5 + h;
-            if configured || mixed {
-                h_xx += at_ * t1;
-            }
-            let h_xv = t2.transpose() * a + m;
-            let h_vv = at_ * (l_xx * a);
-            let mut put = |r0: usize, c0: usize, b: &SMatrix<f64, D, D>| {
-                for r in 0..D {
-                    for c in 0..D {
-                        out.set_hessian(r0 + r, c0 + c, b[(r, c)]);
-                        out.set_hessian(c0 + c, r0 + r, b[(r, c)]);
-                    }
-                }
-            };
-            put(0, 0, &h_xx);
-            put(0, D, &h_xv);
-            put(D, D, &h_vv);
-            if with_configuration {
-                let coadjoint = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
-                let h_xz = t1.transpose() + (coadjoint * a).transpose() * 0.5;
-                let h_vz = l_ex_a.transpose();
-                put(0, 2 * D, &h_xz);
-                put(D, 2 * D, &h_vz);
-                put(2 * D, 2 * D, &l_ee);
-            } else {
-                put(0, 2 * D, &SMatrix::zeros());
-                put(D, 2 * D, &SMatrix::zeros());
-                put(2 * D, 2 * D, &SMatrix::zeros());
-            }
-        }
-        let g = out.gradient_mut();
-        g[..D].copy_from_slice(gradient_x.as_slice());
-        g[D..2 * D].copy_from_slice(gradient_v.as_slice());
-        if with_configuration {
-            g[2 * D..3 * D].copy_from_slice(p.as_slice());
+            let (_, gradient, hessian) = num_dual::hessian(
+                |w: SVector<Dual2SVec64<D>, D>| {
+                    let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
+                    ell.system.lagrangian(ell.time, &g, &w)
+                },
+                &xi,
+            );
+            mu = gradient;
+            l_xx = hessian;
         } else {
-            g[2 * D..3 * D].fill(0.0);
+            // A gradient-only assembly: first-order dual numbers, no Hessian.
+            let (_, gradient) = num_dual::gradient(
+                |w: SVector<DualSVec64<D>, D>| {
+                    let g = <S::Group as ConfigurationGroup<D>>::lift(&at);
+                    ell.system.lagrangian(ell.time, &g, &w)
+                },
+                &xi,
+            );
+            mu = gradient;
+            l_xx = SMatrix::zeros();
         }
-        match point.force {
-            Some(force) if with_hessian => {
-                let jet = force.jet(&at, &xi);
-                let k = derivatives.transpose_times(&jet.value);
-                add_force_terms(out, &jet, &a, &j, &k, true);
+    } else {
+        let origin = SVector::<f64, D>::zeros();
+        let mut jet = <<S::Group as ConfigurationGroup<D>>::LocalJet as PointJet>::zeros();
+        if with_hessian {
+            jet.set_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
+            let block = |r0: usize, c0: usize| {
+                SMatrix::<f64, D, D>::from_fn(|r, c| jet.hessian(r0 + r, c0 + c))
+            };
+            l_ee = block(0, 0);
+            l_ex = block(0, D);
+            l_xx = block(D, D);
+        } else {
+            jet.set_gradient_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
+            l_xx = SMatrix::zeros();
+        }
+        p = SVector::<f64, D>::from_column_slice(&jet.gradient()[..D]);
+        mu = SVector::<f64, D>::from_column_slice(&jet.gradient()[D..2 * D]);
+    }
+    // A's first derivatives, contracted three ways (closed form, or one dual evaluation of
+    // A(x)).
+    let j = derivatives.differential_times(v);
+    let gradient_x = a.transpose() * p + j.transpose() * mu;
+    let gradient_v = a.transpose() * mu;
+    if with_hessian {
+        // K(b, a) = ∂(Aᵀp)_b/∂x_a = pᵀ∂_aA e_b, the transpose of K_ab; M likewise.
+        let k = derivatives.transpose_times(&p).transpose();
+        let m = derivatives.transpose_times(&mu).transpose();
+        let h = derivatives.second(&mu, v);
+        let at_ = a.transpose();
+        let jt = j.transpose();
+        // The products grouped (L_ηη, L_ξξ symmetric, L_ξη = L_ηξᵀ):
+        // T₁ = L_ηη A + L_ηξ J, T₂ = L_ξη A + L_ξξ J; then H_xx = AᵀT₁ + JᵀT₂ + …,
+        // H_xv = T₂ᵀA + M, H_xζ = T₁ᵀ + …, H_vζ = (L_ηξ A)ᵀ: 12 products of D × D
+        // matrices where the formula has 18, and fewer where ℓ's own derivatives have
+        // no mixed block (L_ηξ = 0: every system with local_derivatives) or no
+        // configuration block (L_ηη = 0: a free body).
+        // (Slices: nalgebra's element iterator costs several instructions an entry.)
+        let mixed = l_ex.as_slice().iter().any(|&e| e != 0.0);
+        let configured = l_ee.as_slice().iter().any(|&e| e != 0.0);
+        let mut t1 = SMatrix::<f64, D, D>::zeros();
+        let mut t2 = l_xx * j;
+        if configured {
+            t1 = l_ee * a;
+        }
+        let mut l_ex_a = SMatrix::<f64, D, D>::zeros();
+        if mixed {
+            t1 += l_ex * j;
+            t2 += l_ex.transpose() * a;
+            l_ex_a = l_ex * a;
+        }
+        let mut h_xx = jt * t2 + (k + k.transpose()) * 0.5 + h;
+        if configured || mixed {
+            h_xx += at_ * t1;
+        }
+        let h_xv = t2.transpose() * a + m;
+        let h_vv = at_ * (l_xx * a);
+        let mut put = |r0: usize, c0: usize, b: &SMatrix<f64, D, D>| {
+            for r in 0..D {
+                for c in 0..D {
+                    out.set_hessian(r0 + r, c0 + c, b[(r, c)]);
+                    out.set_hessian(c0 + c, r0 + r, b[(r, c)]);
+                }
             }
-            Some(force) => add_force_value(out, &force.value(&at, &xi), &a),
-            None => {}
+        };
+        put(0, 0, &h_xx);
+        put(0, D, &h_xv);
+        put(D, D, &h_vv);
+        if with_configuration {
+            let coadjoint = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
+            let h_xz = t1.transpose() + (coadjoint * a).transpose() * 0.5;
+            let h_vz = l_ex_a.transpose();
+            put(0, 2 * D, &h_xz);
+            put(D, 2 * D, &h_vz);
+            put(2 * D, 2 * D, &l_ee);
+        } else {
+            put(0, 2 * D, &SMatrix::zeros());
+            put(D, 2 * D, &SMatrix::zeros());
+            put(2 * D, 2 * D, &SMatrix::zeros());
         }
-    });
+    }
+    let g = out.gradient_mut();
+    g[..D].copy_from_slice(gradient_x.as_slice());
+    g[D..2 * D].copy_from_slice(gradient_v.as_slice());
+    if with_configuration {
+        g[2 * D..3 * D].copy_from_slice(p.as_slice());
+    } else {
+        g[2 * D..3 * D].fill(0.0);
+    }
+    match point.force {
+        Some(force) if with_hessian => {
+            let jet = force.jet(&at, &xi);
+            let k = derivatives.transpose_times(&jet.value);
+            add_force_terms(out, &jet, &a, &j, &k, true);
+        }
+        Some(force) => add_force_value(out, &force.value(&at, &xi), &a),
+        None => {}
+    }
 }

@@ -62,6 +62,20 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
             let mut gradient_only = fast.clone();
             let point = gauss_point(base, x, v, with_configuration, false, None);
             super::points::chain_rule(&ell, &point, &mut gradient_only);
+            // The system's own path where it has one (the built-in SE(3) systems: by
+            // blocks on the rotation–translation chart), else the generic chain rule again.
+            let mut own = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+            super::points::point_derivatives(&ell, x, v, with_configuration, true, None, &mut own);
+            let mut own_gradient = own.clone();
+            super::points::point_derivatives(
+                &ell,
+                x,
+                v,
+                with_configuration,
+                false,
+                None,
+                &mut own_gradient,
+            );
             let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
             slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), with_configuration);
             let n = fast.size();
@@ -78,6 +92,8 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
             for r in 0..n {
                 worst = worst.max((fast.gradient()[r] - slow.gradient()[r]).abs());
                 worst = worst.max((gradient_only.gradient()[r] - slow.gradient()[r]).abs());
+                worst = worst.max((own.gradient()[r] - slow.gradient()[r]).abs());
+                worst = worst.max((own_gradient.gradient()[r] - slow.gradient()[r]).abs());
                 for c in 0..n {
                     if r >= 2 * D && c >= 2 * D {
                         continue;
@@ -86,6 +102,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                         continue;
                     }
                     worst = worst.max((fast.hessian(r, c) - slow.hessian(r, c)).abs());
+                    worst = worst.max((own.hessian(r, c) - slow.hessian(r, c)).abs());
                 }
             }
             assert!(
@@ -490,7 +507,7 @@ fn rotation_translation_chart_derivatives_match_dual_numbers() {
 }
 
 /// The SO(3) × ℝᴷ charts' closed-form derivatives (the gyrostat's group, `K = 1…4`) and
-/// their transport `Ad_{Φ(x)⁻¹}ᵀ p` against the dual-number derivatives and the formed
+/// SE(3)'s rotation–translation chart's, and their transport `Ad_{Φ(x)⁻¹}ᵀ p` against the dual-number derivatives and the formed
 /// `Φ(x)` of the same chart, every chart, points from `x = 0` to large rotations. Exact up
 /// to rounding: 1e-13 relative to the largest entry.
 #[test]
@@ -540,6 +557,8 @@ fn attitude_times_vector_chart_derivatives_match_dual_numbers() {
             }
         }
     }
+    // SE(3)'s rotation–translation chart through the same checks.
+    check::<crate::group::RigidMotions, 6>();
     check::<BodyAndWheels<1>, 4>();
     check::<BodyAndWheels<2>, 5>();
     check::<BodyAndWheels<3>, 6>();

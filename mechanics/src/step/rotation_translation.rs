@@ -1,0 +1,216 @@
+//! One Gauss point of an SE(3) system on the rotation–translation chart, by 3 × 3 blocks.
+//!
+//! The generic chain rule (`super::points`) forms `ℓ̃`'s derivatives from the chart's
+//! `A`, `J = ∂(A v)/∂x`, `K = ∂(Aᵀp)/∂x` and `H = ∇²_x(μᵀA v)` as `D × D` matrices. On SE(3)'s
+//! rotation–translation chart (`x = (ω, u)`, `v = (v_ω, v_u)`) half of their blocks are
+//! zero: `A = diag(A_ω, Pᵀ)` with `P = Φ(ω)`, and everything depends on `ω` alone, so
+//!
+//! - `J = [[J_ω, 0], [J_P, 0]]`, `J_ω = ∂(A_ω v_ω)/∂ω`, `J_P = ∂(Pᵀ v_u)/∂ω`;
+//! - `Kᵀ = [[∂(A_ωᵀ p_ω)/∂ω, ∂(P p_u)/∂ω], [0, 0]]` (likewise `M` with `μ`);
+//! - `H = [[⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²P⟩, 0], [0, 0]]`.
+//!
+//! With `L`'s derivatives from the system's closed form ([`GroupLagrangian::local_derivatives`]:
+//! `p`, `μ`, `L_ηη = E`, `L_ξξ = X`, no mixed block) the formulas of `super::points` become
+//! (`T₂ = X J = [[T_ω, 0], [T_u, 0]]`, blocks of `E` and `X` by `ωω, ωu, uω, uu`):
+//!
+//! - gradient: `x`: `(A_ωᵀp_ω + J_ωᵀμ_ω + J_Pᵀμ_u, P p_u)`; `v`: `(A_ωᵀμ_ω, P μ_u)`; `ζ`: `p`;
+//! - `H_xx`: `ωω`: `J_ωᵀT_ω + J_PᵀT_u + ½(K_ωω + K_ωωᵀ) + H_ω + A_ωᵀE_ωωA_ω`,
+//!   `ωu`: `½K_ωu + A_ωᵀE_ωuPᵀ`, `uu`: `P E_uu Pᵀ`;
+//! - `H_xv`: `ωω`: `T_ωᵀA_ω + M_ωω`, `ωu`: `T_uᵀPᵀ + M_ωu`, the `u` rows zero;
+//! - `H_vv = Aᵀ X A` by blocks;
+//! - `H_xζ = (E A)ᵀ + ½(C(p) A)ᵀ` with `C(p) = [[p̂_ω, p̂_u], [p̂_u, 0]]`, `H_vζ = 0`, `H_ζζ = E`.
+//!
+//! Twenty-odd 3 × 3 products where the generic rule multiplies a dozen 6 × 6 matrices, and
+//! `Φ(ω)` is the jet's value (no second evaluation of the chart). The tests compare it with
+//! dual numbers through the whole point (`step::tests::whole_point`).
+
+use super::points::{chain_rule_with, EllTilde};
+use crate::group::{GroupChart, PointJet, RigidMotions, Stacked};
+use crate::matrix_jet::MatrixJet;
+use crate::point::{add_force_terms, add_force_value, GaussPoint};
+use crate::system::GroupLagrangian;
+use lgsvi_lie::se3::{join, split};
+use lgsvi_lie::so3::hat;
+use lgsvi_lie::{LieGroup, SE3, SO3};
+use nalgebra::{Matrix3, SMatrix};
+
+/// One Gauss point's derivatives for an SE(3) system: by blocks on the rotation–translation
+/// chart when the system has [`GroupLagrangian::local_derivatives`], else by the generic
+/// chain rule (the chart's derivatives are taken once either way). Always `true`: for
+/// [`GroupLagrangian::point_derivatives`].
+pub(crate) fn point_derivatives<S, C>(
+    system: &S,
+    chart: &C,
+    point: &GaussPoint<'_, RigidMotions, 6>,
+    out: &mut Stacked<18>,
+) -> bool
+where
+    S: GroupLagrangian<6, Group = RigidMotions>,
+    C: GroupChart<RigidMotions, 6>,
+{
+    chart.with_derivatives(point.x, point.with_hessian, |derivatives| {
+        if let Some((a, phi)) = derivatives.rotation_translation() {
+            if by_blocks(system, a, phi, point, out) {
+                return;
+            }
+        }
+        let ell = EllTilde {
+            system,
+            chart,
+            base: point.base,
+            time: point.time,
+        };
+        chain_rule_with(&ell, point, derivatives, out);
+    });
+    true
+}
+
+/// The 3 × 3 block of `m` at `(r, c)`.
+fn block(m: &SMatrix<f64, 6, 6>, r: usize, c: usize) -> Matrix3<f64> {
+    m.fixed_view::<3, 3>(r, c).into_owned()
+}
+
+/// Writes `b` at `(r0, c0)` of the point's Hessian and its transpose at `(c0, r0)` (as
+/// the generic rule's writes leave them: on the diagonal, `b`'s transpose wins).
+fn put(out: &mut Stacked<18>, r0: usize, c0: usize, b: &Matrix3<f64>) {
+    out.hessian.fixed_view_mut::<3, 3>(r0, c0).copy_from(b);
+    out.hessian
+        .fixed_view_mut::<3, 3>(c0, r0)
+        .copy_from(&b.transpose());
+}
+
+/// The module's formulas; false (nothing written) where the system has no closed form of
+/// `L`'s derivatives.
+fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
+    system: &S,
+    a: &MatrixJet,
+    phi: &MatrixJet,
+    point: &GaussPoint<'_, RigidMotions, 6>,
+    out: &mut Stacked<18>,
+) -> bool {
+    let (_, u) = split(point.x);
+    let (vw, vu) = split(point.v);
+    let (aw, rot) = (a.value, phi.value);
+    let rot_t = rot.transpose();
+    let at = point
+        .base
+        .compose(&SE3::new(SO3::from_matrix_unchecked(rot), u));
+    let xi = join(&(aw * vw), &(rot_t * vu));
+    let Some(local) = system.local_derivatives(point.time, &at, &xi, point.with_hessian) else {
+        return false;
+    };
+    let (pw, pu) = split(&local.configuration_gradient);
+    let (mw, mu) = split(&local.momentum);
+    let jw = a.first_times(&vw);
+    let jp = phi.first_transposed_times(&vu).transpose();
+    let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
+    if with_hessian {
+        let e = &local.configuration_hessian;
+        let x = &local.velocity_hessian;
+        let configured = e.as_slice().iter().any(|&v| v != 0.0);
+        let (xww, xwu, xuw, xuu) = (
+            block(x, 0, 0),
+            block(x, 0, 3),
+            block(x, 3, 0),
+            block(x, 3, 3),
+        );
+        let tw = xww * jw + xwu * jp;
+        let tu = xuw * jw + xuu * jp;
+        let k_ww = a.first_transposed_times(&pw);
+        let k_wu = phi.first_times(&pu).transpose();
+        let m_ww = a.first_transposed_times(&mw);
+        let m_wu = phi.first_times(&mu).transpose();
+        let h_w = a.second_contracted(&(mw * vw.transpose()))
+            + phi.second_contracted(&(vu * mu.transpose()));
+        let mut xx_ww = jw.tr_mul(&tw) + jp.tr_mul(&tu) + (k_ww + k_ww.transpose()) * 0.5 + h_w;
+        let mut xx_wu = k_wu * 0.5;
+        let mut xx_uu = Matrix3::zeros();
+        // E A by blocks: [[E_ωω A_ω, E_ωu Pᵀ], [E_uω A_ω, E_uu Pᵀ]].
+        let (mut ea_ww, mut ea_wu, mut ea_uw, mut ea_uu) = (
+            Matrix3::zeros(),
+            Matrix3::zeros(),
+            Matrix3::zeros(),
+            Matrix3::zeros(),
+        );
+        if configured {
+            ea_ww = block(e, 0, 0) * aw;
+            ea_wu = block(e, 0, 3) * rot_t;
+            ea_uw = block(e, 3, 0) * aw;
+            ea_uu = block(e, 3, 3) * rot_t;
+            xx_ww += aw.tr_mul(&ea_ww);
+            xx_wu += aw.tr_mul(&ea_wu);
+            xx_uu = rot * ea_uu;
+        }
+        put(out, 0, 0, &xx_ww);
+        put(out, 0, 3, &xx_wu);
+        put(out, 3, 3, &xx_uu);
+        let zero = Matrix3::zeros();
+        put(out, 0, 6, &(tw.tr_mul(&aw) + m_ww));
+        put(out, 0, 9, &(tu.tr_mul(&rot_t) + m_wu));
+        put(out, 3, 6, &zero);
+        put(out, 3, 9, &zero);
+        put(out, 6, 6, &aw.tr_mul(&(xww * aw)));
+        put(out, 6, 9, &aw.tr_mul(&(xwu * rot_t)));
+        put(out, 9, 9, &(rot * (xuu * rot_t)));
+        if with_configuration {
+            let (pw_hat, pu_hat) = (hat(&pw), hat(&pu));
+            put(out, 0, 12, &(ea_ww + pw_hat * aw * 0.5).transpose());
+            put(out, 0, 15, &(ea_uw + pu_hat * aw * 0.5).transpose());
+            put(out, 3, 12, &(ea_wu + pu_hat * rot_t * 0.5).transpose());
+            put(out, 3, 15, &ea_uu.transpose());
+            for (r0, c0) in [(6, 12), (6, 15), (9, 12), (9, 15)] {
+                put(out, r0, c0, &zero);
+            }
+            for (r0, c0) in [(0, 0), (0, 3), (3, 3)] {
+                put(out, 12 + r0, 12 + c0, &block(e, r0, c0));
+            }
+        } else {
+            for (r0, c0) in [
+                (0, 12),
+                (0, 15),
+                (3, 12),
+                (3, 15),
+                (6, 12),
+                (6, 15),
+                (9, 12),
+            ] {
+                put(out, r0, c0, &zero);
+            }
+            for (r0, c0) in [(9, 15), (12, 12), (12, 15), (15, 15)] {
+                put(out, r0, c0, &zero);
+            }
+        }
+    }
+    let gx_w = aw.tr_mul(&pw) + jw.tr_mul(&mw) + jp.tr_mul(&mu);
+    let gx_u = rot * pu;
+    let gv_w = aw.tr_mul(&mw);
+    let gv_u = rot * mu;
+    let g = out.gradient_mut();
+    for (i, part) in [gx_w, gx_u, gv_w, gv_u].iter().enumerate() {
+        g[3 * i..3 * i + 3].copy_from_slice(part.as_slice());
+    }
+    if with_configuration {
+        g[12..18].copy_from_slice(local.configuration_gradient.as_slice());
+    } else {
+        g[12..18].fill(0.0);
+    }
+    if let Some(force) = point.force {
+        let zero = Matrix3::zeros();
+        let a6 = lgsvi_lie::se3::blocks(&aw, &zero, &zero, &rot_t);
+        if with_hessian {
+            let jet = force.jet(&at, &xi);
+            let j6 = lgsvi_lie::se3::blocks(&jw, &zero, &jp, &zero);
+            let (fw, fu) = split(&jet.value);
+            let k6 = lgsvi_lie::se3::blocks(
+                &a.first_transposed_times(&fw).transpose(),
+                &zero,
+                &phi.first_times(&fu),
+                &zero,
+            );
+            add_force_terms(out, &jet, &a6, &j6, &k6, true);
+        } else {
+            add_force_value(out, &force.value(&at, &xi), &a6);
+        }
+    }
+    true
+}
