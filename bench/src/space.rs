@@ -16,11 +16,14 @@ use nalgebra::{Matrix3, SVector, Vector3};
 
 type Result<T> = std::result::Result<T, BenchError>;
 
-/// lgsvi's sweeps: `(h, nodes)`, steps that divide both horizons (the orbiting body's
-/// best runs take steps of about a sixth of its orbit).
-pub const SWEEPS: [(f64, std::ops::RangeInclusive<usize>); 5] = [
+/// lgsvi's sweeps: `(h, nodes)`, steps that divide both horizons: the SO(3) table's
+/// steps (0.5, 0.625, 1, 1.25, 2) and the orbiting body's longer ones (its best runs take
+/// steps of about a sixth of its orbit).
+pub const SWEEPS: [(f64, std::ops::RangeInclusive<usize>); 7] = [
     (0.5, 4..=14),
+    (0.625, 6..=16),
     (1.0, 6..=20),
+    (1.25, 8..=20),
     (2.0, 5..=20),
     (2.5, 6..=20),
     (5.0, 8..=24),
