@@ -233,21 +233,15 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // Point by point, each point's Hessian read once, each column written in order.
         let z = &mut work.hessian_times_basis;
         for (j, point) in work.points.iter().enumerate() {
-            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
+            let (values, slopes) = (&d.values_at(j)[1..], &d.slopes_at(j)[1..]);
             for half in 0..2 {
                 let column = z.col_as_slice_mut(2 * j + half);
                 let row = D * half;
-                for (r, rows) in column.chunks_exact_mut(unknowns).enumerate() {
-                    let hx: [f64; D] = std::array::from_fn(|c| point.hessian(row + r, c));
-                    let hv: [f64; D] = std::array::from_fn(|c| point.hessian(row + r, D + c));
-                    for ((block, &bk), &dk) in
-                        rows.chunks_exact_mut(D).zip(&values[1..]).zip(&slopes[1..])
-                    {
-                        for c in 0..D {
-                            block[c] = bk * hx[c] + dk * hv[c];
-                        }
-                    }
-                }
+                let hx: [[f64; D]; D] =
+                    std::array::from_fn(|r| std::array::from_fn(|c| point.hessian(row + r, c)));
+                let hv: [[f64; D]; D] =
+                    std::array::from_fn(|r| std::array::from_fn(|c| point.hessian(row + r, D + c)));
+                scaled_rows(column, &hx, &hv, values, slopes);
             }
         }
         // One product for the D component rows (D would pay faer's dispatch D times).
@@ -329,5 +323,27 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 .map_err(|source| MechanicsError::OutsideChart { step, time, source })?;
         }
         Ok(())
+    }
+}
+
+/// One point's `D` equation rows of `x` (or `v`) derivatives, scaled by the basis at the
+/// point, into a column of the product's left factor: row `r`, node `k`, component `c`
+/// gets `φ_k H_x[r, c] + φ'_k H_v[r, c]`. Compiled for the x86-64 baseline and with AVX2
+/// (chosen at run time, as the LU): element-wise products and sums, the same in both.
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
+fn scaled_rows<const D: usize>(
+    column: &mut [f64],
+    hx: &[[f64; D]; D],
+    hv: &[[f64; D]; D],
+    values: &[f64],
+    slopes: &[f64],
+) {
+    let unknowns = D * values.len();
+    for ((rows, x), v) in column.chunks_exact_mut(unknowns).zip(hx).zip(hv) {
+        for ((block, &bk), &dk) in rows.chunks_exact_mut(D).zip(values).zip(slopes) {
+            for c in 0..D {
+                block[c] = bk * x[c] + dk * v[c];
+            }
+        }
     }
 }
