@@ -24,6 +24,21 @@ use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
 
+/// The built-in SE(3) systems' Gauss points: by 3 × 3 blocks on the rotation–translation
+/// chart (`crate::step::rotation_translation`), the generic chain rule on other charts.
+macro_rules! points_by_blocks {
+    () => {
+        fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
+            &self,
+            chart: &C,
+            point: &GaussPoint<'_, RigidMotions, 6>,
+            out: &mut Stacked<18>,
+        ) -> bool {
+            crate::step::rotation_translation::point_derivatives(self, chart, point, out)
+        }
+    };
+}
+
 fn check_mass(mass: f64) -> Result<(), MechanicsError> {
     check_finite("mass", &[mass])?;
     if mass > 0.0 {
@@ -250,15 +265,7 @@ impl FreeBody {
 
 impl GroupLagrangian<6> for FreeBody {
     type Group = RigidMotions;
-    /// By 3 × 3 blocks on the rotation–translation chart (`crate::step::rotation_translation`).
-    fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
-        &self,
-        chart: &C,
-        point: &GaussPoint<'_, RigidMotions, 6>,
-        out: &mut Stacked<18>,
-    ) -> bool {
-        crate::step::rotation_translation::point_derivatives(self, chart, point, out)
-    }
+    points_by_blocks!();
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, _g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
     }
@@ -349,15 +356,7 @@ impl<V: FieldPotential> BodyInField<V> {
 
 impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
     type Group = RigidMotions;
-    /// By 3 × 3 blocks on the rotation–translation chart (`crate::step::rotation_translation`).
-    fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
-        &self,
-        chart: &C,
-        point: &GaussPoint<'_, RigidMotions, 6>,
-        out: &mut Stacked<18>,
-    ) -> bool {
-        crate::step::rotation_translation::point_derivatives(self, chart, point, out)
-    }
+    points_by_blocks!();
     fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
             - self
@@ -483,15 +482,7 @@ impl OrbitingBody {
 
 impl GroupLagrangian<6> for OrbitingBody {
     type Group = RigidMotions;
-    /// By 3 × 3 blocks on the rotation–translation chart (`crate::step::rotation_translation`).
-    fn point_derivatives<C: GroupChart<RigidMotions, 6>>(
-        &self,
-        chart: &C,
-        point: &GaussPoint<'_, RigidMotions, 6>,
-        out: &mut Stacked<18>,
-    ) -> bool {
-        crate::step::rotation_translation::point_derivatives(self, chart, point, out)
-    }
+    points_by_blocks!();
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
             - self.potential(g.rotation().matrix(), g.translation())
