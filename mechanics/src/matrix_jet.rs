@@ -15,7 +15,7 @@ use num_dual::{Dual2_64, Dual64};
 /// derivatives are only ever needed contracted with a matrix, `⟨G, ∂_k∂_l M⟩`, which
 /// [`MatrixJet::second_contracted`] forms directly.
 #[derive(Debug, Clone, Copy)]
-pub struct MatrixJet {
+pub(crate) struct MatrixJet {
     pub value: Matrix3<f64>,
     x: Vector3<f64>,
     /// `(e, a, b)`, their first and their second derivatives in `s`.

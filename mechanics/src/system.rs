@@ -182,7 +182,8 @@ pub trait GroupLagrangian<const D: usize> {
     /// when it is `Some` (its jet through the chart: [`crate::ForceJet`]'s documentation):
     /// write them into `out` and return `true`, or return `false` (the default) to have
     /// them taken by the generic chain rule. The SO(3) systems use their chart's
-    /// Rodrigues form. An implementation that returns `true` must add the force.
+    /// Rodrigues form, the built-in SE(3) systems the rotation–translation chart's 3 × 3
+    /// blocks. An implementation that returns `true` must add the force.
     fn point_derivatives<C: GroupChart<Self::Group, D>>(
         &self,
         chart: &C,

@@ -29,6 +29,7 @@ use num_dual::{Dual2SVec64, Dual2_64, Dual64, DualSVec64};
 use std::fmt::Debug;
 
 mod se3_charts;
+use se3_charts::RotationTranslationDerivatives;
 pub use se3_charts::Screw;
 
 /// A function of the stacked variables of one Gauss point, generic over the scalar so
@@ -384,12 +385,13 @@ pub trait ChartDerivatives<const D: usize> {
     /// `∇²_x (μᵀ A(x) v)` (only asked for when [`GroupChart::with_derivatives`] was
     /// called with `second`).
     fn second(&self, mu: &SVector<f64, D>, v: &SVector<f64, D>) -> SMatrix<f64, D, D>;
-    /// SE(3)'s rotation–translation chart (`A = diag(A(ω), Φ(ω)ᵀ)`) as the Rodrigues jets
-    /// of `A(ω)` and `Φ(ω)`, from which the built-in SE(3) systems take a Gauss point's
-    /// derivatives by 3 × 3 blocks; `None` (the default) for every other chart. Its type
-    /// cannot be named outside this crate: the method is this crate's own fast path.
+    /// SE(3)'s rotation–translation chart's derivatives (`A = diag(A(ω), Φ(ω)ᵀ)`, the
+    /// Rodrigues jets of `A(ω)` and `Φ(ω)`), from which the built-in SE(3) systems take a
+    /// Gauss point's derivatives by 3 × 3 blocks; `None` (the default) for every other
+    /// chart. Its type cannot be named, nor its contents read, outside this crate: the
+    /// method is this crate's own fast path.
     #[doc(hidden)]
-    fn rotation_translation(&self) -> Option<(&MatrixJet, &MatrixJet)> {
+    fn rotation_translation(&self) -> Option<&RotationTranslationDerivatives> {
         None
     }
 }
@@ -530,7 +532,7 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
     /// `Ad_{Φ(x)⁻¹}ᵀ p`: a covector at the chart point `x` taken to the step's start (the
     /// exact matching's transport of a configuration force). The default forms `Φ(x)`;
     /// SO(3)'s charts apply `Φ(x)` (which `Ad_{Φ⁻¹}ᵀ` is on SO(3)) to `p` from its Rodrigues
-    /// coefficients.
+    /// coefficients, and so does SE(3)'s rotation–translation chart to both halves of `p`.
     fn coadjoint_to_start(&self, x: &SVector<f64, D>, p: &SVector<f64, D>) -> SVector<f64, D> {
         coadjoint_to_start::<G, D>(&self.to_group(x)) * p
     }

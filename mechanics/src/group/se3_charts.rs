@@ -9,9 +9,9 @@ use super::*;
 /// with `x = (ω, u)`, `v = (v_ω, v_u)`,
 /// `∂(Av)/∂ω = [∂_kA_ω v_ω ; ∂_kΦᵀ v_u]_k`, `∂(Aᵀg)/∂ω = [∂_kA_ωᵀ g_ω ; ∂_kΦ g_u]_k`,
 /// `∇²_ω(μᵀAv) = ⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²Φ⟩`, nothing in `u`.
-struct RotationTranslationDerivatives {
-    a: MatrixJet,
-    phi: MatrixJet,
+pub struct RotationTranslationDerivatives {
+    pub(crate) a: MatrixJet,
+    pub(crate) phi: MatrixJet,
 }
 
 impl ChartDerivatives<6> for RotationTranslationDerivatives {
@@ -47,8 +47,8 @@ impl ChartDerivatives<6> for RotationTranslationDerivatives {
         let zero = Matrix3::zeros();
         blocks(&ww, &zero, &zero, &zero)
     }
-    fn rotation_translation(&self) -> Option<(&MatrixJet, &MatrixJet)> {
-        Some((&self.a, &self.phi))
+    fn rotation_translation(&self) -> Option<&RotationTranslationDerivatives> {
+        Some(self)
     }
 }
 

@@ -259,8 +259,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             1.0,
             Par::Seq,
         );
-        // The interior rows: column i of the product holds the rows of ξⁱ's equation one
-        // after the other, i.e. those rows transposed. Written down the Newton matrix's
+        // The interior rows: column i of the product holds the D rows of the equation of
+        // ξⁱ⁺¹ one after the other, i.e. those rows transposed. Written down the Newton matrix's
         // columns (its storage order; row by row the stores were a tenth of a step's time on
         // SE(3), measured with perf on the orbiting body).
         let jac = work.jacobian.as_mut_slice();

@@ -19,6 +19,7 @@
 //! |---|---|
 //! | [`tables`] | quadrature, basis and continuation tables of `(h, n, m)` |
 //! | [`points`] | one Gauss point's `ℓ̃` and its derivatives (closed form or dual numbers), forces |
+//! | [`rotation_translation`] | the same on SE(3)'s rotation–translation chart by 3 × 3 blocks (the built-in SE(3) systems) |
 //! | [`assembly`] | the residual and the exact Newton matrix from the points |
 //! | [`matching`] | the momentum-matching equations, their Jacobian rows, the momentum update |
 //! | [`lu`] | the Newton matrix's LU factorisation (run-time SIMD dispatch) |

@@ -4,8 +4,10 @@
 //! The `ζ` derivatives are needed by the exact momentum matching of a system that is not
 //! left-invariant: `p = ∂ℓ̃/∂ζ` is the left-trivialised configuration force. A system
 //! either writes the derivatives itself ([`GroupLagrangian::point_derivatives`]: the SO(3)
-//! systems' chain rule through the chart's Rodrigues form, `crate::jet`) or they come from
-//! the generic chain rule below (any group, any chart). A force `F(t, g, ξ)` adds
+//! systems' chain rule through the chart's Rodrigues form, `crate::jet`; the built-in SE(3)
+//! systems' by 3 × 3 blocks on the rotation–translation chart,
+//! [`super::rotation_translation`]) or they come from the generic chain rule below (any
+//! group, any chart). A force `F(t, g, ξ)` adds
 //! `A(x)ᵀF` to the `x` rows and `F` to the `ζ` rows (discrete Lagrange–d'Alembert,
 //! [`crate::system`]); its derivatives come from the force's own jet ([`ForceJet`]: closed
 //! form for the built-in forces) and the chart's derivatives, which either path has at

@@ -1,12 +1,14 @@
 //! One Gauss point of an SE(3) system on the rotation–translation chart, by 3 × 3 blocks.
 //!
 //! The generic chain rule (`super::points`) forms `ℓ̃`'s derivatives from the chart's
-//! `A`, `J = ∂(A v)/∂x`, `K = ∂(Aᵀp)/∂x` and `H = ∇²_x(μᵀA v)` as `D × D` matrices. On SE(3)'s
-//! rotation–translation chart (`x = (ω, u)`, `v = (v_ω, v_u)`) half of their blocks are
-//! zero: `A = diag(A_ω, Pᵀ)` with `P = Φ(ω)`, and everything depends on `ω` alone, so
+//! `A`, `J = ∂(A v)/∂x`, `K_ab = pᵀ ∂_aA e_b`, `M_ab = μᵀ ∂_aA e_b` and
+//! `H = ∇²_x(μᵀA v)` as `D × D` matrices. On SE(3)'s rotation–translation chart
+//! (`x = (ω, u)`, `v = (v_ω, v_u)`) half of their blocks are zero: `A = diag(A_ω, Pᵀ)` with
+//! `P = Φ(ω)`, and everything depends on `ω` alone, so
 //!
 //! - `J = [[J_ω, 0], [J_P, 0]]`, `J_ω = ∂(A_ω v_ω)/∂ω`, `J_P = ∂(Pᵀ v_u)/∂ω`;
-//! - `Kᵀ = [[∂(A_ωᵀ p_ω)/∂ω, ∂(P p_u)/∂ω], [0, 0]]` (likewise `M` with `μ`);
+//! - `K = [[K_ωω, K_ωu], [0, 0]]` with `K_ωω = (∂(A_ωᵀ p_ω)/∂ω)ᵀ`, `K_ωu = (∂(P p_u)/∂ω)ᵀ`
+//!   (likewise `M` with `μ`);
 //! - `H = [[⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²P⟩, 0], [0, 0]]`.
 //!
 //! With `L`'s derivatives from the system's closed form ([`GroupLagrangian::local_derivatives`]:
@@ -49,8 +51,8 @@ where
     C: GroupChart<RigidMotions, 6>,
 {
     chart.with_derivatives(point.x, point.with_hessian, |derivatives| {
-        if let Some((a, phi)) = derivatives.rotation_translation() {
-            if by_blocks(system, a, phi, point, out) {
+        if let Some(jets) = derivatives.rotation_translation() {
+            if by_blocks(system, &jets.a, &jets.phi, point, out) {
                 return;
             }
         }
@@ -70,8 +72,8 @@ fn block(m: &SMatrix<f64, 6, 6>, r: usize, c: usize) -> Matrix3<f64> {
     m.fixed_view::<3, 3>(r, c).into_owned()
 }
 
-/// Writes `b` at `(r0, c0)` of the point's Hessian and its transpose at `(c0, r0)` (as
-/// the generic rule's writes leave them: on the diagonal, `b`'s transpose wins).
+/// Writes `b` at `(r0, c0)` of the point's Hessian and its transpose at `(c0, r0)` (on the
+/// diagonal, `b`'s transpose: the diagonal blocks are symmetric but for rounding).
 fn put(out: &mut Stacked<18>, r0: usize, c0: usize, b: &Matrix3<f64>) {
     out.hessian.fixed_view_mut::<3, 3>(r0, c0).copy_from(b);
     out.hessian
@@ -165,7 +167,8 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
                 put(out, 12 + r0, 12 + c0, &block(e, r0, c0));
             }
         } else {
-            for (r0, c0) in [
+            // The ζ columns and the ζζ block, as the generic rule leaves them.
+            let zeta_blocks = [
                 (0, 12),
                 (0, 15),
                 (3, 12),
@@ -173,10 +176,12 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
                 (6, 12),
                 (6, 15),
                 (9, 12),
-            ] {
-                put(out, r0, c0, &zero);
-            }
-            for (r0, c0) in [(9, 15), (12, 12), (12, 15), (15, 15)] {
+                (9, 15),
+                (12, 12),
+                (12, 15),
+                (15, 15),
+            ];
+            for (r0, c0) in zeta_blocks {
                 put(out, r0, c0, &zero);
             }
         }
