@@ -29,7 +29,7 @@ use num_dual::{Dual2SVec64, Dual2_64, Dual64, DualSVec64};
 use std::fmt::Debug;
 
 mod se3_charts;
-use se3_charts::RotationTranslationDerivatives;
+pub(crate) use se3_charts::RotationTranslationDerivatives;
 pub use se3_charts::Screw;
 
 /// A function of the stacked variables of one Gauss point, generic over the scalar so

@@ -261,8 +261,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         );
         // The interior rows: column i of the product holds the D rows of the equation of
         // ξⁱ⁺¹ one after the other, i.e. those rows transposed. Written down the Newton matrix's
-        // columns (its storage order; row by row the stores were a tenth of a step's time on
-        // SE(3), measured with perf on the orbiting body).
+        // columns (its storage order): row by row, the strided stores took a quarter of this
+        // function's perf samples on the orbiting body (docs/performance.md §5.6).
         let jac = work.jacobian.as_mut_slice();
         for (col, target) in jac.chunks_exact_mut(unknowns).enumerate() {
             for i in 1..n - 1 {

@@ -101,6 +101,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let mut pending = 0.0f64;
         // Whether the last step taken was a chord step.
         let mut last_was_chord = false;
+        let singular = || MechanicsError::SingularJacobian {
+            step,
+            time,
+            advice: self.chart.advice(),
+        };
         loop {
             // An assembly expected to be the last, or before a chord step, needs no Hessians.
             let expect_converged =
@@ -129,11 +134,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             in_domain?;
             let (residual, scale) = assembled.unwrap_or((f64::NAN, 0.0));
             if !residual.is_finite() {
-                return Err(MechanicsError::SingularJacobian {
-                    step,
-                    time,
-                    advice: self.chart.advice(),
-                });
+                return Err(singular());
             }
             let scale = scale.max(f64::MIN_POSITIVE);
             let at_floor = convergence::at_rounding_floor(
@@ -194,11 +195,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             damping = 1.0;
             let deltas = &work.delta;
             if !deltas.iter().all(|x| x.is_finite()) {
-                return Err(MechanicsError::SingularJacobian {
-                    step,
-                    time,
-                    advice: self.chart.advice(),
-                });
+                return Err(singular());
             }
             for (xi, delta) in work.xi[1..].iter_mut().zip(deltas.chunks_exact(D)) {
                 *xi += SVector::<f64, D>::from_column_slice(delta);

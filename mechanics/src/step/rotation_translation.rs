@@ -27,8 +27,9 @@
 //! dual numbers through the whole point (`step::tests::whole_point`).
 
 use super::points::{chain_rule_with, EllTilde};
-use crate::group::{GroupChart, PointJet, RigidMotions, Stacked};
-use crate::matrix_jet::MatrixJet;
+use crate::group::{
+    ChartDerivatives, GroupChart, PointJet, RigidMotions, RotationTranslationDerivatives, Stacked,
+};
 use crate::point::{add_force_terms, add_force_value, GaussPoint};
 use crate::system::GroupLagrangian;
 use lgsvi_lie::se3::{join, split};
@@ -52,7 +53,7 @@ where
 {
     chart.with_derivatives(point.x, point.with_hessian, |derivatives| {
         if let Some(jets) = derivatives.rotation_translation() {
-            if by_blocks(system, &jets.a, &jets.phi, point, out) {
+            if by_blocks(system, jets, point, out) {
                 return;
             }
         }
@@ -85,11 +86,11 @@ fn put(out: &mut Stacked<18>, r0: usize, c0: usize, b: &Matrix3<f64>) {
 /// `L`'s derivatives.
 fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
     system: &S,
-    a: &MatrixJet,
-    phi: &MatrixJet,
+    jets: &RotationTranslationDerivatives,
     point: &GaussPoint<'_, RigidMotions, 6>,
     out: &mut Stacked<18>,
 ) -> bool {
+    let (a, phi) = (&jets.a, &jets.phi);
     let (_, u) = split(point.x);
     let (vw, vu) = split(point.v);
     let (aw, rot) = (a.value, phi.value);
@@ -199,19 +200,13 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
     } else {
         g[12..18].fill(0.0);
     }
+    // The force's terms as the generic rule adds them, from the chart's 6 × 6 contractions.
     if let Some(force) = point.force {
-        let zero = Matrix3::zeros();
-        let a6 = lgsvi_lie::se3::blocks(&aw, &zero, &zero, &rot_t);
+        let a6 = jets.differential();
         if with_hessian {
             let jet = force.jet(&at, &xi);
-            let j6 = lgsvi_lie::se3::blocks(&jw, &zero, &jp, &zero);
-            let (fw, fu) = split(&jet.value);
-            let k6 = lgsvi_lie::se3::blocks(
-                &a.first_transposed_times(&fw).transpose(),
-                &zero,
-                &phi.first_times(&fu),
-                &zero,
-            );
+            let j6 = jets.differential_times(point.v);
+            let k6 = jets.transpose_times(&jet.value);
             add_force_terms(out, &jet, &a6, &j6, &k6, true);
         } else {
             add_force_value(out, &force.value(&at, &xi), &a6);
