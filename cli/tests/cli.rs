@@ -683,6 +683,21 @@ fn adversarial_inputs_are_refused_in_one_line() {
             vec!["simulate", "--inertia", "1e300,1e300,1e300"],
             "Casimir",
         ),
+        // An orbit falling onto the centre said "take a smaller step h" at every h.
+        (
+            vec![
+                "simulate",
+                "--system",
+                "orbiting-body",
+                "--inertia",
+                "0.5,0.9,0.7",
+                "--omega0",
+                "0.6,0.1,-0.4",
+                "--t-end",
+                "50",
+            ],
+            "start on a wider orbit",
+        ),
         // Flags that do not apply were ignored.
         (
             vec!["simulate", "--mass", "2"],

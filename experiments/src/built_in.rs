@@ -138,6 +138,9 @@ impl GroupLagrangian<6> for BuiltInMotion {
     ) -> bool {
         each_motion!(self, s => s.point_derivatives(chart, point, out))
     }
+    fn model_breakdown(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> Option<String> {
+        each_motion!(self, s => s.model_breakdown(t, g, xi))
+    }
     fn flow_guess<C: GroupChart<RigidMotions, 6>>(
         &self,
         chart: &C,
@@ -191,5 +194,16 @@ mod tests {
         assert_eq!(run(BuiltInMotion::Orbit(orbit)), run(orbit));
         let free = FreeBody::new(inertia, 2.0).unwrap();
         assert_eq!(run(BuiltInMotion::Free(free)), run(free));
+        // The diagnosis of a failed step too: inside the attracting mass, and not.
+        for x in [0.5, 3.0] {
+            let g = SE3::new(SO3::identity(), Vector3::new(x, 0.0, 0.0));
+            let v = SVector::<f64, 6>::zeros();
+            let own = orbit.model_breakdown(0.0, &g, &v);
+            assert_eq!(own.is_some(), x < 1.0);
+            assert_eq!(
+                BuiltInMotion::Orbit(orbit).model_breakdown(0.0, &g, &v),
+                own
+            );
+        }
     }
 }

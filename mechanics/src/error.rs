@@ -80,6 +80,22 @@ pub enum MechanicsError {
         /// The largest in magnitude.
         most: f64,
     },
+    /// A step failed where the state lies outside what the system models
+    /// ([`crate::GroupLagrangian::model_breakdown`]): the body's centre inside the
+    /// attracting mass of an orbiting body, for instance. No step h or node count mends
+    /// it; the step's own failure is the source.
+    #[error("step {step} (t = {time}): the step failed outside what the system models: {reason}")]
+    OutsideModel {
+        /// The step that failed (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// What lies outside the model, and what to change.
+        reason: String,
+        /// How the step failed.
+        #[source]
+        failure: Box<MechanicsError>,
+    },
     /// The Newton matrix is singular (or the iteration produced non-finite numbers).
     #[error("step {step} (t = {time}): singular Newton system; take a smaller step h{advice}")]
     SingularJacobian {

@@ -194,6 +194,22 @@ pub trait GroupLagrangian<const D: usize> {
         false
     }
 
+    /// Why the state lies outside what the system models, if it does (the body's centre
+    /// inside the attracting mass of [`crate::OrbitingBody`], where its far-field potential
+    /// is singular): a sentence saying what to change. Read only when a step has failed
+    /// ([`crate::Integrator::step`] then returns [`crate::MechanicsError::OutsideModel`] with the
+    /// failure as its source), so it costs nothing on the steps that succeed. The default
+    /// is `None`: the system models every state.
+    fn model_breakdown(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D>,
+        velocity: &SVector<f64, D>,
+    ) -> Option<String> {
+        let _ = (time, configuration, velocity);
+        None
+    }
+
     /// A predictor from the system's own flow over the step from `start`: write the chart
     /// coordinates at `start.times` into `out` ([`FlowGuess::Written`], with the flow's end
     /// relative to its start, which the converged step is checked against), or report that
@@ -590,6 +606,14 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
         out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
     ) -> bool {
         self.system.point_derivatives(chart, point, out)
+    }
+    fn model_breakdown(
+        &self,
+        time: f64,
+        g: &ElementOf<S, D>,
+        xi: &SVector<f64, D>,
+    ) -> Option<String> {
+        self.system.model_breakdown(time, g, xi)
     }
     /// The inner system's flow, under the step's total force ([`FlowStart::force`]); none
     /// for a forced step whose force is not given.

@@ -374,3 +374,60 @@ fn a_failed_solve_suggests_another_chart_only_where_there_is_one() {
         );
     }
 }
+
+/// An orbit that falls onto the attracting point: the failed step says the body reaches
+/// into the attracting mass (where MacCullagh's potential does not hold) and that the orbit
+/// or the body must change, with the step's own failure as its source (before: "Newton did
+/// not converge …; take a smaller step h", which no step mends: the same run fails at
+/// t ≈ 43 at h = 0.5, 0.25 and 0.125). A failure far from the centre keeps its own error.
+#[test]
+fn an_orbit_falling_onto_the_centre_is_named_as_the_cause() {
+    use lgsvi_mechanics::OrbitingBody;
+    use std::error::Error;
+    // The CLI's orbiting body with the inertia of this file's rigid body: the coupling
+    // drains the orbit's angular momentum until it falls in (r = 3 → 0.8 by t = 43).
+    let body = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
+    let start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
+    let velocity = SVector::<f64, 6>::new(0.6, 0.1, -0.4, 0.0, 0.55, 0.05);
+    let mut it =
+        Integrator::new(body, StepSettings::new(0.5, 8).unwrap(), start, velocity).unwrap();
+    let error = loop {
+        match it.step() {
+            Ok(_) => assert!(it.state().time < 60.0, "the orbit did not fall in"),
+            Err(error) => break error,
+        }
+    };
+    let r = it.state().configuration.translation().norm();
+    // √(tr J / 2m) = √1.05 ≈ 1.025: the diagnosis reads r < 2.05.
+    assert!(r < 2.05, "failed at r = {r}");
+    match &error {
+        MechanicsError::OutsideModel { time, reason, .. } => {
+            assert_eq!(*time, it.state().time);
+            assert!(
+                reason.contains(&format!("{r:.3}")) && reason.contains("wider orbit"),
+                "{reason}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    let text = error.to_string();
+    assert!(!text.contains("smaller step"), "{text}");
+    assert!(error.source().is_some(), "the step's own failure is kept");
+
+    // Far from the centre (r = 3 against 2k ≈ 2.05), a step the chart cannot follow
+    // keeps its own error.
+    let mut it = Integrator::new(
+        body,
+        StepSettings::new(40.0, 6)
+            .unwrap()
+            .with_chart(lgsvi_mechanics::lie::ChartKind::CayleyUnscaled),
+        start,
+        velocity * 10.0,
+    )
+    .unwrap();
+    let error = it.step().unwrap_err();
+    assert!(
+        !matches!(error, MechanicsError::OutsideModel { .. }),
+        "{error}"
+    );
+}

@@ -34,13 +34,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// has one). The state is left unchanged. Where a step fails (any of these) because `ℓ` is not strictly convex in the velocity at the state (a zero or
     /// negative inertia or mass, after [`Integrator::system_mut`] for instance), the error
     /// is [`MechanicsError::DegenerateLagrangian`] instead, which no step or node count
-    /// mends.
+    /// mends; and where it fails at a state outside what the system models (the body
+    /// inside the attracting mass of an [`crate::OrbitingBody`]), the error is
+    /// [`MechanicsError::OutsideModel`], naming what to change.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
         self.advance().map_err(|error| self.diagnose(error))
     }
 
-    /// The cause of a failed solve, when it is the system's: `∂²ℓ/∂ξ²` at the state not
-    /// positive definite (its eigenvalues are read only on this error path).
+    /// The cause of a failed step, when it is the system's: `∂²ℓ/∂ξ²` at the state not
+    /// positive definite, or a state outside what the system models
+    /// ([`GroupLagrangian::model_breakdown`]). Read only on this error path.
     pub(super) fn diagnose(&self, error: MechanicsError) -> MechanicsError {
         if !matches!(
             error,
@@ -56,6 +59,27 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             return error;
         }
         let state = &self.state;
+        if let Some(degenerate) = self.degenerate_lagrangian() {
+            return degenerate;
+        }
+        match self
+            .system
+            .model_breakdown(state.time, &state.configuration, &state.velocity)
+        {
+            Some(reason) => MechanicsError::OutsideModel {
+                step: self.step_index,
+                time: state.time,
+                reason,
+                failure: Box::new(error),
+            },
+            None => error,
+        }
+    }
+
+    /// [`MechanicsError::DegenerateLagrangian`] where `∂²ℓ/∂ξ²` at the state is not
+    /// positive definite.
+    fn degenerate_lagrangian(&self) -> Option<MechanicsError> {
+        let state = &self.state;
         let (_, hessian) = crate::state::legendre_blocks(
             &self.system,
             state.time,
@@ -64,7 +88,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         );
         let symmetric = (hessian + hessian.transpose()) * 0.5;
         if symmetric.iter().any(|x| !x.is_finite()) {
-            return error;
+            return None;
         }
         // Dynamic storage: the fixed-size eigen decomposition needs bounds a const `D` lacks.
         let eigenvalues = nalgebra::DMatrix::from_iterator(D, D, symmetric.iter().copied())
@@ -74,15 +98,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             .fold((f64::INFINITY, 0.0f64), |(l, m), &e| {
                 (l.min(e), m.max(e.abs()))
             });
-        if least > f64::EPSILON * D as f64 * most {
-            return error;
-        }
-        MechanicsError::DegenerateLagrangian {
+        (least <= f64::EPSILON * D as f64 * most).then_some(MechanicsError::DegenerateLagrangian {
             step: self.step_index,
             time: state.time,
             least,
             most,
-        }
+        })
     }
 
     pub(super) fn advance(&mut self) -> Result<usize, MechanicsError> {
