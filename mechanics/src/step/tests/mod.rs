@@ -293,6 +293,35 @@ fn substitution_on_the_lu_factors_solves_the_system() {
     }
 }
 
+/// The AVX kernel does the baseline's products, sum and difference in the baseline's
+/// order: bit for bit the same on every length (vector part, tail, both, neither), so a
+/// step's result does not depend on the processor. Skipped where AVX is absent.
+#[test]
+#[cfg(target_arch = "x86_64")]
+fn the_avx_update_is_the_baseline_bit_for_bit() {
+    if !std::arch::is_x86_feature_detected!("avx") {
+        return;
+    }
+    // Entries of mixed signs and magnitudes, so that the rounding of each operation
+    // shows (a fused multiply-add, or another order, would change low bits).
+    let entry = |i: usize, s: f64| (1.7 * i as f64 + s).sin() * 10f64.powi((i % 7) as i32 - 3);
+    for len in 0..=45 {
+        let l1: Vec<f64> = (0..len).map(|i| entry(i, 0.3)).collect();
+        let l2: Vec<f64> = (0..len).map(|i| entry(i, 1.1)).collect();
+        let x: Vec<f64> = (0..len).map(|i| entry(i, 2.9)).collect();
+        let (u1, u2) = (0.7316, -1.0 / 3.0);
+        let mut baseline = x.clone();
+        super::lu::rank_two_update(&mut baseline, &l1, &l2, u1, u2);
+        let mut vector = x.clone();
+        // SAFETY: AVX was detected above.
+        unsafe { super::lu::rank_two_update_avx(&mut vector, &l1, &l2, u1, u2) };
+        let bits = |v: &[f64]| v.iter().map(|e| e.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&vector), bits(&baseline), "length {len}");
+        // The update did something: the test would catch a kernel that returns early.
+        assert!(len == 0 || baseline != x);
+    }
+}
+
 /// A workspace holding a curve that is not a solution (constant velocity plus a wobble),
 /// assembled with its Newton matrix at the step's start `b` with momentum `μ`.
 fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
