@@ -81,9 +81,9 @@ pub enum MechanicsError {
         most: f64,
     },
     /// A step failed where the state lies outside what the system models
-    /// ([`crate::GroupLagrangian::model_breakdown`]): the body's centre inside the
-    /// attracting mass of an orbiting body, for instance. No step h or node count mends
-    /// it; the step's own failure is the source.
+    /// ([`crate::GroupLagrangian::model_breakdown`]): an orbiting body whose mass surrounds
+    /// the attracting point, for instance. A shorter step or more nodes do not make the
+    /// model hold there; the step's own failure is the source.
     #[error("step {step} (t = {time}): the step failed outside what the system models: {reason}")]
     OutsideModel {
         /// The step that failed (0-based).

@@ -497,20 +497,21 @@ impl GroupLagrangian<6> for OrbitingBody {
     }
     /// A failed step whose start lies within twice the body's radius of gyration
     /// `k = √(tr J / 2m)` (the root-mean-square distance of its mass from its centre) of the
-    /// attracting point: the body reaches into the attracting mass, where MacCullagh's
-    /// far-field expansion (its error grows as `(k/r)²` against the terms kept) does not
-    /// hold and the point-mass term is singular at `r = 0`. No step mends that; the orbit
-    /// or the body must change.
+    /// attracting point: the attracting point lies within the body's mass, where
+    /// MacCullagh's far-field expansion does not hold (the quadrupole term it keeps is of
+    /// relative size `(k/r)²`, the terms it drops `(k/r)³`) and the point-mass term is
+    /// singular at `r = 0`. A shorter step does not make the model hold there; the orbit or
+    /// the body must change.
     fn model_breakdown(&self, _time: f64, g: &SE3, _xi: &SVector<f64, 6>) -> Option<String> {
         let r = g.translation().norm();
         let k = (self.inertia.matrix().trace() / (2.0 * self.mass)).sqrt();
         (self.gravitational_parameter > 0.0 && r < 2.0 * k).then(|| {
             format!(
                 "the centre of mass is {r:.3} from the attracting point mass, within twice \
-                 the body's radius of gyration √(tr J / 2m) = {k:.3}: the body reaches into \
-                 the attracting mass, where MacCullagh's far-field potential does not hold \
-                 (its point-mass term is singular at r = 0); start on a wider orbit, or give \
-                 the body an inertia small against m r²"
+                 the body's radius of gyration √(tr J / 2m) = {k:.3}: the attracting point \
+                 lies within the body's mass, where MacCullagh's far-field potential does not \
+                 hold (its point-mass term is singular at r = 0); start on a wider orbit, or \
+                 give the body an inertia small against m r²"
             )
         })
     }

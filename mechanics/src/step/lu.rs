@@ -119,7 +119,7 @@ pub(super) fn rank_two_update(x: &mut [f64], l1: &[f64], l2: &[f64], u1: f64, u2
 
 /// [`rank_two_update`] four elements at a time in AVX registers, at most three left for a
 /// scalar loop. Left to itself the compiler unrolls to eight and leaves up to seven, which
-/// on a step's columns (20 entries on average at 42 unknowns) cost about as much as the
+/// on a step's columns (27 entries on average at 42 unknowns, 13 at 21) cost about as much as the
 /// vector part (`docs/performance.md` §5.7). The same products, sum and difference in the
 /// same order: bit-identical to the baseline.
 ///
