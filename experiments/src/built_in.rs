@@ -51,6 +51,12 @@ impl Lagrangian for BuiltIn {
             BuiltIn::Top(s) => Lagrangian::velocity_from_momentum(s, r, mu),
         }
     }
+    fn model_breakdown(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> Option<String> {
+        match self {
+            BuiltIn::Free(s) => Lagrangian::model_breakdown(s, r, w),
+            BuiltIn::Top(s) => Lagrangian::model_breakdown(s, r, w),
+        }
+    }
     // Forwarded: the built-ins' closed forms are ~10× faster than the default dual numbers.
     fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
         match self {

@@ -140,6 +140,21 @@ pub trait Lagrangian {
         None
     }
 
+    /// Why the state `(R, Ω)` lies outside what `ℓ` models, if it does: a sentence saying
+    /// what to change. Read only when a step has failed, as
+    /// [`crate::GroupLagrangian::model_breakdown`] (which the SO(3) systems take from
+    /// here): the step's error is then [`crate::MechanicsError::OutsideModel`]. `None`
+    /// (the default): `ℓ` models every state. A type that wraps other Lagrangians should
+    /// forward it.
+    fn model_breakdown(
+        &self,
+        world_from_body: &Matrix3<f64>,
+        omega: &Vector3<f64>,
+    ) -> Option<String> {
+        let _ = (world_from_body, omega);
+        None
+    }
+
     /// First and second derivatives of `ℓ` at `(R, Ω)`, which the Newton matrices are
     /// built from. The default takes them by dual numbers (exact); override it only to go
     /// faster, with a closed form (the built-in systems do). A type that wraps other

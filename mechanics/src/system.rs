@@ -283,6 +283,9 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
     ) -> bool {
         crate::jet::point_derivatives(self, chart, point, out)
     }
+    fn model_breakdown(&self, _time: f64, g: &SO3, w: &Vector3<f64>) -> Option<String> {
+        Lagrangian::model_breakdown(self, g.matrix(), w)
+    }
     /// From [`Lagrangian::derivatives`]: `∂²L/∂Ω∂η_b = Σ_ij ∂²ℓ/∂R_ij∂Ω (R ê_b)_ij`.
     fn momentum_derivatives(
         &self,

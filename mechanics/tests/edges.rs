@@ -286,6 +286,53 @@ impl lgsvi_mechanics::Lagrangian for Tunable {
     }
 }
 
+/// [`Tunable`] modelled only below a spin rate (a flexible body that the rigid model
+/// describes only while it spins slowly, say).
+#[derive(Clone, Copy)]
+struct SlowSpinner(Tunable);
+impl lgsvi_mechanics::Lagrangian for SlowSpinner {
+    fn lagrangian<T: nalgebra::RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
+        self.0.lagrangian(r, w)
+    }
+    fn model_breakdown(&self, _r: &Matrix3<f64>, w: &Vector3<f64>) -> Option<String> {
+        (w.norm() > 5.0).then(|| format!("|Ω| = {:.1} exceeds the model's 5 rad/s", w.norm()))
+    }
+}
+
+/// A user's SO(3) Lagrangian reports where its model ends as the SE(3) systems do: a step
+/// that fails there is `OutsideModel`, with the step's own failure as its source; below the
+/// bound the same failure keeps its own error.
+#[test]
+fn a_user_lagrangian_names_where_its_model_ends() {
+    use std::error::Error;
+    let settings = StepSettings::new(40.0, 6)
+        .unwrap()
+        .with_chart(lgsvi_mechanics::lie::ChartKind::CayleyUnscaled);
+    let body = SlowSpinner(Tunable {
+        moments: [0.5, 0.9, 0.7],
+    });
+    // |Ω₀| ≈ 7.3 rad/s over h = 40: far past what the Cayley chart follows in a step.
+    let mut it = Integrator::new(body, settings, SO3::identity(), omega0() * 10.0).unwrap();
+    let error = it.step().unwrap_err();
+    match &error {
+        MechanicsError::OutsideModel {
+            step: 0, reason, ..
+        } => {
+            assert!(reason.contains("|Ω| = 7.3"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let source = error.source().expect("the step's own failure").to_string();
+    assert!(source.contains("step 0"), "{source}");
+    // Slow enough for the model, the same kind of failure stays what it is.
+    let mut it = Integrator::new(body, settings, SO3::identity(), omega0() * 5.0).unwrap();
+    let error = it.step().unwrap_err();
+    assert!(
+        !matches!(error, MechanicsError::OutsideModel { .. }),
+        "{error}"
+    );
+}
+
 /// `system_mut` making moments zero: the failed step says the Lagrangian is not strictly
 /// convex in the velocity, with its eigenvalues, and that no step h mends it (before: "take
 /// a smaller step h"). (A negative moment leaves an indefinite `ℓ` whose steps may still
