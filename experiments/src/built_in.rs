@@ -200,7 +200,7 @@ mod tests {
         assert_eq!(run(BuiltInMotion::Orbit(orbit)), run(orbit));
         let free = FreeBody::new(inertia, 2.0).unwrap();
         assert_eq!(run(BuiltInMotion::Free(free)), run(free));
-        // The diagnosis of a failed step too: inside the attracting mass, and not.
+        // The diagnosis of a failed step too: the attracting point within the body's mass, and not.
         for x in [0.5, 3.0] {
             let g = SE3::new(SO3::identity(), Vector3::new(x, 0.0, 0.0));
             let v = SVector::<f64, 6>::zeros();

@@ -194,9 +194,9 @@ pub trait GroupLagrangian<const D: usize> {
         false
     }
 
-    /// Why the state lies outside what the system models, if it does (the body's centre
-    /// inside the attracting mass of [`crate::OrbitingBody`], where its far-field potential
-    /// is singular): a sentence saying what to change. Read only when a step has failed
+    /// Why the state lies outside what the system models, if it does (an
+    /// [`crate::OrbitingBody`] whose mass surrounds the attracting point, where its
+    /// far-field potential does not hold): a sentence saying what to change. Read only when a step has failed
     /// ([`crate::Integrator::step`] then returns [`crate::MechanicsError::OutsideModel`] with the
     /// failure as its source), so it costs nothing on the steps that succeed. The default
     /// is `None`: the system models every state.

@@ -422,8 +422,8 @@ fn a_failed_solve_suggests_another_chart_only_where_there_is_one() {
     }
 }
 
-/// An orbit that falls onto the attracting point: the failed step says the body reaches
-/// into the attracting mass (where MacCullagh's potential does not hold) and that the orbit
+/// An orbit that falls onto the attracting point: the failed step says the attracting point
+/// lies within the body's mass (where MacCullagh's potential does not hold) and that the orbit
 /// or the body must change, with the step's own failure as its source (before: "Newton did
 /// not converge …; take a smaller step h", which no step mends: the same run fails at
 /// t ≈ 43 at h = 0.5, 0.25 and 0.125). A failure far from the centre keeps its own error.

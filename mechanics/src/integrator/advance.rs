@@ -34,8 +34,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// has one). The state is left unchanged. Where a step fails (any of these) because `ℓ` is not strictly convex in the velocity at the state (a zero or
     /// negative inertia or mass, after [`Integrator::system_mut`] for instance), the error
     /// is [`MechanicsError::DegenerateLagrangian`] instead, which no step or node count
-    /// mends; and where it fails at a state outside what the system models (the body
-    /// inside the attracting mass of an [`crate::OrbitingBody`]), the error is
+    /// mends; and where it fails at a state outside what the system models (an
+    /// [`crate::OrbitingBody`] whose mass surrounds the attracting point), the error is
     /// [`MechanicsError::OutsideModel`], naming what to change.
     pub fn step(&mut self) -> Result<usize, MechanicsError> {
         self.advance().map_err(|error| self.diagnose(error))

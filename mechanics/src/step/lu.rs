@@ -147,6 +147,9 @@ pub(super) unsafe fn rank_two_update_avx(x: &mut [f64], l1: &[f64], l2: &[f64], 
         }
         i += 4;
     }
+    // Written out rather than a call of `rank_two_update`: inlined here, the compiler
+    // vectorises that loop again, overlap checks and all, for at most three entries (the
+    // call measured 54.1k → 60.1k instructions per orbiting-body LU).
     for j in i..len {
         x[j] -= l1[j] * u1 + l2[j] * u2;
     }
