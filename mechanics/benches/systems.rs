@@ -2,7 +2,9 @@
 //! (`J = diag(0.5, 0.9, 0.7)`, `Ω₀ = (0.6, 0.1, −0.4)`), `h = 0.5`, `n = 8`, the exp
 //! chart and the exact matching. Each iteration restarts from the same state and takes
 //! [`STEPS`] steps (so a damped or forced body does not drift into an easier regime as
-//! criterion repeats it); divide the reported time by [`STEPS`] for one step.
+//! criterion repeats it); divide the reported time by [`STEPS`] for one step. Two more
+//! entries take `lgsvi bench`'s torqued body F1 (its body, start and torque, `h = 1`,
+//! `n = 9`: its best setting at ≤ 1e-10 over T = 10) with and without the torque.
 //!
 //! `cargo bench -p lgsvi-mechanics --bench systems` (add `-- --quick` for a short run).
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -181,6 +183,29 @@ fn bench(c: &mut Criterion) {
     let mut controlled = so3(body);
     controlled.set_input(torque).unwrap();
     bench_linearized(c, "so3_control_input_linearized", controlled);
+    // `lgsvi bench`'s torqued body F1 at its best (h, n) for ≤ 1e-10 at T = 10 (h = 1,
+    // n = 9), and the same body without the torque: what the torque costs where lgsvi is
+    // compared with DOP853.
+    let f1 = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap());
+    let f1_start = Vector3::new(-2.0, 1.9, -1.0);
+    let f1_settings = StepSettings::new(1.0, 9).unwrap();
+    let f1_torque = BodyTorque(Vector3::new(0.1, -0.2, 0.05));
+    bench_steps(
+        c,
+        "so3_f1_free",
+        Integrator::new(f1, f1_settings, SO3::identity(), f1_start).unwrap(),
+    );
+    bench_steps(
+        c,
+        "so3_f1_torque",
+        Integrator::new(
+            Forced::new(f1, f1_torque),
+            f1_settings,
+            SO3::identity(),
+            f1_start,
+        )
+        .unwrap(),
+    );
     let top = HeavyTop::new(inertia(), 1.0, 0.3, Vector3::z(), Vector3::z()).unwrap();
     bench_steps(c, "so3_heavy_top", so3(top));
     bench_linearized(c, "so3_heavy_top_linearized", so3(top));

@@ -536,6 +536,20 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
     fn coadjoint_to_start(&self, x: &SVector<f64, D>, p: &SVector<f64, D>) -> SVector<f64, D> {
         coadjoint_to_start::<G, D>(&self.to_group(x)) * p
     }
+    /// `(Ad_{Φ(x)⁻¹}ᵀ, A(x))` at a chart point together: the exact matching's transport of
+    /// a configuration force and the chart's left differential, which its Newton rows read
+    /// at every Gauss point. The default forms `Φ(x)` and `A(x)` apart; SO(3)'s charts and
+    /// SE(3)'s rotation–translation chart build both from one evaluation of their Rodrigues
+    /// coefficients.
+    fn transport_and_differential(
+        &self,
+        x: &SVector<f64, D>,
+    ) -> (SMatrix<f64, D, D>, SMatrix<f64, D, D>) {
+        (
+            coadjoint_to_start::<G, D>(&self.to_group(x)),
+            self.left_differential(x),
+        )
+    }
     /// Calls `f` with the chart's derivatives at `x` ([`ChartDerivatives`]; with `second`,
     /// the second derivatives are asked for too). The default takes them by dual numbers
     /// in `x` alone ([`dual_number_derivatives`]); override it with a closed form.
@@ -591,6 +605,14 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
     }
     fn rotation_coefficients<T: RealField + Copy>(&self, s: T) -> Option<RodriguesCoefficients<T>> {
         self.rotation_matrix_coefficients(s)
+    }
+    /// `(Φ(x), A(x))` (`Ad_{R⁻¹}ᵀ = R` on SO(3)) from one evaluation of the Rodrigues
+    /// coefficients where the chart has them.
+    fn transport_and_differential(&self, x: &Vector3<f64>) -> (Matrix3<f64>, Matrix3<f64>) {
+        match self.rotation_and_left_differential_coefficients(x.norm_squared()) {
+            Some((phi, a)) => (phi.matrix(x), a.matrix(x)),
+            None => (self.rotation_matrix(x), self.rotation_left_differential(x)),
+        }
     }
     /// `Φ(x) p` (`Ad_R = R` on SO(3)), without forming `Φ(x)` where the chart has a
     /// Rodrigues form.

@@ -140,6 +140,33 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         let q = turned_w + u.cross(&turned_u);
         SVector::<f64, 6>::new(q.x, q.y, q.z, turned_u.x, turned_u.y, turned_u.z)
     }
+    /// `Ad_{Φ⁻¹}ᵀ = [[P, û P], [0, P]]` (the matrix of
+    /// [`GroupChart::coadjoint_to_start`]) and `A = diag(A(ω), Pᵀ)`, from one evaluation of
+    /// the Rodrigues coefficients of `P = Φ(ω)` and `A(ω)`.
+    fn transport_and_differential(
+        &self,
+        x: &SVector<f64, 6>,
+    ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
+        let (w, u) = split(x);
+        let (rotation, differential) =
+            match So3Chart::rotation_and_left_differential_coefficients(self, w.norm_squared()) {
+                Some((phi, a)) => (phi.matrix(&w), a.matrix(&w)),
+                None => (
+                    self.rotation_matrix(&w),
+                    self.rotation_left_differential(&w),
+                ),
+            };
+        let zero = Matrix3::zeros();
+        (
+            blocks(
+                &rotation,
+                &(lgsvi_lie::so3::hat(&u) * rotation),
+                &zero,
+                &rotation,
+            ),
+            blocks(&differential, &zero, &zero, &rotation.transpose()),
+        )
+    }
     fn with_derivatives<R>(
         &self,
         x: &SVector<f64, 6>,

@@ -31,8 +31,12 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// Exact matching with configuration terms: `∂q_j/∂x`, `∂q_j/∂v` per point,
     /// `q_j = Ad_{Φ(x_j)⁻¹}ᵀ p_j` (computed once per assembly, used by every column of the
     /// matching rows).
-    pub(super) dq_dx: Vec<SMatrix<f64, D, D>>,
-    pub(super) dq_dv: Vec<SMatrix<f64, D, D>>,
+    /// Stored as the columns of one matrix (`D² × 2m`: column `2j` the entries of
+    /// `∂q_j/∂x`, column `2j + 1` those of `∂q_j/∂v`, each `D × D` matrix column-major),
+    /// so that `∂w/∂ξᵏ` for every `k` is one product with the weighted basis.
+    pub(super) dq: Mat<f64>,
+    /// That product: `D² × n`, column `k ≥ 1` the entries of `∂w/∂ξᵏ` (column 0 unused).
+    pub(super) dw_by_entry: Mat<f64>,
     /// `∂w/∂ξᵏ` (index `k`, `k ≥ 1`) from the last Newton matrix with configuration
     /// terms: carries `w` through a last chord step without another assembly.
     pub(super) dw_dxi: Vec<SMatrix<f64, D, D>>,
@@ -47,6 +51,11 @@ pub(crate) struct Workspace<J, const D: usize> {
     hessian_times_basis: Mat<f64>,
     pub(super) action_hessian: Mat<f64>,
     pub(super) gradient: Vec<SVector<f64, D>>,
+    /// The same by components: `D` rows of `n` (row `c`: component `c` at every node),
+    /// as the assembly accumulates it.
+    gradient_by_component: Vec<f64>,
+    /// The points' `x` and `v` gradients, `2D` a point, for that accumulation.
+    point_gradients: Vec<f64>,
     gradient_scale: Vec<f64>,
     pub(super) residual: Vec<f64>,
     trial: Vec<f64>,
@@ -74,8 +83,8 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             xi_accepted: vec![SVector::zeros(); d.n],
             points: vec![J::zeros(); d.m],
             power: vec![f64::NAN; d.m],
-            dq_dx: vec![SMatrix::zeros(); d.m],
-            dq_dv: vec![SMatrix::zeros(); d.m],
+            dq: Mat::zeros(D * D, 2 * d.m),
+            dw_by_entry: Mat::zeros(D * D, d.n),
             dw_dxi: vec![SMatrix::zeros(); d.n],
             x: vec![SVector::zeros(); d.m],
             v: vec![SVector::zeros(); d.m],
@@ -83,6 +92,8 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             hessian_times_basis: Mat::zeros(D * unknowns, 2 * d.m),
             action_hessian: Mat::zeros(D * unknowns, d.n),
             gradient: vec![SVector::zeros(); d.n],
+            gradient_by_component: vec![0.0; D * d.n],
+            point_gradients: vec![0.0; 2 * D * d.m],
             gradient_scale: vec![0.0; d.n],
             residual: vec![0.0; unknowns],
             trial: vec![0.0; unknowns],
@@ -177,28 +188,21 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             );
         }
         // ∂S/∂ξⁱ and the scale of its terms, accumulated point by point (the same sums,
-        // in the same order, as node by node).
-        work.gradient.fill(SVector::zeros());
-        work.gradient_scale.fill(0.0);
-        for j in 0..m {
-            let g = work.points[j].gradient();
-            let gx: [f64; D] = std::array::from_fn(|c| g[c]);
-            let gv: [f64; D] = std::array::from_fn(|c| g[D + c]);
-            let size_x = gx.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-            let size_v = gv.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-            let weight = d.weights[j];
-            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
-            for (((node, node_scale), &b), &s) in work
-                .gradient
-                .iter_mut()
-                .zip(work.gradient_scale.iter_mut())
-                .zip(values)
-                .zip(slopes)
-            {
-                for c in 0..D {
-                    node[c] += (gx[c] * b + gv[c] * s) * weight;
-                }
-                *node_scale = node_scale.max(weight * (size_x * b.abs() + size_v * s.abs()));
+        // in the same order, as node by node), one component over all nodes at a time.
+        for (j, point) in work.points.iter().enumerate() {
+            let g = point.gradient();
+            work.point_gradients[2 * D * j..2 * D * (j + 1)].copy_from_slice(&g[..2 * D]);
+        }
+        accumulate_gradient::<D>(
+            &mut work.gradient_by_component,
+            &mut work.gradient_scale,
+            &work.point_gradients,
+            &d.weights,
+            (&d.values, &d.slopes),
+        );
+        for (i, node) in work.gradient.iter_mut().enumerate() {
+            for c in 0..D {
+                node[c] = work.gradient_by_component[c * n + i];
             }
         }
         // Residual blocks: internal stages i = 2..n−1 (rows D(i−2)..), then matching.
@@ -277,6 +281,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
 
     /// `∂²S/∂ξᵏ∂ξⁱ` as a `D × D` block (rows the components of `ξⁱ`'s equation), from the
     /// last [`Stepper::fill_jacobian`].
+    #[inline]
     pub(super) fn hessian_block(
         work: &WorkspaceOf<S, D>,
         i: usize,
@@ -323,6 +328,45 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 .map_err(|source| MechanicsError::OutsideChart { step, time, source })?;
         }
         Ok(())
+    }
+}
+
+/// `∂S/∂ξⁱ` at every node `i` into `gradient` (`D` rows of `n`, row `c` component `c`),
+/// and the scale of its terms into `scale`, from the points' `x` and `v` gradients
+/// (`point_gradients`, `2D` a point) and the tables (`values`, `slopes`: `n` a point):
+/// with point `j`'s weight `w`, `φ_i`'s value `b` and slope `s` there, the sums of
+/// `(g_x[c] b + g_v[c] s) w` and the largest `w (|g_x|∞ |b| + |g_v|∞ |s|)`. Along the
+/// nodes, so that it vectorises (node by node, `D` = 3 components left it to scalar code);
+/// compiled for the x86-64 baseline and with AVX2 (chosen at run time, once an
+/// assembly), element-wise products and sums in the same order in both: bit-identical
+/// (test `the_gradient_kernel_is_the_point_by_point_sum_bit_for_bit`; measured in
+/// `docs/performance.md` §5.8).
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
+pub(super) fn accumulate_gradient<const D: usize>(
+    gradient: &mut [f64],
+    scale: &mut [f64],
+    point_gradients: &[f64],
+    weights: &[f64],
+    (values, slopes): (&[f64], &[f64]),
+) {
+    let n = scale.len();
+    gradient.fill(0.0);
+    scale.fill(0.0);
+    let tables = values.chunks_exact(n).zip(slopes.chunks_exact(n));
+    for ((g, &weight), (values, slopes)) in
+        point_gradients.chunks_exact(2 * D).zip(weights).zip(tables)
+    {
+        for (c, row) in gradient.chunks_exact_mut(n).enumerate() {
+            let (x, v) = (g[c], g[D + c]);
+            for i in 0..n {
+                row[i] += (x * values[i] + v * slopes[i]) * weight;
+            }
+        }
+        let size_x = g[..D].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let size_v = g[D..].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        for i in 0..n {
+            scale[i] = scale[i].max(weight * (size_x * values[i].abs() + size_v * slopes[i].abs()));
+        }
     }
 }
 

@@ -23,6 +23,8 @@ use super::{Element, MatchingTerms, StepOutcome, Stepper};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::GroupLagrangian;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Par};
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
 #[cfg(test)]
@@ -51,19 +53,22 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 if !with_jacobian {
                     w += chart.coadjoint_to_start(x, &p) * d.weights[j];
                 } else {
-                    let to_start =
-                        crate::group::coadjoint_to_start::<S::Group, D>(&chart.to_group(x));
+                    let (to_start, a) = chart.transport_and_differential(x);
                     w += to_start * p * d.weights[j];
                     // ∂q/∂x = Ad_{Φ⁻¹}ᵀ (H_ζx − C(p) A(x)), ∂q/∂v = Ad_{Φ⁻¹}ᵀ H_ζv, with
                     // C(p) η = ad_ηᵀ p (on SO(3), p̂).
                     let h_zx = SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, c));
                     let h_zv =
                         SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, D + c));
-                    work.dq_dx[j] = to_start
-                        * (h_zx
-                            - <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p)
-                                * chart.left_differential(x));
-                    work.dq_dv[j] = to_start * h_zv;
+                    let dq_dx = to_start
+                        * (h_zx - <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p) * a);
+                    let dq_dv = to_start * h_zv;
+                    work.dq
+                        .col_as_slice_mut(2 * j)
+                        .copy_from_slice(dq_dx.as_slice());
+                    work.dq
+                        .col_as_slice_mut(2 * j + 1)
+                        .copy_from_slice(dq_dv.as_slice());
                 }
             }
         }
@@ -87,26 +92,38 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     /// [`Stepper::fill_jacobian`].
     pub(super) fn fill_matching_rows(&self, work: &mut WorkspaceOf<S, D>) {
         let d = self.d;
-        let (n, m) = (d.n, d.m);
+        let n = d.n;
         let last = D * (n - 2);
         let MatchingTerms { w, transport } = work.matching;
         match self.settings.matching() {
             Matching::Exact => {
                 let map_jacobian = self.matching_map_jacobian(&work.xi[n - 1], &w);
+                let configured = self.needs_configuration();
+                if configured {
+                    // ∂w/∂ξᵏ = Σ_j h b_j [∂q/∂x B_jk + ∂q/∂v D_jk] for every k ≥ 1: one
+                    // product of the points' ∂q (by entries) with the weighted basis (the
+                    // D × D products per (j, k) it replaces cost more than the rest of
+                    // the matching rows: docs/performance.md §5.8).
+                    matmul(
+                        work.dw_by_entry.as_mut().subcols_mut(1, n - 1),
+                        Accum::Replace,
+                        work.dq.as_ref(),
+                        d.weighted_basis.as_ref().subcols(1, n - 1),
+                        1.0,
+                        Par::Seq,
+                    );
+                    for (dw, column) in work.dw_dxi[1..].iter_mut().zip(1..n) {
+                        dw.as_mut_slice()
+                            .copy_from_slice(work.dw_by_entry.col_as_slice(column));
+                    }
+                }
                 for k in 1..n {
                     let mut block = -Self::hessian_block(work, n - 1, k);
                     if k == n - 1 {
                         block += map_jacobian;
                     }
-                    if self.needs_configuration() {
-                        // ∂w/∂ξᵏ = Σ_j h b_j [∂q/∂x B_jk + ∂q/∂v D_jk].
-                        let mut dw = SMatrix::<f64, D, D>::zeros();
-                        for j in 0..m {
-                            dw += (work.dq_dx[j] * d.value(j, k) + work.dq_dv[j] * d.slope(j, k))
-                                * d.weights[j];
-                        }
-                        work.dw_dxi[k] = dw;
-                        block += transport * dw;
+                    if configured {
+                        block += transport * work.dw_dxi[k];
                     }
                     put_block(&mut work.jacobian, last, D * (k - 1), &block);
                 }

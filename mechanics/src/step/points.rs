@@ -110,23 +110,31 @@ pub(crate) struct StepForce<'a, S, const D: usize> {
     /// The power `F·ξ` at the velocity of the last [`PointForce::jet`] (NaN before it):
     /// the integrand of the step's work, which the Gauss point has at hand.
     pub power: std::cell::Cell<f64>,
+    /// `system.is_forced()` and whether that force reads the configuration, asked once
+    /// per point rather than at every use (a `Forced` system answers by testing its force
+    /// for zero).
+    forced: bool,
+    reads_configuration: bool,
 }
 
-impl<'a, S, const D: usize> StepForce<'a, S, D> {
+impl<'a, S: GroupLagrangian<D>, const D: usize> StepForce<'a, S, D> {
     /// The force of `system` and `input` at `time`.
     pub fn new(system: &'a S, time: f64, input: &'a SVector<f64, D>) -> Self {
+        let forced = system.is_forced();
         Self {
             system,
             time,
             input,
             power: std::cell::Cell::new(f64::NAN),
+            forced,
+            reads_configuration: forced && system.force_depends_on_configuration(),
         }
     }
 }
 
 impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForce<'_, S, D> {
     fn jet(&self, configuration: &ElementOf<S, D>, velocity: &SVector<f64, D>) -> ForceJet<D> {
-        let mut jet = if self.system.is_forced() {
+        let mut jet = if self.forced {
             self.system.force_jet(self.time, configuration, velocity)
         } else {
             ForceJet::constant(SVector::zeros())
@@ -141,7 +149,7 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
         velocity: &SVector<f64, D>,
     ) -> SVector<f64, D> {
         // As the jet's value: the system's force (zero if it has none) plus the input.
-        let mut value = if self.system.is_forced() {
+        let mut value = if self.forced {
             self.system.force(self.time, configuration, velocity)
         } else {
             SVector::zeros()
@@ -151,7 +159,7 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
         value
     }
     fn depends_on_configuration(&self) -> bool {
-        self.system.is_forced() && self.system.force_depends_on_configuration()
+        self.reads_configuration
     }
 }
 

@@ -158,16 +158,6 @@ impl Discretisation {
         &self.slopes[j * self.n..(j + 1) * self.n]
     }
 
-    #[inline]
-    pub fn value(&self, j: usize, i: usize) -> f64 {
-        self.values[j * self.n + i]
-    }
-
-    #[inline]
-    pub fn slope(&self, j: usize, i: usize) -> f64 {
-        self.slopes[j * self.n + i]
-    }
-
     /// The estimated local error of a step whose curve has the nodal values `nodes`, and
     /// the decay `q` it read:
     /// `C (n − 1)⁴ t² q²`, where `t = max(|c_{n−1}|, |c_{n−2}|)` is the size of the curve's

@@ -322,6 +322,65 @@ fn the_avx_update_is_the_baseline_bit_for_bit() {
     }
 }
 
+/// The assembly's gradient kernel (`accumulate_gradient`: one component along all nodes
+/// at a time, AVX2 where present) is the point-by-point, node-by-node sum it replaced, bit
+/// for bit: `(g_x[c] φ_i + g_v[c] φ_i') w_j` summed over the points in order, and the
+/// scale `max_j w_j (|g_x|∞ |φ_i| + |g_v|∞ |φ_i'|)`, for D = 3 and 6 and n from 2 to 24
+/// (a fused multiply-add or another order would change low bits of these mixed entries).
+#[test]
+fn the_gradient_kernel_is_the_point_by_point_sum_bit_for_bit() {
+    fn check<const D: usize>(n: usize, m: usize) {
+        let entry = |i: usize, s: f64| (1.7 * i as f64 + s).sin() * 10f64.powi((i % 7) as i32 - 3);
+        let values: Vec<f64> = (0..m * n).map(|i| entry(i, 0.3)).collect();
+        let slopes: Vec<f64> = (0..m * n).map(|i| entry(i, 1.1)).collect();
+        let weights: Vec<f64> = (0..m).map(|j| 0.1 + entry(j, 2.0).abs()).collect();
+        let points: Vec<f64> = (0..m * 2 * D).map(|i| entry(i, 2.9)).collect();
+        // The loop the kernel replaced.
+        let mut gradient = vec![[0.0f64; D]; n];
+        let mut scale = vec![0.0f64; n];
+        for j in 0..m {
+            let g = &points[2 * D * j..2 * D * (j + 1)];
+            let size_x = g[..D].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            let size_v = g[D..].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            let w = weights[j];
+            for i in 0..n {
+                let (b, s) = (values[j * n + i], slopes[j * n + i]);
+                for c in 0..D {
+                    gradient[i][c] += (g[c] * b + g[D + c] * s) * w;
+                }
+                scale[i] = scale[i].max(w * (size_x * b.abs() + size_v * s.abs()));
+            }
+        }
+        let mut by_component = vec![f64::NAN; D * n];
+        let mut kernel_scale = vec![f64::NAN; n];
+        super::assembly::accumulate_gradient::<D>(
+            &mut by_component,
+            &mut kernel_scale,
+            &points,
+            &weights,
+            (&values, &slopes),
+        );
+        for i in 0..n {
+            for c in 0..D {
+                assert_eq!(
+                    by_component[c * n + i].to_bits(),
+                    gradient[i][c].to_bits(),
+                    "D = {D}, n = {n}, node {i}, component {c}"
+                );
+            }
+            assert_eq!(
+                kernel_scale[i].to_bits(),
+                scale[i].to_bits(),
+                "scale, n = {n}"
+            );
+        }
+    }
+    for n in 2..=24 {
+        check::<3>(n, n);
+        check::<6>(n, n - 1);
+    }
+}
+
 /// A workspace holding a curve that is not a solution (constant velocity plus a wobble),
 /// assembled with its Newton matrix at the step's start `b` with momentum `μ`.
 fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(

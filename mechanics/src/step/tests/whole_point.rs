@@ -532,8 +532,10 @@ fn rotation_translation_chart_derivatives_match_dual_numbers() {
 /// The SO(3) × ℝᴷ charts' closed-form derivatives (the gyrostat's group, `K = 1…4`) and
 /// SE(3)'s rotation–translation chart's, and their transport `Ad_{Φ(x)⁻¹}ᵀ p`, against the
 /// dual-number derivatives and the formed `Φ(x)` of the same chart, every chart, points
-/// from `x = 0` to large rotations. Exact up to rounding: 1e-13 relative to the largest
-/// entry.
+/// from `x = 0` to large rotations; the transport's matrix with `A(x)`
+/// ([`crate::GroupChart::transport_and_differential`]) against both formed apart, on SO(3)
+/// too. Exact up to rounding: 1e-13 relative to the largest entry (1e-14 for the
+/// transport and `A`, single products of the Rodrigues coefficients).
 #[test]
 fn attitude_times_vector_chart_derivatives_match_dual_numbers() {
     use crate::group::{
@@ -578,9 +580,20 @@ fn attitude_times_vector_chart_derivatives_match_dual_numbers() {
                 let formed =
                     coadjoint_to_start::<G, D>(&GroupChart::<G, D>::to_group(&chart, &x)) * g;
                 assert!((moved - formed).amax() <= 1e-14 * formed.amax().max(1.0));
+                // The transport's matrix and A together, against both formed apart.
+                let (transport, a) = GroupChart::<G, D>::transport_and_differential(&chart, &x);
+                let apart = coadjoint_to_start::<G, D>(&GroupChart::<G, D>::to_group(&chart, &x));
+                let a_apart = GroupChart::<G, D>::left_differential(&chart, &x);
+                assert!(
+                    (transport - apart).amax() <= 1e-14 * apart.amax().max(1.0)
+                        && (a - a_apart).amax() <= 1e-14 * a_apart.amax().max(1.0),
+                    "{} {chart} at {x:?}: transport and A together",
+                    G::NAME
+                );
             }
         }
     }
+    check::<crate::group::Rotations, 3>();
     // SE(3)'s rotation–translation chart through the same checks.
     check::<crate::group::RigidMotions, 6>();
     check::<BodyAndWheels<1>, 4>();
