@@ -143,7 +143,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let system = &self.system;
         let input = self.input;
         // The force the Gauss points see (the system's and the input), along the step.
-        let at = |time: f64| StepForce::new(system, time, &input);
+        let force = StepForce::new(system, self.state.time, &input);
+        let at = |time: f64| force.at(time);
         let total_force = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| at(t).jet(g, xi);
         // Its value alone (the jet's, bit for bit), for the flow's stages.
         let total_value = |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| at(t).value(g, xi);
@@ -160,7 +161,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             force_value: self
                 .forcing()
                 .map(|_| &total_value as ForceValueAlongStep<'_, S::Group, D>),
-            force_reads_configuration: at(self.state.time).depends_on_configuration(),
+            force_reads_configuration: force.depends_on_configuration(),
         };
         let done = if in_chart {
             crate::chart_flow::chart_flow(system, &self.chart, &start, &mut self.work.xi)

@@ -111,8 +111,8 @@ pub(crate) struct StepForce<'a, S, const D: usize> {
     /// the integrand of the step's work, which the Gauss point has at hand.
     pub power: std::cell::Cell<f64>,
     /// `system.is_forced()` and whether that force reads the configuration, asked once
-    /// per point rather than at every use (a `Forced` system answers by testing its force
-    /// for zero).
+    /// (per point, or per step for the predictor's stages, [`StepForce::at`]) rather than
+    /// at every use (a `Forced` system answers by testing its force for zero).
     forced: bool,
     reads_configuration: bool,
 }
@@ -128,6 +128,15 @@ impl<'a, S: GroupLagrangian<D>, const D: usize> StepForce<'a, S, D> {
             power: std::cell::Cell::new(f64::NAN),
             forced,
             reads_configuration: forced && system.force_depends_on_configuration(),
+        }
+    }
+
+    /// The same force at another time, without asking the system again.
+    pub fn at(&self, time: f64) -> Self {
+        Self {
+            time,
+            power: std::cell::Cell::new(f64::NAN),
+            ..*self
         }
     }
 }
