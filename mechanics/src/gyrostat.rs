@@ -471,6 +471,25 @@ macro_rules! wheels {
                 out.fixed_rows_mut::<3>(0).copy_from(&turned);
                 out
             }
+            /// `(diag(Φ(ω), I), diag(A(ω), I))` from the SO(3) chart's pair (one evaluation
+            /// of its Rodrigues coefficients).
+            fn transport_and_differential(
+                &self,
+                x: &SVector<f64, $d>,
+            ) -> (SMatrix<f64, $d, $d>, SMatrix<f64, $d, $d>) {
+                let (rotation, differential) =
+                    GroupChart::<Rotations, 3>::transport_and_differential(
+                        self,
+                        &x.fixed_rows::<3>(0).into_owned(),
+                    );
+                let (mut transport, mut a) = (
+                    SMatrix::<f64, $d, $d>::identity(),
+                    SMatrix::<f64, $d, $d>::identity(),
+                );
+                transport.fixed_view_mut::<3, 3>(0, 0).copy_from(&rotation);
+                a.fixed_view_mut::<3, 3>(0, 0).copy_from(&differential);
+                (transport, a)
+            }
             /// In closed form (those of the attitude's `A(ω)`, from its Rodrigues jet: the
             /// identity on ℝᴷ has none) where the chart has a Rodrigues form, by dual
             /// numbers otherwise.

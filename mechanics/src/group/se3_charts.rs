@@ -148,14 +148,9 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         x: &SVector<f64, 6>,
     ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
         let (w, u) = split(x);
+        // SO(3)'s pair: `(P, A(ω))`.
         let (rotation, differential) =
-            match So3Chart::rotation_and_left_differential_coefficients(self, w.norm_squared()) {
-                Some((phi, a)) => (phi.matrix(&w), a.matrix(&w)),
-                None => (
-                    self.rotation_matrix(&w),
-                    self.rotation_left_differential(&w),
-                ),
-            };
+            GroupChart::<Rotations, 3>::transport_and_differential(self, &w);
         let zero = Matrix3::zeros();
         (
             blocks(
