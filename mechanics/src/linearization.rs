@@ -117,16 +117,13 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
     {
         let j = jacobians;
         let a_momentum = blocks(&j.theta_theta, &j.theta_mu, &j.mu_theta, &j.mu_mu);
-        let mut b_momentum = DMatrix::zeros(2 * D, D);
-        b_momentum.view_mut((0, 0), (D, D)).copy_from(&j.theta_u);
-        b_momentum.view_mut((D, 0), (D, D)).copy_from(&j.mu_u);
-        // x_μ = T x_ω with T = [[I, 0], [L_ξη, L_ξξ]] at each end.
+        let b_momentum = stacked(&j.theta_u, &j.mu_u);
+        // x_μ = T x_ω with T = [[I, 0], [P, Q]] (P = L_ξη, Q = L_ξξ) at each end, so that
+        // A_ω = T_out⁻¹ A_μ T_in and B_ω = T_out⁻¹ B_μ with T_out⁻¹ = [[I, 0], [−Q⁻¹P, Q⁻¹]],
+        // formed by D × D blocks.
         let (p_in, q_in) =
             legendre_blocks(system, start.time, &start.configuration, &start.velocity);
         let (p_out, q_out) = legendre_blocks(system, end.time, &end.configuration, &end.velocity);
-        let identity = SMatrix::<f64, D, D>::identity();
-        let zero = SMatrix::<f64, D, D>::zeros();
-        let t_in = blocks(&identity, &zero, &p_in, &q_in);
         // A Lagrangian whose velocity Hessian is singular at the end has no velocity
         // coordinates there (a valid inertia never does).
         let q_out_inverse = q_out
@@ -136,9 +133,18 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
                 time: start.time,
                 advice: "",
             })?;
-        let t_out_inverse = blocks(&identity, &zero, &(-q_out_inverse * p_out), &q_out_inverse);
-        let a_velocity = &t_out_inverse * &a_momentum * t_in;
-        let b_velocity = &t_out_inverse * &b_momentum;
+        // A_μ T_in = [[x11, x12], [x21, x22]].
+        let x11 = j.theta_theta + j.theta_mu * p_in;
+        let x12 = j.theta_mu * q_in;
+        let x21 = j.mu_theta + j.mu_mu * p_in;
+        let x22 = j.mu_mu * q_in;
+        let a_velocity = blocks(
+            &x11,
+            &x12,
+            &(q_out_inverse * (x21 - p_out * x11)),
+            &(q_out_inverse * (x22 - p_out * x12)),
+        );
+        let b_velocity = stacked(&j.theta_u, &(q_out_inverse * (j.mu_u - p_out * j.theta_u)));
         Ok(Self {
             start,
             end,
@@ -190,6 +196,14 @@ fn world_from_body(g: &SE3, velocity: &SVector<f64, 6>, inverse: bool) -> DMatri
     p.view_mut((9, 9), (3, 3)).copy_from(&r);
     p.view_mut((9, 0), (3, 3)).copy_from(&coupling);
     p
+}
+
+/// `[[a], [b]]` of `D × D` blocks.
+fn stacked<const D: usize>(a: &SMatrix<f64, D, D>, b: &SMatrix<f64, D, D>) -> DMatrix<f64> {
+    let mut m = DMatrix::zeros(2 * D, D);
+    m.view_mut((0, 0), (D, D)).copy_from(a);
+    m.view_mut((D, 0), (D, D)).copy_from(b);
+    m
 }
 
 /// `[[a, b], [c, d]]` of `D × D` blocks.

@@ -433,7 +433,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         base: &ElementOf<S, D>,
     ) -> Result<StepOutcome<ElementOf<S, D>, D>, MechanicsError> {
         let (mu, step, time) = (self.state.momentum, self.step_index, self.state.time);
+        let linearizing = self.linearizing;
         let (stepper, work) = self.stepper();
+        work.keep_converged_hessians = linearizing;
         stepper.solve(base, &mu, work, step, time)
     }
 

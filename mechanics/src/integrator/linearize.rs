@@ -29,14 +29,20 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// paper's matching (not variational: no linearisation is offered).
     pub fn linearize(&mut self) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
         let start = self.state;
-        let outcome = self.attempt(&start.configuration)?;
-        let end = self.end_state(&outcome)?;
+        self.linearizing = true;
+        let outcome = self.attempt(&start.configuration);
+        self.linearizing = false;
+        let end = self.end_state(&outcome?)?;
         self.linearization(start, end)
     }
 
     /// Takes one step (as [`Integrator::step`]) and returns its exact linearisation
     /// ([`StepLinearization`]), at the cost of one more Newton matrix and its
-    /// factorisation, and a few back-substitutions.
+    /// factorisation, and a few back-substitutions: the Newton loop keeps the Hessians of
+    /// its last assembly, at the rounding floor, for that matrix. The step is
+    /// [`Integrator::step`]'s bit for bit for an unforced system with a left-invariant
+    /// Lagrangian and to rounding (a few ulps) otherwise: an assembly with Hessians forms
+    /// the matching's transport as a matrix.
     ///
     /// # Errors
     /// As [`Integrator::linearize`]; if only the linearisation fails, the step has been
@@ -45,7 +51,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
         let start = self.state;
-        self.step()?;
+        self.linearizing = true;
+        let taken = self.step();
+        self.linearizing = false;
+        taken?;
         let end = self.state;
         self.linearization(start, end)
     }

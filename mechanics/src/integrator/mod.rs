@@ -136,6 +136,10 @@ pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> 
     next_step: Option<f64>,
     /// Adaptive runs: the workspaces of the node counts not in use, kept for reuse.
     spare_work: Vec<WorkspaceOf<S, D>>,
+    /// Whether the step being solved is to be linearised ([`Integrator::step_linearized`],
+    /// [`Integrator::linearize`]): its Newton loop then keeps the Hessians of its last
+    /// assembly for the linearisation.
+    linearizing: bool,
     /// Adaptive runs: scratch for moving the last curve to other nodes.
     resampled: Vec<SVector<f64, D>>,
     basis_values: Vec<f64>,
@@ -250,6 +254,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             largest_step: settings.step(),
             next_step: None,
             spare_work: Vec::with_capacity(capacity),
+            linearizing: false,
             resampled: Vec::with_capacity(capacity),
             basis_values: Vec::with_capacity(capacity),
         })

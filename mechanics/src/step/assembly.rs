@@ -68,11 +68,26 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// and the permuted `−F_P` by rows (row `r`: entry `r` of the `θ`, `μ_k` and `u`
     /// columns), solved in place for `∂Ξ/∂P`.
     pub(super) f_p: Vec<f64>,
+    /// A linearisation's point terms (`2D² × 2m`): column `2j` the entries of point `j`'s
+    /// `M^x` then of `A(x_j)ᵀ`, column `2j + 1` those of `M^v` then zeros (column-major
+    /// `D × D` matrices), so that `F_P`'s `θ` and `u` blocks at every node are one product
+    /// with the weighted basis, into `node_blocks` (`2D² × n`, column `i` node `i`'s).
+    pub(super) point_columns: Mat<f64>,
+    pub(super) node_blocks: Mat<f64>,
     pub(super) sensitivity: Vec<[SVector<f64, D>; 3]>,
     /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
     /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
     /// assembly, saved.
     pub(super) guess_assembled: Option<(f64, f64)>,
+    /// Asked for by a caller that linearises the step it solves
+    /// ([`Stepper::linearize`]): the assembly the Newton loop expects to be its last then
+    /// carries the points' Hessians, so that the linearisation forms its Newton matrix
+    /// from it instead of assembling the converged step once more.
+    pub(crate) keep_converged_hessians: bool,
+    /// Whether the points hold Hessians from an assembly at the rounding floor of the
+    /// last solve (set by the Newton loop as it accepts the step, cleared by every
+    /// assembly): the converged step's, to rounding, for [`Stepper::linearize`].
+    pub(super) converged_hessians: bool,
 }
 
 impl<J: PointJet, const D: usize> Workspace<J, D> {
@@ -101,8 +116,12 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             delta: vec![0.0; unknowns],
             perm: vec![0; unknowns],
             f_p: vec![0.0; unknowns * 3 * D],
+            point_columns: Mat::zeros(2 * D * D, 2 * d.m),
+            node_blocks: Mat::zeros(2 * D * D, d.n),
             sensitivity: vec![[SVector::zeros(); 3]; unknowns],
             guess_assembled: None,
+            keep_converged_hessians: false,
+            converged_hessians: false,
         }
     }
 
@@ -161,6 +180,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let d = self.d;
         let (n, m) = (d.n, d.m);
         let with_configuration = self.needs_configuration();
+        work.converged_hessians = false;
         for j in 0..m {
             let mut x = SVector::<f64, D>::zeros();
             let mut v = SVector::<f64, D>::zeros();

@@ -30,8 +30,11 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::{GroupLagrangian, PointForce};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Par};
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
+use std::marker::PhantomData;
 
 /// The Jacobians of one step in momentum coordinates `(θ, δμ)` and the input `u`, as
 /// `D × D` blocks (`row_column`), and the end momentum they were taken at.
@@ -54,12 +57,15 @@ pub(super) struct PointMixed<const D: usize> {
     pub zeta: SMatrix<f64, D, D>,
 }
 
-/// A Gauss point's chart terms at `x`: `Φ(x)`, `A(x)` and `B = Ad_{Φ(x)⁻¹}`, formed once per
-/// point for both the point's `θ` derivatives and the input and matching columns.
+/// A Gauss point's chart terms at `x`: `A(x)` and `B = Ad_{Φ(x)⁻¹}` (kept as `Bᵀ`, the
+/// matching's transport, formed with `A(x)` from one evaluation of the chart's
+/// coefficients), for both the point's `θ` derivatives and the input and matching columns.
 pub(super) struct PointChart<E, const D: usize> {
-    pub phi: E,
+    pub x: SVector<f64, D>,
     pub a: SMatrix<f64, D, D>,
-    pub b: SMatrix<f64, D, D>,
+    /// `Bᵀ = Ad_{Φ(x)⁻¹}ᵀ`.
+    pub to_start: SMatrix<f64, D, D>,
+    group: PhantomData<E>,
 }
 
 impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> PointChart<E, D> {
@@ -68,12 +74,12 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> PointChart<E, D
         G: ConfigurationGroup<D, Element<f64> = E>,
         C: GroupChart<G, D>,
     {
-        let phi = chart.to_group(x);
-        let b = phi.inverse().adjoint();
+        let (to_start, a) = chart.transport_and_differential(x);
         Self {
-            phi,
-            a: chart.left_differential(x),
-            b,
+            x: *x,
+            a,
+            to_start,
+            group: PhantomData,
         }
     }
 }
@@ -109,46 +115,72 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let d = self.d;
         let (n, m) = (d.n, d.m);
         let unknowns = D * (n - 1);
-        self.check_domain(work, step, self.time)?;
-        // The exact Newton matrix at the converged unknowns, factored afresh.
-        self.assemble(base, mu, work, true);
+        // The exact Newton matrix at the converged unknowns, factored afresh: from the
+        // Newton loop's last assembly when it kept its Hessians at the rounding floor (the
+        // converged step's points, to rounding), else assembled here.
+        if !work.converged_hessians {
+            self.check_domain(work, step, self.time)?;
+            self.assemble(base, mu, work, true);
+        }
         self.fill_jacobian(work);
         work.factor();
-        // F_P, columns θ (0..D), μ_k (D..2D), u (2D..3D), column-major.
-        let f_p = &mut work.f_p;
-        f_p.fill(0.0);
+        // F_P, columns θ (0..D), μ_k (D..2D), u (2D..3D), column-major. The θ and u blocks
+        // of every node's rows, `Σ_j h b_j [φ_i M^x_j + φ_i' M^v_j]` and
+        // `Σ_j h b_j φ_i A(x_j)ᵀ`, are one product of the points' terms with the weighted
+        // basis (`docs/linearization.md` §4).
+        let dd = D * D;
         let mut dw_theta = SMatrix::<f64, D, D>::zeros();
         let mut dw_u = SMatrix::<f64, D, D>::zeros();
-        let mut last_theta = SMatrix::<f64, D, D>::zeros();
-        let mut last_u = SMatrix::<f64, D, D>::zeros();
         let moves = self.moves_with_start();
-        let none = PointMixed {
-            x: SMatrix::zeros(),
-            v: SMatrix::zeros(),
-            zeta: SMatrix::zeros(),
-        };
         for j in 0..m {
             let point = PointChart::at(self.chart, &work.x[j]);
-            let mixed = if moves {
-                self.point_mixed(base, j, &point, &work.v[j], &work.points[j])
-            } else {
-                none
-            };
-            let a_t = point.a.transpose();
-            let to_start = point.b.transpose();
             let weight = d.weights[j];
-            let (values, slopes) = (d.values_at(j), d.slopes_at(j));
-            for i in 1..n - 1 {
-                let theta = (mixed.x * values[i] + mixed.v * slopes[i]) * weight;
-                let u = a_t * (values[i] * weight);
-                add_rows(f_p, unknowns, D * (i - 1), 0, &theta);
-                add_rows(f_p, unknowns, D * (i - 1), 2 * D, &u);
+            // The θ terms: zero where no point's gradient moves with the start.
+            if moves {
+                let mixed = self.point_mixed(base, j, &point, &work.v[j], &work.points[j]);
+                work.point_columns.col_as_slice_mut(2 * j)[..dd]
+                    .copy_from_slice(mixed.x.as_slice());
+                work.point_columns.col_as_slice_mut(2 * j + 1)[..dd]
+                    .copy_from_slice(mixed.v.as_slice());
+                dw_theta += point.to_start * mixed.zeta * weight;
             }
-            last_theta += (mixed.x * values[n - 1] + mixed.v * slopes[n - 1]) * weight;
-            last_u += a_t * (values[n - 1] * weight);
-            dw_theta += to_start * mixed.zeta * weight;
-            dw_u += to_start * weight;
+            work.point_columns.col_as_slice_mut(2 * j)[dd..]
+                .copy_from_slice(point.a.transpose().as_slice());
+            dw_u += point.to_start * weight;
         }
+        let first_row = if moves { 0 } else { dd };
+        matmul(
+            work.node_blocks
+                .as_mut()
+                .subrows_mut(first_row, 2 * dd - first_row)
+                .subcols_mut(1, n - 1),
+            Accum::Replace,
+            work.point_columns
+                .as_ref()
+                .subrows(first_row, 2 * dd - first_row),
+            d.weighted_basis.as_ref().subcols(1, n - 1),
+            1.0,
+            Par::Seq,
+        );
+        let block = |i: usize, half: usize| {
+            SMatrix::<f64, D, D>::from_column_slice(
+                &work.node_blocks.col_as_slice(i)[half * dd..(half + 1) * dd],
+            )
+        };
+        let f_p = &mut work.f_p;
+        f_p.fill(0.0);
+        for i in 1..n - 1 {
+            if moves {
+                add_rows(f_p, unknowns, D * (i - 1), 0, &block(i, 0));
+            }
+            add_rows(f_p, unknowns, D * (i - 1), 2 * D, &block(i, 1));
+        }
+        let last_theta = if moves {
+            block(n - 1, 0)
+        } else {
+            SMatrix::zeros()
+        };
+        let last_u = block(n - 1, 1);
         let transport = work.matching.transport;
         let last = D * (n - 2);
         add_rows(f_p, unknowns, last, 0, &(transport * dw_theta - last_theta));
@@ -244,12 +276,15 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     ) -> PointMixed<D> {
         let time = self.time + self.d.times[j];
         let system = self.system;
-        let (a, b) = (point.a, point.b);
-        let at = base.compose(&point.phi);
+        let (a, b) = (point.a, point.to_start.transpose());
+        let configured_force = system.is_forced() && system.force_depends_on_configuration();
+        let at = (self.forcing.is_some() || configured_force)
+            .then(|| base.compose(&self.chart.to_group(&point.x)));
         let force = self
             .forcing
             .as_ref()
-            .map(|input| StepForce::new(system, time, input).jet(&at, &(a * v)));
+            .zip(at.as_ref())
+            .map(|(input, at)| StepForce::new(system, time, input).jet(at, &(a * v)));
         let mut mixed = PointMixed {
             x: SMatrix::zeros(),
             v: SMatrix::zeros(),
@@ -267,10 +302,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             mixed.v = block(D) * b;
             mixed.zeta = (block(2 * D) + c_p * 0.5) * b;
         }
-        if system.is_forced() && system.force_depends_on_configuration() {
+        if let (true, Some(at)) = (configured_force, &at) {
             let f_eta = match &force {
                 Some(force) => force.configuration,
-                None => system.force_jet(time, &at, &(a * v)).configuration,
+                None => system.force_jet(time, at, &(a * v)).configuration,
             } * b;
             mixed.x += a.transpose() * f_eta;
             mixed.zeta += f_eta;

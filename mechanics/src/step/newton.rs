@@ -113,9 +113,23 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             let expect_chord = chord::expect_chord(factored_at);
             // A halved trial point only needs its residual: the Hessians follow if it is
             // accepted and another step is needed.
-            let with_hessians = exact && !expect_converged && !expect_chord && damping == 1.0;
+            // A step to be linearised keeps the Hessians of the assembly expected to be
+            // the last: the linearisation's Newton matrix is formed from them.
+            let with_hessians = exact
+                && damping == 1.0
+                && if expect_converged {
+                    work.keep_converged_hessians
+                } else {
+                    !expect_chord
+                };
             let in_domain = self.check_domain(work, step, time);
             let saved = work.guess_assembled.take().filter(|_| iterations == 0);
+            // The guess's saved assembly carries Hessians with the exact Jacobian.
+            let has_hessians = if saved.is_some() {
+                exact
+            } else {
+                with_hessians
+            };
             let assembled = in_domain
                 .as_ref()
                 .ok()
@@ -145,6 +159,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 expect_converged,
             );
             if at_floor && pending == 0.0 {
+                work.converged_hessians = has_hessians;
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
             if iterations >= max_iterations {
@@ -214,6 +229,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             if chord.is_some() && pending == 0.0 && at_floor && self.momentum_is_assembly_free() {
                 self.check_domain(work, step, time)?;
                 self.carry_matching(work);
+                // The points are those of the iterate before this last chord step, which
+                // was at the rounding floor: the converged step's to rounding.
+                work.converged_hessians = has_hessians;
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
         }

@@ -1,4 +1,4 @@
-use super::assembly::Workspace;
+use super::assembly::{Workspace, WorkspaceOf};
 use super::newton::substitute;
 use super::points::EllTilde;
 use super::tables::Discretisation;
@@ -483,4 +483,73 @@ fn carried_matching_momentum_agrees_with_a_new_assembly() {
         // The move matters at first order: the test would notice a carry that did nothing.
         assert!((before - assembled).amax() >= 1e-7 * scale, "{chart}");
     }
+}
+
+/// A step solved to be linearised keeps the Hessians of its last assembly, and the
+/// linearisation formed from them is the one formed from a fresh assembly at the
+/// converged unknowns, to rounding: that assembly was at the iterate before the last chord
+/// step (or at the final one), whose distance from the solution is at the rounding floor
+/// of the equations, so the two Newton matrices differ by ~1e-16 relative and their
+/// solutions by that times the matrix's condition (~1e2 here). The heavy top under a
+/// torque input (configuration terms from ℓ and the force) and the free body, every
+/// chart, two node counts.
+#[test]
+fn a_linearisation_from_the_kept_hessians_is_the_fresh_one() {
+    let input = Vector3::new(0.3, -0.2, 0.1);
+    let top = top();
+    let free = crate::RigidBody::new(Inertia::from_principal_moments([0.5, 0.9, 0.7]).unwrap());
+    let mu = Vector3::new(0.3, 0.09, -0.28);
+    let b = SO3::from_matrix_unchecked(base());
+    fn check<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+        system: &S,
+        forcing: Option<Vector3<f64>>,
+        mu: &Vector3<f64>,
+        b: &SO3,
+        name: &str,
+    ) {
+        for chart in ChartKind::ALL {
+            for n in [5, 8] {
+                let settings = StepSettings::new(0.5, n).unwrap().with_chart(chart);
+                let d = Discretisation::new(&settings).unwrap();
+                let stepper = Stepper {
+                    system,
+                    chart: &chart,
+                    settings: &settings,
+                    d: &d,
+                    time: 0.0,
+                    forcing,
+                };
+                let mut work: WorkspaceOf<S, 3> = Workspace::new(&d);
+                work.keep_converged_hessians = true;
+                stepper.solve(b, mu, &mut work, 0, 0.0).unwrap();
+                assert!(
+                    work.converged_hessians,
+                    "{name} {chart} n = {n}: Hessians not kept"
+                );
+                let kept = stepper.linearize(b, mu, &mut work, 0).unwrap();
+                // The same linearisation with the points assembled again at the converged
+                // unknowns.
+                work.converged_hessians = false;
+                let fresh = stepper.linearize(b, mu, &mut work, 0).unwrap();
+                let pairs = [
+                    (kept.theta_theta, fresh.theta_theta),
+                    (kept.theta_mu, fresh.theta_mu),
+                    (kept.mu_theta, fresh.mu_theta),
+                    (kept.mu_mu, fresh.mu_mu),
+                    (kept.theta_u, fresh.theta_u),
+                    (kept.mu_u, fresh.mu_u),
+                ];
+                for (k, f) in pairs {
+                    let scale = f.amax().max(1.0);
+                    assert!(
+                        (k - f).amax() <= 1e-12 * scale,
+                        "{name} {chart} n = {n}: {:e} of {scale:e}",
+                        (k - f).amax()
+                    );
+                }
+            }
+        }
+    }
+    check(&top, Some(input), &mu, &b, "heavy top, torqued");
+    check(&free, None, &mu, &b, "free body");
 }
