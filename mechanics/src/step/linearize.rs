@@ -196,7 +196,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 }
             }
         }
-        substitute_rows(&work.jacobian, solution);
+        // Where no point moves with the start, the θ columns of F_P are zero, and so are
+        // their solutions (left as the zeros copied in).
+        substitute_rows(&work.jacobian, solution, !moves);
         if !solution.iter().flatten().flatten().all(|e| e.is_finite()) {
             return Err(MechanicsError::SingularJacobian {
                 step,

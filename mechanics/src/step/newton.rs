@@ -45,16 +45,34 @@ pub(super) fn substitute(lu: &DMatrix<f64>, b: &mut [f64]) {
 /// [`substitute`] for `3D` right-hand sides at once, stored by rows (row `r` holds entry
 /// `r` of every right-hand side, as three `D`-vectors): each elimination is one row
 /// update `3D` wide, which vectorises, where one column's substitution is a chain of short
-/// loops.
+/// loops. With `skip_first`, the first family is left as it is (a linearisation whose `θ`
+/// columns are zero skips them).
+pub(super) fn substitute_rows<const D: usize>(
+    lu: &DMatrix<f64>,
+    b: &mut [[SVector<f64, D>; 3]],
+    skip_first: bool,
+) {
+    if skip_first {
+        substitute_families::<D, 1>(lu, b);
+    } else {
+        substitute_families::<D, 0>(lu, b);
+    }
+}
+
+/// [`substitute_rows`] on the families from `FIRST` on (a constant, so that the row
+/// updates keep their fixed width).
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
-pub(super) fn substitute_rows<const D: usize>(lu: &DMatrix<f64>, b: &mut [[SVector<f64, D>; 3]]) {
+fn substitute_families<const D: usize, const FIRST: usize>(
+    lu: &DMatrix<f64>,
+    b: &mut [[SVector<f64, D>; 3]],
+) {
     let size = b.len();
     let column_of = |k: usize| &lu.as_slice()[k * size..(k + 1) * size];
     for k in 0..size {
         let bk = b[k];
         let below = &column_of(k)[k + 1..];
         for (x, &l) in b[k + 1..].iter_mut().zip(below) {
-            for (xf, bf) in x.iter_mut().zip(&bk) {
+            for (xf, bf) in x[FIRST..].iter_mut().zip(&bk[FIRST..]) {
                 *xf -= bf * l;
             }
         }
@@ -62,12 +80,12 @@ pub(super) fn substitute_rows<const D: usize>(lu: &DMatrix<f64>, b: &mut [[SVect
     for k in (0..size).rev() {
         let column = column_of(k);
         let pivot = column[k];
-        for e in b[k].iter_mut() {
+        for e in b[k][FIRST..].iter_mut() {
             *e /= pivot;
         }
         let bk = b[k];
         for (x, &u) in b[..k].iter_mut().zip(&column[..k]) {
-            for (xf, bf) in x.iter_mut().zip(&bk) {
+            for (xf, bf) in x[FIRST..].iter_mut().zip(&bk[FIRST..]) {
                 *xf -= bf * u;
             }
         }
