@@ -3,9 +3,12 @@
 //! A step solves `F(Ξ; θ, μ_k, u) = 0` for its unknowns `Ξ = (ξ², …, ξⁿ)`, where the
 //! start is perturbed as `g_k exp(θ)`, `μ_k` is the body momentum and `u` the control
 //! input (held over the step). At the solution, `∂Ξ/∂P = −F_Ξ⁻¹ F_P` for
-//! `P = (θ, μ_k, u)`: the Newton matrix `F_Ξ` assembled and factored afresh at the
-//! converged unknowns (never the chord iteration's kept factor, which is a few residuals
-//! old), and `F_P` in closed form: the Gauss points' gradients move with `θ` through
+//! `P = (θ, μ_k, u)`: the Newton matrix `F_Ξ` formed and factored afresh at the converged
+//! unknowns (never the chord iteration's kept factor, which is a few residuals old) — from
+//! the points of the Newton loop's last assembly when the loop kept their Hessians
+//! (`Workspace::converged_hessians`: an assembly at the rounding floor, at the accepted
+//! unknowns or one chord step of at most a few ulps before them), else from an assembly
+//! here — and `F_P` in closed form: the Gauss points' gradients move with `θ` through
 //! their derivatives in `ζ` ([`Stepper::point_mixed`]; three hyper-dual numbers per point
 //! through the whole point are the tests' reference).
 //!
@@ -89,7 +92,8 @@ type Hyper<const D: usize> = num_dual::HyperDualSVec64<D, D>;
 
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
     /// The linearisation of the step from `(base, mu)` whose converged unknowns are in
-    /// `work.xi` (module documentation). Overwrites the workspace's assembly and matrix.
+    /// `work.xi` (module documentation). Overwrites the workspace's Newton matrix (and its
+    /// assembly, when the Newton loop did not keep one with Hessians).
     ///
     /// # Errors
     /// [`MechanicsError::InvalidSetting`] for the paper's matching (not the derivative of

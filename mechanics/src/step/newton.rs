@@ -92,6 +92,11 @@ fn substitute_families<const D: usize, const FIRST: usize>(
     }
 }
 
+/// The largest last chord step, relative to the unknowns, after which the points of the
+/// assembly before it are kept for a linearisation (`Workspace::converged_hessians`):
+/// 64 ulps, so that the linearisation from them is the converged step's to ~1e-14.
+const KEPT_STEP: f64 = 64.0 * f64::EPSILON;
+
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
     /// Newton on the step's equations from the guess in `work.xi`.
     pub(crate) fn solve(
@@ -125,7 +130,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             advice: self.chart.advice(),
         };
         loop {
-            // An assembly expected to be the last, or before a chord step, needs no Hessians.
+            // An assembly expected to be the last, or before a chord step, needs no Hessians
+            // (but for a step to be linearised: below).
             let expect_converged =
                 convergence::expect_converged(iterations, previous, previous_scale);
             let expect_chord = chord::expect_chord(factored_at);
@@ -247,9 +253,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             if chord.is_some() && pending == 0.0 && at_floor && self.momentum_is_assembly_free() {
                 self.check_domain(work, step, time)?;
                 self.carry_matching(work);
-                // The points are those of the iterate before this last chord step, which
-                // was at the rounding floor: the converged step's to rounding.
-                work.converged_hessians = has_hessians;
+                // The points are those of the iterate before this last chord step: the
+                // converged step's to rounding when that step moved the unknowns by no
+                // more than a few ulps (the floor test also accepts a residual up to √ε of
+                // its terms, from which the step can be larger: the linearisation then
+                // assembles the converged unknowns itself).
+                work.converged_hessians = has_hessians && {
+                    let size = work.xi.iter().fold(0.0f64, |a, x| a.max(x.amax()));
+                    let moved = work.delta.iter().fold(0.0f64, |a, d| a.max(d.abs()));
+                    moved <= KEPT_STEP * size
+                };
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
         }
