@@ -433,11 +433,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         base: &ElementOf<S, D>,
     ) -> Result<StepOutcome<ElementOf<S, D>, D>, MechanicsError> {
         let (mu, step, time) = (self.state.momentum, self.step_index, self.state.time);
-        // Only the exact matching's step has a linearisation (and only an exact Newton
-        // matrix has Hessians to keep).
-        let linearizing = self.linearizing
-            && self.settings.matching() == crate::settings::Matching::Exact
-            && self.settings.jacobian() == crate::settings::NewtonJacobian::Exact;
+        // Only the exact matching's step has a linearisation (the Newton loop itself keeps
+        // Hessians only where its matrix is the exact one).
+        let linearizing =
+            self.linearizing && self.settings.matching() == crate::settings::Matching::Exact;
         let (stepper, work) = self.stepper();
         work.keep_converged_hessians = linearizing;
         stepper.solve(base, &mu, work, step, time)
