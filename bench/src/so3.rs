@@ -157,6 +157,17 @@ pub struct EnsembleResult {
     pub parallel_s: f64,
     /// `one_thread_s / parallel_s`.
     pub speedup: f64,
+    /// The machine's own speed-ups from 1 to `threads` threads, measured in the same
+    /// repeats as `speedup` (one thread, then all of them, the ensemble's runs in
+    /// between), on the same pools, as many tasks as the ensemble has trajectories, none
+    /// of lgsvi's code: `(chains, products)`, where a task of `chains` is a dependent chain
+    /// of multiplications and additions on registers ([`machine_chain`]: it needs a
+    /// processor, hardly any of its execution units) and one of `products` multiplies
+    /// 32 × 32 matrices ([`machine_products`]: arithmetic at the units' throughput, like a
+    /// step's LU and matrix products). On a shared VM whose two vCPUs are not two free
+    /// cores (a busy neighbour, or the host's two hardware threads of one core) the second
+    /// falls below the first, and lgsvi's `speedup` with it.
+    pub machine_speedups: (f64, f64),
     /// Members that failed (none expected).
     pub failures: usize,
     /// The same initial conditions by DOP853 (quaternion state) at
@@ -164,6 +175,40 @@ pub struct EnsembleResult {
     pub dop853_parallel_s: f64,
     /// Trajectories per second on `threads` threads: lgsvi, DOP853.
     pub trajectories_per_s: (f64, f64),
+}
+
+/// A task of the ensemble's first control ([`EnsembleResult::machine_speedups`]): a
+/// dependent chain of 100 000 multiplications and additions on registers (no memory, no
+/// allocation; about a tenth of a millisecond). Returns the chain's end so that it is
+/// not optimised away.
+pub fn machine_chain(seed: f64) -> f64 {
+    let mut x = std::hint::black_box(0.5 + 1e-3 * seed);
+    for _ in 0..100_000 {
+        // A contraction towards 1: the value stays finite and normal.
+        x = x * 0.5 + 0.5;
+    }
+    x
+}
+
+/// A task of the ensemble's second control ([`EnsembleResult::machine_speedups`]): twelve
+/// products of 32 × 32 matrices (nalgebra's), in place, from a matrix built from `seed`;
+/// about 0.05 ms. Returns an entry of the last product.
+pub fn machine_products(seed: f64) -> f64 {
+    use nalgebra::DMatrix;
+    let a = DMatrix::<f64>::from_fn(32, 32, |i, j| {
+        ((i * 7 + j * 3) % 11) as f64 / 11.0 - 0.5 + 1e-3 * seed
+    });
+    let (mut b, mut c) = (
+        DMatrix::<f64>::identity(32, 32),
+        DMatrix::<f64>::zeros(32, 32),
+    );
+    for _ in 0..12 {
+        a.mul_to(&b, &mut c);
+        // Halved each time: the entries stay bounded (a's norm is below 2).
+        c *= 0.5;
+        std::mem::swap(&mut b, &mut c);
+    }
+    std::hint::black_box(b[(0, 0)])
 }
 
 /// DOP853's tolerance in the ensemble comparison: its most accurate setting of the sweep
@@ -205,15 +250,38 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
     // One thread and all of them in turn, repeat by repeat: on a shared machine a load
     // that comes or goes between two blocks of runs would otherwise make the speed-up.
     let (one, all) = (pool(1)?, pool(threads)?);
+    // The controls: the same number of tasks on the same pools, none of lgsvi's code.
+    let tasks = 2 * members;
+    let chains = || {
+        use rayon::prelude::*;
+        (0..tasks)
+            .into_par_iter()
+            .map(|k| machine_chain(k as f64))
+            .sum::<f64>()
+    };
+    let products = || {
+        use rayon::prelude::*;
+        (0..tasks)
+            .into_par_iter()
+            .map(|k| machine_products(k as f64))
+            .sum::<f64>()
+    };
     let (mut one_thread, mut parallel) = (Vec::new(), Vec::new());
+    let mut controls = [(); 4].map(|_| Vec::new());
     let mut failures = 0;
     for _ in 0..repeats.max(1) {
+        controls[0].push(one.install(|| median_time(1, chains)).1);
+        controls[1].push(one.install(|| median_time(1, products)).1);
         let (f, t) = one.install(|| median_time(1, run_all));
         one_thread.push(t);
         failures = f;
         parallel.push(all.install(|| median_time(1, run_all)).1);
+        controls[2].push(all.install(|| median_time(1, chains)).1);
+        controls[3].push(all.install(|| median_time(1, products)).1);
     }
     let (one_thread_s, parallel_s) = (median(one_thread), median(parallel));
+    let [c1, p1, c2, p2] = controls.map(median);
+    let machine_speedups = (c1 / c2, p1 / p2);
     // The same initial conditions by DOP853, one trajectory per task on the same pool.
     let peers: Vec<(Model, Vec<State>)> = cases()
         .into_iter()
@@ -260,6 +328,7 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
         one_thread_s,
         parallel_s,
         speedup: one_thread_s / parallel_s,
+        machine_speedups,
         failures: failures + peer_failures,
         dop853_parallel_s,
         trajectories_per_s: (trajectories / parallel_s, trajectories / dop853_parallel_s),
