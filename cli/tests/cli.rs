@@ -502,7 +502,10 @@ fn bench_writes_table_data_and_plots() {
     // The machine's own speed-ups beside it (two controls, none of lgsvi's code).
     let controls = ensemble["machine_speedups"].as_array().unwrap();
     assert_eq!(controls.len(), 2);
-    assert!(controls.iter().all(|c| c.as_f64().unwrap() > 0.0), "{controls:?}");
+    assert!(
+        controls.iter().all(|c| c.as_f64().unwrap() > 0.0),
+        "{controls:?}"
+    );
     assert!(out.contains("32 × 32 matrix products"), "{out}");
     let points = data["points"].as_array().unwrap();
     // lgsvi at h = 0.5 (n = 4..14), h = 0.625 (n = 6..16), h = 1 (n = 6..20), h = 1.25

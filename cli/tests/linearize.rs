@@ -303,6 +303,119 @@ fn linearize_matches_differences_through_simulate() {
     }
 }
 
+/// `lgsvi linearize`'s `"p"` (the step's derivatives in the system's parameters, the
+/// inertia tensor's six entries then the mass) against central differences through
+/// `lgsvi simulate` with `--inertia-tensor` (an off-diagonal entry moved in both of its
+/// places) and `--mass` moved; velocity coordinates (world frame for a body in space),
+/// the start state held.
+#[test]
+fn linearize_parameters_match_differences_through_simulate() {
+    const EPS: f64 = 1e-6;
+    let tensor = [[0.6, 0.05, -0.03], [0.05, 0.85, 0.02], [-0.03, 0.02, 0.7]];
+    let flags = |j: &M3, mass: f64, system: &[&str]| {
+        let mut f: Vec<String> = system.iter().map(|x| x.to_string()).collect();
+        f.extend(["--inertia-tensor".into(), row_major(j)]);
+        f.extend(["--mass".into(), mass.to_string()]);
+        f
+    };
+    // (name, flags, in space, position, velocity)
+    type System<'a> = (&'a str, &'a [&'a str], bool, [f64; 3], [f64; 3]);
+    let systems: [System; 2] = [
+        (
+            "heavy top",
+            &["--system", "heavy-top", "--gravity-direction", "0,0.3,1"],
+            false,
+            [0.0; 3],
+            [0.0; 3],
+        ),
+        (
+            "orbiting body",
+            &["--system", "orbiting-body"],
+            true,
+            [3.0, 0.0, 0.5],
+            [0.0, 0.55, 0.05],
+        ),
+    ];
+    let places = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+    for (name, system, space, position, velocity) in systems {
+        let case = |j: &M3, mass: f64| Case {
+            flags: flags(j, mass, system),
+            space,
+            attitude: exp([0.2, -0.1, 0.3]),
+            omega: [0.6, 0.1, -0.4],
+            position,
+            velocity,
+            torque: [0.05, -0.02, 0.03],
+        };
+        let h = 0.25;
+        let mut args: Vec<String> = vec!["linearize".into(), "--h".into(), h.to_string()];
+        let nominal = case(&tensor, 1.0);
+        args.extend(nominal.flags.iter().cloned());
+        args.extend(["--attitude0".into(), row_major(&nominal.attitude)]);
+        args.extend(["--torque".into(), triple(nominal.torque)]);
+        args.extend(["--omega0".into(), triple(nominal.omega)]);
+        if space {
+            args.extend(["--position0".into(), triple(position)]);
+            args.extend(["--velocity0".into(), triple(velocity)]);
+        }
+        let out = lgsvi(&args);
+        let names: Vec<&str> = out["parameters"]
+            .as_array()
+            .expect("names")
+            .iter()
+            .map(|n| n.as_str().expect("a name"))
+            .collect();
+        assert_eq!(
+            names,
+            ["J_xx", "J_yy", "J_zz", "J_xy", "J_xz", "J_yz", "mass"],
+            "{name}"
+        );
+        let p: Vec<Vec<f64>> = out["p"]
+            .as_array()
+            .expect("rows")
+            .iter()
+            .map(numbers)
+            .collect();
+        let size = if space { 12 } else { 6 };
+        let zero = vec![0.0; size];
+        let (r0, _) = nominal.step(h, &zero, [0.0; 3]);
+        let mut columns = Vec::new();
+        for k in 0..7 {
+            let mut sides = Vec::new();
+            for sign in [1.0, -1.0] {
+                let (mut j, mut mass) = (tensor, 1.0);
+                match places.get(k) {
+                    Some(&(a, b)) => {
+                        j[a][b] += sign * EPS;
+                        if a != b {
+                            j[b][a] += sign * EPS;
+                        }
+                    }
+                    None => mass += sign * EPS,
+                }
+                let (r, rest) = case(&j, mass).step(h, &zero, [0.0; 3]);
+                let mut end = attitude_change(&r, &r0).to_vec();
+                end.extend(rest);
+                sides.push(end);
+            }
+            columns.push(
+                sides[0]
+                    .iter()
+                    .zip(&sides[1])
+                    .map(|(a, b)| (a - b) / (2.0 * EPS))
+                    .collect::<Vec<f64>>(),
+            );
+        }
+        let p_fd: Vec<Vec<f64>> = (0..size)
+            .map(|r| columns.iter().map(|c| c[r]).collect())
+            .collect();
+        let dp = relative(&p, &p_fd);
+        // As for A and B: 1e-7 asked, the differences' own error ~1e-10.
+        assert!(dp < 1e-7, "{name}: P {dp:e}");
+        println!("| {name} | P | {dp:.1e} |");
+    }
+}
+
 /// A gyrostat at rest with one wheel on a principal axis: the step is the exact
 /// zero-order hold of `J_b Ω̇_z = −τ`, `I(Ω̇_z + φ̈) = τ` (`J_b = J_zz − I`), so the motor
 /// column of `B` is `(θ_z, φ, Ω_z, φ̇) = (−h²/2J_b, h²/2I + h²/2J_b, −h/J_b, h/I + h/J_b)`.

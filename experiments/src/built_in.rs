@@ -57,6 +57,23 @@ impl Lagrangian for BuiltIn {
             BuiltIn::Top(s) => Lagrangian::model_breakdown(s, r, w),
         }
     }
+    fn parameter_names(&self) -> Vec<String> {
+        match self {
+            BuiltIn::Free(s) => Lagrangian::parameter_names(s),
+            BuiltIn::Top(s) => Lagrangian::parameter_names(s),
+        }
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        r: &Matrix3<T>,
+        w: &Vector3<T>,
+    ) -> T {
+        match self {
+            BuiltIn::Free(s) => Lagrangian::parameter_lagrangian(s, index, r, w),
+            BuiltIn::Top(s) => Lagrangian::parameter_lagrangian(s, index, r, w),
+        }
+    }
     // Forwarded: the built-ins' closed forms are ~10× faster than the default dual numbers.
     fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
         match self {
@@ -95,6 +112,18 @@ impl GroupLagrangian<6> for BuiltInMotion {
     }
     fn is_left_invariant(&self) -> bool {
         each_motion!(self, s => s.is_left_invariant())
+    }
+    fn parameter_names(&self) -> Vec<String> {
+        each_motion!(self, s => s.parameter_names())
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        t: f64,
+        g: &SE3<T>,
+        xi: &SVector<T, 6>,
+    ) -> T {
+        each_motion!(self, s => s.parameter_lagrangian(index, t, g, xi))
     }
     fn symmetry_generator(&self) -> Option<SVector<f64, 6>> {
         each_motion!(self, s => s.symmetry_generator())

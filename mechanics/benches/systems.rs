@@ -106,7 +106,7 @@ fn bench_steps<
     name: &str,
     integrator: Integrator<S, C, D>,
 ) {
-    bench_with(c, name, integrator, false);
+    bench_with(c, name, integrator, Linearized::No);
 }
 
 /// As [`bench_steps`], each step with its exact linearisation
@@ -120,7 +120,29 @@ fn bench_linearized<
     name: &str,
     integrator: Integrator<S, C, D>,
 ) {
-    bench_with(c, name, integrator, true);
+    bench_with(c, name, integrator, Linearized::Yes);
+}
+
+/// As [`bench_steps`], each step with its exact linearisation and its derivatives in the
+/// system's parameters ([`Integrator::step_linearized_with_parameters`]).
+fn bench_with_parameters<
+    S: GroupLagrangian<D>,
+    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    const D: usize,
+>(
+    c: &mut Criterion,
+    name: &str,
+    integrator: Integrator<S, C, D>,
+) {
+    bench_with(c, name, integrator, Linearized::WithParameters);
+}
+
+/// What a benchmarked step returns besides the step.
+#[derive(Clone, Copy, PartialEq)]
+enum Linearized {
+    No,
+    Yes,
+    WithParameters,
 }
 
 fn bench_with<
@@ -131,7 +153,7 @@ fn bench_with<
     c: &mut Criterion,
     name: &str,
     mut integrator: Integrator<S, C, D>,
-    linearized: bool,
+    linearized: Linearized,
 ) {
     let start = *integrator.state();
     c.bench_function(name, |b| {
@@ -140,10 +162,16 @@ fn bench_with<
                 .reset(0.0, start.configuration, start.velocity)
                 .unwrap();
             for _ in 0..STEPS {
-                if linearized {
-                    std::hint::black_box(integrator.step_linearized().unwrap());
-                } else {
-                    integrator.step().unwrap();
+                match linearized {
+                    Linearized::Yes => {
+                        std::hint::black_box(integrator.step_linearized().unwrap());
+                    }
+                    Linearized::WithParameters => {
+                        std::hint::black_box(integrator.step_linearized_with_parameters().unwrap());
+                    }
+                    Linearized::No => {
+                        integrator.step().unwrap();
+                    }
                 }
             }
         })
@@ -180,6 +208,7 @@ fn bench(c: &mut Criterion) {
     controlled.set_input(torque).unwrap();
     bench_steps(c, "so3_control_input", controlled);
     bench_linearized(c, "so3_free_linearized", so3(body));
+    bench_with_parameters(c, "so3_free_linearized_parameters", so3(body));
     let mut controlled = so3(body);
     controlled.set_input(torque).unwrap();
     bench_linearized(c, "so3_control_input_linearized", controlled);
@@ -245,6 +274,11 @@ fn bench(c: &mut Criterion) {
     bench_linearized(
         c,
         "space_orbiting_body_linearized",
+        Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
+    );
+    bench_with_parameters(
+        c,
+        "space_orbiting_body_linearized_parameters",
         Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
     );
     // The same free body on the product SO(3) × ℝ³ (same discrete map, other group).

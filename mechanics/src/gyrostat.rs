@@ -550,6 +550,31 @@ macro_rules! wheels {
                 }
                 value
             }
+            /// The six entries of `J` (wheels locked) and each wheel's axial inertia
+            /// `I_1 … I_K`, each varied with the others held: `∂ℓ/∂I_i = (a_iᵀΩ) φ̇_i + ½φ̇_i²`.
+            fn parameter_names(&self) -> Vec<String> {
+                let mut names = crate::lagrangian::inertia_parameter_names(&[]);
+                names.extend((1..=$k).map(|i| format!("I_{i}")));
+                names
+            }
+            fn parameter_lagrangian<T: RealField + Copy>(
+                &self,
+                index: usize,
+                _time: f64,
+                _configuration: &BodyWheels<T, $k>,
+                velocity: &SVector<T, $d>,
+            ) -> T {
+                let w = velocity.fixed_rows::<3>(0).into_owned();
+                if index < 6 {
+                    return crate::lagrangian::kinetic_parameter(index, &w);
+                }
+                let Some(a) = self.axes.get(index - 6) else {
+                    return T::zero();
+                };
+                let axis: Vector3<T> = a.map(nalgebra::convert);
+                let spin = velocity[3 + index - 6];
+                axis.dot(&w) * spin + spin * spin * nalgebra::convert::<f64, T>(0.5)
+            }
             fn is_left_invariant(&self) -> bool {
                 true
             }

@@ -3,6 +3,12 @@
 use crate::error::MechanicsError;
 use nalgebra::{Matrix3, Vector3};
 
+/// The names of the inertia tensor's six entries as parameters of a step's linearisation
+/// ([`crate::Integrator::linearize_with_parameters`]), in the order every built-in body
+/// lists them first: the body-frame tensor's diagonal, then its off-diagonal entries, each
+/// of which moves both of its symmetric places ([`Inertia::parameter_direction`]).
+pub const INERTIA_PARAMETERS: [&str; 6] = ["J_xx", "J_yy", "J_zz", "J_xy", "J_xz", "J_yz"];
+
 /// A body-frame inertia tensor `J`, validated: diagonal (principal axes along the body
 /// axes) or full ([`Inertia::from_tensor`]).
 ///
@@ -43,6 +49,23 @@ struct FullTensor {
 }
 
 impl Inertia {
+    /// `∂J/∂p` for the inertia parameter `index` of [`INERTIA_PARAMETERS`] (body frame):
+    /// `e_a e_aᵀ` for `J_aa`, `e_a e_bᵀ + e_b e_aᵀ` for `J_ab` (the tensor stays
+    /// symmetric). `None` past the sixth.
+    ///
+    /// ```
+    /// use lgsvi_mechanics::Inertia;
+    /// let d = Inertia::parameter_direction(3).unwrap(); // J_xy
+    /// assert_eq!((d[(0, 1)], d[(1, 0)], d[(0, 0)]), (1.0, 1.0, 0.0));
+    /// ```
+    pub fn parameter_direction(index: usize) -> Option<Matrix3<f64>> {
+        let (a, b) = *[(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)].get(index)?;
+        let mut d = Matrix3::zeros();
+        d[(a, b)] = 1.0;
+        d[(b, a)] = 1.0;
+        Some(d)
+    }
+
     /// From the standard principal moments `J = diag(a, b, c)`.
     ///
     /// # Errors

@@ -155,6 +155,31 @@ pub trait Lagrangian {
         None
     }
 
+    /// The names of the physical parameters `p` of `ℓ` that a step can be differentiated
+    /// by ([`crate::Integrator::linearize_with_parameters`]), in the order of
+    /// [`Lagrangian::parameter_lagrangian`]'s index. The default: none. The built-in
+    /// bodies name the six entries of the inertia tensor ([`crate::INERTIA_PARAMETERS`]) and,
+    /// where `ℓ` has one, the mass. A type that wraps other Lagrangians should forward it
+    /// (and [`Lagrangian::parameter_lagrangian`]).
+    fn parameter_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// `∂ℓ/∂p_k(R, Ω)`, the derivative of [`Lagrangian::lagrangian`] in parameter `k` of
+    /// [`Lagrangian::parameter_names`] at the system's own parameters, generic over the
+    /// scalar as `ℓ` is (the step's derivative in `p_k` is the step's residual with `ℓ`
+    /// replaced by this, `docs/linearization.md` §8). Must be exact: the linearisation
+    /// is as accurate as it. The default (no parameters) is zero.
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        world_from_body: &Matrix3<T>,
+        omega: &Vector3<T>,
+    ) -> T {
+        let _ = (index, world_from_body, omega);
+        T::zero()
+    }
+
     /// First and second derivatives of `ℓ` at `(R, Ω)`, which the Newton matrices are
     /// built from. The default takes them by dual numbers (exact); override it only to go
     /// faster, with a closed form (the built-in systems do). A type that wraps other
@@ -230,9 +255,42 @@ pub(crate) fn kinetic<T: RealField + Copy>(inertia: &Inertia, w: &Vector3<T>) ->
         + w.z * w.z * nalgebra::convert(c))
 }
 
+/// `½ΩᵀEΩ` with `E = ∂J/∂p` of inertia parameter `index` ([`Inertia::parameter_direction`]):
+/// the kinetic energy's derivative in that entry; zero past the sixth.
+pub(crate) fn kinetic_parameter<T: RealField + Copy>(index: usize, w: &Vector3<T>) -> T {
+    match Inertia::parameter_direction(index) {
+        Some(direction) => {
+            let e: Matrix3<T> = direction.map(nalgebra::convert);
+            w.dot(&(e * w)) * nalgebra::convert::<f64, T>(0.5)
+        }
+        None => T::zero(),
+    }
+}
+
+/// [`INERTIA_PARAMETERS`](crate::INERTIA_PARAMETERS) followed by `extra`.
+pub(crate) fn inertia_parameter_names(extra: &[&str]) -> Vec<String> {
+    crate::INERTIA_PARAMETERS
+        .iter()
+        .chain(extra)
+        .map(|name| name.to_string())
+        .collect()
+}
+
 impl Lagrangian for RigidBody {
     fn lagrangian<T: RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
         kinetic(&self.inertia, w)
+    }
+    /// The inertia tensor's six entries.
+    fn parameter_names(&self) -> Vec<String> {
+        inertia_parameter_names(&[])
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        _r: &Matrix3<T>,
+        w: &Vector3<T>,
+    ) -> T {
+        kinetic_parameter(index, w)
     }
     fn derivatives(&self, _r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
         quadratic_kinetic_derivatives(&self.inertia, w, Matrix3::zeros())
@@ -354,6 +412,25 @@ impl Lagrangian for HeavyTop {
         let mg: T = nalgebra::convert(self.mass * self.gravity);
         kinetic(&self.inertia, w) + mg * d.dot(&(r * rho))
     }
+    /// The inertia tensor's six entries and the mass (`∂ℓ/∂m = g d·Rρ`).
+    fn parameter_names(&self) -> Vec<String> {
+        inertia_parameter_names(&["mass"])
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        r: &Matrix3<T>,
+        w: &Vector3<T>,
+    ) -> T {
+        if index == 6 {
+            let rho: Vector3<T> = self.center_of_mass.map(nalgebra::convert);
+            let d: Vector3<T> = self.gravity_direction.map(nalgebra::convert);
+            let g: T = nalgebra::convert(self.gravity);
+            g * d.dot(&(r * rho))
+        } else {
+            kinetic_parameter(index, w)
+        }
+    }
     /// `∂ℓ/∂R = m g d ρᵀ`; the Hessians in `R` vanish.
     fn derivatives(&self, _r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
         let gradient =
@@ -414,6 +491,18 @@ impl<V: Potential> RigidBodyInPotential<V> {
 impl<V: Potential> Lagrangian for RigidBodyInPotential<V> {
     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
         kinetic(&self.inertia, w) - self.potential.potential(r)
+    }
+    /// The inertia tensor's six entries (the potential's own constants are held).
+    fn parameter_names(&self) -> Vec<String> {
+        inertia_parameter_names(&[])
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        _r: &Matrix3<T>,
+        w: &Vector3<T>,
+    ) -> T {
+        kinetic_parameter(index, w)
     }
     /// The kinetic part in closed form, `V`'s by dual numbers in `R`'s nine entries.
     fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {

@@ -97,7 +97,7 @@ pub use group::{
     dual_number_derivatives, ChartDerivatives, ConfigurationGroup, GroupChart, RigidMotions,
     Rotations, Screw,
 };
-pub use inertia::Inertia;
+pub use inertia::{Inertia, INERTIA_PARAMETERS};
 pub use integrator::{
     each, Each, Flow, GalerkinCurve, Integrator, Observer, Recorder, Statistics, StepInfo,
     Trajectory,

@@ -28,8 +28,8 @@
 
 use crate::error::MechanicsError;
 use crate::group::ConfigurationGroup;
-use crate::state::{legendre_blocks, State};
-use crate::step::linearize::MomentumJacobians;
+use crate::state::{body_momentum, legendre_blocks, State};
+use crate::step::linearize::{MomentumJacobians, ParameterDerivative, ParameterJacobians};
 use crate::system::GroupLagrangian;
 use lgsvi_lie::{LieGroup, SE3};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector};
@@ -63,6 +63,15 @@ pub struct StepLinearization<E, const D: usize> {
     b_momentum: DMatrix<f64>,
     a_velocity: DMatrix<f64>,
     b_velocity: DMatrix<f64>,
+    parameters: Option<ParameterColumns>,
+}
+
+/// `∂x₊/∂p` in both coordinates, with the parameters' names.
+#[derive(Debug, Clone)]
+struct ParameterColumns {
+    names: Vec<String>,
+    momentum: DMatrix<f64>,
+    velocity: DMatrix<f64>,
 }
 
 impl<E, const D: usize> StepLinearization<E, D> {
@@ -80,6 +89,29 @@ impl<E, const D: usize> StepLinearization<E, D> {
             Coordinates::Velocity => &self.b_velocity,
             Coordinates::Momentum => &self.b_momentum,
         }
+    }
+
+    /// `∂x₊/∂p` (`2D × P`) in `coordinates`: the end state's derivative in the system's
+    /// physical parameters ([`StepLinearization::parameter_names`], one column each), with
+    /// the start state held in those coordinates (in [`Coordinates::Velocity`] the start's
+    /// velocity is held and its momentum moves with the parameters; in
+    /// [`Coordinates::Momentum`] its momentum is held). `None` unless the linearisation
+    /// was asked for with the parameters
+    /// ([`crate::Integrator::linearize_with_parameters`],
+    /// [`crate::Integrator::step_linearized_with_parameters`]).
+    pub fn p(&self, coordinates: Coordinates) -> Option<&DMatrix<f64>> {
+        self.parameters.as_ref().map(|p| match coordinates {
+            Coordinates::Velocity => &p.velocity,
+            Coordinates::Momentum => &p.momentum,
+        })
+    }
+
+    /// The names of the columns of [`StepLinearization::p`] (empty when it is `None`, or
+    /// for a system without parameters): for the built-in bodies
+    /// [`crate::INERTIA_PARAMETERS`], then the mass where `ℓ` has one (the gyrostat: its
+    /// wheels' inertias `I_1 … I_K`).
+    pub fn parameter_names(&self) -> &[String] {
+        self.parameters.as_ref().map_or(&[], |p| &p.names)
     }
 }
 
@@ -110,6 +142,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
         end: State<E, D>,
         input: SVector<f64, D>,
         (h, nodes, index): (f64, usize, usize),
+        parameters: Option<ParameterJacobians>,
     ) -> Result<Self, MechanicsError>
     where
         S: GroupLagrangian<D>,
@@ -145,6 +178,28 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
             &(q_out_inverse * (x22 - p_out * x12)),
         );
         let b_velocity = stacked(&j.theta_u, &(q_out_inverse * (j.mu_u - p_out * j.theta_u)));
+        // The parameters: in velocity coordinates the start's momentum moves by
+        // `M_in δp` (`M = ∂μ/∂p = ∂(∂ℓ/∂p)/∂ξ`), and the end's velocity by
+        // `Q_out⁻¹(δμ₊ − P_out θ₊ − M_out δp)`.
+        let parameters = parameters.map(|columns| {
+            let names = system.parameter_names();
+            let m_in = parameter_momenta(system, &start, names.len());
+            let m_out = parameter_momenta(system, &end, names.len());
+            let theta = &columns.theta + j.theta_mu * &m_in;
+            let mu = &columns.mu + j.mu_mu * &m_in;
+            let omega = q_out_inverse * (mu - p_out * &theta - m_out);
+            let mut momentum = DMatrix::zeros(2 * D, names.len());
+            momentum.rows_mut(0, D).copy_from(&columns.theta);
+            momentum.rows_mut(D, D).copy_from(&columns.mu);
+            let mut velocity = DMatrix::zeros(2 * D, names.len());
+            velocity.rows_mut(0, D).copy_from(&theta);
+            velocity.rows_mut(D, D).copy_from(&omega);
+            ParameterColumns {
+                names,
+                momentum,
+                velocity,
+            }
+        });
         Ok(Self {
             start,
             end,
@@ -155,8 +210,36 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
             b_momentum,
             a_velocity,
             b_velocity,
+            parameters,
         })
     }
+}
+
+/// `∂μ/∂p_k` at a state, one column a parameter: the Legendre transform of
+/// [`GroupLagrangian::parameter_lagrangian`] (dual numbers).
+fn parameter_momenta<S, E, const D: usize>(
+    system: &S,
+    state: &State<E, D>,
+    count: usize,
+) -> DMatrix<f64>
+where
+    S: GroupLagrangian<D>,
+    S::Group: ConfigurationGroup<D, Element<f64> = E>,
+{
+    let mut m = DMatrix::zeros(D, count);
+    for index in 0..count {
+        let derivative = ParameterDerivative { system, index };
+        m.set_column(
+            index,
+            &body_momentum(
+                &derivative,
+                state.time,
+                &state.configuration,
+                &state.velocity,
+            ),
+        );
+    }
+    m
 }
 
 impl StepLinearization<SE3, 6> {
@@ -174,6 +257,13 @@ impl StepLinearization<SE3, 6> {
             &p_out * &self.a_velocity * p_in_inverse,
             &p_out * &self.b_velocity,
         )
+    }
+
+    /// [`StepLinearization::p`] in the world-frame coordinates of
+    /// [`StepLinearization::world_frame`]: `∂(θ_R, x, Ω, ẋ)₊/∂p` (12 × P), `None` as `p`.
+    pub fn world_frame_parameters(&self) -> Option<DMatrix<f64>> {
+        let p_out = world_from_body(&self.end.configuration, &self.end.velocity, false);
+        self.p(Coordinates::Velocity).map(|p| &p_out * p)
     }
 }
 

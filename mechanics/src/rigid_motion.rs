@@ -16,7 +16,7 @@
 use crate::error::{check_finite, MechanicsError};
 use crate::group::{GroupChart, RigidMotions, Stacked};
 use crate::inertia::Inertia;
-use crate::lagrangian::kinetic;
+use crate::lagrangian::{inertia_parameter_names, kinetic, kinetic_parameter};
 use crate::point::GaussPoint;
 use crate::system::{GroupLagrangian, LocalDerivatives};
 use lgsvi_lie::se3::{blocks, join, split};
@@ -58,6 +58,18 @@ fn kinetic6<T: RealField + Copy>(inertia: &Inertia, mass: f64, xi: &SVector<T, 6
     let v = Vector3::new(xi[3], xi[4], xi[5]);
     let half_mass: T = nalgebra::convert(0.5 * mass);
     kinetic(inertia, &w) + half_mass * v.dot(&v)
+}
+
+/// `∂ℓ/∂p` of the kinetic energy `½ΩᵀJΩ + ½m|v|²` for [`INERTIA_PARAMETERS`](crate::INERTIA_PARAMETERS)
+/// then the mass (index 6).
+fn kinetic6_parameter<T: RealField + Copy>(index: usize, xi: &SVector<T, 6>) -> T {
+    let w = Vector3::new(xi[0], xi[1], xi[2]);
+    let v = Vector3::new(xi[3], xi[4], xi[5]);
+    if index == 6 {
+        v.dot(&v) * nalgebra::convert::<f64, T>(0.5)
+    } else {
+        kinetic_parameter(index, &w)
+    }
 }
 
 /// `(J⁻¹μ_ω, μ_v/m)`.
@@ -269,6 +281,19 @@ impl GroupLagrangian<6> for FreeBody {
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, _g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
     }
+    /// The inertia tensor's six entries and the mass.
+    fn parameter_names(&self) -> Vec<String> {
+        inertia_parameter_names(&["mass"])
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        _t: f64,
+        _g: &SE3<T>,
+        xi: &SVector<T, 6>,
+    ) -> T {
+        kinetic6_parameter(index, xi)
+    }
     fn local_derivatives(
         &self,
         _time: f64,
@@ -362,6 +387,20 @@ impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
             - self
                 .potential
                 .potential(t, g.rotation().matrix(), g.translation())
+    }
+    /// The inertia tensor's six entries and the mass in the kinetic energy (the
+    /// potential's own constants, a mass inside `V` among them, are held).
+    fn parameter_names(&self) -> Vec<String> {
+        inertia_parameter_names(&["mass"])
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        _t: f64,
+        _g: &SE3<T>,
+        xi: &SVector<T, 6>,
+    ) -> T {
+        kinetic6_parameter(index, xi)
     }
     fn local_derivatives(
         &self,
@@ -486,6 +525,36 @@ impl GroupLagrangian<6> for OrbitingBody {
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         kinetic6(&self.inertia, self.mass, xi)
             - self.potential(g.rotation().matrix(), g.translation())
+    }
+    /// The inertia tensor's six entries and the mass, in the kinetic energy and in
+    /// MacCullagh's potential (linear in both): `−∂V/∂J_k = ½μ(tr E_k − 3bᵀE_k b)/r³`,
+    /// `−∂V/∂m = μ/r`.
+    fn parameter_names(&self) -> Vec<String> {
+        inertia_parameter_names(&["mass"])
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        _t: f64,
+        g: &SE3<T>,
+        xi: &SVector<T, 6>,
+    ) -> T {
+        let mu: T = nalgebra::convert(self.gravitational_parameter);
+        let x = g.translation();
+        let r2 = x.dot(x);
+        let dist = r2.sqrt();
+        let potential = if index == 6 {
+            -mu / dist
+        } else if let Some(direction) = Inertia::parameter_direction(index) {
+            let e: Matrix3<T> = direction.map(nalgebra::convert);
+            let b = g.rotation().matrix().transpose() * x / dist;
+            let three: T = nalgebra::convert(3.0);
+            let half: T = nalgebra::convert(0.5);
+            -half * mu * (e.trace() - three * b.dot(&(e * b))) / (r2 * dist)
+        } else {
+            T::zero()
+        };
+        kinetic6_parameter(index, xi) - potential
     }
     fn velocity_from_momentum(
         &self,

@@ -210,6 +210,35 @@ pub trait GroupLagrangian<const D: usize> {
         None
     }
 
+    /// The names of the physical parameters `p` of `ℓ` that a step can be differentiated
+    /// by ([`crate::Integrator::linearize_with_parameters`]), in the order of
+    /// [`GroupLagrangian::parameter_lagrangian`]'s index. The default: none. The built-in
+    /// bodies name the six entries of the inertia tensor
+    /// ([`crate::INERTIA_PARAMETERS`]) and, where `ℓ` has one, the mass (and
+    /// the gyrostat its wheels' inertias). Forces do not depend on these parameters. A
+    /// type that wraps other systems should forward it (and
+    /// [`GroupLagrangian::parameter_lagrangian`]).
+    fn parameter_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// `∂ℓ/∂p_k(t, g, ξ)`, the derivative of [`GroupLagrangian::lagrangian`] in parameter
+    /// `k` of [`GroupLagrangian::parameter_names`] at the system's own parameters,
+    /// generic over the scalar as `ℓ` is: a step's derivative in `p_k` is its residual
+    /// with `ℓ` replaced by this (the residual is linear in `ℓ`; `docs/linearization.md`
+    /// §8). Must be exact: the linearisation is as accurate as it. The default (no
+    /// parameters) is zero.
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        time: f64,
+        configuration: &ElementOf<Self, D, T>,
+        velocity: &SVector<T, D>,
+    ) -> T {
+        let _ = (index, time, configuration, velocity);
+        T::zero()
+    }
+
     /// A predictor from the system's own flow over the step from `start`: write the chart
     /// coordinates at `start.times` into `out` ([`FlowGuess::Written`], with the flow's end
     /// relative to its start, which the converged step is checked against), or report that
@@ -285,6 +314,18 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
     }
     fn model_breakdown(&self, _time: f64, g: &SO3, w: &Vector3<f64>) -> Option<String> {
         Lagrangian::model_breakdown(self, g.matrix(), w)
+    }
+    fn parameter_names(&self) -> Vec<String> {
+        Lagrangian::parameter_names(self)
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        _time: f64,
+        g: &SO3<T>,
+        w: &Vector3<T>,
+    ) -> T {
+        Lagrangian::parameter_lagrangian(self, index, g.matrix(), w)
     }
     /// From [`Lagrangian::derivatives`]: `∂²L/∂Ω∂η_b = Σ_ij ∂²ℓ/∂R_ij∂Ω (R ê_b)_ij`.
     fn momentum_derivatives(
@@ -617,6 +658,18 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
         xi: &SVector<f64, D>,
     ) -> Option<String> {
         self.system.model_breakdown(time, g, xi)
+    }
+    fn parameter_names(&self) -> Vec<String> {
+        self.system.parameter_names()
+    }
+    fn parameter_lagrangian<T: RealField + Copy>(
+        &self,
+        index: usize,
+        time: f64,
+        g: &ElementOf<S, D, T>,
+        xi: &SVector<T, D>,
+    ) -> T {
+        self.system.parameter_lagrangian(index, time, g, xi)
     }
     /// The inner system's flow, under the step's total force ([`FlowStart::force`]); none
     /// for a forced step whose force is not given.

@@ -121,20 +121,34 @@ pub fn rows(m: &DMatrix<f64>) -> Value {
     )
 }
 
-/// Writes `step`'s `a`, `b` (as given: the caller picks the coordinates), the coordinates
-/// in words, the states before and after, and the step's size into `report`.
+/// Writes `step`'s `a`, `b` and `p` (as given: the caller picks the coordinates), the
+/// parameters' names, the coordinates in words, the states before and after, and the
+/// step's size into `report`.
 pub fn fill<E: Described, const D: usize>(
     report: &mut Value,
     step: &StepLinearization<E, D>,
-    (a, b): (&DMatrix<f64>, &DMatrix<f64>),
+    (a, b, p): (&DMatrix<f64>, &DMatrix<f64>, Option<&DMatrix<f64>>),
     momentum: bool,
 ) {
     report["a"] = rows(a);
     report["b"] = rows(b);
+    if let Some(p) = p {
+        report["p"] = rows(p);
+        report["parameters"] = step.parameter_names().into();
+    }
     report["before"] = E::state_json(&step.start);
     report["after"] = E::state_json(&step.end);
     report["step"] = json!({ "h": step.h, "nodes": step.nodes });
-    report["coordinates"] = E::coordinates(momentum).into();
+    let mut coordinates = E::coordinates(momentum).to_string();
+    if p.is_some() {
+        coordinates.push_str(
+            " With the system's physical parameters (\"parameters\": the body-frame inertia \
+             tensor's entries, J_xy moving both of its symmetric places, then the mass or the \
+             wheels' inertias), x₊ ≈ A x + B u + P δp, P = \"p\" (the start state held in \
+             these coordinates).",
+        );
+    }
+    report["coordinates"] = coordinates.into();
 }
 
 /// Linearises one step of `scenario` with `settings` from its start and writes it into
@@ -156,22 +170,40 @@ pub fn linearize(
     let (attitude, omega) = (scenario.attitude0, scenario.omega0);
     if let Some(wheels) = &scenario.wheels {
         lgsvi_experiments::each_gyrostat!(wheels.system, (craft, K, D) => {
-            let step = wheels.integrator::<K, D>(craft, settings, attitude, omega)?.linearize()?;
-            fill(report, &step, (step.a(coordinates), step.b(coordinates)), momentum);
+            let step = wheels
+                .integrator::<K, D>(craft, settings, attitude, omega)?
+                .linearize_with_parameters()?;
+            fill(
+                report,
+                &step,
+                (step.a(coordinates), step.b(coordinates), step.p(coordinates)),
+                momentum,
+            );
         });
     } else if let Some(motion) = &scenario.motion {
-        let step = motion.integrator(settings)?.linearize()?;
-        let (a, b) = match momentum {
-            true => (step.a(coordinates).clone(), step.b(coordinates).clone()),
-            false => step.world_frame(),
+        let step = motion.integrator(settings)?.linearize_with_parameters()?;
+        let (a, b, p) = match momentum {
+            true => (
+                step.a(coordinates).clone(),
+                step.b(coordinates).clone(),
+                step.p(coordinates).cloned(),
+            ),
+            false => {
+                let (a, b) = step.world_frame();
+                (a, b, step.world_frame_parameters())
+            }
         };
-        fill(report, &step, (&a, &b), momentum);
+        fill(report, &step, (&a, &b, p.as_ref()), momentum);
     } else {
-        let step = Subject::integrator(scenario, settings)?.linearize()?;
+        let step = Subject::integrator(scenario, settings)?.linearize_with_parameters()?;
         fill(
             report,
             &step,
-            (step.a(coordinates), step.b(coordinates)),
+            (
+                step.a(coordinates),
+                step.b(coordinates),
+                step.p(coordinates),
+            ),
             momentum,
         );
     }

@@ -59,12 +59,76 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         self.linearization(start, end)
     }
 
+    /// [`Integrator::linearize`] with the derivatives in the system's physical parameters
+    /// as well ([`StepLinearization::p`]: the inertia tensor's entries and, where the
+    /// system has one, its mass; [`crate::GroupLagrangian::parameter_names`]), exact to
+    /// rounding by the same implicit function theorem: each parameter adds a gradient-only
+    /// assembly of `ℓ`'s derivative in it and a back-substitution with the same fresh
+    /// factors. Forces do not depend on the parameters. A scratch workspace is allocated
+    /// per call.
+    ///
+    /// ```
+    /// use lgsvi_mechanics::{Coordinates, Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_mechanics::lie::SO3;
+    /// use nalgebra::Vector3;
+    /// // A body at rest under a torque u: ω₊ = h J⁻¹u, so ∂ω₊/∂J_zz = −h u_z / J_zz².
+    /// let body = RigidBody::new(Inertia::from_principal_moments([1.0, 2.0, 2.5])?);
+    /// let (h, u) = (0.1, Vector3::new(0.0, 0.0, 0.3));
+    /// let mut integrator = Integrator::new(body, StepSettings::new(h, 4)?, SO3::identity(), Vector3::zeros())?;
+    /// integrator.set_input(u)?;
+    /// let step = integrator.linearize_with_parameters()?;
+    /// assert_eq!(step.parameter_names()[2], "J_zz");
+    /// let p = step.p(Coordinates::Velocity).unwrap();
+    /// assert!((p[(5, 2)] + h * 0.3 / 2.5f64.powi(2)).abs() < 1e-15);
+    /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Integrator::linearize`].
+    pub fn linearize_with_parameters(
+        &mut self,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        let start = self.state;
+        self.linearizing = true;
+        let outcome = self.attempt(&start.configuration);
+        self.linearizing = false;
+        let end = self.end_state(&outcome?)?;
+        self.linearization_with(start, end, true)
+    }
+
+    /// [`Integrator::step_linearized`] with the derivatives in the system's parameters,
+    /// as [`Integrator::linearize_with_parameters`].
+    ///
+    /// # Errors
+    /// As [`Integrator::step_linearized`].
+    pub fn step_linearized_with_parameters(
+        &mut self,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        let start = self.state;
+        self.linearizing = true;
+        let taken = self.step();
+        self.linearizing = false;
+        taken?;
+        let end = self.state;
+        self.linearization_with(start, end, true)
+    }
+
     /// The linearisation of the step just solved (its unknowns in the workspace) from
     /// `start` to `end`.
     pub(super) fn linearization(
         &mut self,
         start: State<ElementOf<S, D>, D>,
         end: State<ElementOf<S, D>, D>,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        self.linearization_with(start, end, false)
+    }
+
+    /// [`Integrator::linearization`], with the parameter columns if `parameters`.
+    fn linearization_with(
+        &mut self,
+        start: State<ElementOf<S, D>, D>,
+        end: State<ElementOf<S, D>, D>,
+        parameters: bool,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
         let stepper = Stepper {
             system: &self.system,
@@ -77,6 +141,17 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let index = self.step_index;
         let jacobians =
             stepper.linearize(&start.configuration, &start.momentum, &mut self.work, index)?;
+        let parameter_jacobians = if parameters {
+            let mut scratch = crate::step::assembly::Workspace::new(&self.discretisation);
+            Some(stepper.parameter_jacobians(
+                &start.configuration,
+                &self.work,
+                &mut scratch,
+                index,
+            )?)
+        } else {
+            None
+        };
         StepLinearization::new(
             &self.system,
             &jacobians,
@@ -84,6 +159,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             end,
             self.input,
             (self.settings.step(), self.discretisation.n, index),
+            parameter_jacobians,
         )
     }
 }

@@ -26,17 +26,17 @@
 //! `∂w/∂θ = Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ M^ζ_j`.
 
 use super::assembly::WorkspaceOf;
-use super::newton::substitute_rows;
+use super::newton::{substitute, substitute_rows};
 use super::points::StepForce;
 use super::{Element, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
-use crate::system::{GroupLagrangian, PointForce};
+use crate::system::{ElementOf, GroupLagrangian, PointForce};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Par};
 use lgsvi_lie::LieGroup;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{DMatrix, RealField, SMatrix, SVector};
 use std::marker::PhantomData;
 
 /// The Jacobians of one step in momentum coordinates `(θ, δμ)` and the input `u`, as
@@ -89,6 +89,41 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> PointChart<E, D
 
 #[cfg(test)]
 type Hyper<const D: usize> = num_dual::HyperDualSVec64<D, D>;
+
+/// A system's `ℓ` replaced by its derivative in one of its parameters,
+/// [`GroupLagrangian::parameter_lagrangian`], with no force: a step's residual is linear
+/// in `ℓ`, so this system's residual at the converged unknowns, with `μ_k = 0`, is the
+/// step's residual's derivative in that parameter (and its `w` the explicit part of the
+/// matching's; `docs/linearization.md` §8). Its Gauss points go through the generic
+/// dual-number chain rule.
+pub(crate) struct ParameterDerivative<'a, S> {
+    pub system: &'a S,
+    pub index: usize,
+}
+
+impl<S: GroupLagrangian<D>, const D: usize> GroupLagrangian<D> for ParameterDerivative<'_, S> {
+    type Group = S::Group;
+
+    fn lagrangian<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &ElementOf<S, D, T>,
+        velocity: &SVector<T, D>,
+    ) -> T {
+        self.system
+            .parameter_lagrangian(self.index, time, configuration, velocity)
+    }
+    fn is_left_invariant(&self) -> bool {
+        self.system.is_left_invariant()
+    }
+}
+
+/// A step's derivatives in the system's parameters in momentum coordinates: rows `θ₊`
+/// and `δμ₊`, one column a parameter, at the start's body momentum held.
+pub(crate) struct ParameterJacobians {
+    pub theta: DMatrix<f64>,
+    pub mu: DMatrix<f64>,
+}
 
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
     /// The linearisation of the step from `(base, mu)` whose converged unknowns are in
@@ -251,6 +286,81 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             theta_u: blocks[0][2],
             mu_u: blocks[1][2],
         })
+    }
+
+    /// The step's derivatives in the system's parameters ([`ParameterJacobians`]), after
+    /// [`Stepper::linearize`] of the same step: its fresh factors of the Newton matrix at
+    /// the converged unknowns, its `∂w/∂ξ` and matching terms in `work` (unchanged here).
+    /// Each parameter costs one gradient-only assembly of [`ParameterDerivative`] in
+    /// `scratch` and one substitution: `∂Ξ/∂p_k = −F_Ξ⁻¹ F[∂ℓ/∂p_k]`, then the end state as
+    /// for the other columns, with `w`'s explicit part from that assembly.
+    ///
+    /// # Errors
+    /// [`MechanicsError::SingularJacobian`] if a solution is not finite.
+    pub(crate) fn parameter_jacobians(
+        &self,
+        base: &Element<S, D>,
+        work: &WorkspaceOf<S, D>,
+        scratch: &mut WorkspaceOf<S, D>,
+        step: usize,
+    ) -> Result<ParameterJacobians, MechanicsError> {
+        let n = self.d.n;
+        let unknowns = D * (n - 1);
+        let last = D * (n - 2);
+        let count = self.system.parameter_names().len();
+        let mut jacobians = ParameterJacobians {
+            theta: DMatrix::zeros(D, count),
+            mu: DMatrix::zeros(D, count),
+        };
+        let xi_n = work.xi[n - 1];
+        let phi_n = self.chart.to_group(&xi_n);
+        let a_n = self.chart.left_differential(&xi_n);
+        let ad_n = phi_n.adjoint();
+        let end_momentum = ad_n.transpose() * work.matching.w;
+        let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
+        let configured = self.needs_configuration();
+        let zero = SVector::<f64, D>::zeros();
+        let mut solution = vec![0.0; unknowns];
+        for index in 0..count {
+            let derivative = ParameterDerivative {
+                system: self.system,
+                index,
+            };
+            let stepper = Stepper {
+                system: &derivative,
+                chart: self.chart,
+                settings: self.settings,
+                d: self.d,
+                time: self.time,
+                forcing: None,
+            };
+            scratch.xi.copy_from_slice(&work.xi);
+            stepper.assemble(base, &zero, scratch, false);
+            for (entry, &p) in solution.iter_mut().zip(&work.perm) {
+                *entry = -scratch.residual[p];
+            }
+            substitute(&work.jacobian, &mut solution);
+            if !solution.iter().all(|e| e.is_finite()) {
+                return Err(MechanicsError::SingularJacobian {
+                    step,
+                    time: self.time,
+                    advice: self.chart.advice(),
+                });
+            }
+            let dxi_n = SVector::<f64, D>::from_column_slice(&solution[last..]);
+            let mut dw = scratch.matching.w;
+            if configured {
+                for k in 0..n - 1 {
+                    dw += work.dw_dxi[k + 1]
+                        * SVector::<f64, D>::from_column_slice(&solution[D * k..D * (k + 1)]);
+                }
+            }
+            let theta = a_n * dxi_n;
+            let momentum = ad_n.transpose() * dw + c_end * theta;
+            jacobians.theta.set_column(index, &theta);
+            jacobians.mu.set_column(index, &momentum);
+        }
+        Ok(jacobians)
     }
 
     /// Whether any Gauss point's gradient moves with `θ`: `ℓ` depends on the
