@@ -28,12 +28,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// Those of [`Integrator::step`]; [`MechanicsError::InvalidSetting`] under the
     /// paper's matching (not variational: no linearisation is offered).
     pub fn linearize(&mut self) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        let start = self.state;
-        self.linearizing = true;
-        let outcome = self.attempt(&start.configuration);
-        self.linearizing = false;
-        let end = self.end_state(&outcome?)?;
-        self.linearization(start, end)
+        self.linearize_with(false)
     }
 
     /// Takes one step (as [`Integrator::step`]) and returns its exact linearisation
@@ -50,13 +45,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn step_linearized(
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        let start = self.state;
-        self.linearizing = true;
-        let taken = self.step();
-        self.linearizing = false;
-        taken?;
-        let end = self.state;
-        self.linearization(start, end)
+        self.step_linearized_with(false)
     }
 
     /// [`Integrator::linearize`] with the derivatives in the system's physical parameters
@@ -88,12 +77,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn linearize_with_parameters(
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        let start = self.state;
-        self.linearizing = true;
-        let outcome = self.attempt(&start.configuration);
-        self.linearizing = false;
-        let end = self.end_state(&outcome?)?;
-        self.linearization_with(start, end, true)
+        self.linearize_with(true)
     }
 
     /// [`Integrator::step_linearized`] with the derivatives in the system's parameters,
@@ -104,26 +88,38 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn step_linearized_with_parameters(
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        self.step_linearized_with(true)
+    }
+
+    /// [`Integrator::linearize`], with the parameter columns if `parameters`.
+    fn linearize_with(
+        &mut self,
+        parameters: bool,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
+        let start = self.state;
+        self.linearizing = true;
+        let outcome = self.attempt(&start.configuration);
+        self.linearizing = false;
+        let end = self.end_state(&outcome?)?;
+        self.linearization_with(start, end, parameters)
+    }
+
+    /// [`Integrator::step_linearized`], with the parameter columns if `parameters`.
+    fn step_linearized_with(
+        &mut self,
+        parameters: bool,
+    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
         let start = self.state;
         self.linearizing = true;
         let taken = self.step();
         self.linearizing = false;
         taken?;
         let end = self.state;
-        self.linearization_with(start, end, true)
+        self.linearization_with(start, end, parameters)
     }
 
     /// The linearisation of the step just solved (its unknowns in the workspace) from
-    /// `start` to `end`.
-    pub(super) fn linearization(
-        &mut self,
-        start: State<ElementOf<S, D>, D>,
-        end: State<ElementOf<S, D>, D>,
-    ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        self.linearization_with(start, end, false)
-    }
-
-    /// [`Integrator::linearization`], with the parameter columns if `parameters`.
+    /// `start` to `end`, with the parameter columns if `parameters`.
     fn linearization_with(
         &mut self,
         start: State<ElementOf<S, D>, D>,
