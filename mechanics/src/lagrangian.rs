@@ -169,7 +169,8 @@ pub trait Lagrangian {
     /// [`Lagrangian::parameter_names`] at the system's own parameters, generic over the
     /// scalar as `ℓ` is (the step's derivative in `p_k` is the step's residual with `ℓ`
     /// replaced by this, `docs/linearization.md` §8). Must be exact: the linearisation
-    /// is as accurate as it. The default (no parameters) is zero.
+    /// is as accurate as it. Where [`Lagrangian::is_left_invariant`] is true it must not
+    /// depend on `R` either. The default (no parameters) is zero.
     fn parameter_lagrangian<T: RealField + Copy>(
         &self,
         index: usize,

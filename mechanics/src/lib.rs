@@ -82,6 +82,7 @@ mod matrix_jet;
 mod point;
 mod rigid_motion;
 mod settings;
+mod small;
 mod state;
 mod step;
 mod system;

@@ -226,8 +226,10 @@ pub trait GroupLagrangian<const D: usize> {
     /// `k` of [`GroupLagrangian::parameter_names`] at the system's own parameters,
     /// generic over the scalar as `ℓ` is: a step's derivative in `p_k` is its residual
     /// with `ℓ` replaced by this (the residual is linear in `ℓ`; `docs/linearization.md`
-    /// §8). Must be exact: the linearisation is as accurate as it. The default (no
-    /// parameters) is zero.
+    /// §8). Must be exact: the linearisation is as accurate as it. Where
+    /// [`GroupLagrangian::is_left_invariant`] is true it must not depend on the
+    /// configuration either (the step then takes no configuration derivatives of it). The
+    /// default (no parameters) is zero.
     fn parameter_lagrangian<T: RealField + Copy>(
         &self,
         index: usize,

@@ -11,8 +11,9 @@ use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, LieGroup, SE3, SO3};
 use lgsvi_mechanics::{
     body_velocity, AngularDamping, BodyInField, ConfigurationGroup, Coordinates, FieldPotential,
-    Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody,
-    Potential, RigidBody, RigidBodyInPotential, StepSettings, INERTIA_PARAMETERS,
+    Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, Lagrangian,
+    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, SpaceForce, StepSettings,
+    INERTIA_PARAMETERS,
 };
 use nalgebra::{DMatrix, Matrix3, RealField, SVector, Vector3};
 
@@ -49,13 +50,25 @@ fn tensor() -> Matrix3<f64> {
     r * Matrix3::from_diagonal(&Vector3::new(0.5, 0.9, 0.7)) * r.transpose()
 }
 
-/// `J` moved by `δ` along each inertia parameter's direction.
-fn inertia(delta: &[f64]) -> Inertia {
-    let mut j = tensor();
-    for (k, d) in delta.iter().take(6).enumerate() {
-        j += Inertia::parameter_direction(k).unwrap() * *d;
+/// The documented convention, written out here (not read from the library): parameter
+/// `k < 6` is the entry `(a, b)` of `J`, moved in both of its symmetric places.
+const PLACES: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+
+/// `J` (the nominal tensor times `scale`) moved by `δ` along each inertia parameter.
+fn moved(scale: f64, delta: &[f64]) -> Matrix3<f64> {
+    let mut j = tensor() * scale;
+    for (&(a, b), d) in PLACES.iter().zip(delta) {
+        j[(a, b)] += d;
+        if a != b {
+            j[(b, a)] += d;
+        }
     }
-    Inertia::from_tensor(j).unwrap()
+    j
+}
+
+/// The nominal inertia moved by `δ`.
+fn inertia(delta: &[f64]) -> Inertia {
+    Inertia::from_tensor(moved(1.0, delta)).unwrap()
 }
 
 /// A dipole along body x in a field along world z.
@@ -67,14 +80,23 @@ impl Potential for Dipole {
     }
 }
 
-/// A uniform field on the position and a dipole on the attitude, mass included in `V`
-/// (held by the parameters: `BodyInField`'s mass is the kinetic energy's).
+/// A field on the position that grows in time and a dipole on the attitude, mass included
+/// in `V` (held by the parameters: `BodyInField`'s mass is the kinetic energy's).
 #[derive(Clone, Copy)]
 struct Field;
 impl FieldPotential for Field {
-    fn potential<T: RealField + Copy>(&self, _t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
+    fn potential<T: RealField + Copy>(&self, t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
         let c = |v: f64| -> T { nalgebra::convert(v) };
-        x.z * c(0.8) - r[(2, 0)] * c(0.3)
+        x.z * c(0.8 + 0.5 * t) - r[(2, 0)] * c(0.3)
+    }
+}
+
+/// A Lagrangian without parameters (the trait's defaults).
+#[derive(Clone, Copy)]
+struct Plain;
+impl Lagrangian for Plain {
+    fn lagrangian<T: RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
+        w.dot(w) * nalgebra::convert::<f64, T>(0.5)
     }
 }
 
@@ -87,7 +109,7 @@ fn differences<S, const D: usize>(
     count: usize,
     scales: &[f64],
     settings: StepSettings,
-    start: (Element<S, D>, SVector<f64, D>, SVector<f64, D>),
+    start: (f64, Element<S, D>, SVector<f64, D>, SVector<f64, D>),
     input: SVector<f64, D>,
 ) -> (DMatrix<f64>, DMatrix<f64>)
 where
@@ -95,17 +117,18 @@ where
     ChartKind: GroupChart<S::Group, D>,
     Element<S, D>: Difference<D>,
 {
-    let (g, velocity, momentum) = start;
+    let (time, g, velocity, momentum) = start;
     // End (configuration, velocity, momentum) of one step of the system with `delta`,
-    // from the start's velocity (`hold_momentum` false) or momentum.
+    // from the start's velocity (`hold_momentum` false) or momentum, at the start's time.
     let run = |delta: &[f64], hold_momentum: bool| {
         let system = make(delta);
         let v = if hold_momentum {
-            body_velocity(&system, 0.0, &g, &momentum, &velocity).unwrap()
+            body_velocity(&system, time, &g, &momentum, &velocity).unwrap()
         } else {
             velocity
         };
         let mut integrator = Integrator::new(system, settings, g, v).unwrap();
+        integrator.reset(time, g, v).unwrap();
         integrator.set_input(input).unwrap();
         integrator.step().unwrap();
         *integrator.state()
@@ -176,7 +199,7 @@ where
                 names.len(),
                 scales,
                 settings,
-                (s.configuration, s.velocity, s.momentum),
+                (s.time, s.configuration, s.velocity, s.momentum),
                 input,
             );
             let exact = integrator.step_linearized_with_parameters().unwrap();
@@ -250,6 +273,18 @@ fn parameter_derivatives_match_central_differences() {
         wrench,
     ));
     worst = worst.max(compare(
+        "body in space, space force",
+        |d| {
+            Forced::new(
+                FreeBody::new(inertia(d), 1.3 + d[6]).unwrap(),
+                SpaceForce(Vector3::new(0.0, 0.1, -0.2)),
+            )
+        },
+        &with_mass,
+        (SE3::exp(&(xi * 0.5)), xi),
+        wrench,
+    ));
+    worst = worst.max(compare(
         "body in a field",
         |d| BodyInField::new(inertia(d), 1.3 + d[6], Field).unwrap(),
         &with_mass,
@@ -271,13 +306,7 @@ fn parameter_derivatives_match_central_differences() {
     let axes = [Vector3::x(), Vector3::y(), Vector3::new(0.0, 0.6, 0.8)];
     worst = worst.max(compare(
         "gyrostat, three wheels",
-        |d| {
-            let j = tensor() * 10.0
-                + (0..6)
-                    .map(|k| Inertia::parameter_direction(k).unwrap() * d[k])
-                    .sum::<Matrix3<f64>>();
-            Gyrostat::new(j, axes, [0.1 + d[6], 0.2 + d[7], 0.15 + d[8]]).unwrap()
-        },
+        |d| Gyrostat::new(moved(10.0, d), axes, [0.1 + d[6], 0.2 + d[7], 0.15 + d[8]]).unwrap(),
         &[5.0, 5.0, 5.0, 5.0, 5.0, 5.0, 0.1, 0.1, 0.1],
         (
             BodyWheels {
@@ -296,7 +325,10 @@ fn parameter_derivatives_match_central_differences() {
 #[test]
 fn parameters_are_named_and_only_computed_when_asked() {
     let body = RigidBody::new(inertia(&[]));
-    assert_eq!(body.parameter_names(), INERTIA_PARAMETERS.to_vec());
+    assert_eq!(
+        GroupLagrangian::<3>::parameter_names(&body),
+        INERTIA_PARAMETERS.to_vec()
+    );
     let orbit = OrbitingBody::new(inertia(&[]), 1.0, 1.0).unwrap();
     assert_eq!(orbit.parameter_names()[6], "mass");
     let mut integrator = Integrator::new(
@@ -308,6 +340,17 @@ fn parameters_are_named_and_only_computed_when_asked() {
     .unwrap();
     let plain = integrator.linearize().unwrap();
     assert!(plain.p(Coordinates::Velocity).is_none() && plain.parameter_names().is_empty());
+    // No parameters: an empty P, not an error.
+    let mut bare = Integrator::new(
+        Plain,
+        StepSettings::new(0.25, 6).unwrap(),
+        SO3::identity(),
+        Vector3::new(0.6, 0.1, -0.4),
+    )
+    .unwrap();
+    let none = bare.linearize_with_parameters().unwrap();
+    assert_eq!(none.p(Coordinates::Velocity).unwrap().shape(), (6, 0));
+    assert!(none.parameter_names().is_empty());
     let with = integrator.linearize_with_parameters().unwrap();
     assert_eq!(with.p(Coordinates::Momentum).unwrap().shape(), (6, 6));
     // The same A and B either way: the parameters add columns, nothing else.

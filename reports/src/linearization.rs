@@ -143,9 +143,9 @@ pub fn fill<E: Described, const D: usize>(
     if p.is_some() {
         coordinates.push_str(
             " With the system's physical parameters (\"parameters\": the body-frame inertia \
-             tensor's entries, J_xy moving both of its symmetric places, then the mass or the \
-             wheels' inertias), x₊ ≈ A x + B u + P δp, P = \"p\" (the start state held in \
-             these coordinates).",
+             tensor's entries, J_xy moving both of its symmetric places, then, where the \
+             system has them, the mass or the wheels' inertias), x₊ ≈ A x + B u + P δp, \
+             P = \"p\" (the start state held in these coordinates).",
         );
     }
     report["coordinates"] = coordinates.into();

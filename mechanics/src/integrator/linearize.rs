@@ -28,7 +28,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// Those of [`Integrator::step`]; [`MechanicsError::InvalidSetting`] under the
     /// paper's matching (not variational: no linearisation is offered).
     pub fn linearize(&mut self) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        self.linearize_with(false)
+        self.linearize_from_start(false)
     }
 
     /// Takes one step (as [`Integrator::step`]) and returns its exact linearisation
@@ -45,7 +45,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn step_linearized(
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        self.step_linearized_with(false)
+        self.step_and_linearize(false)
     }
 
     /// [`Integrator::linearize`] with the derivatives in the system's physical parameters
@@ -77,7 +77,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn linearize_with_parameters(
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        self.linearize_with(true)
+        self.linearize_from_start(true)
     }
 
     /// [`Integrator::step_linearized`] with the derivatives in the system's parameters,
@@ -88,11 +88,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     pub fn step_linearized_with_parameters(
         &mut self,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        self.step_linearized_with(true)
+        self.step_and_linearize(true)
     }
 
     /// [`Integrator::linearize`], with the parameter columns if `parameters`.
-    fn linearize_with(
+    fn linearize_from_start(
         &mut self,
         parameters: bool,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
@@ -101,11 +101,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let outcome = self.attempt(&start.configuration);
         self.linearizing = false;
         let end = self.end_state(&outcome?)?;
-        self.linearization_with(start, end, parameters)
+        self.linearization_of(start, end, parameters)
     }
 
     /// [`Integrator::step_linearized`], with the parameter columns if `parameters`.
-    fn step_linearized_with(
+    fn step_and_linearize(
         &mut self,
         parameters: bool,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
@@ -115,12 +115,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         self.linearizing = false;
         taken?;
         let end = self.state;
-        self.linearization_with(start, end, parameters)
+        self.linearization_of(start, end, parameters)
     }
 
     /// The linearisation of the step just solved (its unknowns in the workspace) from
     /// `start` to `end`, with the parameter columns if `parameters`.
-    fn linearization_with(
+    fn linearization_of(
         &mut self,
         start: State<ElementOf<S, D>, D>,
         end: State<ElementOf<S, D>, D>,
