@@ -82,7 +82,6 @@ mod matrix_jet;
 mod point;
 mod rigid_motion;
 mod settings;
-mod small;
 mod state;
 mod step;
 mod system;

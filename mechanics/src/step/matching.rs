@@ -22,7 +22,6 @@ use super::assembly::WorkspaceOf;
 use super::{Element, MatchingTerms, StepOutcome, Stepper};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
-use crate::small::product;
 use crate::system::GroupLagrangian;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Par};
@@ -61,15 +60,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     let h_zx = SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, c));
                     let h_zv =
                         SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, D + c));
-                    let c_p = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
-                    let dq_dx = product(&to_start, &(h_zx - product(&c_p, &a)));
-                    // H_vζ is zero where ℓ's velocity and configuration do not mix (every
-                    // built-in body): then so is ∂q/∂v, without the product.
-                    let dq_dv = if h_zv.iter().all(|&e| e == 0.0) {
-                        h_zv
-                    } else {
-                        product(&to_start, &h_zv)
-                    };
+                    let dq_dx = to_start
+                        * (h_zx - <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p) * a);
+                    let dq_dv = to_start * h_zv;
                     work.dq
                         .col_as_slice_mut(2 * j)
                         .copy_from_slice(dq_dx.as_slice());
@@ -80,7 +73,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             }
         }
         let (a_n, phi_n) = (chart.left_differential(&xi_n), chart.to_group(&xi_n));
-        let transport = product(&a_n.transpose(), &phi_n.adjoint().transpose());
+        let transport = a_n.transpose() * phi_n.adjoint().transpose();
         work.matching = MatchingTerms { w, transport };
         match self.settings.matching() {
             Matching::Exact => {
@@ -130,7 +123,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                         block += map_jacobian;
                     }
                     if configured {
-                        block += product(&transport, &work.dw_dxi[k]);
+                        block += transport * work.dw_dxi[k];
                     }
                     put_block(&mut work.jacobian, last, D * (k - 1), &block);
                 }
