@@ -17,6 +17,14 @@
 //! For a body in space, [`StepLinearization::world_frame`] gives the same step in
 //! `(θ_R, δx, δΩ, δẋ)` with the position and its velocity in the world frame.
 //!
+//! # Parameters
+//! [`crate::Integrator::linearize_with_parameters`] and
+//! [`crate::Integrator::step_linearized_with_parameters`] add `P = ∂x₊/∂p`
+//! ([`StepLinearization::p`]) in the system's physical parameters
+//! ([`crate::GroupLagrangian::parameter_names`]: the inertia tensor's entries, the mass or
+//! the wheels' inertias), so that `x₊ ≈ A x + B u + P δp`: for sensitivity studies and
+//! for estimating the parameters from measured motion (the `inertia_estimation` example).
+//!
 //! # How it is computed
 //! A step solves `F(Ξ; θ, μ_k, u) = 0`, so by the implicit function theorem
 //! `∂Ξ/∂(θ, μ_k, u) = −F_Ξ⁻¹ F_{(θ, μ, u)}`, with the exact Newton matrix assembled and
