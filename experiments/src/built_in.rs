@@ -125,6 +125,15 @@ impl GroupLagrangian<6> for BuiltInMotion {
     ) -> T {
         each_motion!(self, s => s.parameter_lagrangian(index, t, g, xi))
     }
+    fn parameter_point_derivatives<C: GroupChart<RigidMotions, 6>>(
+        &self,
+        index: usize,
+        chart: &C,
+        point: &GaussPoint<'_, RigidMotions, 6>,
+        out: &mut <RigidMotions as ConfigurationGroup<6>>::Jet,
+    ) -> bool {
+        each_motion!(self, s => s.parameter_point_derivatives(index, chart, point, out))
+    }
     fn symmetry_generator(&self) -> Option<SVector<f64, 6>> {
         each_motion!(self, s => s.symmetry_generator())
     }

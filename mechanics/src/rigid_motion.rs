@@ -36,6 +36,19 @@ macro_rules! points_by_blocks {
         ) -> bool {
             crate::step::rotation_translation::point_derivatives(self, chart, point, out)
         }
+        fn parameter_point_derivatives<C: GroupChart<RigidMotions, 6>>(
+            &self,
+            index: usize,
+            chart: &C,
+            point: &GaussPoint<'_, RigidMotions, 6>,
+            out: &mut Stacked<18>,
+        ) -> bool {
+            let derivative = ParameterLocal {
+                system: self,
+                index,
+            };
+            crate::step::rotation_translation::point_derivatives(&derivative, chart, point, out)
+        }
     };
 }
 
@@ -69,6 +82,91 @@ fn kinetic6_parameter<T: RealField + Copy>(index: usize, xi: &SVector<T, 6>) -> 
         v.dot(&v) * nalgebra::convert::<f64, T>(0.5)
     } else {
         kinetic_parameter(index, &w)
+    }
+}
+
+/// [`kinetic6_parameter`]'s local derivatives in closed form (`p = 0`: no configuration).
+fn kinetic6_parameter_local(
+    index: usize,
+    xi: &SVector<f64, 6>,
+    with_hessian: bool,
+) -> LocalDerivatives<6> {
+    let mut local = LocalDerivatives::<6> {
+        configuration_gradient: SVector::zeros(),
+        momentum: SVector::zeros(),
+        configuration_hessian: SMatrix::zeros(),
+        velocity_hessian: SMatrix::zeros(),
+    };
+    if index == 6 {
+        local
+            .momentum
+            .fixed_rows_mut::<3>(3)
+            .copy_from(&xi.fixed_rows::<3>(3));
+        if with_hessian {
+            local
+                .velocity_hessian
+                .fixed_view_mut::<3, 3>(3, 3)
+                .copy_from(&Matrix3::identity());
+        }
+    } else if let Some(e) = Inertia::parameter_direction(index) {
+        local
+            .momentum
+            .fixed_rows_mut::<3>(0)
+            .copy_from(&(e * xi.fixed_rows::<3>(0)));
+        if with_hessian {
+            local
+                .velocity_hessian
+                .fixed_view_mut::<3, 3>(0, 0)
+                .copy_from(&e);
+        }
+    }
+    local
+}
+
+/// A built-in SE(3) body's parameter Lagrangian's local derivatives
+/// ([`LocalDerivatives`]), for the rotation–translation chart's 3 × 3 blocks
+/// ([`ParameterLocal`]).
+pub(crate) trait ParameterLocalDerivatives:
+    GroupLagrangian<6, Group = RigidMotions>
+{
+    fn parameter_local(
+        &self,
+        index: usize,
+        time: f64,
+        g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> LocalDerivatives<6>;
+}
+
+/// A built-in SE(3) body's `∂ℓ/∂p_k` as a system of its own whose local derivatives are
+/// [`ParameterLocalDerivatives::parameter_local`]: the step's parameter columns then take
+/// the rotation–translation chart's closed forms (`step::rotation_translation`) where the
+/// generic chain rule would take dual numbers through the chart.
+pub(crate) struct ParameterLocal<'a, S> {
+    pub system: &'a S,
+    pub index: usize,
+}
+
+impl<S: ParameterLocalDerivatives> GroupLagrangian<6> for ParameterLocal<'_, S> {
+    type Group = RigidMotions;
+    fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
+        self.system.parameter_lagrangian(self.index, t, g, xi)
+    }
+    fn is_left_invariant(&self) -> bool {
+        self.system.is_left_invariant()
+    }
+    fn local_derivatives(
+        &self,
+        time: f64,
+        g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> Option<LocalDerivatives<6>> {
+        Some(
+            self.system
+                .parameter_local(self.index, time, g, xi, with_hessian),
+        )
     }
 }
 
@@ -519,6 +617,77 @@ impl OrbitingBody {
     }
 }
 
+/// `∂V/∂p_k` of MacCullagh's potential (linear in `J` and `m`): `−½μ(tr E_k − 3bᵀE_k b)/r³`
+/// for inertia parameter `k` (`b = Rᵀx/r`), `−μ/r` for the mass.
+struct ParameterPotential<'a> {
+    body: &'a OrbitingBody,
+    index: usize,
+}
+
+impl PosePotential for ParameterPotential<'_> {
+    fn eval<T: RealField + Copy>(&self, _time: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
+        let mu: T = nalgebra::convert(self.body.gravitational_parameter);
+        let r2 = x.dot(x);
+        let dist = r2.sqrt();
+        if self.index == 6 {
+            -mu / dist
+        } else if let Some(direction) = Inertia::parameter_direction(self.index) {
+            let e: Matrix3<T> = direction.map(nalgebra::convert);
+            let b = r.transpose() * x / dist;
+            let three: T = nalgebra::convert(3.0);
+            let half: T = nalgebra::convert(0.5);
+            -half * mu * (e.trace() - three * b.dot(&(e * b))) / (r2 * dist)
+        } else {
+            T::zero()
+        }
+    }
+}
+
+impl ParameterLocalDerivatives for OrbitingBody {
+    fn parameter_local(
+        &self,
+        index: usize,
+        time: f64,
+        g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> LocalDerivatives<6> {
+        with_potential(
+            kinetic6_parameter_local(index, xi, with_hessian),
+            &ParameterPotential { body: self, index },
+            time,
+            g,
+            with_hessian,
+        )
+    }
+}
+
+impl ParameterLocalDerivatives for FreeBody {
+    fn parameter_local(
+        &self,
+        index: usize,
+        _time: f64,
+        _g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> LocalDerivatives<6> {
+        kinetic6_parameter_local(index, xi, with_hessian)
+    }
+}
+
+impl<V: FieldPotential> ParameterLocalDerivatives for BodyInField<V> {
+    fn parameter_local(
+        &self,
+        index: usize,
+        _time: f64,
+        _g: &SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> LocalDerivatives<6> {
+        kinetic6_parameter_local(index, xi, with_hessian)
+    }
+}
+
 impl GroupLagrangian<6> for OrbitingBody {
     type Group = RigidMotions;
     points_by_blocks!();
@@ -539,22 +708,8 @@ impl GroupLagrangian<6> for OrbitingBody {
         g: &SE3<T>,
         xi: &SVector<T, 6>,
     ) -> T {
-        let mu: T = nalgebra::convert(self.gravitational_parameter);
-        let x = g.translation();
-        let r2 = x.dot(x);
-        let dist = r2.sqrt();
-        let potential = if index == 6 {
-            -mu / dist
-        } else if let Some(direction) = Inertia::parameter_direction(index) {
-            let e: Matrix3<T> = direction.map(nalgebra::convert);
-            let b = g.rotation().matrix().transpose() * x / dist;
-            let three: T = nalgebra::convert(3.0);
-            let half: T = nalgebra::convert(0.5);
-            -half * mu * (e.trace() - three * b.dot(&(e * b))) / (r2 * dist)
-        } else {
-            T::zero()
-        };
-        kinetic6_parameter(index, xi) - potential
+        let potential = ParameterPotential { body: self, index };
+        kinetic6_parameter(index, xi) - potential.eval(0.0, g.rotation().matrix(), g.translation())
     }
     fn velocity_from_momentum(
         &self,

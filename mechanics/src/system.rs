@@ -241,6 +241,26 @@ pub trait GroupLagrangian<const D: usize> {
         T::zero()
     }
 
+    /// As [`GroupLagrangian::point_derivatives`] for the Lagrangian
+    /// [`GroupLagrangian::parameter_lagrangian`] of parameter `index` (no force: the
+    /// point's force is `None`): a faster path for the step's parameter columns, or
+    /// `false` (the default) for the generic chain rule by dual numbers through `∂ℓ/∂p`
+    /// and the chart. The built-in SE(3) bodies take the rotation–translation chart's
+    /// 3 × 3 blocks with `∂ℓ/∂p`'s local derivatives in closed form (five times faster
+    /// on the orbiting body; `docs/linearization.md` §8). On SO(3) the generic rule was
+    /// measured faster than the Rodrigues form with `∂ℓ/∂p`'s derivatives by dual
+    /// numbers, and is kept.
+    fn parameter_point_derivatives<C: GroupChart<Self::Group, D>>(
+        &self,
+        index: usize,
+        chart: &C,
+        point: &GaussPoint<'_, Self::Group, D>,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+    ) -> bool {
+        let _ = (index, chart, point, out);
+        false
+    }
+
     /// A predictor from the system's own flow over the step from `start`: write the chart
     /// coordinates at `start.times` into `out` ([`FlowGuess::Written`], with the flow's end
     /// relative to its start, which the converged step is checked against), or report that
@@ -672,6 +692,16 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
         xi: &SVector<T, D>,
     ) -> T {
         self.system.parameter_lagrangian(index, time, g, xi)
+    }
+    fn parameter_point_derivatives<C: GroupChart<Self::Group, D>>(
+        &self,
+        index: usize,
+        chart: &C,
+        point: &GaussPoint<'_, Self::Group, D>,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+    ) -> bool {
+        self.system
+            .parameter_point_derivatives(index, chart, point, out)
     }
     /// The inner system's flow, under the step's total force ([`FlowStart::force`]); none
     /// for a forced step whose force is not given.

@@ -32,7 +32,7 @@ use super::{Element, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
-use crate::system::{ElementOf, GroupLagrangian, PointForce};
+use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Par};
 use lgsvi_lie::LieGroup;
@@ -115,6 +115,15 @@ impl<S: GroupLagrangian<D>, const D: usize> GroupLagrangian<D> for ParameterDeri
     }
     fn is_left_invariant(&self) -> bool {
         self.system.is_left_invariant()
+    }
+    fn point_derivatives<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, Self::Group, D>,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+    ) -> bool {
+        self.system
+            .parameter_point_derivatives(self.index, chart, point, out)
     }
 }
 

@@ -200,6 +200,39 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
         compare::<_, _, 6>(&field, Screw(CayleyChart), &b6, x, v, "field screw cayley");
         compare::<_, _, 6>(&CoupledSe3, Screw(ExpChart), &b6, x, v, "coupled screw exp");
     }
+    // The points of the step's parameter columns (`ParameterDerivative`, ℓ replaced by
+    // ∂ℓ/∂p): the SE(3) bodies' closed-form local derivatives through the chart's blocks
+    // (and the generic rule in the screw chart), against dual numbers through ∂ℓ/∂p.
+    use crate::step::linearize::ParameterDerivative;
+    for (x, v) in &points {
+        for index in 0..7 {
+            let name = format!("parameter {index}");
+            let orbit_p = ParameterDerivative {
+                system: &orbit,
+                index,
+            };
+            compare::<_, _, 6>(&orbit_p, ExpChart, &b6, x, v, &format!("orbit {name}"));
+            compare::<_, _, 6>(&orbit_p, CayleyChart, &b6, x, v, &format!("orbit {name}"));
+            let free_p = ParameterDerivative {
+                system: &free,
+                index,
+            };
+            compare::<_, _, 6>(&free_p, ExpChart, &b6, x, v, &format!("free {name}"));
+            let field_p = ParameterDerivative {
+                system: &field,
+                index,
+            };
+            compare::<_, _, 6>(
+                &field_p,
+                Screw(ExpChart),
+                &b6,
+                x,
+                v,
+                &format!("field {name}"),
+            );
+            compare::<_, _, 6>(&field_p, CayleyChart, &b6, x, v, &format!("field {name}"));
+        }
+    }
     // SO(3) through the generic path: a wrapper that hides the closed form.
     struct Generic<L>(L);
     impl<L: Lagrangian> crate::GroupLagrangian<3> for Generic<L> {
@@ -217,6 +250,23 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
         ] {
             compare::<_, _, 3>(&Generic(top()), chart, &b, &x, &v, "heavy top");
             compare::<_, _, 3>(&Generic(Coupled), chart, &b, &x, &v, "coupled SO(3)");
+            // The parameter columns' points of an SO(3) body (the heavy top's six inertia
+            // entries and its mass: the generic chain rule through ∂ℓ/∂p).
+            let top = top();
+            for index in 0..7 {
+                let derivative = ParameterDerivative {
+                    system: &top,
+                    index,
+                };
+                compare::<_, _, 3>(
+                    &derivative,
+                    chart,
+                    &b,
+                    &x,
+                    &v,
+                    &format!("top parameter {index}"),
+                );
+            }
         }
     }
     let _ = RigidMotions;
