@@ -129,6 +129,8 @@ fn kinetic6_parameter_local(
 pub(crate) trait ParameterLocalDerivatives:
     GroupLagrangian<6, Group = RigidMotions>
 {
+    /// The default: the kinetic energy's alone (a body whose potential, if any, does not
+    /// depend on its parameters).
     fn parameter_local(
         &self,
         index: usize,
@@ -136,7 +138,10 @@ pub(crate) trait ParameterLocalDerivatives:
         g: &SE3,
         xi: &SVector<f64, 6>,
         with_hessian: bool,
-    ) -> LocalDerivatives<6>;
+    ) -> LocalDerivatives<6> {
+        let _ = (time, g);
+        kinetic6_parameter_local(index, xi, with_hessian)
+    }
 }
 
 /// A built-in SE(3) body's `∂ℓ/∂p_k` as a system of its own whose local derivatives are
@@ -603,17 +608,13 @@ impl OrbitingBody {
 
     /// MacCullagh's potential at attitude `R`, position `x`.
     pub fn potential<T: RealField + Copy>(&self, r: &Matrix3<T>, x: &Vector3<T>) -> T {
-        let mu: T = nalgebra::convert(self.gravitational_parameter);
-        let m: T = nalgebra::convert(self.mass);
-        let j: Matrix3<T> = self.inertia.matrix().map(nalgebra::convert);
-        let three: T = nalgebra::convert(3.0);
-        let half: T = nalgebra::convert(0.5);
-        let r2 = x.dot(x);
-        let dist = r2.sqrt();
-        // x̂ᵀRJRᵀx̂ = bᵀJb with b = Rᵀx/r.
-        let b = r.transpose() * x / dist;
-        let gradient_term = j.trace() - three * b.dot(&(j * b));
-        -mu * m / dist - half * mu * gradient_term / (r2 * dist)
+        maccullagh(
+            self.gravitational_parameter,
+            self.mass,
+            &self.inertia.matrix(),
+            r,
+            x,
+        )
     }
 }
 
@@ -625,22 +626,41 @@ struct ParameterPotential<'a> {
 }
 
 impl PosePotential for ParameterPotential<'_> {
+    /// MacCullagh's potential is linear in `(J, m)` with no constant term: its derivative
+    /// in a parameter is the potential at that parameter's unit direction.
     fn eval<T: RealField + Copy>(&self, _time: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
-        let mu: T = nalgebra::convert(self.body.gravitational_parameter);
-        let r2 = x.dot(x);
-        let dist = r2.sqrt();
+        let mu = self.body.gravitational_parameter;
         if self.index == 6 {
-            -mu / dist
+            maccullagh(mu, 1.0, &Matrix3::zeros(), r, x)
         } else if let Some(direction) = Inertia::parameter_direction(self.index) {
-            let e: Matrix3<T> = direction.map(nalgebra::convert);
-            let b = r.transpose() * x / dist;
-            let three: T = nalgebra::convert(3.0);
-            let half: T = nalgebra::convert(0.5);
-            -half * mu * (e.trace() - three * b.dot(&(e * b))) / (r2 * dist)
+            maccullagh(mu, 0.0, &direction, r, x)
         } else {
             T::zero()
         }
     }
+}
+
+/// MacCullagh's potential of a body of inertia `j` and mass `m` at attitude `R`, position
+/// `x`, about a point mass of gravitational parameter `μ` at the origin:
+/// `−μm/r − ½μ(tr J − 3bᵀJb)/r³`, `b = Rᵀx/r`.
+fn maccullagh<T: RealField + Copy>(
+    mu: f64,
+    m: f64,
+    j: &Matrix3<f64>,
+    r: &Matrix3<T>,
+    x: &Vector3<T>,
+) -> T {
+    let mu: T = nalgebra::convert(mu);
+    let m: T = nalgebra::convert(m);
+    let j: Matrix3<T> = j.map(nalgebra::convert);
+    let three: T = nalgebra::convert(3.0);
+    let half: T = nalgebra::convert(0.5);
+    let r2 = x.dot(x);
+    let dist = r2.sqrt();
+    // x̂ᵀRJRᵀx̂ = bᵀJb with b = Rᵀx/r.
+    let b = r.transpose() * x / dist;
+    let gradient_term = j.trace() - three * b.dot(&(j * b));
+    -mu * m / dist - half * mu * gradient_term / (r2 * dist)
 }
 
 impl ParameterLocalDerivatives for OrbitingBody {
@@ -662,31 +682,10 @@ impl ParameterLocalDerivatives for OrbitingBody {
     }
 }
 
-impl ParameterLocalDerivatives for FreeBody {
-    fn parameter_local(
-        &self,
-        index: usize,
-        _time: f64,
-        _g: &SE3,
-        xi: &SVector<f64, 6>,
-        with_hessian: bool,
-    ) -> LocalDerivatives<6> {
-        kinetic6_parameter_local(index, xi, with_hessian)
-    }
-}
+impl ParameterLocalDerivatives for FreeBody {}
 
-impl<V: FieldPotential> ParameterLocalDerivatives for BodyInField<V> {
-    fn parameter_local(
-        &self,
-        index: usize,
-        _time: f64,
-        _g: &SE3,
-        xi: &SVector<f64, 6>,
-        with_hessian: bool,
-    ) -> LocalDerivatives<6> {
-        kinetic6_parameter_local(index, xi, with_hessian)
-    }
-}
+/// `V`'s own constants are held: the kinetic energy's derivatives alone.
+impl<V: FieldPotential> ParameterLocalDerivatives for BodyInField<V> {}
 
 impl GroupLagrangian<6> for OrbitingBody {
     type Group = RigidMotions;
