@@ -190,7 +190,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
         // `M_in δp` (`M = ∂μ/∂p = ∂(∂ℓ/∂p)/∂ξ`), and the end's velocity by
         // `Q_out⁻¹(δμ₊ − P_out θ₊ − M_out δp)`.
         let parameters = parameters.map(|columns| {
-            let names = system.parameter_names();
+            let names = columns.names;
             let m_in = parameter_momenta(system, &start, names.len());
             let m_out = parameter_momenta(system, &end, names.len());
             let theta = &columns.theta + j.theta_mu * &m_in;

@@ -128,10 +128,71 @@ impl<S: GroupLagrangian<D>, const D: usize> GroupLagrangian<D> for ParameterDeri
 }
 
 /// A step's derivatives in the system's parameters in momentum coordinates: rows `θ₊`
-/// and `δμ₊`, one column a parameter, at the start's body momentum held.
+/// and `δμ₊`, one column a parameter (named in `names`), at the start's body momentum
+/// held.
 pub(crate) struct ParameterJacobians {
+    pub names: Vec<String>,
     pub theta: DMatrix<f64>,
     pub mu: DMatrix<f64>,
+}
+
+/// The converged step's end terms that every column of the linearisation reads:
+/// `Φ(ξⁿ)`, `A(ξⁿ)`, `Ad_{Φ(ξⁿ)}` and `C(μ₊)`.
+struct EndMap<E, const D: usize> {
+    phi_n: E,
+    a_n: SMatrix<f64, D, D>,
+    ad_n: SMatrix<f64, D, D>,
+    c_end: SMatrix<f64, D, D>,
+}
+
+impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
+    /// From the converged unknowns and the matching's `w` in `work`.
+    fn at<S, C>(stepper: &Stepper<'_, S, C, D>, work: &WorkspaceOf<S, D>) -> Self
+    where
+        S: GroupLagrangian<D>,
+        S::Group: ConfigurationGroup<D, Element<f64> = E>,
+        C: GroupChart<S::Group, D>,
+    {
+        let xi_n = work.xi[stepper.d.n - 1];
+        let phi_n = stepper.chart.to_group(&xi_n);
+        let a_n = stepper.chart.left_differential(&xi_n);
+        let ad_n = phi_n.adjoint();
+        let end_momentum = ad_n.transpose() * work.matching.w;
+        let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
+        Self {
+            phi_n,
+            a_n,
+            ad_n,
+            c_end,
+        }
+    }
+
+    /// The end state's perturbation from one column of `∂Ξ/∂P` (`delta(k)`: node
+    /// `k + 1`'s part) and that column's explicit `∂w` (module documentation):
+    /// `(A(ξⁿ) δξⁿ, Ad_{Φ(ξⁿ)}ᵀ δw + C(μ₊) A(ξⁿ) δξⁿ)` with
+    /// `δw = explicit + Σ_k ∂w/∂ξᵏ δξᵏ` (the sum only where the matching has
+    /// configuration terms). A `θ` column adds `Ad_{Φ(ξⁿ)⁻¹}` to the first part itself.
+    fn perturbation<S, C>(
+        &self,
+        stepper: &Stepper<'_, S, C, D>,
+        work: &WorkspaceOf<S, D>,
+        explicit: SVector<f64, D>,
+        delta: impl Fn(usize) -> SVector<f64, D>,
+    ) -> (SVector<f64, D>, SVector<f64, D>)
+    where
+        S: GroupLagrangian<D>,
+        C: GroupChart<S::Group, D>,
+    {
+        let n = stepper.d.n;
+        let mut dw = explicit;
+        if stepper.needs_configuration() {
+            for k in 0..n - 1 {
+                dw += work.dw_dxi[k + 1] * delta(k);
+            }
+        }
+        let theta = self.a_n * delta(n - 2);
+        (theta, self.ad_n.transpose() * dw + self.c_end * theta)
+    }
 }
 
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
@@ -254,36 +315,24 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 advice: self.chart.advice(),
             });
         }
-        let xi_n = work.xi[n - 1];
-        let phi_n = self.chart.to_group(&xi_n);
-        let a_n = self.chart.left_differential(&xi_n);
-        let (ad_n, ad_n_inverse) = (phi_n.adjoint(), phi_n.inverse().adjoint());
-        let end_momentum = ad_n.transpose() * work.matching.w;
-        let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
-        let configured = self.needs_configuration();
+        let end = EndMap::at(self, work);
+        let ad_n_inverse = end.phi_n.inverse().adjoint();
         let mut blocks = [[SMatrix::<f64, D, D>::zeros(); 3]; 2];
         let solution = &work.sensitivity;
-        // Entry `row` of column `(family, c)`.
-        let entry = |row: usize, family: usize, c: usize| solution[row][family][c];
         for p in 0..3 * D {
             let (family, c) = (p / D, p % D);
-            let dxi_n = SVector::<f64, D>::from_fn(|r, _| entry(last + r, family, c));
-            let mut theta = a_n * dxi_n;
-            let mut dw: SVector<f64, D> = match family {
+            let explicit: SVector<f64, D> = match family {
                 0 => dw_theta.column(c).into_owned(),
                 1 => SMatrix::<f64, D, D>::identity().column(c).into_owned(),
                 _ => dw_u.column(c).into_owned(),
             };
+            // Node k + 1's part of column `(family, c)`.
+            let delta =
+                |k: usize| SVector::<f64, D>::from_fn(|r, _| solution[D * k + r][family][c]);
+            let (mut theta, momentum) = end.perturbation(self, work, explicit, delta);
             if family == 0 {
                 theta += ad_n_inverse.column(c);
             }
-            if configured {
-                for k in 0..n - 1 {
-                    let delta = SVector::<f64, D>::from_fn(|r, _| entry(D * k + r, family, c));
-                    dw += work.dw_dxi[k + 1] * delta;
-                }
-            }
-            let momentum = ad_n.transpose() * dw + c_end * (a_n * dxi_n);
             blocks[0][family].set_column(c, &theta);
             blocks[1][family].set_column(c, &momentum);
         }
@@ -313,21 +362,15 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         scratch: &mut WorkspaceOf<S, D>,
         step: usize,
     ) -> Result<ParameterJacobians, MechanicsError> {
-        let n = self.d.n;
-        let unknowns = D * (n - 1);
-        let last = D * (n - 2);
-        let count = self.system.parameter_names().len();
+        let unknowns = D * (self.d.n - 1);
+        let names = self.system.parameter_names();
+        let count = names.len();
         let mut jacobians = ParameterJacobians {
+            names,
             theta: DMatrix::zeros(D, count),
             mu: DMatrix::zeros(D, count),
         };
-        let xi_n = work.xi[n - 1];
-        let phi_n = self.chart.to_group(&xi_n);
-        let a_n = self.chart.left_differential(&xi_n);
-        let ad_n = phi_n.adjoint();
-        let end_momentum = ad_n.transpose() * work.matching.w;
-        let c_end = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&end_momentum);
-        let configured = self.needs_configuration();
+        let end = EndMap::at(self, work);
         let zero = SVector::<f64, D>::zeros();
         let mut solution = vec![0.0; unknowns];
         for index in 0..count {
@@ -356,16 +399,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     advice: self.chart.advice(),
                 });
             }
-            let dxi_n = SVector::<f64, D>::from_column_slice(&solution[last..]);
-            let mut dw = scratch.matching.w;
-            if configured {
-                for k in 0..n - 1 {
-                    dw += work.dw_dxi[k + 1]
-                        * SVector::<f64, D>::from_column_slice(&solution[D * k..D * (k + 1)]);
-                }
-            }
-            let theta = a_n * dxi_n;
-            let momentum = ad_n.transpose() * dw + c_end * theta;
+            let delta =
+                |k: usize| SVector::<f64, D>::from_column_slice(&solution[D * k..D * (k + 1)]);
+            let (theta, momentum) = end.perturbation(self, work, scratch.matching.w, delta);
             jacobians.theta.set_column(index, &theta);
             jacobians.mu.set_column(index, &momentum);
         }
