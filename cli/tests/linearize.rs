@@ -95,6 +95,11 @@ fn numbers(v: &Value) -> Vec<f64> {
         .collect()
 }
 
+/// A matrix of the JSON as a list of rows.
+fn rows(v: &Value) -> Vec<Vec<f64>> {
+    v.as_array().expect("rows").iter().map(numbers).collect()
+}
+
 fn last(run: &Value, key: &str) -> Vec<f64> {
     numbers(
         run[key]
@@ -194,7 +199,8 @@ impl Case {
         (matrix(&columns[..size]), matrix(&columns[size..]))
     }
 
-    fn linearize(&self, h: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    /// `lgsvi linearize`'s JSON for the nominal state and torque.
+    fn linearize_json(&self, h: f64) -> Value {
         let mut args: Vec<String> = vec!["linearize".into(), "--h".into(), h.to_string()];
         args.extend(self.flags.iter().cloned());
         args.extend(["--attitude0".into(), row_major(&self.attitude)]);
@@ -204,8 +210,11 @@ impl Case {
             args.extend(["--position0".into(), triple(self.position)]);
             args.extend(["--velocity0".into(), triple(self.velocity)]);
         }
-        let out = lgsvi(&args);
-        let rows = |v: &Value| v.as_array().expect("rows").iter().map(numbers).collect();
+        lgsvi(&args)
+    }
+
+    fn linearize(&self, h: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        let out = self.linearize_json(h);
         (rows(&out["a"]), rows(&out["b"]))
     }
 }
@@ -348,17 +357,8 @@ fn linearize_parameters_match_differences_through_simulate() {
             torque: [0.05, -0.02, 0.03],
         };
         let h = 0.25;
-        let mut args: Vec<String> = vec!["linearize".into(), "--h".into(), h.to_string()];
         let nominal = case(&tensor, 1.0);
-        args.extend(nominal.flags.iter().cloned());
-        args.extend(["--attitude0".into(), row_major(&nominal.attitude)]);
-        args.extend(["--torque".into(), triple(nominal.torque)]);
-        args.extend(["--omega0".into(), triple(nominal.omega)]);
-        if space {
-            args.extend(["--position0".into(), triple(position)]);
-            args.extend(["--velocity0".into(), triple(velocity)]);
-        }
-        let out = lgsvi(&args);
+        let out = nominal.linearize_json(h);
         let names: Vec<&str> = out["parameters"]
             .as_array()
             .expect("names")
@@ -370,12 +370,7 @@ fn linearize_parameters_match_differences_through_simulate() {
             ["J_xx", "J_yy", "J_zz", "J_xy", "J_xz", "J_yz", "mass"],
             "{name}"
         );
-        let p: Vec<Vec<f64>> = out["p"]
-            .as_array()
-            .expect("rows")
-            .iter()
-            .map(numbers)
-            .collect();
+        let p = rows(&out["p"]);
         let size = if space { 12 } else { 6 };
         let zero = vec![0.0; size];
         let (r0, _) = nominal.step(h, &zero, [0.0; 3]);
