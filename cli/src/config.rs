@@ -418,7 +418,7 @@ pub enum StudyKind {
     /// Both.
     Both,
     /// The per-step error estimate against the true local error, over a grid of `(h, n)`
-    /// (any system, SO(3) or SE(3)).
+    /// (any system: SO(3), SE(3), the gyrostat).
     Estimate,
     /// `--tol` runs over a list of tolerances against a reference and the fastest fixed
     /// `(h, n)` as accurate (any system).

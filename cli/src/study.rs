@@ -45,18 +45,11 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     }
     let kind = options.study.unwrap_or(StudyKind::Both);
     let (problem, base) = Problem::resolve(std::mem::take(&mut options.base))?;
-    if problem.scenario.wheels.is_some() {
-        return Err(CliError::NotForSystem {
-            flag: "converge",
-            system: "gyrostat",
-            applies: "rigid-body, heavy-top, se3-body and orbiting-body".into(),
-        });
-    }
     if matches!(kind, StudyKind::Estimate | StudyKind::Tolerance) {
         let estimate = kind == StudyKind::Estimate;
         return crate::tolerance::run(&options, problem, base, estimate);
     }
-    if problem.scenario.motion.is_some() {
+    if problem.scenario.motion.is_some() || problem.scenario.wheels.is_some() {
         return Err(CliError::NotForSystem {
             flag: "converge",
             system: problem.name,

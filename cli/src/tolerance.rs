@@ -1,6 +1,6 @@
 //! `lgsvi converge --study estimate | tolerance`: the error-estimate calibration and the
-//! tolerance study of `lgsvi_experiments::tolerance` on the problem the flags describe (SO(3)
-//! or SE(3)), printed and written through `lgsvi_reports::tolerance`.
+//! tolerance study of `lgsvi_experiments::tolerance` on the problem the flags describe (SO(3),
+//! SE(3) or a gyrostat), printed and written through `lgsvi_reports::tolerance`.
 
 use crate::error::{CliError, Result};
 use crate::problem::Problem;

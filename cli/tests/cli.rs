@@ -1220,6 +1220,65 @@ fn converge_measures_the_estimate_and_the_tolerance() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `converge --study estimate` and `--study tolerance` run the gyrostat (three wheels
+/// spinning under motor torques on a tumbling spacecraft): the tolerance-driven run is as
+/// accurate as asked against the study's reference run; the convergence studies, which
+/// are SO(3)'s, refuse it in one line that says which studies run it.
+#[test]
+fn converge_measures_a_gyrostat_s_tolerance_runs() {
+    let dir = temp_dir("gyrostat-studies");
+    let json = dir.join("tolerance.json");
+    let craft = [
+        "--system",
+        "gyrostat",
+        "--omega0",
+        "0.05,-0.03,0.04",
+        "--wheel-speeds0",
+        "5,-3,2",
+        "--wheel-torque",
+        "0.01,0,-0.02",
+    ];
+    let mut args = vec!["converge", "--quiet", "--study", "tolerance"];
+    args.extend(craft);
+    args.extend([
+        "--tols",
+        "1e-9",
+        "--steps",
+        "1",
+        "--nodes-range",
+        "6..8",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    let (code, out, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("1e-9"), "{out}");
+    let data: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let run = &data["runs"][0];
+    let error = run["error"].as_f64().unwrap();
+    // Honest: within its tolerance at the horizon (the reference, n = 24 against 28,
+    // agrees to rounding here).
+    assert!(error <= 1e-9, "{error:e}");
+    assert_eq!(data["fixed"].as_array().unwrap().len(), 3);
+    let mut args = vec!["converge", "--quiet", "--study", "estimate"];
+    args.extend(craft);
+    args.extend(["--steps", "1", "--nodes-range", "3..4"]);
+    let (code, out, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("all: "), "{out}");
+    let mut args = vec!["converge", "--quiet"];
+    args.extend(craft);
+    let (code, _, err) = lgsvi(&args);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--study estimate and tolerance run every system"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The heavy top conserves the spatial momentum along its own gravity direction, not
 /// along z: with gravity along x, the reported drift is at rounding (it was 3.3 when
 /// the tracker measured z).

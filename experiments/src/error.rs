@@ -49,9 +49,6 @@ pub enum ExperimentError {
         /// Why, and what to change.
         reason: String,
     },
-    /// A study of SO(3) and SE(3) systems asked of a gyrostat.
-    #[error("this study runs SO(3) and SE(3) systems, not a gyrostat")]
-    NotForGyrostat,
     /// The reference run has no Galerkin curve at this time (it ended before it).
     #[error("reference has no curve at t = {0}")]
     NoReferenceCurve(f64),

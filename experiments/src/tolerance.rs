@@ -14,9 +14,11 @@
 //!   from the initial motion's rate, the first step's nodes from the tolerance.
 //!
 //! Both studies are generic over the group: the error of a state is the largest difference in the
-//! entries of what [`Observe`] lists (`R`, `Ω` and, on SE(3), `x` and `ẋ`).
+//! entries of what [`Observe`] lists (`R`, `Ω` and, on SE(3), `x` and `ẋ`; for a gyrostat
+//! the wheel angles `φ` and their rates `φ̇`).
 
 use crate::error::ExperimentError;
+use lgsvi_mechanics::gyrostat::BodyWheels;
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
     each, ElementOf, Flow, GroupChart, GroupLagrangian, Integrator, MechanicsError, State,
@@ -35,7 +37,8 @@ pub type Make<'a, S, C, const D: usize> =
 /// reference cases, 14 more nodes than 5…12 put the step's error below 1e-15).
 pub const TRUTH_EXTRA_NODES: usize = 14;
 
-/// Local errors at or below this are rounding and are left out of the calibration.
+/// Local errors at or below this, relative to the state's largest entry (at least 1), are
+/// rounding and are left out of the calibration ([`LocalError::above_rounding`]).
 pub const LOCAL_FLOOR: f64 = 1e-14;
 
 /// The reference of the tolerance study: `h ≈ 0.25` dividing the horizon, this many nodes.
@@ -44,9 +47,11 @@ pub const REFERENCE_NODES: usize = 24;
 /// Timing repetitions of every run of the tolerance study (the fastest is kept).
 pub const REPEATS: usize = 5;
 
-/// What a study compares: the entries of `R`, `Ω` (and `x`, `ẋ` on SE(3)).
+/// What a study compares: the entries of `R`, `Ω` (and `x`, `ẋ` on SE(3); `φ`, `φ̇` for a
+/// gyrostat's wheels).
 pub trait Observe {
-    /// The compared numbers: `R` row by row, `Ω` (and `x`, `ẋ` on SE(3)).
+    /// The compared numbers: `R` row by row, `Ω` (and `x`, `ẋ` on SE(3); the wheel angles
+    /// `φ` and rates `φ̇` for a gyrostat).
     fn observe(&self) -> Vec<f64>;
 }
 
@@ -73,6 +78,18 @@ impl Observe for State<SE3, 6> {
     }
 }
 
+/// A gyrostat on SO(3) × ℝᴷ (`D = 3 + K`): `R` row by row, `Ω`, the wheel angles `φ`
+/// (relative to the body) and their rates `φ̇`.
+impl<const K: usize, const D: usize> Observe for State<BodyWheels<f64, K>, D> {
+    fn observe(&self) -> Vec<f64> {
+        let mut v = rows(&self.configuration.attitude);
+        v.extend(self.velocity.iter().take(3));
+        v.extend(self.configuration.wheels.iter());
+        v.extend(self.velocity.iter().skip(3));
+        v
+    }
+}
+
 /// The largest difference of two observations' entries.
 pub fn distance(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
@@ -94,6 +111,18 @@ pub struct LocalError {
     pub estimate: f64,
     /// The step's true local error: the distance to the step with more nodes.
     pub truth: f64,
+    /// The largest entry of the state the step ended in (`|Ω|`, a position, a wheel
+    /// angle): the two runs' rounding, and so the floor of `truth`, grows with it.
+    pub scale: f64,
+}
+
+impl LocalError {
+    /// Whether the true local error is above the rounding floor, [`LOCAL_FLOOR`] times the
+    /// state's largest entry (at least 1): a gyrostat's wheel angles of 200 rad round at
+    /// 3e-14, where the same step's attitude alone would show 1e-16.
+    pub fn above_rounding(&self) -> bool {
+        self.truth > LOCAL_FLOOR * self.scale.max(1.0)
+    }
 }
 
 /// One tolerance of the tolerance study.
@@ -173,12 +202,14 @@ where
                 let compare = |it: &Integrator<S, C, D>, info: StepInfo| {
                     truth.reset(before.time, before.configuration, before.velocity)?;
                     truth.step()?;
+                    let end = it.state().observe();
                     rows.push(LocalError {
                         h,
                         nodes: n,
                         step: info.index - 1,
                         estimate: it.error_estimate(),
-                        truth: distance(&it.state().observe(), &truth.state().observe()),
+                        truth: distance(&end, &truth.state().observe()),
+                        scale: end.iter().fold(0.0, |m, x| m.max(x.abs())),
                     });
                     before = *it.state();
                     Ok::<_, ExperimentError>(Flow::Continue)
@@ -313,13 +344,13 @@ where
     })
 }
 
-/// `log10(estimate / truth)` over the steps above [`LOCAL_FLOOR`]: `(mean, standard
-/// deviation, least, largest, share of steps within a factor 30 either way, steps counted)`;
-/// `None` without a step above the floor.
+/// `log10(estimate / truth)` over the steps above rounding ([`LocalError::above_rounding`]):
+/// `(mean, standard deviation, least, largest, share of steps within a factor 30 either way,
+/// steps counted)`; `None` without a step above the floor.
 pub fn calibration(rows: &[LocalError]) -> Option<(f64, f64, f64, f64, f64, usize)> {
     let logs: Vec<f64> = rows
         .iter()
-        .filter(|r| r.truth > LOCAL_FLOOR && r.estimate > 0.0)
+        .filter(|r| r.above_rounding() && r.estimate > 0.0)
         .map(|r| (r.estimate / r.truth).log10())
         .collect();
     if logs.is_empty() {
@@ -367,4 +398,37 @@ pub fn step_count(t_end: f64, rate: f64, chart: ChartKind) -> f64 {
     let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(&chart);
     let rotation = (STEP_ROTATION.0 * reach).min(STEP_ROTATION.1);
     (t_end * rate / rotation).ceil().max(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(truth: f64, scale: f64) -> LocalError {
+        LocalError {
+            h: 0.5,
+            nodes: 8,
+            step: 0,
+            estimate: 1e-13,
+            truth,
+            scale,
+        }
+    }
+
+    /// The rounding floor of a step's true error scales with the state's largest entry
+    /// (at least 1), and the calibration leaves out what is at it.
+    #[test]
+    fn the_calibration_leaves_out_rounding_relative_to_the_state() {
+        // 3e-14 is rounding on wheel angles of 200 rad (an ulp is 2.8e-14), not on an
+        // attitude and rates of order one.
+        assert!(!step(3e-14, 200.0).above_rounding());
+        assert!(step(3e-14, 0.7).above_rounding());
+        assert!(step(3e-12, 200.0).above_rounding());
+        assert!(!step(1e-14, 0.5).above_rounding());
+        let rows = [step(3e-14, 200.0), step(1e-13, 1.0)];
+        let (mean, _, _, _, _, count) = calibration(&rows).unwrap();
+        assert_eq!(count, 1);
+        assert_eq!(mean, 0.0);
+        assert!(calibration(&rows[..1]).is_none());
+    }
 }

@@ -14,7 +14,7 @@ pub fn estimate_table(rows: &[LocalError]) -> String {
         out,
         "Local error estimate against the true local error (the step with {TRUTH_EXTRA_NODES} \
          more nodes from the same state); log10(estimate / truth) over the steps whose true \
-         error is above {LOCAL_FLOOR:.0e}:"
+         error is above {LOCAL_FLOOR:.0e} of the state's largest entry (at least 1):"
     );
     let _ = writeln!(
         out,
@@ -107,7 +107,7 @@ pub fn tolerance_table(describe: &str, runs: &[ToleranceRun]) -> String {
 pub fn estimate_figure(title: &str, rows: &[LocalError]) -> Figure {
     let kept: Vec<&LocalError> = rows
         .iter()
-        .filter(|r| r.truth > LOCAL_FLOOR && r.estimate > 0.0)
+        .filter(|r| r.above_rounding() && r.estimate > 0.0)
         .collect();
     let mut nodes: Vec<usize> = kept.iter().map(|r| r.nodes).collect();
     nodes.sort_unstable();
