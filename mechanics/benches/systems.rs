@@ -6,6 +6,11 @@
 //! entries take `lgsvi bench`'s torqued body F1 (its body, start and torque, `h = 1`,
 //! `n = 9`: its best setting at ≤ 1e-10 over T = 10) with and without the torque.
 //!
+//! Entries ending in `_control_loop` take a control loop's short step (`h = 0.05` on
+//! SO(3), `0.1` on SE(3)), where a step starts from the Newton matrix an earlier step
+//! factored; their `_fresh` twins solve every step from its own
+//! (`StepSettings::with_factor_reuse(false)`).
+//!
 //! `cargo bench -p lgsvi-mechanics --bench systems` (add `-- --quick` for a short run).
 use criterion::{criterion_group, criterion_main, Criterion};
 use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
@@ -238,6 +243,31 @@ fn bench(c: &mut Criterion) {
     let top = HeavyTop::new(inertia(), 1.0, 0.3, Vector3::z(), Vector3::z()).unwrap();
     bench_steps(c, "so3_heavy_top", so3(top));
     bench_linearized(c, "so3_heavy_top_linearized", so3(top));
+    // A control loop's steps: short, so that the Newton matrix changes little from one
+    // step to the next and a step can start from an earlier one's factors.
+    for (suffix, reuse) in [("", true), ("_fresh", false)] {
+        let short = StepSettings::new(0.05, 8).unwrap().with_factor_reuse(reuse);
+        let start = SO3::identity();
+        bench_steps(
+            c,
+            &format!("so3_free_control_loop{suffix}"),
+            Integrator::new(body, short, start, omega0()).unwrap(),
+        );
+        let mut controlled = Integrator::new(top, short, start, omega0()).unwrap();
+        controlled.set_input(torque).unwrap();
+        bench_steps(
+            c,
+            &format!("so3_heavy_top_control_loop{suffix}"),
+            controlled,
+        );
+        let mut controlled = Integrator::new(top, short, start, omega0()).unwrap();
+        controlled.set_input(torque).unwrap();
+        bench_linearized(
+            c,
+            &format!("so3_heavy_top_linearized_control_loop{suffix}"),
+            controlled,
+        );
+    }
     bench_steps(
         c,
         "so3_user_potential",
@@ -281,6 +311,19 @@ fn bench(c: &mut Criterion) {
         "space_orbiting_body_linearized_parameters",
         Integrator::new(orbit, settings(), orbit_start, orbit_xi).unwrap(),
     );
+    for (suffix, reuse) in [("", true), ("_fresh", false)] {
+        let short = StepSettings::new(0.1, 8).unwrap().with_factor_reuse(reuse);
+        bench_steps(
+            c,
+            &format!("space_orbiting_body_control_loop{suffix}"),
+            Integrator::new(orbit, short, orbit_start, orbit_xi).unwrap(),
+        );
+        bench_linearized(
+            c,
+            &format!("space_orbiting_body_linearized_control_loop{suffix}"),
+            Integrator::new(orbit, short, orbit_start, orbit_xi).unwrap(),
+        );
+    }
     // The same free body on the product SO(3) × ℝ³ (same discrete map, other group).
     let product_start = BodyWheels {
         attitude: SO3::identity(),

@@ -47,6 +47,7 @@ pub struct StepSettings {
     matching: Matching,
     jacobian: NewtonJacobian,
     max_newton_iterations: usize,
+    reuse_factors: bool,
     tolerance: Option<f64>,
     node_range: (usize, usize),
     step_changes: bool,
@@ -169,6 +170,7 @@ impl StepSettings {
             matching: Matching::Exact,
             jacobian: NewtonJacobian::Exact,
             max_newton_iterations: DEFAULT_MAX_NEWTON_ITERATIONS,
+            reuse_factors: true,
             tolerance: None,
             node_range: DEFAULT_ADAPTIVE_NODES,
             step_changes: false,
@@ -296,6 +298,22 @@ impl StepSettings {
         self
     }
 
+    /// Whether a step may start from the Newton matrix an earlier step factored (the
+    /// default, `true`): a simplified Newton across steps. Where the matrix changes
+    /// little from one step to the next (short steps: a control loop's `h|Ω| ≲ 0.15`),
+    /// chord steps with it replace the step's own Newton matrix and its LU; each must
+    /// contract the residual at least 250-fold or the step forms its own matrix, and after
+    /// such a miss the reuse is tried again only after a growing number of steps, so
+    /// long steps pay at most an assembly now and then. The step is solved to the same
+    /// rounding floor either way; what changes is the path to it, so a run differs from
+    /// one with `false` at the level of rounding. `false` solves every step from its own
+    /// Newton matrix, making each step a function of its start state alone
+    /// (`docs/performance.md` §5.12).
+    pub fn with_factor_reuse(mut self, reuse: bool) -> Self {
+        self.reuse_factors = reuse;
+        self
+    }
+
     /// The step `h`.
     pub fn step(&self) -> f64 {
         self.step
@@ -335,6 +353,12 @@ impl StepSettings {
     /// The cap on Newton iterations.
     pub fn max_newton_iterations(&self) -> usize {
         self.max_newton_iterations
+    }
+
+    /// Whether a step may start from an earlier step's factored Newton matrix
+    /// ([`StepSettings::with_factor_reuse`]).
+    pub fn reuses_factors(&self) -> bool {
+        self.reuse_factors
     }
 
     /// The adaptive node choice, when a tolerance is set.

@@ -294,10 +294,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         }
         let settings = self.settings.with_nodes(n);
         let tables = Discretisation::shared(&settings)?;
-        let work = match self.spare_work.iter().position(|w| w.xi.len() == n) {
+        let mut work = match self.spare_work.iter().position(|w| w.xi.len() == n) {
             Some(i) => self.spare_work.swap_remove(i),
             None => Workspace::new(&tables),
         };
+        // A kept workspace's factors are of a step at another time.
+        work.forget_factors();
         let previous = std::mem::replace(&mut self.work, work);
         self.spare_work.push(previous);
         // The last curve on the new nodes: exact when n grows (a polynomial of lower

@@ -97,11 +97,18 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         parameters: bool,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
         let start = self.state;
+        // A linearisation at the state is a function of the state alone, and leaves the
+        // run as it found it: the run's factors are set aside while it solves the step
+        // from fresh ones, and taken back after.
+        self.work.park_factors();
         self.linearizing = true;
         let outcome = self.attempt(&start.configuration);
         self.linearizing = false;
-        let end = self.end_state(&outcome?)?;
-        self.linearization_of(start, end, parameters)
+        let linearization = outcome
+            .and_then(|outcome| self.end_state(&outcome))
+            .and_then(|end| self.linearization_of(start, end, parameters));
+        self.work.unpark_factors();
+        linearization
     }
 
     /// [`Integrator::step_linearized`], with the parameter columns if `parameters`.

@@ -442,6 +442,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         self.previous_velocity = None;
         self.last_base = configuration;
         self.flow_end = None;
+        self.work.forget_factors();
         self.continued_wins = false;
         Ok(())
     }

@@ -7,6 +7,7 @@
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
 //! `n²m` small block sums.
 
+use super::newton::carry::Carry;
 use super::points::{point_derivatives, EllTilde};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
@@ -88,6 +89,25 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// last solve (set by the Newton loop as it accepts the step, cleared by every
     /// assembly): the converged step's, to rounding, for [`Stepper::linearize`].
     pub(super) converged_hessians: bool,
+    /// Whether `jacobian` holds an earlier solve's factors that the next step may start
+    /// from, and the reuse policy's waits ([`super::newton::carry`]).
+    pub(super) carry: Carry,
+    /// The unknowns at which `jacobian` was last factored.
+    factored_xi: Vec<SVector<f64, D>>,
+    /// The run's factors, set aside while a linearisation at the state solves its own
+    /// step ([`Workspace::park_factors`]).
+    parked: Option<Box<Factors<D>>>,
+}
+
+/// A factored Newton matrix and what a later step reads with it: the pivots, the
+/// unknowns it was formed at, the matching's `∂w/∂ξᵏ` from the same matrix, the reuse
+/// policy's state.
+struct Factors<const D: usize> {
+    jacobian: DMatrix<f64>,
+    perm: Vec<usize>,
+    xi: Vec<SVector<f64, D>>,
+    dw_dxi: Vec<SMatrix<f64, D, D>>,
+    carry: Carry,
 }
 
 impl<J: PointJet, const D: usize> Workspace<J, D> {
@@ -122,6 +142,9 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             guess_assembled: None,
             keep_converged_hessians: false,
             converged_hessians: false,
+            carry: Carry::default(),
+            factored_xi: vec![SVector::zeros(); d.n],
+            parked: None,
         }
     }
 
@@ -130,10 +153,60 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
         self.guess_assembled = None;
     }
 
+    /// The largest entry of the difference between the unknowns and those at which the
+    /// Newton matrix was last factored.
+    pub(super) fn drift(&self) -> f64 {
+        self.xi
+            .iter()
+            .zip(&self.factored_xi)
+            .fold(0.0, |m, (a, b)| m.max((a - b).amax()))
+    }
+
+    /// Sets the run's factors aside (the first time, buffers of the same sizes are made
+    /// for the work in between), so that a solve in between starts without them and
+    /// [`Workspace::unpark_factors`] gives them back unchanged.
+    pub(crate) fn park_factors(&mut self) {
+        let (unknowns, n) = (self.perm.len(), self.factored_xi.len());
+        self.parked.get_or_insert_with(|| {
+            Box::new(Factors {
+                jacobian: DMatrix::zeros(unknowns, unknowns),
+                perm: vec![0; unknowns],
+                xi: vec![SVector::zeros(); n],
+                dw_dxi: vec![SMatrix::zeros(); n],
+                carry: Carry::default(),
+            })
+        });
+        self.swap_parked();
+        self.carry.forget();
+    }
+
+    /// Takes back the factors [`Workspace::park_factors`] set aside.
+    pub(crate) fn unpark_factors(&mut self) {
+        self.swap_parked();
+    }
+
+    fn swap_parked(&mut self) {
+        if let Some(parked) = self.parked.as_deref_mut() {
+            std::mem::swap(&mut self.jacobian, &mut parked.jacobian);
+            std::mem::swap(&mut self.perm, &mut parked.perm);
+            std::mem::swap(&mut self.factored_xi, &mut parked.xi);
+            std::mem::swap(&mut self.dw_dxi, &mut parked.dw_dxi);
+            std::mem::swap(&mut self.carry, &mut parked.carry);
+        }
+    }
+
+    /// Forgets the factored Newton matrix, so that the next step forms its own (a new
+    /// start, where an earlier step's matrix says nothing).
+    pub(crate) fn forget_factors(&mut self) {
+        self.carry.forget();
+    }
+
     /// Factors the Newton matrix in place (partial-pivoting LU, [`super::lu`]: `perm`),
     /// for [`super::newton::substitute`].
     pub(super) fn factor(&mut self) {
         super::lu::lu_in_place(&mut self.jacobian, &mut self.perm);
+        self.carry.factored();
+        self.factored_xi.copy_from_slice(&self.xi);
     }
 }
 

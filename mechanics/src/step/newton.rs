@@ -2,7 +2,8 @@
 //! matrix factored close enough to the solution, backtracking far from it, and stopping
 //! rules that accept a step only at the rounding floor of its equations. The loop is here;
 //! its policies are their own modules: [`convergence`] (the stopping test), [`chord`]
-//! (when a factored matrix is kept) and [`line_search`] (backtracking).
+//! (when a factored matrix is kept), [`carry`] (when a step starts from an earlier step's
+//! factored matrix) and [`line_search`] (backtracking).
 
 use super::assembly::WorkspaceOf;
 use super::{Element, StepOutcome, Stepper};
@@ -12,6 +13,7 @@ use crate::settings::NewtonJacobian;
 use crate::system::GroupLagrangian;
 use nalgebra::{DMatrix, SVector};
 
+pub(super) mod carry;
 mod chord;
 mod convergence;
 mod line_search;
@@ -119,6 +121,15 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // The relative residual of the iterate at which `work.jacobian` was factored in this
         // solve, if it was.
         let mut factored_at: Option<f64> = None;
+        // Chord steps on an earlier step's factors (`carry`): while they last, the
+        // contraction each must reach, and the largest one measured, which stands for
+        // `r_f` in the predicted remainder.
+        let mut carried =
+            exact && self.settings.reuses_factors() && work.carry.attempt(work.drift());
+        if carried {
+            factored_at = Some(carry::CONTRACTION);
+        }
+        let mut measured_contraction = 0.0f64;
         // After a chord step whose predicted remainder is above CHORD_REMAINDER: that
         // prediction (the residual at the rounding floor can no longer show it); else 0.
         let mut pending = 0.0f64;
@@ -132,9 +143,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         loop {
             // An assembly expected to be the last, or before a chord step, needs no Hessians
             // (but for a step to be linearised: below).
-            let expect_converged =
-                convergence::expect_converged(iterations, previous, previous_scale);
-            let expect_chord = chord::expect_chord(factored_at);
+            // On carried factors the chord chain ends where its predicted remainder does.
+            let expect_converged = if carried {
+                carry::expect_last(iterations, pending, factored_at)
+            } else {
+                convergence::expect_converged(iterations, previous, previous_scale)
+            };
+            let expect_chord = carried || chord::expect_chord(factored_at);
             // A halved trial point only needs its residual: the Hessians follow if it is
             // accepted and another step is needed.
             // A step to be linearised keeps the Hessians of the assembly expected to be
@@ -158,7 +173,22 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 .as_ref()
                 .ok()
                 .map(|_| saved.unwrap_or_else(|| self.assemble(base, mu, work, with_hessians)));
-            let worse = line_search::worse(assembled, previous, expect_converged);
+            // A carried chord step from a residual already below QUADRATIC_REGIME stands
+            // (what follows is the rounding floor's noise, and the contraction test below
+            // judges the factors); above it, a worse iterate means the factors are too far
+            // off: back to the accepted iterate, which the step's own Newton matrix takes
+            // from (its assembly, with Hessians, comes next).
+            let near = previous <= convergence::QUADRATIC_REGIME * previous_scale;
+            let worse =
+                line_search::worse(assembled, previous, expect_converged || (carried && near));
+            if iterations > 0 && worse && carried {
+                carried = false;
+                factored_at = None;
+                work.carry.missed();
+                work.xi.copy_from_slice(&work.xi_accepted);
+                previous = f64::INFINITY;
+                continue;
+            }
             if iterations > 0 && worse && line_search::may_halve(damping) {
                 damping *= 0.5;
                 for i in 1..n {
@@ -184,6 +214,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             );
             if at_floor && pending == 0.0 {
                 work.converged_hessians = has_hessians;
+                if carried {
+                    work.carry.served();
+                }
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
             if iterations >= max_iterations {
@@ -205,7 +238,24 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             };
             let slow =
                 chord::too_slow(last_was_chord, at_floor, relative, previous, previous_scale);
-            let chord = chord::chord_with(factored_at, exact, slow, error);
+            let previous_relative = previous / previous_scale.max(f64::MIN_POSITIVE);
+            if carried && last_was_chord && !at_floor && previous_relative >= carry::MEASURABLE {
+                // The carried factors' contraction, measured on this chord step.
+                let contraction = relative / previous_relative;
+                if contraction > carry::CONTRACTION {
+                    carried = false;
+                    factored_at = None;
+                    work.carry.missed();
+                } else {
+                    measured_contraction = measured_contraction.max(contraction);
+                    factored_at = Some(measured_contraction);
+                }
+            }
+            let chord = if carried {
+                factored_at
+            } else {
+                chord::chord_with(factored_at, exact, slow, error)
+            };
             last_was_chord = chord.is_some();
             pending = 0.0;
             if let Some(r_f) = chord {
@@ -223,6 +273,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     self.fill_jacobian_by_differences(base, mu, work);
                 }
                 work.factor();
+                carried = false;
                 factored_at = Some(relative);
                 factorizations += 1;
             }
@@ -263,6 +314,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     let moved = work.delta.iter().fold(0.0f64, |a, d| a.max(d.abs()));
                     moved <= KEPT_STEP * size
                 };
+                if carried {
+                    work.carry.served();
+                }
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
         }

@@ -1,0 +1,150 @@
+//! The reuse policy of the Newton loop across steps: when a step starts with chord steps
+//! on the Newton matrix an earlier step factored (a simplified Newton whose matrix is
+//! carried from step to step, as implicit Runge–Kutta codes keep their iteration matrix),
+//! and when it gives that matrix up.
+//!
+//! A step's own exact Newton step from the predictor lands at ~0.1 r² (quadratic
+//! convergence): at a control loop's short steps one Newton matrix, its LU and two
+//! assemblies solve it. Carried factors save the matrix and the LU but contract only by
+//! how far the matrix has moved since they were formed, so the step takes more assemblies
+//! (four from the predictor's 1e-9 at a contraction of 4e-4). That pays while the
+//! contraction stays below about 1e-3 ([`CONTRACTION`], measured in `docs/performance.md`
+//! §5.12). The matrix of a step is a function of its unknowns `Ξ` (and, through a
+//! potential or a force, of where the step starts): how far the new step's guess lies from
+//! the `Ξ` the carried matrix was formed at ([`DRIFT`]) decides whether to try it, and a
+//! chord step that contracts too little ends the try.
+
+/// A chord step with carried factors must cut the relative residual at least this much;
+/// otherwise the step forms its own Newton matrix from where the chord step left it. With
+/// contraction `ρ` a solve from the predictor's ~1e-9 to the chord chain's 1e-20 takes
+/// about `1 + 11/(−log₁₀ ρ)` assemblies, against two and a Newton matrix with its LU
+/// for the step's own Newton step (worth about three assemblies on SO(3)).
+pub(super) const CONTRACTION: f64 = 5e-3;
+
+/// Carried factors are tried only when every entry of the step's guess `Ξ` lies within
+/// this of the `Ξ` they were formed at. The matrix moves with `Ξ` through the chart's
+/// `A(x)` and the Lagrangian's Hessians, about linearly: measured, the contraction is
+/// 0.3–1 times this distance (`docs/performance.md` §5.12).
+pub(super) const DRIFT: f64 = 5e-3;
+
+/// A chord step's contraction is measured only from a relative residual at or above this:
+/// `CONTRACTION` times it is then far above the rounding floor of the residual (1e-15 to
+/// 1e-14 of the terms), whose noise would read as a poor contraction.
+pub(super) const MEASURABLE: f64 = 1e-10;
+
+/// The longest wait, in steps, between attempts after misses in a row (the wait doubles
+/// with each from [`FIRST_WAIT`]).
+const MAX_WAIT: u32 = 64;
+
+/// The wait after a second miss in a row.
+const FIRST_WAIT: u32 = 8;
+
+/// What a workspace knows about the factors in its Newton matrix between steps.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Carry {
+    /// The matrix holds the LU factors of a Newton matrix of this workspace's size.
+    factored: bool,
+    /// Steps to wait before the next attempt.
+    wait: u32,
+    /// The wait after the next miss.
+    next_wait: u32,
+}
+
+impl Carry {
+    /// The matrix now holds fresh factors.
+    pub(crate) fn factored(&mut self) {
+        self.factored = true;
+    }
+
+    /// Forget the factors (a new start: `Integrator::reset`, another size).
+    pub(crate) fn forget(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Whether this step starts from the carried factors, its guess lying `drift` (the
+    /// largest entry of the difference) from the unknowns they were formed at; counts
+    /// down a wait.
+    pub(super) fn attempt(&mut self, drift: f64) -> bool {
+        if !(self.factored && drift <= DRIFT) {
+            return false;
+        }
+        if self.wait > 0 {
+            self.wait -= 1;
+            return false;
+        }
+        true
+    }
+
+    /// A chord step with the carried factors contracted too little. The step forms its
+    /// own matrix, which the next step may try at once; when that misses too, wait
+    /// before the next attempt, longer after every miss in a row.
+    pub(super) fn missed(&mut self) {
+        self.wait = self.next_wait;
+        self.next_wait = (self.next_wait * 2).clamp(FIRST_WAIT, MAX_WAIT);
+    }
+
+    /// A step solved on the carried factors: attempts continue at every step.
+    pub(super) fn served(&mut self) {
+        self.next_wait = 0;
+    }
+}
+
+/// Whether the next assembly of a solve on carried factors is expected to be the last:
+/// the chord step after it will be the chain's last when the error it starts from (the
+/// remainder the last chord step predicted, `pending`; none left when that was below
+/// [`super::chord::CHORD_REMAINDER`]) times the factors' contraction `r_f` is below
+/// that remainder. A step to be linearised takes its Hessians there.
+pub(super) fn expect_last(iterations: usize, pending: f64, r_f: Option<f64>) -> bool {
+    iterations > 0
+        && (pending == 0.0 || pending * r_f.unwrap_or(1.0) <= super::chord::CHORD_REMAINDER)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No factors or a guess too far from them, no attempt; the first miss leaves the next
+    /// step free to try its own fresh factors, misses in a row wait 8, 16, … 64 steps; a
+    /// step served by the carried factors resets the waits; forgetting ends the attempts.
+    #[test]
+    fn misses_space_the_attempts_out() {
+        let mut carry = Carry::default();
+        assert!(!carry.attempt(0.0));
+        carry.factored();
+        assert!(!carry.attempt(2.0 * DRIFT), "a guess too far off");
+        assert!(carry.attempt(0.5 * DRIFT));
+        let mut waits = Vec::new();
+        for _ in 0..6 {
+            carry.missed();
+            let mut waited = 0;
+            while !carry.attempt(0.0) {
+                waited += 1;
+            }
+            waits.push(waited);
+        }
+        assert_eq!(waits, [0, 8, 16, 32, 64, 64]);
+        carry.served();
+        carry.missed();
+        assert!(
+            carry.attempt(0.0),
+            "a first miss: the fresh factors are tried at once"
+        );
+        carry.forget();
+        assert!(!carry.attempt(0.0));
+    }
+
+    /// The chain's last assembly: none left to predict, or a prediction whose next
+    /// remainder is below the chord chain's end.
+    #[test]
+    fn the_last_assembly_is_where_the_remainder_ends() {
+        assert!(!expect_last(0, 0.0, Some(1e-3)));
+        assert!(expect_last(2, 0.0, Some(1e-3)));
+        assert!(expect_last(2, 1e-18, Some(1e-3)));
+        assert!(!expect_last(2, 1e-16, Some(1e-3)));
+        assert!(
+            !expect_last(2, 1e-19, None),
+            "no contraction known: the remainder alone"
+        );
+        assert!(expect_last(2, 1e-21, None));
+    }
+}
