@@ -1211,13 +1211,21 @@ fn converge_measures_the_estimate_and_the_tolerance() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("1e-8"), "{out}");
-    let data: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    let run = &data["runs"][0];
-    let error = run["error"].as_f64().unwrap();
+    let (error, fixed) = first_tolerance_run(&json);
     assert!(error <= 1e-7, "{error:e}");
-    assert_eq!(data["fixed"].as_array().unwrap().len(), 3);
+    assert_eq!(fixed, 3);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The error of the first tolerance run in `converge --study tolerance`'s JSON, and how
+/// many fixed `(h, n)` runs it holds.
+fn first_tolerance_run(json: &std::path::Path) -> (f64, usize) {
+    let data: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    (
+        data["runs"][0]["error"].as_f64().unwrap(),
+        data["fixed"].as_array().unwrap().len(),
+    )
 }
 
 /// `converge --study estimate` and `--study tolerance` run the gyrostat (three wheels
@@ -1253,14 +1261,11 @@ fn converge_measures_a_gyrostat_s_tolerance_runs() {
     let (code, out, err) = lgsvi(&args);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("1e-9"), "{out}");
-    let data: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    let run = &data["runs"][0];
-    let error = run["error"].as_f64().unwrap();
+    let (error, fixed) = first_tolerance_run(&json);
     // Honest: within its tolerance at the horizon (the reference, n = 24 against 28,
     // agrees to rounding here).
     assert!(error <= 1e-9, "{error:e}");
-    assert_eq!(data["fixed"].as_array().unwrap().len(), 3);
+    assert_eq!(fixed, 3);
     let mut args = vec!["converge", "--quiet", "--study", "estimate"];
     args.extend(craft);
     args.extend(["--steps", "1", "--nodes-range", "3..4"]);

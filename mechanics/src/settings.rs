@@ -301,10 +301,11 @@ impl StepSettings {
     /// Whether a step may start from the Newton matrix an earlier step factored (the
     /// default, `true`): a simplified Newton across steps. Where the matrix changes
     /// little from one step to the next (short steps: a control loop's `h|Ω| ≲ 0.15`),
-    /// chord steps with it replace the step's own Newton matrix and its LU; each must
-    /// contract the residual at least 250-fold or the step forms its own matrix, and after
-    /// such a miss the reuse is tried again only after a growing number of steps, so
-    /// long steps pay at most an assembly now and then. The step is solved to the same
+    /// chord steps with it replace the step's own Newton matrix and its LU. They are tried
+    /// only when the step's guess lies close to the unknowns the matrix was formed at;
+    /// each must contract the residual at least 200-fold or the step forms its own matrix,
+    /// and after misses in a row the reuse waits a growing number of steps. Longer steps
+    /// never try it. The step is solved to the same
     /// rounding floor either way; what changes is the path to it, so a run differs from
     /// one with `false` at the level of rounding. `false` solves every step from its own
     /// Newton matrix, making each step a function of its start state alone

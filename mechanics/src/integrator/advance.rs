@@ -277,6 +277,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         }
         let settings = self.settings.with_step_unchecked(h);
         self.discretisation = Discretisation::shared(&settings)?;
+        // The Newton matrix scales with the step: factors of another step say nothing.
+        self.work.forget_factors();
         self.settings = settings;
         self.origin = self.state.time;
         self.origin_steps = self.step_index;

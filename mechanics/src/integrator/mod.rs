@@ -298,6 +298,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// target). The next step uses them; the state is kept as it is (its momentum is
     /// the old system's).
     pub fn system_mut(&mut self) -> &mut S {
+        // A changed system has another Newton matrix: the next step forms its own.
+        self.work.forget_factors();
         &mut self.system
     }
 

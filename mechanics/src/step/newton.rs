@@ -100,8 +100,25 @@ fn substitute_families<const D: usize, const FIRST: usize>(
 const KEPT_STEP: f64 = 64.0 * f64::EPSILON;
 
 impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
-    /// Newton on the step's equations from the guess in `work.xi`.
+    /// Newton on the step's equations from the guess in `work.xi`. A solve that fails
+    /// leaves no factors for a later step to start from.
     pub(crate) fn solve(
+        &self,
+        base: &Element<S, D>,
+        mu: &SVector<f64, D>,
+        work: &mut WorkspaceOf<S, D>,
+        step: usize,
+        time: f64,
+    ) -> Result<StepOutcome<Element<S, D>, D>, MechanicsError> {
+        let solved = self.newton(base, mu, work, step, time);
+        if solved.is_err() {
+            work.forget_factors();
+        }
+        solved
+    }
+
+    /// [`Stepper::solve`]'s loop.
+    fn newton(
         &self,
         base: &Element<S, D>,
         mu: &SVector<f64, D>,
@@ -124,12 +141,19 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // Chord steps on an earlier step's factors (`carry`): while they last, the
         // contraction each must reach, and the largest one measured, which stands for
         // `r_f` in the predicted remainder.
-        let mut carried =
-            exact && self.settings.reuses_factors() && work.carry.attempt(work.drift());
+        let mut carried = exact
+            && self.settings.reuses_factors()
+            && max_iterations >= carry::MIN_ITERATIONS
+            && work.carry.attempt(work.drift());
         if carried {
             factored_at = Some(carry::CONTRACTION);
         }
+        // The carried factors' contraction is measured (and checked) on every chord step
+        // from a residual of at least `carry::MEASURABLE`; a chain is accepted only after
+        // one such measurement.
         let mut measured_contraction = 0.0f64;
+        let mut measured = false;
+        let mut measured_clean = false;
         // After a chord step whose predicted remainder is above CHORD_REMAINDER: that
         // prediction (the residual at the rounding floor can no longer show it); else 0.
         let mut pending = 0.0f64;
@@ -174,16 +198,19 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 .ok()
                 .map(|_| saved.unwrap_or_else(|| self.assemble(base, mu, work, with_hessians)));
             // A carried chord step from a residual already below QUADRATIC_REGIME stands
-            // (what follows is the rounding floor's noise, and the contraction test below
-            // judges the factors); above it, a worse iterate means the factors are too far
-            // off: back to the accepted iterate, which the step's own Newton matrix takes
-            // from (its assembly, with Hessians, comes next).
+            // (the contraction test below judges it wherever the residual before it was
+            // measurable, and below that only the rounding floor's noise is left); above
+            // it, a worse iterate means the factors are too far off: back to the accepted
+            // iterate, which the step's own Newton matrix takes from (its assembly, with
+            // Hessians, comes next).
             let near = previous <= convergence::QUADRATIC_REGIME * previous_scale;
             let worse =
                 line_search::worse(assembled, previous, expect_converged || (carried && near));
             if iterations > 0 && worse && carried {
                 carried = false;
                 factored_at = None;
+                pending = 0.0;
+                last_was_chord = false;
                 work.carry.missed();
                 work.xi.copy_from_slice(&work.xi_accepted);
                 previous = f64::INFINITY;
@@ -212,7 +239,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 iterations,
                 expect_converged,
             );
-            if at_floor && pending == 0.0 {
+            if at_floor && pending == 0.0 && (measured || !carried) {
                 work.converged_hessians = has_hessians;
                 if carried {
                     work.carry.served();
@@ -239,15 +266,35 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             let slow =
                 chord::too_slow(last_was_chord, at_floor, relative, previous, previous_scale);
             let previous_relative = previous / previous_scale.max(f64::MIN_POSITIVE);
-            if carried && last_was_chord && !at_floor && previous_relative >= carry::MEASURABLE {
-                // The carried factors' contraction, measured on this chord step.
+            if iterations == 0 {
+                work.carry.guessed(relative);
+            }
+            if carried && iterations == 0 && relative < carry::MEASURABLE {
+                // A guess this close leaves no chord step whose contraction could be
+                // measured above the floor's noise: the step's own Newton step instead.
+                carried = false;
+                factored_at = None;
+            }
+            if carried && last_was_chord && previous_relative >= carry::MEASURABLE {
+                // The carried factors' contraction, measured on this chord step (at the
+                // floor or not: a residual that stagnated from a measurable one is a
+                // contraction that failed).
                 let contraction = relative / previous_relative;
                 if contraction > carry::CONTRACTION {
                     carried = false;
                     factored_at = None;
                     work.carry.missed();
                 } else {
-                    measured_contraction = measured_contraction.max(contraction);
+                    // A residual near the floor reads the contraction too large (its noise
+                    // adds): it stands for `r_f` only until a clean one is measured.
+                    let clean = relative >= carry::CLEAN;
+                    if clean && !measured_clean {
+                        measured_contraction = contraction;
+                    } else if clean || !measured_clean {
+                        measured_contraction = measured_contraction.max(contraction);
+                    }
+                    measured = true;
+                    measured_clean |= clean;
                     factored_at = Some(measured_contraction);
                 }
             }
@@ -285,6 +332,17 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             damping = 1.0;
             let deltas = &work.delta;
             if !deltas.iter().all(|x| x.is_finite()) {
+                if carried {
+                    // Carried factors that give no finite step (a singular matrix kept
+                    // from a failed step): the step's own matrix at this iterate.
+                    carried = false;
+                    factored_at = None;
+                    pending = 0.0;
+                    last_was_chord = false;
+                    work.carry.missed();
+                    previous = f64::INFINITY;
+                    continue;
+                }
                 return Err(singular());
             }
             for (xi, delta) in work.xi[1..].iter_mut().zip(deltas.chunks_exact(D)) {
@@ -301,7 +359,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             // for a left-invariant, unforced ℓ and otherwise is carried through the step
             // to first order ([`Stepper::carry_matching`]). Saves one of the four
             // assemblies of a typical step.
-            if chord.is_some() && pending == 0.0 && at_floor && self.momentum_is_assembly_free() {
+            if chord.is_some()
+                && pending == 0.0
+                && at_floor
+                && (measured || !carried)
+                && self.momentum_is_assembly_free()
+            {
                 self.check_domain(work, step, time)?;
                 self.carry_matching(work);
                 // The points are those of the iterate before this last chord step: the

@@ -8,11 +8,11 @@
 //! assemblies solve it. Carried factors save the matrix and the LU but contract only by
 //! how far the matrix has moved since they were formed, so the step takes more assemblies
 //! (four from the predictor's 1e-9 at a contraction of 4e-4). That pays while the
-//! contraction stays below about 1e-3 ([`CONTRACTION`], measured in `docs/performance.md`
-//! §5.12). The matrix of a step is a function of its unknowns `Ξ` (and, through a
-//! potential or a force, of where the step starts): how far the new step's guess lies from
-//! the `Ξ` the carried matrix was formed at ([`DRIFT`]) decides whether to try it, and a
-//! chord step that contracts too little ends the try.
+//! contraction stays below a few 1e-3 (break-even near 8e-3 on the free body, measured in
+//! `docs/performance.md` §5.12). The matrix of a step is a function of its unknowns `Ξ`
+//! (and, through a potential or a force, of where the step starts): how far the new step's
+//! guess lies from the `Ξ` the carried matrix was formed at ([`DRIFT`]) decides whether to
+//! try it, and a checked chord step that contracts less than [`CONTRACTION`] ends the try.
 
 /// A chord step with carried factors must cut the relative residual at least this much;
 /// otherwise the step forms its own Newton matrix from where the chord step left it. With
@@ -23,14 +23,33 @@ pub(super) const CONTRACTION: f64 = 5e-3;
 
 /// Carried factors are tried only when every entry of the step's guess `Ξ` lies within
 /// this of the `Ξ` they were formed at. The matrix moves with `Ξ` through the chart's
-/// `A(x)` and the Lagrangian's Hessians, about linearly: measured, the contraction is
-/// 0.3–1 times this distance (`docs/performance.md` §5.12).
+/// `A(x)` and the Lagrangian's Hessians, about linearly: measured at short steps, the
+/// contraction is 0.03–0.6 times this distance (`docs/performance.md` §5.12). The test is
+/// absolute: on SE(3) it reads the translation's entries in the user's length unit, so
+/// a body whose centre moves far in those units per step tries the factors less often.
+/// What the distance cannot see (a new step size, a changed system) forgets the factors
+/// instead (`Integrator::reset`, the step's and the nodes' changes, `system_mut`, a failed
+/// solve); an input changed between steps is left to the contraction check.
 pub(super) const DRIFT: f64 = 5e-3;
 
-/// A chord step's contraction is measured only from a relative residual at or above this:
-/// `CONTRACTION` times it is then far above the rounding floor of the residual (1e-15 to
-/// 1e-14 of the terms), whose noise would read as a poor contraction.
-pub(super) const MEASURABLE: f64 = 1e-10;
+/// A chord step's contraction is measured from a relative residual at or above this:
+/// `CONTRACTION` times it is then above the rounding floor of the residual (1e-15 to a few
+/// 1e-15 of the terms), whose noise adds to the reading: a failing contraction cannot read
+/// as a passing one. A
+/// guess closer than this is not solved on carried factors (no measurement would check
+/// them; the next step does not try them either), and a chain is accepted only after one
+/// measurement.
+pub(super) const MEASURABLE: f64 = 1e-11;
+
+/// A chord step whose relative residual after it is at least this (a hundred times the
+/// floor's few ulps) measures the contraction cleanly; below it the floor's noise inflates
+/// the reading, which then only checks the factors (and stands for the contraction only
+/// while no clean reading exists: on the safe side).
+pub(super) const CLEAN: f64 = 1e-13;
+
+/// Carried factors are tried only with at least this many Newton iterations allowed: a
+/// chain takes 4 to 6, and a miss then needs room for the step's own Newton steps.
+pub(super) const MIN_ITERATIONS: usize = 12;
 
 /// The longest wait, in steps, between attempts after misses in a row (the wait doubles
 /// with each from [`FIRST_WAIT`]).
@@ -48,6 +67,8 @@ pub(crate) struct Carry {
     wait: u32,
     /// The wait after the next miss.
     next_wait: u32,
+    /// The last solve's guess was at least [`MEASURABLE`] from the solution.
+    measurable: bool,
 }
 
 impl Carry {
@@ -65,7 +86,7 @@ impl Carry {
     /// largest entry of the difference) from the unknowns they were formed at; counts
     /// down a wait.
     pub(super) fn attempt(&mut self, drift: f64) -> bool {
-        if !(self.factored && drift <= DRIFT) {
+        if !(self.factored && self.measurable && drift <= DRIFT) {
             return false;
         }
         if self.wait > 0 {
@@ -73,6 +94,12 @@ impl Carry {
             return false;
         }
         true
+    }
+
+    /// The relative residual of a solve's guess: the next solve tries carried factors
+    /// only if this one's could have been checked on them.
+    pub(super) fn guessed(&mut self, relative: f64) {
+        self.measurable = relative >= MEASURABLE;
     }
 
     /// A chord step with the carried factors contracted too little. The step forms its
@@ -111,6 +138,13 @@ mod tests {
         let mut carry = Carry::default();
         assert!(!carry.attempt(0.0));
         carry.factored();
+        assert!(!carry.attempt(0.0), "no guess seen yet");
+        carry.guessed(0.1 * MEASURABLE);
+        assert!(
+            !carry.attempt(0.0),
+            "guesses too close to check the factors on"
+        );
+        carry.guessed(1e-9);
         assert!(!carry.attempt(2.0 * DRIFT), "a guess too far off");
         assert!(carry.attempt(0.5 * DRIFT));
         let mut waits = Vec::new();
