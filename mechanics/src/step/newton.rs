@@ -197,15 +197,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 .as_ref()
                 .ok()
                 .map(|_| saved.unwrap_or_else(|| self.assemble(base, mu, work, with_hessians)));
-            // A carried chord step from a residual already below QUADRATIC_REGIME stands
-            // (the contraction test below judges it wherever the residual before it was
-            // measurable, and below that only the rounding floor's noise is left); above
-            // it, a worse iterate means the factors are too far off: back to the accepted
-            // iterate, which the step's own Newton matrix takes from (its assembly, with
-            // Hessians, comes next).
-            let near = previous <= convergence::QUADRATIC_REGIME * previous_scale;
-            let worse =
-                line_search::worse(assembled, previous, expect_converged || (carried && near));
+            // A carried chord step from a residual below `carry::MEASURABLE` stands (only
+            // the rounding floor's noise is left to compare); from above it, a worse iterate
+            // means the factors are too far off: back to the accepted iterate, which the
+            // step's own Newton matrix takes from (its assembly, with Hessians, comes next).
+            let stands = if carried {
+                previous < carry::MEASURABLE * previous_scale
+            } else {
+                expect_converged
+            };
+            let worse = line_search::worse(assembled, previous, stands);
             if iterations > 0 && worse && carried {
                 carried = false;
                 factored_at = None;
@@ -239,7 +240,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 iterations,
                 expect_converged,
             );
-            if at_floor && pending == 0.0 && (measured || !carried) {
+            // On carried factors, only after a checked chord step (or at a guess that is
+            // already at the floor, where no chord step was taken).
+            if at_floor && pending == 0.0 && (measured || !carried || iterations == 0) {
                 work.converged_hessians = has_hessians;
                 if carried {
                     work.carry.served();
@@ -312,7 +315,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 }
             } else {
                 if exact {
-                    if !with_hessians {
+                    if !has_hessians {
                         self.assemble(base, mu, work, true);
                     }
                     self.fill_jacobian(work);
