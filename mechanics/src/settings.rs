@@ -305,11 +305,10 @@ impl StepSettings {
     /// only when the step's guess lies close to the unknowns the matrix was formed at;
     /// each must contract the residual at least 200-fold or the step forms its own matrix,
     /// and after misses in a row the reuse waits a growing number of steps. Longer steps
-    /// never try it. The step is solved to the same
-    /// rounding floor either way; what changes is the path to it, so a run differs from
-    /// one with `false` at the level of rounding. `false` solves every step from its own
-    /// Newton matrix, making each step a function of its start state alone
-    /// (`docs/performance.md` §5.12).
+    /// never try it. The step is solved to the same rounding floor either way; what
+    /// changes is the path to it, so a run differs from one with `false` at the level of
+    /// rounding. `false` solves every step from its own Newton matrix, making each step a
+    /// function of its start state alone (`docs/performance.md` §5.12).
     pub fn with_factor_reuse(mut self, reuse: bool) -> Self {
         self.reuse_factors = reuse;
         self
