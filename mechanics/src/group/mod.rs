@@ -373,8 +373,8 @@ impl ConfigurationGroup<6> for RigidMotions {
 /// A chart's derivatives at one point `x`, contracted as the generic chain rule
 /// (the integrator's Gauss points) reads them: `A(x)`, `∂(A(x)v)/∂x`, `∂(A(x)ᵀg)/∂x` and
 /// `∇²_x(μᵀA(x)v)`. Every [`GroupChart`] has them by dual numbers in `x` alone
-/// ([`GroupChart::with_derivatives`]'s default); the SE(3) charts of this crate in closed
-/// form.
+/// ([`GroupChart::with_derivatives`]'s default); the SO(3), SE(3) rotation–translation
+/// and SO(3) × ℝᴷ charts of this crate in closed form.
 pub trait ChartDerivatives<const D: usize> {
     /// `A(x)`.
     fn differential(&self) -> SMatrix<f64, D, D>;
@@ -627,5 +627,48 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
         s: T,
     ) -> Option<RodriguesCoefficients<T>> {
         self.rotation_left_differential_coefficients(s)
+    }
+    /// In closed form from `A`'s Rodrigues jet where the chart has a Rodrigues form (the
+    /// generic chain rule's Gauss points, the matching rows' map Jacobian); by dual
+    /// numbers otherwise.
+    fn with_derivatives<R>(
+        &self,
+        x: &Vector3<f64>,
+        second: bool,
+        f: impl FnOnce(&dyn ChartDerivatives<3>) -> R,
+    ) -> R {
+        let s = x.norm_squared();
+        let jet = if second {
+            self.rotation_left_differential_coefficients(Dual2_64::new(s, 1.0, 0.0))
+                .map(|a| MatrixJet::from_rodrigues(&a, x))
+        } else {
+            self.rotation_left_differential_coefficients(Dual64::new(s, 1.0))
+                .map(|a| MatrixJet::from_rodrigues_first_order(&a, x))
+        };
+        match jet {
+            Some(a) => f(&RotationDerivatives { a }),
+            None => dual_number_derivatives::<Rotations, Self, R, 3>(self, x, f),
+        }
+    }
+}
+
+/// An SO(3) chart's derivatives from the Rodrigues jet of `A(x)`
+/// ([`GroupChart::with_derivatives`] of every [`So3Chart`] with a Rodrigues form).
+struct RotationDerivatives {
+    a: MatrixJet,
+}
+
+impl ChartDerivatives<3> for RotationDerivatives {
+    fn differential(&self) -> Matrix3<f64> {
+        self.a.value
+    }
+    fn differential_times(&self, v: &Vector3<f64>) -> Matrix3<f64> {
+        self.a.first_times(v)
+    }
+    fn transpose_times(&self, g: &Vector3<f64>) -> Matrix3<f64> {
+        self.a.first_transposed_times(g).transpose()
+    }
+    fn second(&self, mu: &Vector3<f64>, v: &Vector3<f64>) -> Matrix3<f64> {
+        self.a.second_contracted(&(mu * v.transpose()))
     }
 }

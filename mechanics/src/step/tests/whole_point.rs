@@ -579,12 +579,12 @@ fn rotation_translation_chart_derivatives_match_dual_numbers() {
     }
 }
 
-/// The SO(3) × ℝᴷ charts' closed-form derivatives (the gyrostat's group, `K = 1…4`) and
-/// SE(3)'s rotation–translation chart's, and their transport `Ad_{Φ(x)⁻¹}ᵀ p`, against the
-/// dual-number derivatives and the formed `Φ(x)` of the same chart, every chart, points
-/// from `x = 0` to large rotations; the transport's matrix with `A(x)`
-/// ([`crate::GroupChart::transport_and_differential`]) against both formed apart, on SO(3)
-/// too. Exact up to rounding: 1e-13 relative to the largest entry (1e-14 for the
+/// The SO(3) charts' closed-form derivatives, the SO(3) × ℝᴷ charts' (the gyrostat's
+/// group, `K = 1…4`) and SE(3)'s rotation–translation chart's, and their transport
+/// `Ad_{Φ(x)⁻¹}ᵀ p`, against the dual-number derivatives and the formed `Φ(x)` of the
+/// same chart, every chart, points from `x = 0` to large rotations; the transport's
+/// matrix with `A(x)` ([`crate::GroupChart::transport_and_differential`]) against both
+/// formed apart. Exact up to rounding: 1e-13 relative to the largest entry (1e-14 for the
 /// transport and `A`, single products of the Rodrigues coefficients).
 #[test]
 fn attitude_times_vector_chart_derivatives_match_dual_numbers() {
