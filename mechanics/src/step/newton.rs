@@ -14,6 +14,7 @@ use crate::system::GroupLagrangian;
 use nalgebra::{DMatrix, SVector};
 
 pub(super) mod carry;
+use carry::Chain;
 mod chord;
 mod convergence;
 mod line_search;
@@ -135,30 +136,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let mut factorizations = 0;
         // Backtracking (`line_search`): the damping of the step being tried.
         let mut damping = 1.0f64;
-        // The relative residual of the iterate at which `work.jacobian` was factored in this
-        // solve, if it was.
-        let mut factored_at: Option<f64> = None;
-        // Chord steps on an earlier step's factors (`carry`): while they last, the
-        // contraction each must reach, and the largest one measured, which stands for
-        // `r_f` in the predicted remainder.
-        let mut carried = exact
+        // Chord steps on an earlier step's factors (`carry`) while they last.
+        let carried = exact
             && self.settings.reuses_factors()
             && max_iterations >= carry::MIN_ITERATIONS
             && work.carry.attempt(work.drift());
-        if carried {
-            factored_at = Some(carry::CONTRACTION);
-        }
-        // The carried factors' contraction is measured (and checked) on every chord step
-        // from a residual of at least `carry::MEASURABLE`; a chain is accepted only after
-        // one such measurement.
-        let mut measured_contraction = 0.0f64;
-        let mut measured = false;
-        let mut measured_clean = false;
-        // After a chord step whose predicted remainder is above CHORD_REMAINDER: that
-        // prediction (the residual at the rounding floor can no longer show it); else 0.
-        let mut pending = 0.0f64;
-        // Whether the last step taken was a chord step.
-        let mut last_was_chord = false;
+        let mut factors = Factors::new(carried);
         let singular = || MechanicsError::SingularJacobian {
             step,
             time,
@@ -168,12 +151,12 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             // An assembly expected to be the last, or before a chord step, needs no Hessians
             // (but for a step to be linearised: below).
             // On carried factors the chord chain ends where its predicted remainder does.
-            let expect_converged = if carried {
-                carry::expect_last(iterations, pending, factored_at)
+            let expect_converged = if factors.carried() {
+                carry::expect_last(iterations, factors.pending, factors.at)
             } else {
                 convergence::expect_converged(iterations, previous, previous_scale)
             };
-            let expect_chord = carried || chord::expect_chord(factored_at);
+            let expect_chord = factors.carried() || chord::expect_chord(factors.at);
             // A halved trial point only needs its residual: the Hessians follow if it is
             // accepted and another step is needed.
             // A step to be linearised keeps the Hessians of the assembly expected to be
@@ -201,18 +184,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             // the rounding floor's noise is left to compare); from above it, a worse iterate
             // means the factors are too far off: back to the accepted iterate, which the
             // step's own Newton matrix takes from (its assembly, with Hessians, comes next).
-            let stands = if carried {
+            let stands = if factors.carried() {
                 previous < carry::MEASURABLE * previous_scale
             } else {
                 expect_converged
             };
             let worse = line_search::worse(assembled, previous, stands);
-            if iterations > 0 && worse && carried {
-                carried = false;
-                factored_at = None;
-                pending = 0.0;
-                last_was_chord = false;
-                work.carry.missed();
+            if iterations > 0 && worse && factors.carried() {
+                factors.give_up(&mut work.carry, true);
                 work.xi.copy_from_slice(&work.xi_accepted);
                 previous = f64::INFINITY;
                 continue;
@@ -242,9 +221,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             );
             // On carried factors, only after a checked chord step (or at a guess that is
             // already at the floor, where no chord step was taken).
-            if at_floor && pending == 0.0 && (measured || !carried || iterations == 0) {
+            if at_floor && factors.pending == 0.0 && (factors.checked() || iterations == 0) {
                 work.converged_hessians = has_hessians;
-                if carried {
+                if factors.carried() {
                     work.carry.served();
                 }
                 return Ok(self.outcome(base, work, iterations, factorizations));
@@ -261,57 +240,49 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             // The error after the last step: the residual bounds it, and so does a pending
             // chord prediction once the residual is at the floor.
             let relative = residual / scale;
-            let error = if pending > 0.0 {
-                relative.min(pending)
+            let error = if factors.pending > 0.0 {
+                relative.min(factors.pending)
             } else {
                 relative
             };
-            let slow =
-                chord::too_slow(last_was_chord, at_floor, relative, previous, previous_scale);
+            let slow = chord::too_slow(
+                factors.last_was_chord,
+                at_floor,
+                relative,
+                previous,
+                previous_scale,
+            );
             let previous_relative = previous / previous_scale.max(f64::MIN_POSITIVE);
             if iterations == 0 {
                 work.carry.guessed(relative);
             }
-            if carried && iterations == 0 && relative < carry::MEASURABLE {
+            if factors.carried() && iterations == 0 && relative < carry::MEASURABLE {
                 // A guess this close leaves no chord step whose contraction could be
                 // measured above the floor's noise: the step's own Newton step instead.
-                carried = false;
-                factored_at = None;
+                factors.give_up(&mut work.carry, false);
             }
-            if carried && last_was_chord && previous_relative >= carry::MEASURABLE {
-                // The carried factors' contraction, measured on this chord step (at the
-                // floor or not: a residual that stagnated from a measurable one is a
-                // contraction that failed).
-                let contraction = relative / previous_relative;
-                if contraction > carry::CONTRACTION {
-                    carried = false;
-                    factored_at = None;
-                    work.carry.missed();
-                } else {
-                    // A residual near the floor reads the contraction too large (its noise
-                    // adds): it stands for `r_f` only until a clean one is measured.
-                    let clean = relative >= carry::CLEAN;
-                    if clean && !measured_clean {
-                        measured_contraction = contraction;
-                    } else if clean || !measured_clean {
-                        measured_contraction = measured_contraction.max(contraction);
+            if factors.last_was_chord && previous_relative >= carry::MEASURABLE {
+                if let Some(chain) = &mut factors.chain {
+                    // The carried factors' contraction, checked on this chord step (at the
+                    // floor or not: a residual that stagnated from a measurable one is a
+                    // contraction that failed).
+                    match chain.record(relative / previous_relative, relative) {
+                        Some(r_f) => factors.at = Some(r_f),
+                        None => factors.give_up(&mut work.carry, true),
                     }
-                    measured = true;
-                    measured_clean |= clean;
-                    factored_at = Some(measured_contraction);
                 }
             }
-            let chord = if carried {
-                factored_at
+            let chord = if factors.carried() {
+                factors.at
             } else {
-                chord::chord_with(factored_at, exact, slow, error)
+                chord::chord_with(factors.at, exact, slow, error)
             };
-            last_was_chord = chord.is_some();
-            pending = 0.0;
+            factors.last_was_chord = chord.is_some();
+            factors.pending = 0.0;
             if let Some(r_f) = chord {
                 let remainder = error * r_f;
                 if remainder > chord::CHORD_REMAINDER {
-                    pending = remainder;
+                    factors.pending = remainder;
                 }
             } else {
                 if exact {
@@ -323,8 +294,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     self.fill_jacobian_by_differences(base, mu, work);
                 }
                 work.factor();
-                carried = false;
-                factored_at = Some(relative);
+                factors.formed_at(relative);
                 factorizations += 1;
             }
             for (d, &p) in work.delta.iter_mut().zip(&work.perm) {
@@ -335,14 +305,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             damping = 1.0;
             let deltas = &work.delta;
             if !deltas.iter().all(|x| x.is_finite()) {
-                if carried {
+                if factors.carried() {
                     // Carried factors that give no finite step (a singular matrix kept
                     // from a failed step): the step's own matrix at this iterate.
-                    carried = false;
-                    factored_at = None;
-                    pending = 0.0;
-                    last_was_chord = false;
-                    work.carry.missed();
+                    factors.give_up(&mut work.carry, true);
                     previous = f64::INFINITY;
                     continue;
                 }
@@ -363,9 +329,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             // to first order ([`Stepper::carry_matching`]). Saves one of the four
             // assemblies of a typical step.
             if chord.is_some()
-                && pending == 0.0
+                && factors.pending == 0.0
                 && at_floor
-                && (measured || !carried)
+                && factors.checked()
                 && self.momentum_is_assembly_free()
             {
                 self.check_domain(work, step, time)?;
@@ -380,11 +346,66 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     let moved = work.delta.iter().fold(0.0f64, |a, d| a.max(d.abs()));
                     moved <= KEPT_STEP * size
                 };
-                if carried {
+                if factors.carried() {
                     work.carry.served();
                 }
                 return Ok(self.outcome(base, work, iterations, factorizations));
             }
+        }
+    }
+}
+
+/// What a solve knows of the factors in its Newton matrix and of its chord steps.
+struct Factors {
+    /// The relative residual of the iterate they were formed at in this solve; for
+    /// carried factors, the contraction standing for their `r_f`; `None` before any.
+    at: Option<f64>,
+    /// While the factors are an earlier step's: the chain of chord steps on them.
+    chain: Option<Chain>,
+    /// After a chord step whose predicted remainder is above
+    /// [`chord::CHORD_REMAINDER`]: that prediction (the residual at the rounding floor
+    /// can no longer show it); else 0.
+    pending: f64,
+    /// The last step taken was a chord step.
+    last_was_chord: bool,
+}
+
+impl Factors {
+    /// No factors yet, or (`carried`) an earlier step's, unmeasured.
+    fn new(carried: bool) -> Self {
+        Self {
+            at: carried.then_some(Chain::UNMEASURED),
+            chain: carried.then(Chain::default),
+            pending: 0.0,
+            last_was_chord: false,
+        }
+    }
+
+    /// The factors are an earlier step's.
+    fn carried(&self) -> bool {
+        self.chain.is_some()
+    }
+
+    /// The solve may end on these factors: its own, or carried ones checked on a chord
+    /// step.
+    fn checked(&self) -> bool {
+        self.chain.is_none_or(|chain| chain.measured())
+    }
+
+    /// The step's own Newton matrix was factored at an iterate of relative residual
+    /// `relative`.
+    fn formed_at(&mut self, relative: f64) {
+        self.chain = None;
+        self.at = Some(relative);
+    }
+
+    /// Gives carried factors up: the step forms its own Newton matrix next, with no
+    /// chord step pending; `missed` (they contracted too little, or gave no finite step)
+    /// tells the reuse policy, which waits before the next try.
+    fn give_up(&mut self, carry: &mut carry::Carry, missed: bool) {
+        *self = Self::new(false);
+        if missed {
+            carry.missed();
         }
     }
 }

@@ -116,6 +116,52 @@ impl Carry {
     }
 }
 
+/// One solve's chain of chord steps on carried factors: what its checked chord steps
+/// measured. Every chord step from a relative residual of at least [`MEASURABLE`] is
+/// checked ([`Chain::record`]); the contraction that stands for the factors' `r_f` in
+/// the predicted remainder is the largest reading, except that a reading from a residual
+/// below [`CLEAN`] (the floor's noise inflates it) stands only until a clean one exists.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Chain {
+    /// The contraction standing for `r_f`.
+    contraction: f64,
+    /// A chord step has been checked (and passed).
+    measured: bool,
+    /// One of the readings was clean.
+    clean: bool,
+}
+
+impl Chain {
+    /// The `r_f` a chain predicts with before its first reading: the most it may be.
+    pub(super) const UNMEASURED: f64 = CONTRACTION;
+
+    /// Records a checked chord step's `contraction`, the relative residual after it
+    /// being `relative`: the `r_f` to predict with, or `None` when it contracted less
+    /// than [`CONTRACTION`] (the factors are too far off).
+    pub(super) fn record(&mut self, contraction: f64, relative: f64) -> Option<f64> {
+        if contraction > CONTRACTION {
+            return None;
+        }
+        let clean = relative >= CLEAN;
+        match (clean, self.clean) {
+            // The first clean reading replaces the noisy ones.
+            (true, false) => self.contraction = contraction,
+            // A noisy reading after a clean one says nothing more.
+            (false, true) => {}
+            // Readings of one kind: the largest.
+            _ => self.contraction = self.contraction.max(contraction),
+        }
+        self.measured = true;
+        self.clean |= clean;
+        Some(self.contraction)
+    }
+
+    /// Whether a chord step has been checked: only then may the chain end the solve.
+    pub(super) fn measured(&self) -> bool {
+        self.measured
+    }
+}
+
 /// Whether the next assembly of a solve on carried factors is expected to be the last:
 /// the chord step after it will be the chain's last when the error it starts from (the
 /// remainder the last chord step predicted, `pending`; none left when that was below
@@ -165,6 +211,41 @@ mod tests {
         );
         carry.forget();
         assert!(!carry.attempt(0.0));
+    }
+
+    /// A chain's readings: a failing one ends it; the largest clean one stands for `r_f`,
+    /// noisy ones only until a clean one exists; measured after the first passing one.
+    #[test]
+    fn the_chain_predicts_with_its_largest_clean_contraction() {
+        let mut chain = Chain::default();
+        assert!(!chain.measured());
+        assert_eq!(
+            chain.record(2e-3, 1e-14),
+            Some(2e-3),
+            "a noisy reading stands"
+        );
+        assert!(chain.measured());
+        assert_eq!(
+            chain.record(3e-3, 1e-14),
+            Some(3e-3),
+            "the largest noisy one"
+        );
+        assert_eq!(
+            chain.record(1e-4, 1e-9),
+            Some(1e-4),
+            "a clean one replaces them"
+        );
+        assert_eq!(
+            chain.record(4e-3, 1e-14),
+            Some(1e-4),
+            "noise after a clean one"
+        );
+        assert_eq!(
+            chain.record(5e-4, 1e-10),
+            Some(5e-4),
+            "the largest clean one"
+        );
+        assert_eq!(chain.record(2.0 * CONTRACTION, 1e-9), None, "too little");
     }
 
     /// The chain's last assembly: none left to predict, or a prediction whose next
