@@ -256,6 +256,34 @@ macro_rules! __each_gyrostat_arm {
     }};
 }
 
+/// `$body` with `$make` the way to build the integrator of whichever system `$scenario`
+/// (a `&Scenario`) holds, `StepSettings → Result<Integrator<…>, MechanicsError>`, and
+/// `$d` a constant bound to its dimension: a gyrostat (through [`each_gyrostat`]), a body
+/// in space (6) or on SO(3) (3). The one dispatch of [`Scenario`]'s studies.
+macro_rules! with_system {
+    ($scenario:expr, ($make:ident, $d:tt) => $body:expr) => {{
+        let scenario: &Scenario = $scenario;
+        if let Some(wheels) = &scenario.wheels {
+            let (attitude, omega) = (scenario.attitude0, scenario.omega0);
+            crate::each_gyrostat!(wheels.system, (craft, K, $d) => {
+                let $make =
+                    |s: StepSettings| wheels.integrator::<K, $d>(craft, s, attitude, omega);
+                $body
+            })
+        } else if let Some(motion) = &scenario.motion {
+            #[allow(non_upper_case_globals)]
+            const $d: usize = 6;
+            let $make = |s: StepSettings| motion.integrator(s);
+            $body
+        } else {
+            #[allow(non_upper_case_globals)]
+            const $d: usize = 3;
+            let $make = |s: StepSettings| Subject::integrator(scenario, s);
+            $body
+        }
+    }};
+}
+
 /// A built-in system from its start, ready to run: on SO(3) (`motion` and `wheels` both
 /// `None`), on SE(3) (`motion`) or a gyrostat (`wheels`).
 #[derive(Debug, Clone)]
@@ -424,31 +452,9 @@ impl Scenario {
         every: usize,
         progress: &mut dyn FnMut(usize),
     ) -> Result<Recording, ExperimentError> {
-        if let Some(wheels) = &self.wheels {
-            let (attitude, omega) = (self.attitude0, self.omega0);
-            return crate::each_gyrostat!(wheels.system, (craft, K, D) => record_checked(
-                |s| wheels.integrator::<K, D>(craft, s, attitude, omega),
-                settings, check, t_end, every, progress,
-            ));
-        }
-        match &self.motion {
-            None => record_checked(
-                |s| Subject::integrator(self, s),
-                settings,
-                check,
-                t_end,
-                every,
-                progress,
-            ),
-            Some(motion) => record_checked(
-                |s| motion.integrator(s),
-                settings,
-                check,
-                t_end,
-                every,
-                progress,
-            ),
-        }
+        with_system!(self, (make, D) => {
+            record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, progress)
+        })
     }
 
     /// The exact solution of a free rigid body (Jacobi elliptic functions) recorded as
@@ -485,25 +491,10 @@ impl Scenario {
         t_end: f64,
         tick: &mut dyn FnMut(),
     ) -> Result<Vec<LocalError>, ExperimentError> {
-        if let Some(wheels) = &self.wheels {
-            let (attitude, omega) = (self.attitude0, self.omega0);
-            return crate::each_gyrostat!(wheels.system, (craft, K, D) => {
-                let make = |s: StepSettings| {
-                    wheels.integrator::<K, D>(craft, s.with_chart(chart), attitude, omega)
-                };
-                local_errors::<_, ChartKind, D>(&make, steps, nodes, t_end, tick)
-            });
-        }
-        match &self.motion {
-            Some(motion) => {
-                let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
-                local_errors::<_, ChartKind, 6>(&make, steps, nodes, t_end, tick)
-            }
-            None => {
-                let make = |s: StepSettings| Subject::integrator(self, s.with_chart(chart));
-                local_errors::<_, ChartKind, 3>(&make, steps, nodes, t_end, tick)
-            }
-        }
+        with_system!(self, (make, D) => {
+            let make = |s: StepSettings| make(s.with_chart(chart));
+            local_errors::<_, ChartKind, D>(&make, steps, nodes, t_end, tick)
+        })
     }
 
     /// Tolerance-driven runs with `settings` (tolerance and settings) against a
@@ -521,25 +512,10 @@ impl Scenario {
         t_end: f64,
         tick: &mut dyn FnMut(),
     ) -> Result<ToleranceStudy, ExperimentError> {
-        if let Some(wheels) = &self.wheels {
-            let (attitude, omega) = (self.attitude0, self.omega0);
-            return crate::each_gyrostat!(wheels.system, (craft, K, D) => {
-                let make = |s: StepSettings| {
-                    wheels.integrator::<K, D>(craft, s.with_chart(chart), attitude, omega)
-                };
-                tolerance_runs::<_, ChartKind, D>(&make, chart, settings, steps, nodes, t_end, tick)
-            });
-        }
-        match &self.motion {
-            Some(motion) => {
-                let make = |s: StepSettings| motion.integrator(s.with_chart(chart));
-                tolerance_runs::<_, ChartKind, 6>(&make, chart, settings, steps, nodes, t_end, tick)
-            }
-            None => {
-                let make = |s: StepSettings| Subject::integrator(self, s.with_chart(chart));
-                tolerance_runs::<_, ChartKind, 3>(&make, chart, settings, steps, nodes, t_end, tick)
-            }
-        }
+        with_system!(self, (make, D) => {
+            let make = |s: StepSettings| make(s.with_chart(chart));
+            tolerance_runs::<_, ChartKind, D>(&make, chart, settings, steps, nodes, t_end, tick)
+        })
     }
 }
 
