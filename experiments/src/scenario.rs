@@ -258,16 +258,17 @@ macro_rules! __each_gyrostat_arm {
 
 /// `$body` with `$make` the way to build the integrator of whichever system `$scenario`
 /// (a `&Scenario`) holds, `StepSettings → Result<Integrator<…>, MechanicsError>`, and
-/// `$d` a constant bound to its dimension: a gyrostat (through [`each_gyrostat`]), a body
-/// in space (6) or on SO(3) (3). The one dispatch of [`Scenario`]'s studies.
+/// `$d` a constant bound to its dimension: a gyrostat (through [`each_gyrostat`], `$k`
+/// bound to its number of wheels), a body in space (6) or on SO(3) (3). The one dispatch
+/// of [`Scenario`]'s studies.
 macro_rules! with_system {
-    ($scenario:expr, ($make:ident, $d:tt) => $body:expr) => {{
+    ($scenario:expr, ($make:ident, $k:ident, $d:ident) => $body:expr) => {{
         let scenario: &Scenario = $scenario;
         if let Some(wheels) = &scenario.wheels {
             let (attitude, omega) = (scenario.attitude0, scenario.omega0);
-            crate::each_gyrostat!(wheels.system, (craft, K, $d) => {
+            crate::each_gyrostat!(wheels.system, (craft, $k, $d) => {
                 let $make =
-                    |s: StepSettings| wheels.integrator::<K, $d>(craft, s, attitude, omega);
+                    |s: StepSettings| wheels.integrator::<$k, $d>(craft, s, attitude, omega);
                 $body
             })
         } else if let Some(motion) = &scenario.motion {
@@ -452,7 +453,7 @@ impl Scenario {
         every: usize,
         progress: &mut dyn FnMut(usize),
     ) -> Result<Recording, ExperimentError> {
-        with_system!(self, (make, D) => {
+        with_system!(self, (make, K, D) => {
             record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, progress)
         })
     }
@@ -491,7 +492,7 @@ impl Scenario {
         t_end: f64,
         tick: &mut dyn FnMut(),
     ) -> Result<Vec<LocalError>, ExperimentError> {
-        with_system!(self, (make, D) => {
+        with_system!(self, (make, K, D) => {
             let make = |s: StepSettings| make(s.with_chart(chart));
             local_errors::<_, ChartKind, D>(&make, steps, nodes, t_end, tick)
         })
@@ -512,7 +513,7 @@ impl Scenario {
         t_end: f64,
         tick: &mut dyn FnMut(),
     ) -> Result<ToleranceStudy, ExperimentError> {
-        with_system!(self, (make, D) => {
+        with_system!(self, (make, K, D) => {
             let make = |s: StepSettings| make(s.with_chart(chart));
             tolerance_runs::<_, ChartKind, D>(&make, chart, settings, steps, nodes, t_end, tick)
         })

@@ -146,8 +146,8 @@ pub(crate) trait ParameterLocalDerivatives:
 
 /// A built-in SE(3) body's `∂ℓ/∂p_k` as a system of its own whose local derivatives are
 /// [`ParameterLocalDerivatives::parameter_local`]: the step's parameter columns then take
-/// the rotation–translation chart's closed forms (`step::rotation_translation`) where the
-/// generic chain rule would take dual numbers through the chart.
+/// the rotation–translation chart's 3 × 3 blocks (`step::rotation_translation`) where the
+/// generic chain rule would take `∂ℓ/∂p`'s derivatives by dual numbers.
 pub(crate) struct ParameterLocal<'a, S> {
     pub system: &'a S,
     pub index: usize,

@@ -245,7 +245,7 @@ pub trait GroupLagrangian<const D: usize> {
     /// [`GroupLagrangian::parameter_lagrangian`] of parameter `index` (no force: the
     /// point's force is `None`): a faster path for the step's parameter columns, or
     /// `false` (the default) for the generic chain rule by dual numbers through `∂ℓ/∂p`
-    /// and the chart. The built-in SE(3) bodies take the rotation–translation chart's
+    /// (the chart's derivatives from [`GroupChart::with_derivatives`]). The built-in SE(3) bodies take the rotation–translation chart's
     /// 3 × 3 blocks with `∂ℓ/∂p`'s local derivatives in closed form (five times faster
     /// on the orbiting body; `docs/linearization.md` §8). On SO(3) the generic rule was
     /// measured faster than the Rodrigues form with `∂ℓ/∂p`'s derivatives by dual

@@ -34,7 +34,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// Takes one step (as [`Integrator::step`]) and returns its exact linearisation
     /// ([`StepLinearization`]), at the cost of one more Newton matrix and its
     /// factorisation, and a few back-substitutions: the Newton loop keeps the Hessians of
-    /// its last assembly, at the rounding floor, for that matrix. The step is
+    /// its last assembly, at the rounding floor, for that matrix (usually: a loop whose
+    /// last assembly was gradient-only leaves the linearisation one more assembly). The step is
     /// [`Integrator::step`]'s bit for bit for an unforced system with a left-invariant
     /// Lagrangian and to rounding (a few ulps) otherwise: an assembly with Hessians forms
     /// the matching's transport as a matrix.

@@ -137,8 +137,8 @@ pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> 
     /// Adaptive runs: the workspaces of the node counts not in use, kept for reuse.
     spare_work: Vec<WorkspaceOf<S, D>>,
     /// Whether the step being solved is to be linearised ([`Integrator::step_linearized`],
-    /// [`Integrator::linearize`]): its Newton loop then keeps the Hessians of its last
-    /// assembly for the linearisation.
+    /// [`Integrator::linearize`]): its Newton loop then asks its last assembly for
+    /// Hessians, which the linearisation reuses when it got them.
     linearizing: bool,
     /// Adaptive runs: scratch for moving the last curve to other nodes.
     resampled: Vec<SVector<f64, D>>,

@@ -358,7 +358,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
 /// What a solve knows of the factors in its Newton matrix and of its chord steps.
 struct Factors {
     /// The relative residual of the iterate they were formed at in this solve; for
-    /// carried factors, the contraction standing for their `r_f`; `None` before any.
+    /// carried factors, the contraction standing for their `r_f`; `None` before any, and
+    /// after carried ones are given up.
     at: Option<f64>,
     /// While the factors are an earlier step's: the chain of chord steps on them.
     chain: Option<Chain>,

@@ -32,8 +32,9 @@
 //!   `H_xv = AᵀL_ηξA + JᵀL_ξξA + M`, `H_vv = AᵀL_ξξA`,
 //!   `H_xζ = AᵀL_ηη + JᵀL_ξη + ½(C(p)A)ᵀ`, `H_vζ = AᵀL_ξη`, `H_ζζ = L_ηη`.
 //!
-//! Every derivative of the chart comes from small dual numbers in `x` alone (`D`
-//! variables), and the Lagrangian is differentiated once: far cheaper than one
+//! Every derivative of the chart comes from [`GroupChart::with_derivatives`] (closed form
+//! from the Rodrigues jets for this crate's charts, small dual numbers in `x` alone, `D`
+//! variables, for others), and the Lagrangian is differentiated once: far cheaper than one
 //! second-order dual number over all `3D` variables through `ℓ̃` (`docs/performance.md`
 //! §6), which the tests keep as the independent reference.
 

@@ -549,9 +549,10 @@ fn carried_matching_momentum_agrees_with_a_new_assembly() {
     }
 }
 
-/// A step solved to be linearised keeps the Hessians of its last assembly (at least three
-/// steps in four: a loop that expected a chord step, or whose last chord step moved more
-/// than 64 ulps, leaves the linearisation to assemble them), and the linearisation formed
+/// A step solved to be linearised keeps the Hessians of its last assembly (for each system
+/// in at least three steps of four: a loop that expected a chord step, or whose last chord
+/// step moved more than 64 ulps, leaves the linearisation to assemble them, and it still
+/// linearises), and the linearisation formed
 /// from them is the one formed from a fresh assembly at the converged unknowns, to
 /// rounding: that assembly was at the accepted unknowns or one
 /// chord step of at most 64 ulps before them, so the two Newton matrices differ by
@@ -595,6 +596,7 @@ fn a_linearisation_from_the_kept_hessians_is_the_fresh_one() {
                         // The loop's last assembly was gradient-only (it expected a chord
                         // step) or a last chord step moved more than KEPT_STEP: the
                         // linearisation assembles the converged unknowns itself.
+                        assert!(stepper.linearize(&base, &mu, &mut work, step).is_ok());
                         (base, mu) = (outcome.configuration, outcome.momentum);
                         work.guess_changed();
                         continue;
