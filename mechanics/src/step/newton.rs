@@ -141,7 +141,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             && self.settings.reuses_factors()
             && max_iterations >= carry::MIN_ITERATIONS
             && work.carry.attempt(work.drift());
-        let mut factors = Factors::new(carried);
+        let mut factors = ChordState::new(carried);
         let singular = || MechanicsError::SingularJacobian {
             step,
             time,
@@ -355,8 +355,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     }
 }
 
-/// What a solve knows of the factors in its Newton matrix and of its chord steps.
-struct Factors {
+/// What a solve knows of the factors in its Newton matrix and of its chord steps (the
+/// factors themselves are the workspace's).
+struct ChordState {
     /// The relative residual of the iterate they were formed at in this solve; for
     /// carried factors, the contraction standing for their `r_f`; `None` before any, and
     /// after carried ones are given up.
@@ -371,7 +372,7 @@ struct Factors {
     last_was_chord: bool,
 }
 
-impl Factors {
+impl ChordState {
     /// No factors yet, or (`carried`) an earlier step's, unmeasured.
     fn new(carried: bool) -> Self {
         Self {
