@@ -45,10 +45,11 @@ pub(crate) struct Workspace<J, const D: usize> {
     pub(super) v: Vec<SVector<f64, D>>,
     /// The matching's `w` and `A(ξⁿ)ᵀ Ad_{Φ(ξⁿ)}ᵀ`, from the last assembly.
     pub(super) matching: MatchingTerms<D>,
-    /// The basis times the points' Hessian rows, the `D` component rows `r` stacked
-    /// (`D·D(n−1) × 2m`, row `D(n−1)r + D(k−1) + c`, columns `2j`, `2j + 1` for `x`, `v`),
-    /// and `∂²S/∂ξᵏ_c ∂ξⁱ_r` (`D·D(n−1) × n`, the same rows, column `i`) = that times
-    /// `weighted_basis`.
+    /// The basis times the points' Hessian entries (`D·D(n−1) × 2m`, columns `2j`,
+    /// `2j + 1` for `x`, `v`), and `∂²S/∂ξᵏ_c ∂ξⁱ_r` (`D·D(n−1) × n`) = that times
+    /// `weighted_basis`, laid out by [`Stepper::fill_jacobian`]: with the exact matching
+    /// row `D(n−1)c + D(i−1) + r`, column `k`; with the paper's, row
+    /// `D(n−1)r + D(k−1) + c`, column `i`.
     hessian_times_basis: Mat<f64>,
     pub(super) action_hessian: Mat<f64>,
     pub(super) gradient: Vec<SVector<f64, D>>,
@@ -323,31 +324,56 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
 
     /// The exact Newton matrix from the point Hessians of the last assembly (module
     /// documentation); the matching rows from [`Stepper::fill_matching_rows`].
+    ///
+    /// The product's rows run over the equations' `(i, r)` inside each component `c` of
+    /// an unknown, and its columns over that unknown's node `k` (`by_unknown`, the exact
+    /// matching): the Newton matrix's column of unknown `(k, c)` is then one contiguous
+    /// stretch of the product's column `k`, copied whole. The paper's matching also reads
+    /// the equation of `ξ¹`, which has no unknown: there the rows run over the unknowns
+    /// `(k, c)` inside each component `r` of an equation and the columns over its node
+    /// `i` (the equations of `ξ¹` to `ξⁿ`), and the matrix gathers its columns with a
+    /// stride.
     pub(super) fn fill_jacobian(&self, work: &mut WorkspaceOf<S, D>) {
         let d = self.d;
         let n = d.n;
         let unknowns = D * (n - 1);
+        let by_unknown = self.by_unknown();
         // Point by point, each point's Hessian read once, each column written in order.
+        // Column `2j + h` of the left factor multiplies `h b_j φ_k` (h = 0) or `h b_j φ'_k`
+        // (h = 1) of the node in the product's column; its rows hold the basis at the
+        // point times the Hessian entries that pair with it.
         let z = &mut work.hessian_times_basis;
         for (j, point) in work.points.iter().enumerate() {
             let (values, slopes) = (&d.values_at(j)[1..], &d.slopes_at(j)[1..]);
             for half in 0..2 {
                 let column = z.col_as_slice_mut(2 * j + half);
-                let row = D * half;
-                let hx: [[f64; D]; D] =
-                    std::array::from_fn(|r| std::array::from_fn(|c| point.hessian(row + r, c)));
-                let hv: [[f64; D]; D] =
-                    std::array::from_fn(|r| std::array::from_fn(|c| point.hessian(row + r, D + c)));
+                let h0 = D * half;
+                // Row a of these: the entries that the basis of the rows' node scales.
+                let (hx, hv): ([[f64; D]; D], [[f64; D]; D]) = if by_unknown {
+                    // Rows (c; i, r): equation rows r (x, then v), the unknown's variable
+                    // h0 + c.
+                    (
+                        std::array::from_fn(|c| std::array::from_fn(|r| point.hessian(r, h0 + c))),
+                        std::array::from_fn(|c| {
+                            std::array::from_fn(|r| point.hessian(D + r, h0 + c))
+                        }),
+                    )
+                } else {
+                    // Rows (r; k, c): the equation's row h0 + r, variables c (x, then v).
+                    (
+                        std::array::from_fn(|r| std::array::from_fn(|c| point.hessian(h0 + r, c))),
+                        std::array::from_fn(|r| {
+                            std::array::from_fn(|c| point.hessian(h0 + r, D + c))
+                        }),
+                    )
+                };
                 scaled_rows(column, &hx, &hv, values, slopes);
             }
         }
         // One product for the D component rows (D would pay faer's dispatch D times).
-        // Column 0 (the equation of ξ¹) enters only the paper's matching: the exact
-        // matching skips it (one column in n of the product).
-        let first = match self.settings.matching() {
-            Matching::Exact => 1,
-            Matching::Paper => 0,
-        };
+        // Column 0 (the node of ξ¹) is neither an unknown nor, but for the paper's
+        // matching, an equation the matrix reads.
+        let first = if by_unknown { 1 } else { 0 };
         matmul(
             work.action_hessian.as_mut().subcols_mut(first, n - first),
             Accum::Replace,
@@ -356,32 +382,57 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             1.0,
             Par::Seq,
         );
-        // The interior rows: column i of the product holds the D rows of the equation of
-        // ξⁱ⁺¹ one after the other, i.e. those rows transposed. Written down the Newton matrix's
-        // columns (its storage order): row by row, the strided stores took a quarter of this
-        // function's perf samples on the orbiting body (docs/performance.md §5.6).
+        // The interior rows, written down the Newton matrix's columns (its storage
+        // order): row by row, strided stores took a quarter of this function's perf
+        // samples on the orbiting body (docs/performance.md §5.6).
         let jac = work.jacobian.as_mut_slice();
-        for (col, target) in jac.chunks_exact_mut(unknowns).enumerate() {
-            for i in 1..n - 1 {
-                let source = work.action_hessian.col_as_slice(i);
-                for (r, entry) in target[D * (i - 1)..D * i].iter_mut().enumerate() {
-                    *entry = source[r * unknowns + col];
+        if by_unknown {
+            let interior = unknowns - D;
+            for k in 1..n {
+                let source = work.action_hessian.col_as_slice(k);
+                for c in 0..D {
+                    let col = D * (k - 1) + c;
+                    jac[col * unknowns..col * unknowns + interior]
+                        .copy_from_slice(&source[c * unknowns..c * unknowns + interior]);
+                }
+            }
+        } else {
+            // Column i of the product holds the D rows of the equation of ξⁱ⁺¹ one after
+            // the other, i.e. those rows transposed.
+            for (col, target) in jac.chunks_exact_mut(unknowns).enumerate() {
+                for i in 1..n - 1 {
+                    let source = work.action_hessian.col_as_slice(i);
+                    for (r, entry) in target[D * (i - 1)..D * i].iter_mut().enumerate() {
+                        *entry = source[r * unknowns + col];
+                    }
                 }
             }
         }
         self.fill_matching_rows(work);
     }
 
-    /// `∂²S/∂ξᵏ∂ξⁱ` as a `D × D` block (rows the components of `ξⁱ`'s equation), from the
-    /// last [`Stepper::fill_jacobian`].
+    /// Whether [`Stepper::fill_jacobian`]'s product is laid out by unknowns (the exact
+    /// matching) rather than by equations (the paper's).
+    fn by_unknown(&self) -> bool {
+        self.settings.matching() == Matching::Exact
+    }
+
+    /// `∂²S/∂ξᵏ∂ξⁱ` as a `D × D` block (rows the components of `ξⁱ`'s equation, columns
+    /// those of the unknown `ξᵏ`, `k ≥ 1`), from the last [`Stepper::fill_jacobian`]; `i ≥ 1`
+    /// with the exact matching.
     #[inline]
     pub(super) fn hessian_block(
+        &self,
         work: &WorkspaceOf<S, D>,
         i: usize,
         k: usize,
     ) -> SMatrix<f64, D, D> {
         let unknowns = D * (work.xi.len() - 1);
-        SMatrix::from_fn(|r, c| work.action_hessian[(unknowns * r + D * (k - 1) + c, i)])
+        if self.by_unknown() {
+            SMatrix::from_fn(|r, c| work.action_hessian[(unknowns * c + D * (i - 1) + r, k)])
+        } else {
+            SMatrix::from_fn(|r, c| work.action_hessian[(unknowns * r + D * (k - 1) + c, i)])
+        }
     }
 
     /// Forward-difference Newton matrix (the paper's solver), column by column.

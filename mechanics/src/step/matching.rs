@@ -118,7 +118,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     }
                 }
                 for k in 1..n {
-                    let mut block = -Self::hessian_block(work, n - 1, k);
+                    let mut block = -self.hessian_block(work, n - 1, k);
                     if k == n - 1 {
                         block += map_jacobian;
                     }
@@ -130,7 +130,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             }
             Matching::Paper => {
                 for k in 1..n {
-                    let block = Self::hessian_block(work, 0, k);
+                    let block = self.hessian_block(work, 0, k);
                     put_block(&mut work.jacobian, last, D * (k - 1), &block);
                 }
             }
