@@ -3,9 +3,9 @@
 //!
 //! `∂S/∂ξⁱ = Σ_j h b_j [φ_i(c_j h) ∂ℓ̃/∂x + φ_i'(c_j h) ∂ℓ̃/∂v]_j`, and
 //! `∂²S/∂ξⁱ∂ξᵏ = Σ_j h b_j [φ_i φ_k H_xx + φ_i φ_k' H_xv + φ_i' φ_k H_vx + φ_i' φ_k' H_vv]_j`,
-//! formed for the `D` component rows at once as the basis times the points' Hessian rows
+//! formed for all `D` components at once as the basis times the points' Hessian entries
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
-//! `n²m` small block sums.
+//! `n²m` small block sums ([`Stepper::fill_jacobian`] says how its rows are laid out).
 
 use super::newton::carry::Carry;
 use super::points::{point_derivatives, EllTilde};
@@ -339,9 +339,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         let unknowns = D * (n - 1);
         let by_unknown = self.by_unknown();
         // Point by point, each point's Hessian read once, each column written in order.
-        // Column `2j + h` of the left factor multiplies `h b_j φ_k` (h = 0) or `h b_j φ'_k`
-        // (h = 1) of the node in the product's column; its rows hold the basis at the
-        // point times the Hessian entries that pair with it.
+        // Column `2j + half` of the left factor multiplies the weighted basis's
+        // `h b_j φ(c_j)` (half = 0) or `h b_j φ'(c_j)` (half = 1) of the node in the
+        // product's column; its rows hold the basis at the point times the Hessian
+        // entries that pair with it.
         let z = &mut work.hessian_times_basis;
         for (j, point) in work.points.iter().enumerate() {
             let (values, slopes) = (&d.values_at(j)[1..], &d.slopes_at(j)[1..]);
@@ -370,9 +371,9 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 scaled_rows(column, &hx, &hv, values, slopes);
             }
         }
-        // One product for the D component rows (D would pay faer's dispatch D times).
-        // Column 0 (the node of ξ¹) is neither an unknown nor, but for the paper's
-        // matching, an equation the matrix reads.
+        // One product for all D components (D products would pay faer's dispatch D
+        // times). Column 0 (the node of ξ¹) is not an unknown; only the paper's matching
+        // reads its equation.
         let first = if by_unknown { 1 } else { 0 };
         matmul(
             work.action_hessian.as_mut().subcols_mut(first, n - first),
@@ -514,10 +515,11 @@ pub(super) fn accumulate_gradient<const D: usize>(
     }
 }
 
-/// One point's `D` equation rows of `x` (or `v`) derivatives, scaled by the basis at the
-/// point, into a column of the product's left factor: row `r`, node `k`, component `c`
-/// gets `φ_k H_x[r, c] + φ'_k H_v[r, c]`. Compiled for the x86-64 baseline and with AVX2
-/// (chosen at run time, as the LU): element-wise products and sums, the same in both.
+/// One point's Hessian entries, scaled by the basis at the point, into a column of the
+/// product's left factor: in the chunk of outer index `a`, node `k`'s entry `b` gets
+/// `φ_k hx[a][b] + φ'_k hv[a][b]` ([`Stepper::fill_jacobian`] chooses which entries `hx`
+/// and `hv` hold). Compiled for the x86-64 baseline and with AVX2 (chosen at run time,
+/// as the LU): element-wise products and sums, the same in both.
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 fn scaled_rows<const D: usize>(
     column: &mut [f64],

@@ -465,11 +465,33 @@ fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group:
 }
 
 /// The exact Newton matrix (both matchings, a configuration-dependent system, every
-/// chart) against forward differences of the residual away from the solution. Forward
+/// chart) against forward differences of the residual away from the solution; also
+/// under a torque, damping and a control input, whose point Jacobians are not symmetric
+/// (so that a matrix laid out by the wrong index, its transpose, shows). Forward
 /// differences with step √ε·max(1, |z|) are accurate to ~√ε·|F''| ≈ 1e-7 relative.
 #[test]
 fn exact_newton_matrix_matches_differences_of_the_residual() {
-    let system = top();
+    let forced = crate::Forced::new(
+        top(),
+        (
+            crate::BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
+            crate::AngularDamping(0.3),
+        ),
+    );
+    check_newton_matrix(&top(), None, "heavy top");
+    check_newton_matrix(
+        &forced,
+        Some(Vector3::new(0.05, 0.0, -0.03)),
+        "heavy top, torque, damping and input",
+    );
+}
+
+/// [`exact_newton_matrix_matches_differences_of_the_residual`] for one system.
+fn check_newton_matrix<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+    system: &S,
+    forcing: Option<Vector3<f64>>,
+    name: &str,
+) {
     for chart in ChartKind::ALL {
         for matching in [Matching::Exact, Matching::Paper] {
             let settings = StepSettings::new(0.4, 5)
@@ -478,12 +500,12 @@ fn exact_newton_matrix_matches_differences_of_the_residual() {
                 .with_matching(matching);
             let d = Discretisation::new(&settings).unwrap();
             let stepper = Stepper {
-                system: &system,
+                system,
                 chart: &chart,
                 settings: &settings,
                 d: &d,
                 time: 0.0,
-                forcing: None,
+                forcing,
             };
             let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
             let exact = work.jacobian.clone();
@@ -498,7 +520,7 @@ fn exact_newton_matrix_matches_differences_of_the_residual() {
             }
             assert!(
                 worst <= 1e-6 * scale,
-                "{chart} {matching:?}: {worst:e} of {scale:e}"
+                "{name}, {chart} {matching:?}: {worst:e} of {scale:e}"
             );
         }
     }
