@@ -3,8 +3,11 @@
 //! §5.9). Run with `cargo run --release -p lgsvi-mechanics --example quadrature_points`.
 //!
 //! Asserts what the table shows: one Gauss point fewer costs no accuracy. Every error with
-//! `m = n − 1` is within 4× of the error with `m = n` (measured: at most 3.2×, both at the
-//! rounding floor of 1e-14; above it the two agree to 40%), or below 1e-13.
+//! `m = n − 1` is within 4× of the error with `m = n` (measured: above the rounding floor
+//! the two agree to 40%), or below 3e-13, the rounding floor of these runs: case A's
+//! `m = n` run at `h = 1`, `n = 12` ends 1.3e-13 from the exact motion in one build and
+//! 3.9e-14 in the next, whose steps differ from it only at rounding, while its
+//! `m = n − 1` run ends at 2.0e-13 in both.
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{LieGroup, SO3};
 use lgsvi_mechanics::{Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
@@ -50,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     errors[k] = error;
                 }
                 assert!(
-                    errors[1] <= 4.0 * errors[0] || errors[1] < 1e-13,
+                    errors[1] <= 4.0 * errors[0] || errors[1] < 3e-13,
                     "case {name}, h = {h}, n = {n}: m = n − 1 {:.2e} against m = n {:.2e}",
                     errors[1],
                     errors[0]
