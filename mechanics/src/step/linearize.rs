@@ -33,8 +33,6 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
-use faer::linalg::matmul::matmul;
-use faer::{Accum, Par};
 use lgsvi_lie::LieGroup;
 use nalgebra::{DMatrix, RealField, SMatrix, SVector};
 use std::marker::PhantomData;
@@ -258,18 +256,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             dw_u += point.to_start * weight;
         }
         let first_row = if moves { 0 } else { dd };
-        matmul(
-            work.node_blocks
-                .as_mut()
-                .subrows_mut(first_row, 2 * dd - first_row)
-                .subcols_mut(1, n - 1),
-            Accum::Replace,
-            work.point_columns
-                .as_ref()
-                .subrows(first_row, 2 * dd - first_row),
-            d.weighted_basis.as_ref().subcols(1, n - 1),
-            1.0,
-            Par::Seq,
+        super::product::replace_product(
+            &mut work.node_blocks,
+            first_row..2 * dd,
+            1..n,
+            &work.point_columns,
+            &d.weighted_basis,
+            1..n,
         );
         let block = |i: usize, half: usize| {
             SMatrix::<f64, D, D>::from_column_slice(

@@ -23,8 +23,6 @@ use super::{Element, MatchingTerms, StepOutcome, Stepper};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::GroupLagrangian;
-use faer::linalg::matmul::matmul;
-use faer::{Accum, Par};
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
 #[cfg(test)]
@@ -104,13 +102,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     // product of the points' ∂q (by entries) with the weighted basis (the
                     // D × D products per (j, k) it replaces cost more than the rest of
                     // the matching rows: docs/performance.md §5.8).
-                    matmul(
-                        work.dw_by_entry.as_mut().subcols_mut(1, n - 1),
-                        Accum::Replace,
-                        work.dq.as_ref(),
-                        d.weighted_basis.as_ref().subcols(1, n - 1),
-                        1.0,
-                        Par::Seq,
+                    let rows = work.dw_by_entry.nrows();
+                    super::product::replace_product(
+                        &mut work.dw_by_entry,
+                        0..rows,
+                        1..n,
+                        &work.dq,
+                        &d.weighted_basis,
+                        1..n,
                     );
                     for (dw, column) in work.dw_dxi[1..].iter_mut().zip(1..n) {
                         dw.as_mut_slice()

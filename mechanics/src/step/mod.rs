@@ -32,6 +32,7 @@ pub(crate) mod lu;
 pub(crate) mod matching;
 pub(crate) mod newton;
 pub(crate) mod points;
+pub(crate) mod product;
 pub(crate) mod rotation_translation;
 pub(crate) mod tables;
 

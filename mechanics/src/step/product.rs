@@ -1,0 +1,286 @@
+//! The step's small matrix products — the points' Hessian entries, or the matching's and
+//! the linearisation's point columns, times the weighted basis — written for their sizes
+//! (a few dozen to a few hundred rows, `2m` terms, `n − 1` columns) and compiled twice:
+//! for the x86-64 baseline and with AVX2 (chosen at run time by `multiversion`, as the LU
+//! in [`super::lu`]).
+//!
+//! Why not faer's `matmul`: at these sizes, on this project's machines (Intel Xeon with
+//! AVX-512), its calls took far more time than their instructions say. Measured with the
+//! Newton matrix's fill evaluated twice per factorisation (case A, `h = 1`, `n = 10`,
+//! criterion, five alternating runs): the second fill added 9.0 µs to a 21.0 µs step, 43%
+//! of it, for 19% of its instructions; other settings gained less from this module (the
+//! free body at `h = 0.5`, `n = 8`, 5–24%; the heavy top nothing). The cause was not
+//! found (`docs/performance.md` §5.16). Products above [`FAER_ABOVE`] multiply-adds still
+//! go to faer, whose kernels win there.
+//!
+//! Each output column is a combination of the left factor's columns, accumulated in
+//! order of the terms. On the AVX2 path each term is a fused multiply-add, on the
+//! baseline path a product and a sum: as with faer's product before, the Newton matrix can
+//! differ at rounding between processors with and without FMA (the LU, [`super::lu`],
+//! uses none). The residual does not read this product, so a step's converged result
+//! moves with it at rounding at most; a linearisation's `A`, `B` are formed from it.
+
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
+use std::ops::Range;
+
+/// Rows accumulated together in registers (four AVX2 vectors).
+const BLOCK: usize = 16;
+
+/// Products of more multiply-adds than this go to faer's `matmul`. Measured
+/// (`docs/performance.md` §5.16): the hand product won at 15k (SO(3), `n = 10`) and lost
+/// at 28k (the orbiting body's fill, 1–3% of its step) and at 230k (SO(3), `n = 24`);
+/// between them, the SO(3) fill at `n = 11` (20k) takes the hand product and at `n = 12`
+/// (26k) faer's, unmeasured either way.
+const FAER_ABOVE: usize = 25_000;
+
+/// `out[rows, out_cols.start + k] = Σ_p lhs[rows, p] · rhs[p, rhs_cols.start + k]` for
+/// every `k < out_cols.len()`, over all of `lhs`'s columns (`rhs`'s rows), replacing what
+/// `out` held there.
+///
+/// # Panics
+/// If the ranges do not fit the matrices or disagree in length, or `lhs.ncols() !=
+/// rhs.nrows()` (the callers' tables are built to fit; a panic is a bug here).
+pub(crate) fn replace_product(
+    out: &mut Mat<f64>,
+    rows: Range<usize>,
+    out_cols: Range<usize>,
+    lhs: &Mat<f64>,
+    rhs: &Mat<f64>,
+    rhs_cols: Range<usize>,
+) {
+    assert!(
+        out_cols.len() == rhs_cols.len()
+            && lhs.ncols() == rhs.nrows()
+            && rows.end <= out.nrows()
+            && rows.end <= lhs.nrows()
+            && out_cols.end <= out.ncols()
+            && rhs_cols.end <= rhs.ncols(),
+        "the product's shapes agree"
+    );
+    let terms = lhs.ncols();
+    if rows.len() * terms * out_cols.len() > FAER_ABOVE {
+        matmul(
+            out.as_mut()
+                .subrows_mut(rows.start, rows.len())
+                .subcols_mut(out_cols.start, out_cols.len()),
+            Accum::Replace,
+            lhs.as_ref().subrows(rows.start, rows.len()),
+            rhs.as_ref().subcols(rhs_cols.start, rhs_cols.len()),
+            1.0,
+            Par::Seq,
+        );
+        return;
+    }
+    if terms == 0 {
+        for k in out_cols {
+            out.col_as_slice_mut(k)[rows.clone()].fill(0.0);
+        }
+        return;
+    }
+    // faer stores a matrix by columns with a row stride of one: every column cut to
+    // `rows` is a contiguous slice.
+    for (k, r) in out_cols.zip(rhs_cols) {
+        let coefficients = rhs.col_as_slice(r);
+        let target = &mut out.col_as_slice_mut(k)[rows.clone()];
+        combine(target, lhs, rows.start, coefficients);
+    }
+}
+
+/// `target = Σ_p coefficients[p] · lhs[offset.., p]` (cut to `target`'s length), the
+/// terms in order, `BLOCK` rows at a time, the rest four at a time (one at a time below
+/// four rows); each term a fused multiply-add where the processor has one.
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
+fn combine(target: &mut [f64], lhs: &Mat<f64>, offset: usize, coefficients: &[f64]) {
+    if multiversion::target::target_cfg_f!(target_feature = "fma") {
+        combine_blocks::<true>(target, lhs, offset, coefficients);
+    } else {
+        combine_blocks::<false>(target, lhs, offset, coefficients);
+    }
+}
+
+/// [`combine`] by blocks of `R` rows, the last block moved back to end at the last row
+/// where the rows are not a whole number of blocks: the rows it repeats get the same
+/// operations in the same order, so the same values, and no row takes a slower path.
+#[inline(always)]
+fn combine_blocks<const FMA: bool>(
+    target: &mut [f64],
+    lhs: &Mat<f64>,
+    offset: usize,
+    coefficients: &[f64],
+) {
+    let rows = target.len();
+    if rows < 4 {
+        for start in 0..rows {
+            block::<1, FMA>(target, lhs, offset, coefficients, start);
+        }
+        return;
+    }
+    let whole = rows / BLOCK * BLOCK;
+    for start in (0..whole).step_by(BLOCK) {
+        block::<BLOCK, FMA>(target, lhs, offset, coefficients, start);
+    }
+    // The rest in one block moved back to end at the last row (of four rows if it fits
+    // there, else of `BLOCK`), or by fours below `BLOCK` rows: the rows a block repeats
+    // get the same operations in the same order, so the same values. One wide block costs
+    // about what one block of four does (the loop over the terms dominates).
+    let rest = rows - whole;
+    if whole > 0 && rest > 4 {
+        block::<BLOCK, FMA>(target, lhs, offset, coefficients, rows - BLOCK);
+        return;
+    }
+    let mut start = whole;
+    while start < rows {
+        block::<4, FMA>(target, lhs, offset, coefficients, start.min(rows - 4));
+        start += 4;
+    }
+}
+
+/// Rows `start..start + R` of [`combine`]'s sum, accumulated in registers.
+#[inline(always)]
+fn block<const R: usize, const FMA: bool>(
+    target: &mut [f64],
+    lhs: &Mat<f64>,
+    offset: usize,
+    coefficients: &[f64],
+    start: usize,
+) {
+    let mut acc = [0.0f64; R];
+    for (p, &c) in coefficients.iter().enumerate() {
+        let column = &lhs.col_as_slice(p)[offset + start..offset + start + R];
+        for i in 0..R {
+            acc[i] = if FMA {
+                c.mul_add(column[i], acc[i])
+            } else {
+                acc[i] + c * column[i]
+            };
+        }
+    }
+    target[start..start + R].copy_from_slice(&acc);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic, irregular test matrix (no two entries alike, mixed signs).
+    fn matrix(rows: usize, cols: usize, seed: f64) -> Mat<f64> {
+        Mat::from_fn(rows, cols, |i, j| {
+            ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin() * (1.0 + j as f64)
+        })
+    }
+
+    /// Against the product by its definition, summed in the same order: every block
+    /// size's path (16, 4 and 1 rows: row counts 0 … 41 from several offsets), every
+    /// column range. The sums differ from the definition's only by the fused
+    /// multiply-add's rounding: each of the `terms` sums is within `terms` roundings
+    /// of the definition's, `terms · ε · Σ|a_ip b_pk|`.
+    #[test]
+    fn replaces_its_block_by_the_product() {
+        let terms = 9;
+        let lhs = matrix(45, terms, 0.37);
+        let rhs = matrix(terms, 6, 1.91);
+        for start in [0, 1, 3] {
+            for len in 0..=41 {
+                let rows = start..start + len;
+                let mut out = Mat::from_fn(46, 7, |_, _| f64::NAN);
+                replace_product(&mut out, rows.clone(), 2..6, &lhs, &rhs, 1..5);
+                for k in 0..7 {
+                    for i in 0..46 {
+                        let written = rows.contains(&i) && (2..6).contains(&k);
+                        if !written {
+                            // What the product must leave alone.
+                            assert!(out[(i, k)].is_nan(), "({i}, {k}) was overwritten");
+                            continue;
+                        }
+                        let (mut exact, mut scale) = (0.0, 0.0);
+                        for p in 0..terms {
+                            exact += lhs[(i, p)] * rhs[(p, k - 1)];
+                            scale += (lhs[(i, p)] * rhs[(p, k - 1)]).abs();
+                        }
+                        let bound = terms as f64 * f64::EPSILON * scale;
+                        assert!(
+                            (out[(i, k)] - exact).abs() <= bound,
+                            "({i}, {k}): {} against {exact}",
+                            out[(i, k)]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A product above [`FAER_ABOVE`] multiply-adds (faer's kernels): the same bound,
+    /// and the rows and columns outside the block left alone.
+    #[test]
+    fn a_large_product_is_the_product_too() {
+        let terms = 40;
+        let lhs = matrix(300, terms, 0.11);
+        let rhs = matrix(terms, 5, 2.3);
+        let rows = 7..290;
+        assert!(rows.len() * terms * 3 > FAER_ABOVE);
+        let mut out = Mat::from_fn(300, 6, |_, _| f64::NAN);
+        replace_product(&mut out, rows.clone(), 1..4, &lhs, &rhs, 2..5);
+        for k in 0..6 {
+            for i in 0..300 {
+                if !(rows.contains(&i) && (1..4).contains(&k)) {
+                    assert!(out[(i, k)].is_nan(), "({i}, {k}) was overwritten");
+                    continue;
+                }
+                let (mut exact, mut scale) = (0.0, 0.0);
+                for p in 0..terms {
+                    exact += lhs[(i, p)] * rhs[(p, k + 1)];
+                    scale += (lhs[(i, p)] * rhs[(p, k + 1)]).abs();
+                }
+                assert!((out[(i, k)] - exact).abs() <= terms as f64 * f64::EPSILON * scale);
+            }
+        }
+    }
+
+    /// Each path against its definition summed in order, bit for bit: a product and a sum
+    /// (the baseline), or a fused multiply-add, per term, whatever the block that computes
+    /// the row (overlapping blocks included).
+    #[test]
+    fn each_path_sums_its_terms_in_order() {
+        let terms = 7;
+        let lhs = matrix(40, terms, 0.53);
+        let rhs = matrix(terms, 1, 1.7);
+        let coefficients = rhs.col_as_slice(0);
+        for offset in [0, 2] {
+            for len in 0..=38 {
+                let mut plain = vec![f64::NAN; len];
+                let mut fused = vec![f64::NAN; len];
+                combine_blocks::<false>(&mut plain, &lhs, offset, coefficients);
+                combine_blocks::<true>(&mut fused, &lhs, offset, coefficients);
+                for i in 0..len {
+                    let (mut by_sum, mut by_fma) = (0.0f64, 0.0f64);
+                    for (p, &c) in coefficients.iter().enumerate() {
+                        by_sum += c * lhs[(offset + i, p)];
+                        by_fma = c.mul_add(lhs[(offset + i, p)], by_fma);
+                    }
+                    assert_eq!(plain[i].to_bits(), by_sum.to_bits(), "row {i} of {len}");
+                    assert_eq!(fused[i].to_bits(), by_fma.to_bits(), "row {i} of {len}");
+                }
+            }
+        }
+    }
+
+    /// No terms: the block is zero (an empty sum), nothing else is touched.
+    #[test]
+    fn an_empty_sum_is_zero() {
+        let lhs = Mat::<f64>::zeros(5, 0);
+        let rhs = Mat::<f64>::zeros(0, 3);
+        let mut out = Mat::from_fn(5, 3, |_, _| 7.0);
+        replace_product(&mut out, 1..4, 0..2, &lhs, &rhs, 1..3);
+        for i in 0..5 {
+            for k in 0..3 {
+                let expected = if (1..4).contains(&i) && k < 2 {
+                    0.0
+                } else {
+                    7.0
+                };
+                assert_eq!(out[(i, k)], expected);
+            }
+        }
+    }
+}
