@@ -72,14 +72,8 @@ pub(crate) fn replace_product(
         );
         return;
     }
-    if terms == 0 {
-        for k in out_cols {
-            out.col_as_slice_mut(k)[rows.clone()].fill(0.0);
-        }
-        return;
-    }
     // faer stores a matrix by columns with a row stride of one: every column cut to
-    // `rows` is a contiguous slice.
+    // `rows` is a contiguous slice. Without terms each block writes its empty sum, zero.
     for (k, r) in out_cols.zip(rhs_cols) {
         let coefficients = rhs.col_as_slice(r);
         let target = &mut out.col_as_slice_mut(k)[rows.clone()];
@@ -99,9 +93,8 @@ fn combine(target: &mut [f64], lhs: &Mat<f64>, offset: usize, coefficients: &[f6
     }
 }
 
-/// [`combine`] by blocks of `R` rows, the last block moved back to end at the last row
-/// where the rows are not a whole number of blocks: the rows it repeats get the same
-/// operations in the same order, so the same values, and no row takes a slower path.
+/// [`combine`] by blocks: `BLOCK` rows, then the rest in one block moved back to end at
+/// the last row (below four rows, one row at a time).
 #[inline(always)]
 fn combine_blocks<const FMA: bool>(
     target: &mut [f64],
