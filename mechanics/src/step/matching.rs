@@ -19,6 +19,7 @@
 //! not the derivative of the discrete Lagrangian, so momenta and energy drift.
 
 use super::assembly::WorkspaceOf;
+use super::product::fixed_product;
 use super::{Element, MatchingTerms, StepOutcome, Stepper};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
@@ -58,9 +59,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     let h_zx = SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, c));
                     let h_zv =
                         SMatrix::<f64, D, D>::from_fn(|r, c| point.hessian(2 * D + r, D + c));
-                    let dq_dx = to_start
-                        * (h_zx - <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p) * a);
-                    let dq_dv = to_start * h_zv;
+                    // Products inlined (`fixed_product`: nalgebra's, bit for bit).
+                    let generator = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
+                    let dq_dx = fixed_product(&to_start, &(h_zx - fixed_product(&generator, &a)));
+                    let dq_dv = fixed_product(&to_start, &h_zv);
                     work.dq
                         .col_as_slice_mut(2 * j)
                         .copy_from_slice(dq_dx.as_slice());
@@ -71,7 +73,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             }
         }
         let (a_n, phi_n) = (chart.left_differential(&xi_n), chart.to_group(&xi_n));
-        let transport = a_n.transpose() * phi_n.adjoint().transpose();
+        let transport = fixed_product(&a_n.transpose(), &phi_n.adjoint().transpose());
         work.matching = MatchingTerms { w, transport };
         match self.settings.matching() {
             Matching::Exact => {
@@ -122,7 +124,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                         block += map_jacobian;
                     }
                     if configured {
-                        block += transport * work.dw_dxi[k];
+                        block += fixed_product(&transport, &work.dw_dxi[k]);
                     }
                     put_block(&mut work.jacobian, last, D * (k - 1), &block);
                 }

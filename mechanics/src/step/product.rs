@@ -22,6 +22,7 @@
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
+use nalgebra::SMatrix;
 use std::ops::Range;
 
 /// Rows accumulated together in registers (four AVX2 vectors).
@@ -152,6 +153,37 @@ fn block<const R: usize, const FMA: bool>(
     target[start..start + R].copy_from_slice(&acc);
 }
 
+/// `a · b` for fixed-size matrices, inlined where it is used: the same sums in the same
+/// order as nalgebra's product (each entry `Σ_p a_ip b_pk` accumulated from `p = 0`, a
+/// product and a sum per term), so the same values bit for bit (test
+/// `the_fixed_product_is_nalgebras_bit_for_bit`). nalgebra's generic product is not
+/// inlined at `6 × 6`; in the matching rows of the orbiting body its calls took 19k of
+/// a step's 321k instructions (`docs/performance.md` §5.17).
+#[inline(always)]
+pub(crate) fn fixed_product<const R: usize, const K: usize, const C: usize>(
+    a: &SMatrix<f64, R, K>,
+    b: &SMatrix<f64, K, C>,
+) -> SMatrix<f64, R, C> {
+    let mut out = SMatrix::<f64, R, C>::zeros();
+    for c in 0..C {
+        let mut column = [0.0f64; R];
+        if K > 0 {
+            let (first, b0) = (a.fixed_columns::<1>(0), b[(0, c)]);
+            for (i, entry) in column.iter_mut().enumerate() {
+                *entry = first[i] * b0;
+            }
+        }
+        for p in 1..K {
+            let (lhs, coefficient) = (a.column(p), b[(p, c)]);
+            for (i, entry) in column.iter_mut().enumerate() {
+                *entry += lhs[i] * coefficient;
+            }
+        }
+        out.column_mut(c).copy_from_slice(&column);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -274,6 +306,32 @@ mod tests {
                 };
                 assert_eq!(out[(i, k)], expected);
             }
+        }
+    }
+
+    /// [`fixed_product`] against nalgebra's product, bit for bit, at the sizes the step
+    /// uses (3 and 6, square and not) on irregular entries of mixed sign and magnitude.
+    #[test]
+    fn the_fixed_product_is_nalgebras_bit_for_bit() {
+        fn entries<const R: usize, const C: usize>(seed: f64) -> SMatrix<f64, R, C> {
+            SMatrix::from_fn(|i, j| {
+                ((i as f64 + 1.7) * (j as f64 + 0.3) * seed).sin()
+                    * 10f64.powi((i as i32 * 3 + j as i32) % 7 - 3)
+            })
+        }
+        fn check<const R: usize, const K: usize, const C: usize>(seed: f64) {
+            let (a, b) = (entries::<R, K>(seed), entries::<K, C>(seed * 1.37 + 0.2));
+            let (ours, theirs) = (fixed_product(&a, &b), a * b);
+            for (x, y) in ours.iter().zip(theirs.iter()) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{R}×{K}·{K}×{C}: {x} against {y}");
+            }
+        }
+        for seed in [0.31, 1.9, 7.3, 11.05] {
+            check::<6, 6, 6>(seed);
+            check::<3, 3, 3>(seed);
+            check::<6, 6, 1>(seed);
+            check::<3, 6, 6>(seed);
+            check::<6, 3, 2>(seed);
         }
     }
 }

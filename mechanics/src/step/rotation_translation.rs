@@ -117,8 +117,15 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
             block(x, 3, 0),
             block(x, 3, 3),
         );
-        let tw = xww * jw + xwu * jp;
-        let tu = xuw * jw + xuu * jp;
+        // A body whose kinetic energy does not couple its turning and its moving (every
+        // built-in one: the centre of mass at the body's origin) has `X_ωu = X_uω = 0`;
+        // their products, zero, are skipped (adding them changes nothing but their cost).
+        let coupled = xwu.iter().chain(xuw.iter()).any(|&v| v != 0.0);
+        let (tw, tu) = if coupled {
+            (xww * jw + xwu * jp, xuw * jw + xuu * jp)
+        } else {
+            (xww * jw, xuu * jp)
+        };
         let k_ww = a.first_transposed_times(&pw);
         let k_wu = phi.first_times(&pu).transpose();
         let m_ww = a.first_transposed_times(&mw);
@@ -153,7 +160,16 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
         put(out, 3, 6, &zero);
         put(out, 3, 9, &zero);
         put(out, 6, 6, &aw.tr_mul(&(xww * aw)));
-        put(out, 6, 9, &aw.tr_mul(&(xwu * rot_t)));
+        put(
+            out,
+            6,
+            9,
+            &if coupled {
+                aw.tr_mul(&(xwu * rot_t))
+            } else {
+                Matrix3::zeros()
+            },
+        );
         put(out, 9, 9, &(rot * (xuu * rot_t)));
         if with_configuration {
             let (pw_hat, pu_hat) = (hat(&pw), hat(&pu));

@@ -29,6 +29,82 @@ impl crate::GroupLagrangian<6> for CoupledSe3 {
     }
 }
 
+/// A body whose centre of mass sits at `c`, off the body frame's origin: its kinetic energy
+/// `½ΩᵀJΩ + ½m|v + Ω × c|²` couples turning and moving (`X_ωu = m ĉ`), the one block of
+/// the rotation–translation chart's closed form (`super::rotation_translation`) that the
+/// built-in bodies (centre of mass at the origin, `X_ωu = 0`) leave at zero. Its
+/// `local_derivatives`: `μ = (JΩ + m c × u, m u)` with `u = v + Ω × c`, and
+/// `X = [[J − m ĉ², m ĉ], [−m ĉ, m I]]`.
+struct OffsetBody;
+const OFFSET_MASS: f64 = 1.7;
+const OFFSET: [f64; 3] = [0.2, -0.1, 0.3];
+const OFFSET_INERTIA: [f64; 3] = [1.2, 2.1, 2.7];
+impl crate::GroupLagrangian<6> for OffsetBody {
+    type Group = crate::RigidMotions;
+    fn lagrangian<T: RealField + Copy>(
+        &self,
+        _t: f64,
+        _g: &lgsvi_lie::SE3<T>,
+        xi: &SVector<T, 6>,
+    ) -> T {
+        let c = |x: f64| -> T { nalgebra::convert(x) };
+        let w = Vector3::new(xi[0], xi[1], xi[2]);
+        let v = Vector3::new(xi[3], xi[4], xi[5]);
+        let u = v + w.cross(&Vector3::new(c(OFFSET[0]), c(OFFSET[1]), c(OFFSET[2])));
+        let [a, b, d] = OFFSET_INERTIA;
+        c(0.5) * (w.x * w.x * c(a) + w.y * w.y * c(b) + w.z * w.z * c(d))
+            + c(0.5 * OFFSET_MASS) * u.dot(&u)
+    }
+    fn is_left_invariant(&self) -> bool {
+        true
+    }
+    fn local_derivatives(
+        &self,
+        _time: f64,
+        _g: &lgsvi_lie::SE3,
+        xi: &SVector<f64, 6>,
+        with_hessian: bool,
+    ) -> Option<crate::LocalDerivatives<6>> {
+        let m = OFFSET_MASS;
+        let j = Matrix3::from_diagonal(&Vector3::from(OFFSET_INERTIA));
+        let c = Vector3::from(OFFSET);
+        let c_hat = lgsvi_lie::so3::hat(&c);
+        let (w, v) = (
+            xi.fixed_rows::<3>(0).into_owned(),
+            xi.fixed_rows::<3>(3).into_owned(),
+        );
+        let u = v + w.cross(&c);
+        let mut velocity_hessian = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+        if with_hessian {
+            let blocks = [
+                (0, 0, j - c_hat * c_hat * m),
+                (0, 3, c_hat * m),
+                (3, 0, -c_hat * m),
+                (3, 3, Matrix3::identity() * m),
+            ];
+            for (r, k, block) in blocks {
+                velocity_hessian
+                    .fixed_view_mut::<3, 3>(r, k)
+                    .copy_from(&block);
+            }
+        }
+        Some(crate::LocalDerivatives {
+            configuration_gradient: SVector::zeros(),
+            momentum: lgsvi_lie::se3::join(&(j * w + c.cross(&u) * m), &(u * m)),
+            configuration_hessian: nalgebra::SMatrix::zeros(),
+            velocity_hessian,
+        })
+    }
+    fn point_derivatives<C: crate::GroupChart<crate::RigidMotions, 6>>(
+        &self,
+        chart: &C,
+        point: &crate::point::GaussPoint<'_, crate::RigidMotions, 6>,
+        out: &mut Stacked<18>,
+    ) -> bool {
+        super::rotation_translation::point_derivatives(self, chart, point, out)
+    }
+}
+
 /// The generic chain rule against a second-order dual number through the whole of `ℓ̃`
 /// (18 variables), on SE(3) for both charts and both variable sets, and on SO(3) (a
 /// system without the closed-form path), at points from `x = 0` to large rotations. Both
@@ -196,6 +272,8 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
             "field paper cayley",
         );
         compare::<_, _, 6>(&free, ChartKind::Cayley, &b6, x, v, "free cayley");
+        compare::<_, _, 6>(&OffsetBody, ExpChart, &b6, x, v, "offset body exp");
+        compare::<_, _, 6>(&OffsetBody, CayleyChart, &b6, x, v, "offset body cayley");
         compare::<_, _, 6>(&orbit, Screw(ExpChart), &b6, x, v, "orbit screw exp");
         compare::<_, _, 6>(&field, Screw(CayleyChart), &b6, x, v, "field screw cayley");
         compare::<_, _, 6>(&CoupledSe3, Screw(ExpChart), &b6, x, v, "coupled screw exp");
