@@ -84,7 +84,8 @@ pub(crate) fn replace_product(
 
 /// `target = Σ_p coefficients[p] · lhs[offset.., p]` (cut to `target`'s length), the
 /// terms in order, `BLOCK` rows at a time, the rest four at a time (one at a time below
-/// four rows); each term a fused multiply-add where the processor has one.
+/// four rows, nine rows at once); each term a fused multiply-add where the processor has
+/// one.
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 fn combine(target: &mut [f64], lhs: &Mat<f64>, offset: usize, coefficients: &[f64]) {
     if multiversion::target::target_cfg_f!(target_feature = "fma") {
@@ -95,7 +96,7 @@ fn combine(target: &mut [f64], lhs: &Mat<f64>, offset: usize, coefficients: &[f6
 }
 
 /// [`combine`] by blocks: `BLOCK` rows, then the rest in one block moved back to end at
-/// the last row (below four rows, one row at a time).
+/// the last row (below four rows, one row at a time; nine rows, one block).
 #[inline(always)]
 fn combine_blocks<const FMA: bool>(
     target: &mut [f64],
@@ -104,6 +105,13 @@ fn combine_blocks<const FMA: bool>(
     coefficients: &[f64],
 ) {
     let rows = target.len();
+    // Nine rows (`D²` for SO(3): the matching's `∂w/∂ξ` of an attitude-dependent `ℓ`) in
+    // one block: by fours it took three passes over the terms, and the loop over the terms
+    // is what a block costs (docs/performance.md §5.17).
+    if rows == 9 {
+        block::<9, FMA>(target, lhs, offset, coefficients, 0);
+        return;
+    }
     if rows < 4 {
         for start in 0..rows {
             block::<1, FMA>(target, lhs, offset, coefficients, start);
@@ -157,8 +165,9 @@ fn block<const R: usize, const FMA: bool>(
 /// order as nalgebra's product (each entry `Σ_p a_ip b_pk` accumulated from `p = 0`, a
 /// product and a sum per term), so the same values bit for bit (test
 /// `the_fixed_product_is_nalgebras_bit_for_bit`). nalgebra's generic product is not
-/// inlined at `6 × 6`; in the matching rows of the orbiting body its calls took 19k of
-/// a step's 321k instructions (`docs/performance.md` §5.17).
+/// inlined at `6 × 6`: on the orbiting body the matching's products (the Gauss points'
+/// `∂q` and the matching rows) took 19k of a step's 321k instructions as calls, 14k
+/// inlined (`docs/performance.md` §5.17).
 #[inline(always)]
 pub(crate) fn fixed_product<const R: usize, const K: usize, const C: usize>(
     a: &SMatrix<f64, R, K>,
@@ -196,7 +205,7 @@ mod tests {
     }
 
     /// Against the product by its definition, summed in the same order: every block
-    /// size's path (16, 4 and 1 rows: row counts 0 … 41 from several offsets), every
+    /// size's path (16, 9, 4 and 1 rows: row counts 0 … 41 from several offsets), every
     /// column range. The sums differ from the definition's only by the fused
     /// multiply-add's rounding: each of the `terms` sums is within `terms` roundings
     /// of the definition's, `terms · ε · Σ|a_ip b_pk|`.

@@ -119,7 +119,8 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
         );
         // A body whose kinetic energy does not couple its turning and its moving (every
         // built-in one: the centre of mass at the body's origin) has `X_ωu = X_uω = 0`;
-        // their products, zero, are skipped (adding them changes nothing but their cost).
+        // their products, zero, are skipped (adding them changed nothing but the
+        // sign of a zero entry, and their cost).
         let coupled = xwu.iter().chain(xuw.iter()).any(|&v| v != 0.0);
         let (tw, tu) = if coupled {
             (xww * jw + xwu * jp, xuw * jw + xuu * jp)

@@ -30,10 +30,11 @@ impl crate::GroupLagrangian<6> for CoupledSe3 {
 }
 
 /// A body whose centre of mass sits at `c`, off the body frame's origin: its kinetic energy
-/// `½ΩᵀJΩ + ½m|v + Ω × c|²` couples turning and moving (`X_ωu = m ĉ`), the one block of
-/// the rotation–translation chart's closed form (`super::rotation_translation`) that the
-/// built-in bodies (centre of mass at the origin, `X_ωu = 0`) leave at zero. Its
-/// `local_derivatives`: `μ = (JΩ + m c × u, m u)` with `u = v + Ω × c`, and
+/// `½ΩᵀJΩ + ½m|v + Ω × c|²` couples turning and moving (`X_ωu = m ĉ`, `X_uω = −m ĉ`),
+/// the two blocks of the rotation–translation chart's closed form
+/// (`super::rotation_translation`) that the built-in bodies (centre of mass at the
+/// origin) leave at zero. Its `local_derivatives`: `μ = (JΩ + m c × v_c, m v_c)` with
+/// `v_c = v + Ω × c`, the velocity of the centre of mass, and
 /// `X = [[J − m ĉ², m ĉ], [−m ĉ, m I]]`.
 struct OffsetBody;
 const OFFSET_MASS: f64 = 1.7;
@@ -50,10 +51,10 @@ impl crate::GroupLagrangian<6> for OffsetBody {
         let c = |x: f64| -> T { nalgebra::convert(x) };
         let w = Vector3::new(xi[0], xi[1], xi[2]);
         let v = Vector3::new(xi[3], xi[4], xi[5]);
-        let u = v + w.cross(&Vector3::new(c(OFFSET[0]), c(OFFSET[1]), c(OFFSET[2])));
+        let v_c = v + w.cross(&Vector3::new(c(OFFSET[0]), c(OFFSET[1]), c(OFFSET[2])));
         let [a, b, d] = OFFSET_INERTIA;
         c(0.5) * (w.x * w.x * c(a) + w.y * w.y * c(b) + w.z * w.z * c(d))
-            + c(0.5 * OFFSET_MASS) * u.dot(&u)
+            + c(0.5 * OFFSET_MASS) * v_c.dot(&v_c)
     }
     fn is_left_invariant(&self) -> bool {
         true
@@ -73,7 +74,7 @@ impl crate::GroupLagrangian<6> for OffsetBody {
             xi.fixed_rows::<3>(0).into_owned(),
             xi.fixed_rows::<3>(3).into_owned(),
         );
-        let u = v + w.cross(&c);
+        let v_c = v + w.cross(&c);
         let mut velocity_hessian = nalgebra::SMatrix::<f64, 6, 6>::zeros();
         if with_hessian {
             let blocks = [
@@ -90,7 +91,7 @@ impl crate::GroupLagrangian<6> for OffsetBody {
         }
         Some(crate::LocalDerivatives {
             configuration_gradient: SVector::zeros(),
-            momentum: lgsvi_lie::se3::join(&(j * w + c.cross(&u) * m), &(u * m)),
+            momentum: lgsvi_lie::se3::join(&(j * w + c.cross(&v_c) * m), &(v_c * m)),
             configuration_hessian: nalgebra::SMatrix::zeros(),
             velocity_hessian,
         })
