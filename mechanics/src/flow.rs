@@ -209,6 +209,21 @@ fn continuous_angle(q: &Quaternion<f64>) -> f64 {
     2.0 * q.imag().norm().atan2(q.w)
 }
 
+/// Whether a quaternion's [`continuous_angle`] reaches `limit`, with `boundary =
+/// cos(limit/2)`: the half angle `φ = atan2(|v|, w) ∈ [0, π]` has `cos φ = w/|q|`, which
+/// falls as `φ` grows, so where `w/|q|` is above `boundary` by far more than the rounding
+/// of either side (1e-6) the angle is below `limit` and the `atan2` (about 150
+/// instructions, at every substep) is not needed. Near the boundary the angle decides as
+/// before, so every decision is the same.
+fn reaches(q: &Quaternion<f64>, limit: f64, boundary: f64) -> Option<f64> {
+    let size = q.norm();
+    if q.w > (boundary + 1e-6) * size {
+        return None;
+    }
+    let angle = continuous_angle(q);
+    (angle >= limit).then_some(angle)
+}
+
 /// Writes into `out[i]` the chart coordinates at `start.times[i]` (ascending, in
 /// `[0, h]`) of the flow from `(start.base, start.momentum)` with initial velocity
 /// `start.velocity`, under the step's force: classical RK4 on `(q, μ)` with substeps of
@@ -244,6 +259,7 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         field,
     };
     let limit = chart.max_rotation_angle();
+    let boundary = (0.5 * limit).cos();
     let substeps = (wanted as usize).max(2);
     let dt = h / substeps as f64;
     let (mut q, mut mu) = (Quaternion::identity(), *start.momentum);
@@ -261,8 +277,7 @@ pub(crate) fn flow_guess<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         let Some((q1_dot, mu1_dot)) = flow.rate(t0 + dt, &q1, &mu1) else {
             return Unavailable;
         };
-        let angle = continuous_angle(&q1);
-        if angle >= limit {
+        if let Some(angle) = reaches(&q1, limit, boundary) {
             return FlowGuess::LeavesChart {
                 time: t0 + dt,
                 angle,
@@ -326,4 +341,53 @@ pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
     pub force_value: Option<ForceValueAlongStep<'a, G, D>>,
     /// Whether that force depends on the configuration (if not, it may be given any).
     pub force_reads_configuration: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shortcut decides as the angle does: quaternions of every norm and half angle,
+    /// dense near both charts' limits (π for Cayley, 2π for exp: half angles π/2 and π)
+    /// and at them to the last ulps, with the angle reported where it is reached.
+    #[test]
+    fn reaching_the_limit_is_decided_as_by_the_angle() {
+        let mut halves: Vec<f64> = (0..=2000)
+            .map(|k| k as f64 * std::f64::consts::PI / 2000.0)
+            .collect();
+        for centre in [std::f64::consts::FRAC_PI_2, std::f64::consts::PI] {
+            for k in -200..=200 {
+                halves.push(centre + k as f64 * 1e-9);
+                halves.push(centre + k as f64 * f64::EPSILON);
+            }
+        }
+        let mut decided = [0usize; 2];
+        for limit in [std::f64::consts::PI, std::f64::consts::TAU] {
+            let boundary = (0.5 * limit).cos();
+            for &half in &halves {
+                for size in [1e-3, 0.7, 1.0, 1.0 + 1e-9, 3.0] {
+                    let axis = Vector3::new(0.3, -0.8, 0.52).normalize();
+                    let imag = axis * (half.sin() * size);
+                    let q = Quaternion::new(half.cos() * size, imag.x, imag.y, imag.z);
+                    let angle = continuous_angle(&q);
+                    let expected = (angle >= limit).then_some(angle);
+                    assert_eq!(
+                        reaches(&q, limit, boundary),
+                        expected,
+                        "half angle {half}, |q| {size}"
+                    );
+                    decided[usize::from(expected.is_some())] += 1;
+                }
+            }
+        }
+        // Both answers occur (the test sees the boundary from both sides).
+        assert!(decided[0] > 0 && decided[1] > 0, "{decided:?}");
+    }
+
+    /// A non-finite quaternion never reaches the limit, as its NaN angle does not.
+    #[test]
+    fn a_non_finite_quaternion_does_not_reach_the_limit() {
+        let q = Quaternion::new(f64::NAN, 0.1, 0.2, 0.3);
+        assert_eq!(reaches(&q, std::f64::consts::PI, 0.0), None);
+    }
 }
