@@ -35,6 +35,8 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// `∂q_j/∂x`, column `2j + 1` those of `∂q_j/∂v`, each `D × D` matrix column-major),
     /// so that `∂w/∂ξᵏ` for every `k` is one product with the weighted basis.
     pub(super) dq: Mat<f64>,
+    /// Whether every `∂q_j/∂v` in `dq` is zero (then the product skips them).
+    pub(super) dq_velocity_free: bool,
     /// That product: `D² × n`, column `k ≥ 1` the entries of `∂w/∂ξᵏ` (column 0 unused).
     pub(super) dw_by_entry: Mat<f64>,
     /// `∂w/∂ξᵏ` (index `k`, `k ≥ 1`) from the last Newton matrix with configuration
@@ -119,6 +121,7 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             points: vec![J::zeros(); d.m],
             power: vec![f64::NAN; d.m],
             dq: Mat::zeros(D * D, 2 * d.m),
+            dq_velocity_free: false,
             dw_by_entry: Mat::zeros(D * D, d.n),
             dw_dxi: vec![SMatrix::zeros(); d.n],
             x: vec![SVector::zeros(); d.m],

@@ -45,6 +45,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // w = μ_k + Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ p_j (exact matching).
         let mut w = *mu;
         if self.needs_configuration() {
+            let mut velocity_free = true;
             for j in 0..m {
                 let x = &work.x[j];
                 let point = &work.points[j];
@@ -62,7 +63,21 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     // Products inlined (`fixed_product`: nalgebra's, bit for bit).
                     let generator = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(&p);
                     let dq_dx = fixed_product(&to_start, &(h_zx - fixed_product(&generator, &a)));
-                    let dq_dv = fixed_product(&to_start, &h_zv);
+                    // `H_ζv = Aᵀ L_ξη` plus a force's `∂F/∂v`: zero but for a kinetic
+                    // energy that depends on the configuration or a force that reads the
+                    // velocity (damping), and then `∂q/∂v` is zero without the product.
+                    // On SO(3) only: at `D = 6` the branch cost the matching's other
+                    // products their vectorisation (the orbiting body +6.4k instructions a
+                    // step, docs/performance.md §5.18).
+                    let dq_dv = if D != 3 {
+                        velocity_free = false;
+                        fixed_product(&to_start, &h_zv)
+                    } else if h_zv == SMatrix::<f64, D, D>::zeros() {
+                        SMatrix::zeros()
+                    } else {
+                        velocity_free = false;
+                        transported(&to_start, &h_zv)
+                    };
                     work.dq
                         .col_as_slice_mut(2 * j)
                         .copy_from_slice(dq_dx.as_slice());
@@ -71,6 +86,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                         .copy_from_slice(dq_dv.as_slice());
                 }
             }
+            work.dq_velocity_free = velocity_free;
         }
         let (a_n, phi_n) = (chart.left_differential(&xi_n), chart.to_group(&xi_n));
         let transport = fixed_product(&a_n.transpose(), &phi_n.adjoint().transpose());
@@ -104,8 +120,15 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                     // product of the points' ∂q (by entries) with the weighted basis (the
                     // D × D products per (j, k) it replaces cost more than the rest of
                     // the matching rows: docs/performance.md §5.8).
+                    // With every `∂q_j/∂v` zero their terms are skipped: each would add an
+                    // exact zero to its sum, so the sums are the same bit for bit.
                     let rows = work.dw_by_entry.nrows();
-                    super::product::replace_product(
+                    let product = if work.dq_velocity_free {
+                        super::product::replace_product_even
+                    } else {
+                        super::product::replace_product
+                    };
+                    product(
                         &mut work.dw_by_entry,
                         0..rows,
                         1..n,
@@ -227,6 +250,16 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             factorizations,
         }
     }
+}
+
+/// `Ad_{Φ⁻¹}ᵀ H_ζv`, out of line: the rare case of a nonzero `H_ζv`.
+#[cold]
+#[inline(never)]
+fn transported<const D: usize>(
+    to_start: &SMatrix<f64, D, D>,
+    h_zv: &SMatrix<f64, D, D>,
+) -> SMatrix<f64, D, D> {
+    fixed_product(to_start, h_zv)
 }
 
 /// Writes a `D × D` block into the Newton matrix with its top-left entry at `(row, col)`.

@@ -82,6 +82,43 @@ pub(crate) fn replace_product(
     }
 }
 
+/// [`replace_product`] over the even columns of `lhs` (rows of `rhs`) alone: the product
+/// when the odd columns of `lhs` are zero (the matching's `∂q/∂v` where no force reads
+/// the velocity), each of which would add an exact zero to its sum (`a + c·0 = a` for
+/// finite `a` and `c`; a sum starts at `+0` and `+0 + (−0) = +0`, so not even a zero's
+/// sign differs): the same values bit for bit. Where the whole product has more than
+/// [`FAER_ABOVE`] multiply-adds it is the whole product, as there.
+///
+/// # Panics
+/// As [`replace_product`].
+pub(crate) fn replace_product_even(
+    out: &mut Mat<f64>,
+    rows: Range<usize>,
+    out_cols: Range<usize>,
+    lhs: &Mat<f64>,
+    rhs: &Mat<f64>,
+    rhs_cols: Range<usize>,
+) {
+    if rows.len() * lhs.ncols() * out_cols.len() > FAER_ABOVE {
+        replace_product(out, rows, out_cols, lhs, rhs, rhs_cols);
+        return;
+    }
+    assert!(
+        out_cols.len() == rhs_cols.len()
+            && lhs.ncols() == rhs.nrows()
+            && rows.end <= out.nrows()
+            && rows.end <= lhs.nrows()
+            && out_cols.end <= out.ncols()
+            && rhs_cols.end <= rhs.ncols(),
+        "the product's shapes agree"
+    );
+    for (k, r) in out_cols.zip(rhs_cols) {
+        let coefficients = rhs.col_as_slice(r);
+        let target = &mut out.col_as_slice_mut(k)[rows.clone()];
+        combine_even(target, lhs, rows.start, coefficients);
+    }
+}
+
 /// `target = Σ_p coefficients[p] · lhs[offset.., p]` (cut to `target`'s length), the
 /// terms in order, `BLOCK` rows at a time, the rest four at a time (one at a time below
 /// four rows, nine rows at once); each term a fused multiply-add where the processor has
@@ -89,16 +126,27 @@ pub(crate) fn replace_product(
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 fn combine(target: &mut [f64], lhs: &Mat<f64>, offset: usize, coefficients: &[f64]) {
     if multiversion::target::target_cfg_f!(target_feature = "fma") {
-        combine_blocks::<true>(target, lhs, offset, coefficients);
+        combine_blocks::<true, 1>(target, lhs, offset, coefficients);
     } else {
-        combine_blocks::<false>(target, lhs, offset, coefficients);
+        combine_blocks::<false, 1>(target, lhs, offset, coefficients);
+    }
+}
+
+/// [`combine`] over the even terms alone (`p = 0, 2, 4, …`), in order.
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
+fn combine_even(target: &mut [f64], lhs: &Mat<f64>, offset: usize, coefficients: &[f64]) {
+    if multiversion::target::target_cfg_f!(target_feature = "fma") {
+        combine_blocks::<true, 2>(target, lhs, offset, coefficients);
+    } else {
+        combine_blocks::<false, 2>(target, lhs, offset, coefficients);
     }
 }
 
 /// [`combine`] by blocks: `BLOCK` rows, then the rest in one block moved back to end at
-/// the last row (below four rows, one row at a time; nine rows, one block).
+/// the last row (below four rows, one row at a time; nine rows, one block); every
+/// `STRIDE`-th term (one or two) from the first.
 #[inline(always)]
-fn combine_blocks<const FMA: bool>(
+fn combine_blocks<const FMA: bool, const STRIDE: usize>(
     target: &mut [f64],
     lhs: &Mat<f64>,
     offset: usize,
@@ -109,18 +157,18 @@ fn combine_blocks<const FMA: bool>(
     // one block: by fours it took three passes over the terms, and the loop over the terms
     // is what a block costs (docs/performance.md §5.17).
     if rows == 9 {
-        block::<9, FMA>(target, lhs, offset, coefficients, 0);
+        block::<9, FMA, STRIDE>(target, lhs, offset, coefficients, 0);
         return;
     }
     if rows < 4 {
         for start in 0..rows {
-            block::<1, FMA>(target, lhs, offset, coefficients, start);
+            block::<1, FMA, STRIDE>(target, lhs, offset, coefficients, start);
         }
         return;
     }
     let whole = rows / BLOCK * BLOCK;
     for start in (0..whole).step_by(BLOCK) {
-        block::<BLOCK, FMA>(target, lhs, offset, coefficients, start);
+        block::<BLOCK, FMA, STRIDE>(target, lhs, offset, coefficients, start);
     }
     // The rest in one block moved back to end at the last row (of four rows if it fits
     // there, else of `BLOCK`), or by fours below `BLOCK` rows: the rows a block repeats
@@ -128,19 +176,37 @@ fn combine_blocks<const FMA: bool>(
     // about what one block of four does (the loop over the terms dominates).
     let rest = rows - whole;
     if whole > 0 && rest > 4 {
-        block::<BLOCK, FMA>(target, lhs, offset, coefficients, rows - BLOCK);
+        block::<BLOCK, FMA, STRIDE>(target, lhs, offset, coefficients, rows - BLOCK);
         return;
     }
     let mut start = whole;
     while start < rows {
-        block::<4, FMA>(target, lhs, offset, coefficients, start.min(rows - 4));
+        block::<4, FMA, STRIDE>(target, lhs, offset, coefficients, start.min(rows - 4));
         start += 4;
     }
 }
 
-/// Rows `start..start + R` of [`combine`]'s sum, accumulated in registers.
+/// Rows `start..start + R` of [`combine`]'s sum over every `STRIDE`-th term (one or
+/// two), accumulated in registers.
 #[inline(always)]
-fn block<const R: usize, const FMA: bool>(
+fn block<const R: usize, const FMA: bool, const STRIDE: usize>(
+    target: &mut [f64],
+    lhs: &Mat<f64>,
+    offset: usize,
+    coefficients: &[f64],
+    start: usize,
+) {
+    if STRIDE == 1 {
+        every_term::<R, FMA>(target, lhs, offset, coefficients, start);
+    } else {
+        even_terms::<R, FMA>(target, lhs, offset, coefficients, start);
+    }
+}
+
+/// [`block`] over every term. (Written apart from [`even_terms`]: one loop for both, by
+/// `step_by`, cost the free body's Newton matrix 1.5k instructions a step.)
+#[inline(always)]
+fn every_term<const R: usize, const FMA: bool>(
     target: &mut [f64],
     lhs: &Mat<f64>,
     offset: usize,
@@ -150,6 +216,30 @@ fn block<const R: usize, const FMA: bool>(
     let mut acc = [0.0f64; R];
     for (p, &c) in coefficients.iter().enumerate() {
         let column = &lhs.col_as_slice(p)[offset + start..offset + start + R];
+        for i in 0..R {
+            acc[i] = if FMA {
+                c.mul_add(column[i], acc[i])
+            } else {
+                acc[i] + c * column[i]
+            };
+        }
+    }
+    target[start..start + R].copy_from_slice(&acc);
+}
+
+/// [`block`] over the even terms, in order.
+#[inline(always)]
+fn even_terms<const R: usize, const FMA: bool>(
+    target: &mut [f64],
+    lhs: &Mat<f64>,
+    offset: usize,
+    coefficients: &[f64],
+    start: usize,
+) {
+    let mut acc = [0.0f64; R];
+    for (q, pair) in coefficients.chunks(2).enumerate() {
+        let c = pair[0];
+        let column = &lhs.col_as_slice(2 * q)[offset + start..offset + start + R];
         for i in 0..R {
             acc[i] = if FMA {
                 c.mul_add(column[i], acc[i])
@@ -284,8 +374,8 @@ mod tests {
             for len in 0..=38 {
                 let mut plain = vec![f64::NAN; len];
                 let mut fused = vec![f64::NAN; len];
-                combine_blocks::<false>(&mut plain, &lhs, offset, coefficients);
-                combine_blocks::<true>(&mut fused, &lhs, offset, coefficients);
+                combine_blocks::<false, 1>(&mut plain, &lhs, offset, coefficients);
+                combine_blocks::<true, 1>(&mut fused, &lhs, offset, coefficients);
                 for i in 0..len {
                     let (mut by_sum, mut by_fma) = (0.0f64, 0.0f64);
                     for (p, &c) in coefficients.iter().enumerate() {
@@ -295,6 +385,62 @@ mod tests {
                     assert_eq!(plain[i].to_bits(), by_sum.to_bits(), "row {i} of {len}");
                     assert_eq!(fused[i].to_bits(), by_fma.to_bits(), "row {i} of {len}");
                 }
+            }
+        }
+    }
+
+    /// The product over the even terms is the whole product, bit for bit, when the odd
+    /// columns of `lhs` are zero (of either sign, as `∂q/∂v` written by a product of zeros
+    /// may be): every block size's path (16, 9, 4 and 1 rows; odd and even term counts),
+    /// and the whole product above [`FAER_ABOVE`]. With a nonzero odd column it is not
+    /// (the odd terms are really skipped, so the caller's test of them matters).
+    #[test]
+    fn the_even_product_is_the_product_when_the_odd_terms_are_zero() {
+        for (terms, len) in [(16, 36), (16, 9), (9, 21), (8, 5), (7, 3), (16, 0)] {
+            let mut lhs = matrix(len + 3, terms, 0.71);
+            for p in (1..terms).step_by(2) {
+                for i in 0..len + 3 {
+                    lhs[(i, p)] = if (i + p) % 3 == 0 { -0.0 } else { 0.0 };
+                }
+            }
+            let rhs = matrix(terms, 8, 1.3);
+            let rows = 2..len + 2;
+            let mut whole = Mat::from_fn(len + 3, 8, |_, _| f64::NAN);
+            let mut even = whole.clone();
+            replace_product(&mut whole, rows.clone(), 1..8, &lhs, &rhs, 1..8);
+            replace_product_even(&mut even, rows.clone(), 1..8, &lhs, &rhs, 1..8);
+            for k in 0..8 {
+                for i in 0..len + 3 {
+                    assert_eq!(
+                        whole[(i, k)].to_bits(),
+                        even[(i, k)].to_bits(),
+                        "({i}, {k}), {terms} terms, {len} rows"
+                    );
+                }
+            }
+            if len > 0 && terms > 1 {
+                lhs[(2, 1)] = 0.5;
+                replace_product(&mut whole, rows.clone(), 1..8, &lhs, &rhs, 1..8);
+                replace_product_even(&mut even, rows, 1..8, &lhs, &rhs, 1..8);
+                assert_ne!(whole[(2, 1)], even[(2, 1)], "{terms} terms, {len} rows");
+            }
+        }
+        // Above FAER_ABOVE both are faer's product of all the terms.
+        let terms = 40;
+        let lhs = matrix(300, terms, 0.11);
+        let rhs = matrix(terms, 5, 2.3);
+        assert!(280 * terms * 3 > FAER_ABOVE);
+        let mut whole = Mat::from_fn(300, 6, |_, _| f64::NAN);
+        let mut even = whole.clone();
+        replace_product(&mut whole, 10..290, 1..4, &lhs, &rhs, 2..5);
+        replace_product_even(&mut even, 10..290, 1..4, &lhs, &rhs, 2..5);
+        for k in 1..4 {
+            for i in 10..290 {
+                assert_eq!(
+                    whole[(i, k)].to_bits(),
+                    even[(i, k)].to_bits(),
+                    "({i}, {k})"
+                );
             }
         }
     }
