@@ -35,7 +35,7 @@ use crate::system::GroupLagrangian;
 use lgsvi_lie::se3::{join, split};
 use lgsvi_lie::so3::hat;
 use lgsvi_lie::{LieGroup, SE3, SO3};
-use nalgebra::{Matrix3, SMatrix};
+use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// One Gauss point's derivatives for an SE(3) system: by blocks on the rotation–translation
 /// chart when the system has [`GroupLagrangian::local_derivatives`], else by the generic
@@ -82,6 +82,27 @@ fn put(out: &mut Stacked<18>, r0: usize, c0: usize, b: &Matrix3<f64>) {
         .copy_from(&b.transpose());
 }
 
+/// Whether `μ_u` lies along `ξ_u` to rounding: `|μ_u × ξ_u| ≤ 4ε |μ_u| |ξ_u|` (the
+/// cross product of `fl(c ξ_u)` with `ξ_u` is a few ulps of that). Then `J_Pᵀμ_u`, whose
+/// exact value is `c ∂(½|Pᵀv_u|²)/∂ω = 0` for `μ_u = c ξ_u`, is rounding noise.
+fn along(mu: &Vector3<f64>, xi: &Vector3<f64>) -> bool {
+    let tolerance = 4.0 * f64::EPSILON;
+    mu.cross(xi).norm_squared() <= tolerance * tolerance * mu.norm_squared() * xi.norm_squared()
+}
+
+/// The translation's kinetic block `X_uu = c I` (exactly), not coupled to the rotation's
+/// (`X_ωu = X_uω = 0`), and `μ_u = c ξ_u` to rounding: the kinetic energy `½c|ξ_u|²`
+/// near the point.
+fn isotropic_translation(x: &SMatrix<f64, 6, 6>, mu: &Vector3<f64>, xi: &Vector3<f64>) -> bool {
+    let c = x[(3, 3)];
+    let translation = (3..6).all(|r| (3..6).all(|k| x[(r, k)] == if r == k { c } else { 0.0 }));
+    let uncoupled = (0..3).all(|r| (3..6).all(|k| x[(r, k)] == 0.0 && x[(k, r)] == 0.0));
+    let tolerance = 4.0 * f64::EPSILON;
+    translation
+        && uncoupled
+        && (mu - xi * c).norm_squared() <= tolerance * tolerance * mu.norm_squared()
+}
+
 /// The module's formulas; false (nothing written) where the system has no closed form of
 /// `L`'s derivatives.
 fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
@@ -105,8 +126,25 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
     let (pw, pu) = split(&local.configuration_gradient);
     let (mw, mu) = split(&local.momentum);
     let jw = a.first_times(&vw);
-    let jp = phi.first_transposed_times(&vu).transpose();
     let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
+    // The translation's kinetic terms through `P`: a momentum `μ_u = c ξ_u` along the
+    // body's velocity `ξ_u = Pᵀv_u` with `X_uu = c I` (every built-in body, `c = m`) is
+    // the kinetic energy `½c|Pᵀv_u|² = ½c|v_u|²`, which does not depend on `ω`: its
+    // terms `J_Pᵀμ_u` (gradient), `J_PᵀT_u + ⟨v_u μ_uᵀ, ∂²P⟩` (`H_ωω`) and
+    // `T_uᵀPᵀ + M_ωu` (`H_ωv_u`) are zero, and `P X_uu Pᵀ = c I`. Computed, they are
+    // rounding noise; skipped, as are `J_P` and `P`'s jet contractions (module
+    // documentation).
+    let xi_u = xi.fixed_rows::<3>(3).into_owned();
+    let isotropic = if with_hessian {
+        isotropic_translation(&local.velocity_hessian, &mu, &xi_u)
+    } else {
+        along(&mu, &xi_u)
+    };
+    let jp = if isotropic {
+        Matrix3::zeros()
+    } else {
+        phi.first_transposed_times(&vu).transpose()
+    };
     if with_hessian {
         let e = &local.configuration_hessian;
         let x = &local.velocity_hessian;
@@ -124,16 +162,23 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
         let coupled = xwu.iter().chain(xuw.iter()).any(|&v| v != 0.0);
         let (tw, tu) = if coupled {
             (xww * jw + xwu * jp, xuw * jw + xuu * jp)
+        } else if isotropic {
+            (xww * jw, Matrix3::zeros())
         } else {
             (xww * jw, xuu * jp)
         };
         let k_ww = a.first_transposed_times(&pw);
         let k_wu = phi.first_times(&pu).transpose();
         let m_ww = a.first_transposed_times(&mw);
-        let m_wu = phi.first_times(&mu).transpose();
-        let h_w = a.second_contracted(&(mw * vw.transpose()))
-            + phi.second_contracted(&(vu * mu.transpose()));
-        let mut xx_ww = jw.tr_mul(&tw) + jp.tr_mul(&tu) + (k_ww + k_ww.transpose()) * 0.5 + h_w;
+        let mut xx_ww = if isotropic {
+            jw.tr_mul(&tw)
+                + (k_ww + k_ww.transpose()) * 0.5
+                + a.second_contracted(&(mw * vw.transpose()))
+        } else {
+            let h_w = a.second_contracted(&(mw * vw.transpose()))
+                + phi.second_contracted(&(vu * mu.transpose()));
+            jw.tr_mul(&tw) + jp.tr_mul(&tu) + (k_ww + k_ww.transpose()) * 0.5 + h_w
+        };
         let mut xx_wu = k_wu * 0.5;
         let mut xx_uu = Matrix3::zeros();
         // E A by blocks: [[E_ωω A_ω, E_ωu Pᵀ], [E_uω A_ω, E_uu Pᵀ]].
@@ -157,7 +202,12 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
         put(out, 3, 3, &xx_uu);
         let zero = Matrix3::zeros();
         put(out, 0, 6, &(tw.tr_mul(&aw) + m_ww));
-        put(out, 0, 9, &(tu.tr_mul(&rot_t) + m_wu));
+        let xv_wu = if isotropic {
+            zero
+        } else {
+            tu.tr_mul(&rot_t) + phi.first_times(&mu).transpose()
+        };
+        put(out, 0, 9, &xv_wu);
         put(out, 3, 6, &zero);
         put(out, 3, 9, &zero);
         put(out, 6, 6, &aw.tr_mul(&(xww * aw)));
@@ -171,7 +221,8 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
                 Matrix3::zeros()
             },
         );
-        put(out, 9, 9, &(rot * (xuu * rot_t)));
+        let vv_uu = if isotropic { xuu } else { rot * (xuu * rot_t) };
+        put(out, 9, 9, &vv_uu);
         if with_configuration {
             let (pw_hat, pu_hat) = (hat(&pw), hat(&pu));
             put(out, 0, 12, &(ea_ww + pw_hat * aw * 0.5).transpose());
@@ -204,7 +255,11 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
             }
         }
     }
-    let gx_w = aw.tr_mul(&pw) + jw.tr_mul(&mw) + jp.tr_mul(&mu);
+    let gx_w = if isotropic {
+        aw.tr_mul(&pw) + jw.tr_mul(&mw)
+    } else {
+        aw.tr_mul(&pw) + jw.tr_mul(&mw) + jp.tr_mul(&mu)
+    };
     let gx_u = rot * pu;
     let gv_w = aw.tr_mul(&mw);
     let gv_u = rot * mu;
@@ -230,4 +285,49 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
         }
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The built-in bodies' kinetic terms (`X = diag(J, m I)`, `μ_u = m ξ_u`) take the
+    /// isotropic path; a translation block that is not `c I`, one coupled to the rotation,
+    /// or a momentum off `c ξ_u` (or off `ξ_u` for the gradient) does not.
+    #[test]
+    fn only_an_isotropic_translation_skips_its_terms() {
+        let mass = 2.7;
+        let xi = Vector3::new(0.3, -1.1, 0.45);
+        let mu = xi * mass;
+        let mut x = SMatrix::<f64, 6, 6>::zeros();
+        x.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&Matrix3::new(3.0, 0.1, 0.0, 0.1, 2.0, 0.2, 0.0, 0.2, 4.0));
+        x.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(Matrix3::identity() * mass));
+        assert!(isotropic_translation(&x, &mu, &xi));
+        assert!(along(&mu, &xi));
+        // A momentum a few ulps off c ξ_u (as a product rounds) still is.
+        let rounded = mu.map(|m| m * (1.0 + 2.0 * f64::EPSILON));
+        assert!(isotropic_translation(&x, &rounded, &xi));
+        assert!(along(&rounded, &xi));
+        // Off by more, not.
+        let off = mu + Vector3::new(0.0, 0.0, 1e-9);
+        assert!(!isotropic_translation(&x, &off, &xi));
+        assert!(!along(&off, &xi));
+        // Along ξ_u but with another c: the gradient's term is zero, the Hessian's not.
+        assert!(along(&(mu * 2.0), &xi));
+        assert!(!isotropic_translation(&x, &(mu * 2.0), &xi));
+        let mut anisotropic = x;
+        anisotropic[(4, 4)] = 1.5 * mass;
+        assert!(!isotropic_translation(&anisotropic, &mu, &xi));
+        let mut off_diagonal = x;
+        off_diagonal[(3, 5)] = 1e-3;
+        assert!(!isotropic_translation(&off_diagonal, &mu, &xi));
+        let mut coupled = x;
+        coupled[(1, 4)] = 0.2;
+        assert!(!isotropic_translation(&coupled, &mu, &xi));
+        coupled = x;
+        coupled[(5, 0)] = 0.2;
+        assert!(!isotropic_translation(&coupled, &mu, &xi));
+    }
 }
