@@ -23,7 +23,14 @@
 //! - `H_xζ = (E A)ᵀ + ½(C(p) A)ᵀ` with `C(p) = [[p̂_ω, p̂_u], [p̂_u, 0]]`, `H_vζ = 0`, `H_ζζ = E`.
 //!
 //! Twenty-odd 3 × 3 products where the generic rule multiplies a dozen 6 × 6 matrices, and
-//! `Φ(ω)` is the jet's value (no second evaluation of the chart). The tests compare it with
+//! `Φ(ω)` is the jet's value (no second evaluation of the chart).
+//!
+//! Every built-in body's translational kinetic energy is isotropic, `½m|ξ_u|²` with
+//! `ξ_u = Pᵀv_u` (`X_uu = m I`, `X_ωu = X_uω = 0`, `μ_u = m ξ_u`): as `|Pᵀv_u| = |v_u|` it
+//! does not depend on `ω`, so `J_Pᵀμ_u`, `J_PᵀT_u + ⟨v_u μ_uᵀ, ∂²P⟩` and `T_uᵀPᵀ + M_ωu`
+//! are exactly zero and `P X_uu Pᵀ = m I`. Where a point's derivatives show that structure
+//! those terms are not computed (they would be rounding noise; `docs/performance.md`
+//! §5.18). The tests compare it with
 //! dual numbers through the whole point (`step::tests::whole_point`).
 
 use super::points::{chain_rule_with, EllTilde};
