@@ -31,12 +31,13 @@ where
     let rate = |t: f64, y: &SVector<f64, D>, mu: &SVector<f64, D>| {
         chart.check_domain(y).ok()?;
         let time = start.time + t;
-        let g = base.compose(&chart.to_group(y));
+        let phi = chart.to_group(y);
+        let g = base.compose(&phi);
         let xi = system.velocity_from_momentum(time, &g, mu)?;
         let p = system
             .local_derivatives(time, &g, &xi, false)?
             .configuration_gradient;
-        let y_dot = chart.left_differential_inverse(y).ok()? * xi;
+        let y_dot = chart.chart_velocity(y, &phi, &xi).ok()?;
         let mut mu_dot = <S::Group as ConfigurationGroup<D>>::coadjoint_generator(mu) * xi + p;
         if let Some(force) = start.force_value {
             mu_dot += force(time, &g, &xi);

@@ -495,6 +495,23 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
         &self,
         xi: &SVector<f64, D>,
     ) -> Result<SMatrix<f64, D, D>, LieError>;
+    /// `A(y)⁻¹ ξ`, the chart velocity `ẏ` of a body velocity `ξ` at `y`, where `phi` is
+    /// `Φ(y)`: what a flow integrated in the chart reads at every stage, with `Φ(y)` at
+    /// hand. The default forms `A(y)⁻¹` ([`GroupChart::left_differential_inverse`]);
+    /// SE(3)'s rotation–translation chart applies its blocks (`A(ω)⁻¹` and `Φ(ω)` from
+    /// `phi`) to the halves of `ξ`, the same values.
+    ///
+    /// # Errors
+    /// Outside the chart's domain.
+    fn chart_velocity(
+        &self,
+        y: &SVector<f64, D>,
+        phi: &G::Element<f64>,
+        xi: &SVector<f64, D>,
+    ) -> Result<SVector<f64, D>, LieError> {
+        let _ = phi;
+        Ok(self.left_differential_inverse(y)? * xi)
+    }
     /// `Φ⁻¹(g)` on the branch nearest `near` (for charts that cover an element twice).
     ///
     /// # Errors
