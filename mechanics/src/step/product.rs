@@ -73,12 +73,26 @@ pub(crate) fn replace_product(
         );
         return;
     }
-    // faer stores a matrix by columns with a row stride of one: every column cut to
-    // `rows` is a contiguous slice. Without terms each block writes its empty sum, zero.
+    by_columns(out, rows, out_cols, lhs, rhs, rhs_cols, combine);
+}
+
+/// Each column of the product by `kernel` ([`combine`] or [`combine_even`]). faer stores a
+/// matrix by columns with a row stride of one: every column cut to `rows` is a contiguous
+/// slice. Without terms each block writes its empty sum, zero.
+#[inline(always)]
+fn by_columns(
+    out: &mut Mat<f64>,
+    rows: Range<usize>,
+    out_cols: Range<usize>,
+    lhs: &Mat<f64>,
+    rhs: &Mat<f64>,
+    rhs_cols: Range<usize>,
+    kernel: fn(&mut [f64], &Mat<f64>, usize, &[f64]),
+) {
     for (k, r) in out_cols.zip(rhs_cols) {
         let coefficients = rhs.col_as_slice(r);
         let target = &mut out.col_as_slice_mut(k)[rows.clone()];
-        combine(target, lhs, rows.start, coefficients);
+        kernel(target, lhs, rows.start, coefficients);
     }
 }
 
@@ -99,24 +113,15 @@ pub(crate) fn replace_product_even(
     rhs: &Mat<f64>,
     rhs_cols: Range<usize>,
 ) {
-    if rows.len() * lhs.ncols() * out_cols.len() > FAER_ABOVE {
+    if rows.len() * lhs.ncols() * out_cols.len() > FAER_ABOVE
+        || out_cols.len() != rhs_cols.len()
+        || lhs.ncols() != rhs.nrows()
+    {
+        // The whole product (which also checks the shapes).
         replace_product(out, rows, out_cols, lhs, rhs, rhs_cols);
         return;
     }
-    assert!(
-        out_cols.len() == rhs_cols.len()
-            && lhs.ncols() == rhs.nrows()
-            && rows.end <= out.nrows()
-            && rows.end <= lhs.nrows()
-            && out_cols.end <= out.ncols()
-            && rhs_cols.end <= rhs.ncols(),
-        "the product's shapes agree"
-    );
-    for (k, r) in out_cols.zip(rhs_cols) {
-        let coefficients = rhs.col_as_slice(r);
-        let target = &mut out.col_as_slice_mut(k)[rows.clone()];
-        combine_even(target, lhs, rows.start, coefficients);
-    }
+    by_columns(out, rows, out_cols, lhs, rhs, rhs_cols, combine_even);
 }
 
 /// `target = Σ_p coefficients[p] · lhs[offset.., p]` (cut to `target`'s length), the
@@ -215,16 +220,22 @@ fn every_term<const R: usize, const FMA: bool>(
 ) {
     let mut acc = [0.0f64; R];
     for (p, &c) in coefficients.iter().enumerate() {
-        let column = &lhs.col_as_slice(p)[offset + start..offset + start + R];
-        for i in 0..R {
-            acc[i] = if FMA {
-                c.mul_add(column[i], acc[i])
-            } else {
-                acc[i] + c * column[i]
-            };
-        }
+        add_term::<R, FMA>(&mut acc, c, &lhs.col_as_slice(p)[offset + start..]);
     }
     target[start..start + R].copy_from_slice(&acc);
+}
+
+/// `acc += c · column[..R]`, a fused multiply-add per entry where `FMA`.
+#[inline(always)]
+fn add_term<const R: usize, const FMA: bool>(acc: &mut [f64; R], c: f64, column: &[f64]) {
+    let column = &column[..R];
+    for i in 0..R {
+        acc[i] = if FMA {
+            c.mul_add(column[i], acc[i])
+        } else {
+            acc[i] + c * column[i]
+        };
+    }
 }
 
 /// [`block`] over the even terms, in order.
@@ -238,15 +249,11 @@ fn even_terms<const R: usize, const FMA: bool>(
 ) {
     let mut acc = [0.0f64; R];
     for (q, pair) in coefficients.chunks(2).enumerate() {
-        let c = pair[0];
-        let column = &lhs.col_as_slice(2 * q)[offset + start..offset + start + R];
-        for i in 0..R {
-            acc[i] = if FMA {
-                c.mul_add(column[i], acc[i])
-            } else {
-                acc[i] + c * column[i]
-            };
-        }
+        add_term::<R, FMA>(
+            &mut acc,
+            pair[0],
+            &lhs.col_as_slice(2 * q)[offset + start..],
+        );
     }
     target[start..start + R].copy_from_slice(&acc);
 }
