@@ -83,7 +83,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
             &self.rotation_matrix(&w).transpose(),
         )
     }
-    /// `(A(ω)⁻¹ ξ_ω, Φ(ω) ξ_u)`, `Φ(ω)` read from `phi`: [`Self::left_differential_inverse`]'s
+    /// `(A(ω)⁻¹ ξ_ω, Φ(ω) ξ_u)`, `Φ(ω)` read from `phi`: [`GroupChart::left_differential_inverse`]'s
     /// blocks applied apart, which adds none of its zero terms (no value changes).
     fn chart_velocity(
         &self,
