@@ -192,7 +192,8 @@ fn combine_blocks<const FMA: bool, const STRIDE: usize>(
 }
 
 /// Rows `start..start + R` of [`combine`]'s sum over every `STRIDE`-th term (one or
-/// two), accumulated in registers.
+/// two), accumulated in registers. The two strides are two loops: one loop for both, by
+/// `step_by`, cost the free body's Newton matrix 1.5k instructions a step.
 #[inline(always)]
 fn block<const R: usize, const FMA: bool, const STRIDE: usize>(
     target: &mut [f64],
@@ -201,26 +202,19 @@ fn block<const R: usize, const FMA: bool, const STRIDE: usize>(
     coefficients: &[f64],
     start: usize,
 ) {
-    if STRIDE == 1 {
-        every_term::<R, FMA>(target, lhs, offset, coefficients, start);
-    } else {
-        even_terms::<R, FMA>(target, lhs, offset, coefficients, start);
-    }
-}
-
-/// [`block`] over every term. (Written apart from [`even_terms`]: one loop for both, by
-/// `step_by`, cost the free body's Newton matrix 1.5k instructions a step.)
-#[inline(always)]
-fn every_term<const R: usize, const FMA: bool>(
-    target: &mut [f64],
-    lhs: &Mat<f64>,
-    offset: usize,
-    coefficients: &[f64],
-    start: usize,
-) {
     let mut acc = [0.0f64; R];
-    for (p, &c) in coefficients.iter().enumerate() {
-        add_term::<R, FMA>(&mut acc, c, &lhs.col_as_slice(p)[offset + start..]);
+    if STRIDE == 1 {
+        for (p, &c) in coefficients.iter().enumerate() {
+            add_term::<R, FMA>(&mut acc, c, &lhs.col_as_slice(p)[offset + start..]);
+        }
+    } else {
+        for (q, pair) in coefficients.chunks(2).enumerate() {
+            add_term::<R, FMA>(
+                &mut acc,
+                pair[0],
+                &lhs.col_as_slice(2 * q)[offset + start..],
+            );
+        }
     }
     target[start..start + R].copy_from_slice(&acc);
 }
@@ -236,26 +230,6 @@ fn add_term<const R: usize, const FMA: bool>(acc: &mut [f64; R], c: f64, column:
             acc[i] + c * column[i]
         };
     }
-}
-
-/// [`block`] over the even terms, in order.
-#[inline(always)]
-fn even_terms<const R: usize, const FMA: bool>(
-    target: &mut [f64],
-    lhs: &Mat<f64>,
-    offset: usize,
-    coefficients: &[f64],
-    start: usize,
-) {
-    let mut acc = [0.0f64; R];
-    for (q, pair) in coefficients.chunks(2).enumerate() {
-        add_term::<R, FMA>(
-            &mut acc,
-            pair[0],
-            &lhs.col_as_slice(2 * q)[offset + start..],
-        );
-    }
-    target[start..start + R].copy_from_slice(&acc);
 }
 
 /// `a · b` for fixed-size matrices, inlined where it is used: the same sums in the same

@@ -262,11 +262,10 @@ fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
             }
         }
     }
-    let gx_w = if isotropic {
-        aw.tr_mul(&pw) + jw.tr_mul(&mw)
-    } else {
-        aw.tr_mul(&pw) + jw.tr_mul(&mw) + jp.tr_mul(&mu)
-    };
+    let mut gx_w = aw.tr_mul(&pw) + jw.tr_mul(&mw);
+    if !isotropic {
+        gx_w += jp.tr_mul(&mu);
+    }
     let gx_u = rot * pu;
     let gv_w = aw.tr_mul(&mw);
     let gv_u = rot * mu;
