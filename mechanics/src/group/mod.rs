@@ -625,6 +625,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
     }
     /// `(Φ(x), A(x))` (`Ad_{R⁻¹}ᵀ = R` on SO(3)) from one evaluation of the Rodrigues
     /// coefficients where the chart has them.
+    #[inline]
     fn transport_and_differential(&self, x: &Vector3<f64>) -> (Matrix3<f64>, Matrix3<f64>) {
         match self.rotation_and_left_differential_coefficients(x.norm_squared()) {
             Some((phi, a)) => (phi.matrix(x), a.matrix(x)),
@@ -633,6 +634,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<Rotations, 3> for C {
     }
     /// `Φ(x) p` (`Ad_R = R` on SO(3)), without forming `Φ(x)` where the chart has a
     /// Rodrigues form.
+    #[inline]
     fn coadjoint_to_start(&self, x: &Vector3<f64>, p: &Vector3<f64>) -> Vector3<f64> {
         match self.rotation_matrix_coefficients(x.norm_squared()) {
             Some(c) => c.times(x, p),
