@@ -33,7 +33,7 @@
 use crate::group::{GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
 use crate::matrix_jet::{axial, unit_hat, MatrixJet};
-use crate::point::{add_force_terms, add_force_value, GaussPoint};
+use crate::point::{add_force_terms, add_force_value, GaussPoint, PointTransport};
 use lgsvi_lie::so3::hat;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, SMatrix, SVector};
@@ -47,13 +47,17 @@ fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
 /// Writes `ℓ̃`'s derivatives by the chain rule into `out` (its Hessian only if
 /// `point.with_hessian`, else left as it was), with the force terms of `point.force`;
 /// false (`out` untouched) if the chart has no Rodrigues form. In place: the 90 floats
-/// are written once, not returned and copied (`docs/performance.md` §6).
+/// are written once, not returned and copied (`docs/performance.md` §6). Where
+/// `point.with_configuration` and the point forms `Φ(x)` (an `ℓ` or force that reads the
+/// attitude), `transport` gets `(Φ(x), A(x))` for the exact matching; else `None`.
 pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
     chart: &C,
     point: &GaussPoint<'_, Rotations, 3>,
     out: &mut Stacked<9>,
+    transport: &mut Option<PointTransport<3>>,
 ) -> bool {
+    *transport = None;
     let (x, v) = (point.x, point.v);
     let (with_configuration, with_hessian) = (point.with_configuration, point.with_hessian);
     let base = point.base.matrix();
@@ -83,6 +87,12 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
             let Some(c) = chart.rotation_coefficients(s) else {
                 return false;
             };
+            if point.with_configuration {
+                *transport = Some(PointTransport {
+                    to_start: c.matrix(x),
+                    differential: a.value,
+                });
+            }
             Some((
                 c.transpose_times(x, &(base.transpose() * field)),
                 body_vector,
@@ -91,7 +101,14 @@ pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
         _ => None,
     };
     let r = if field.is_none() && (attitude || force_reads_attitude) {
-        base * chart.to_group(x).matrix()
+        let phi = *chart.to_group(x).matrix();
+        if point.with_configuration {
+            *transport = Some(PointTransport {
+                to_start: phi,
+                differential: a.value,
+            });
+        }
+        base * phi
     } else {
         *base
     };

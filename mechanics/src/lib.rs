@@ -118,5 +118,5 @@ pub use state::{body_momentum, body_velocity, State};
 pub use system::{
     AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime,
     ForceValueAlongStep, Forced, Forcing, GaussPoint, GroupLagrangian, LocalDerivatives,
-    PointForce, SpaceForce,
+    PointForce, PointTransport, SpaceForce,
 };

@@ -25,6 +25,21 @@ pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
     pub force: Option<&'a dyn PointForce<G, D>>,
 }
 
+/// The chart's terms at a Gauss point that the exact momentum matching reads at every
+/// point of a system whose `ℓ` or force depends on the configuration: the transport
+/// `Ad_{Φ(x)⁻¹}ᵀ` of the point's configuration force to the step's start, and the chart's
+/// left differential `A(x)` ([`crate::GroupChart::transport_and_differential`]'s pair). A
+/// closed-form point path that forms `Φ(x)` and `A(x)` on its way hands them back
+/// ([`crate::GroupLagrangian::point_derivatives_and_transport`]), so that the matching does
+/// not evaluate the chart at the point again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointTransport<const D: usize> {
+    /// `Ad_{Φ(x)⁻¹}ᵀ` (on SO(3), `Φ(x)` itself).
+    pub to_start: SMatrix<f64, D, D>,
+    /// `A(x)`.
+    pub differential: SMatrix<f64, D, D>,
+}
+
 /// The force acting at a step's Gauss points (the system's force plus the control input),
 /// evaluated where a closed-form point path needs it.
 pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {

@@ -20,7 +20,7 @@ use crate::force_jet::ForceJet;
 pub use crate::force_jet::Forcing;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
-pub use crate::point::{GaussPoint, PointForce};
+pub use crate::point::{GaussPoint, PointForce, PointTransport};
 use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
@@ -194,6 +194,25 @@ pub trait GroupLagrangian<const D: usize> {
         false
     }
 
+    /// [`GroupLagrangian::point_derivatives`], handing back in `transport` the chart's
+    /// `Ad_{Φ(x)⁻¹}ᵀ` and `A(x)` at the point ([`PointTransport`]) where the closed form
+    /// formed them on its way and `point.with_configuration` asks for the configuration
+    /// force: the exact matching then reads them instead of evaluating the chart at the
+    /// point again. They must be [`GroupChart::transport_and_differential`]'s at `point.x`
+    /// to rounding; `transport` is read only when this returns `true`. The default calls
+    /// `point_derivatives` and hands back nothing (`None`). The built-in SO(3) systems
+    /// hand back the chart's terms where their `ℓ` reads the attitude.
+    fn point_derivatives_and_transport<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, Self::Group, D>,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        transport: &mut Option<PointTransport<D>>,
+    ) -> bool {
+        *transport = None;
+        self.point_derivatives(chart, point, out)
+    }
+
     /// Why the state lies outside what the system models, if it does (an
     /// [`crate::OrbitingBody`] whose mass surrounds the attracting point, where its
     /// far-field potential does not hold): a sentence saying what to change. Read only when a step has failed
@@ -332,7 +351,16 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
         point: &GaussPoint<'_, Rotations, 3>,
         out: &mut Stacked<9>,
     ) -> bool {
-        crate::jet::point_derivatives(self, chart, point, out)
+        crate::jet::point_derivatives(self, chart, point, out, &mut None)
+    }
+    fn point_derivatives_and_transport<C: GroupChart<Rotations, 3>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, Rotations, 3>,
+        out: &mut Stacked<9>,
+        transport: &mut Option<PointTransport<3>>,
+    ) -> bool {
+        crate::jet::point_derivatives(self, chart, point, out, transport)
     }
     fn model_breakdown(&self, _time: f64, g: &SO3, w: &Vector3<f64>) -> Option<String> {
         Lagrangian::model_breakdown(self, g.matrix(), w)
@@ -672,6 +700,16 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
         out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
     ) -> bool {
         self.system.point_derivatives(chart, point, out)
+    }
+    fn point_derivatives_and_transport<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        point: &GaussPoint<'_, Self::Group, D>,
+        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        transport: &mut Option<PointTransport<D>>,
+    ) -> bool {
+        self.system
+            .point_derivatives_and_transport(chart, point, out, transport)
     }
     fn model_breakdown(
         &self,

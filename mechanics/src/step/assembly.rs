@@ -13,6 +13,7 @@ use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
+use crate::point::PointTransport;
 use crate::settings::{Matching, NewtonJacobian};
 use crate::system::GroupLagrangian;
 use faer::Mat;
@@ -25,6 +26,10 @@ pub(crate) struct Workspace<J, const D: usize> {
     /// The last accepted iterate, for the line search.
     pub(super) xi_accepted: Vec<SVector<f64, D>>,
     pub(super) points: Vec<J>,
+    /// The chart's `Ad_{Φ(x_j)⁻¹}ᵀ` and `A(x_j)` where the last assembly's points handed
+    /// them back ([`crate::GroupLagrangian::point_derivatives_and_transport`]), for the
+    /// matching.
+    pub(super) transports: Vec<Option<PointTransport<D>>>,
     /// The force's power `F·ξ` at each point in the last assembly (NaN unforced): the
     /// step's work `Σ w_j F_j·ξ_j` without evaluating the force again.
     pub(crate) power: Vec<f64>,
@@ -119,6 +124,7 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
             xi: vec![SVector::zeros(); d.n],
             xi_accepted: vec![SVector::zeros(); d.n],
             points: vec![J::zeros(); d.m],
+            transports: vec![None; d.m],
             power: vec![f64::NAN; d.m],
             dq: Mat::zeros(D * D, 2 * d.m),
             dq_velocity_free: false,
@@ -281,6 +287,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 with_jacobian,
                 self.forcing.as_ref(),
                 &mut work.points[j],
+                &mut work.transports[j],
             );
         }
         // ∂S/∂ξⁱ and the scale of its terms, accumulated point by point (the same sums,

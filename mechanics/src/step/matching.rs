@@ -50,10 +50,20 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 let x = &work.x[j];
                 let point = &work.points[j];
                 let p = SVector::<f64, D>::from_column_slice(&point.gradient()[2 * D..]);
+                // The chart's terms from the point where it formed them, else from
+                // the chart.
+                let transport = &work.transports[j];
                 if !with_jacobian {
-                    w += chart.coadjoint_to_start(x, &p) * d.weights[j];
+                    let moved = match transport {
+                        Some(t) => fixed_product(&t.to_start, &p),
+                        None => chart.coadjoint_to_start(x, &p),
+                    };
+                    w += moved * d.weights[j];
                 } else {
-                    let (to_start, a) = chart.transport_and_differential(x);
+                    let (to_start, a) = match transport {
+                        Some(t) => (t.to_start, t.differential),
+                        None => chart.transport_and_differential(x),
+                    };
                     w += to_start * p * d.weights[j];
                     // ∂q/∂x = Ad_{Φ⁻¹}ᵀ (H_ζx − C(p) A(x)), ∂q/∂v = Ad_{Φ⁻¹}ᵀ H_ζv, with
                     // C(p) η = ad_ηᵀ p (on SO(3), p̂).

@@ -41,7 +41,7 @@
 use crate::force_jet::ForceJet;
 use crate::group::{ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction};
 pub(crate) use crate::point::{add_force_terms, add_force_value};
-use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
+use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce, PointTransport};
 use lgsvi_lie::LieGroup;
 use nalgebra::{RealField, SMatrix, SVector};
 use num_dual::{Dual2SVec64, DualSVec64};
@@ -176,7 +176,9 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
 /// Writes one Gauss point's derivatives into `out` (the Hessian only if `with_hessian`),
 /// with the force terms when `forced` (the system's force and `input`); returns the
 /// force's power `F·ξ` at the point (NaN unforced, or where a system's own
-/// [`GroupLagrangian::point_derivatives`] did not ask for the force's jet).
+/// [`GroupLagrangian::point_derivatives`] did not ask for the force's jet). `transport`
+/// gets the chart's terms at the point where the system's closed form handed them back
+/// ([`GroupLagrangian::point_derivatives_and_transport`]), else `None`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn point_derivatives<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
@@ -186,6 +188,7 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     with_hessian: bool,
     forced: Option<&SVector<f64, D>>,
     out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+    transport: &mut Option<PointTransport<D>>,
 ) -> f64
 where
     S: GroupLagrangian<D>,
@@ -201,7 +204,11 @@ where
         with_hessian,
         force: force.as_ref().map(|f| f as &dyn PointForce<S::Group, D>),
     };
-    if !ell.system.point_derivatives(ell.chart, &point, out) {
+    if !ell
+        .system
+        .point_derivatives_and_transport(ell.chart, &point, out, transport)
+    {
+        *transport = None;
         chain_rule(ell, &point, out);
     }
     force.map_or(f64::NAN, |f| f.power.get())

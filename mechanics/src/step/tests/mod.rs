@@ -107,7 +107,7 @@ fn chain_rule_at<L: Lagrangian>(
     let mut out = PointDerivatives::zeros();
     let b = SO3::from_matrix_unchecked(base());
     let point = gauss_point(&b, x, v, with_configuration, with_hessian, None);
-    let done = jet::point_derivatives(system, &chart, &point, &mut out);
+    let done = jet::point_derivatives(system, &chart, &point, &mut out, &mut None);
     assert!(done, "{chart} has a Rodrigues form");
     out
 }
@@ -186,6 +186,11 @@ impl Lagrangian for Coupled {
 /// A potential quadratic in `R` (through [`RigidBodyInPotential`]'s closed-form kinetic
 /// part and dual-number potential).
 struct Quadratic;
+
+/// [`Quadratic`], for the other test modules.
+fn tests_potential() -> impl crate::Potential {
+    Quadratic
+}
 impl crate::Potential for Quadratic {
     fn potential<T: RealField + Copy>(&self, r: &Matrix3<T>) -> T {
         let c = |x: f64| -> T { nalgebra::convert(x) };

@@ -149,7 +149,16 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                     own.set_hessian(r, c, f64::NAN);
                 }
             }
-            super::points::point_derivatives(&ell, x, v, with_configuration, true, None, &mut own);
+            super::points::point_derivatives(
+                &ell,
+                x,
+                v,
+                with_configuration,
+                true,
+                None,
+                &mut own,
+                &mut None,
+            );
             let mut own_gradient = own.clone();
             super::points::point_derivatives(
                 &ell,
@@ -159,6 +168,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                 false,
                 None,
                 &mut own_gradient,
+                &mut None,
             );
             let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
             slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), with_configuration);
@@ -386,9 +396,18 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
             time: 0.7,
         };
         let mut fast = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
-        point_derivatives(&ell, x, v, true, true, Some(input), &mut fast);
+        point_derivatives(&ell, x, v, true, true, Some(input), &mut fast, &mut None);
         let mut gradient_only = fast.clone();
-        point_derivatives(&ell, x, v, true, false, Some(input), &mut gradient_only);
+        point_derivatives(
+            &ell,
+            x,
+            v,
+            true,
+            false,
+            Some(input),
+            &mut gradient_only,
+            &mut None,
+        );
         let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
         slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), true);
         slow.add_force(&ForceTerms { ell: &ell, input }, x.as_slice(), v.as_slice());
@@ -833,6 +852,7 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
                     true,
                     forcing.as_ref(),
                     &mut jet,
+                    &mut None,
                 );
                 let point = super::linearize::PointChart::at(&chart, &x);
                 let fast = stepper.point_mixed(base, 2, &point, &v, &jet);
@@ -878,5 +898,102 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
             &place,
             &format!("orbit, screw {chart}"),
         );
+    }
+}
+
+/// The chart's terms a point hands back to the exact matching ([`crate::PointTransport`])
+/// are the chart's own [`crate::GroupChart::transport_and_differential`] at the point: the
+/// same Rodrigues coefficients put together in another order, so equal to a few roundings
+/// of their largest entry (1e-14 relative). They are handed back exactly where the matching
+/// reads them and the point formed `Φ(x)`: with the configuration rows, for the heavy top
+/// (its attitude term) and a potential of `R`, in every chart, with and without Hessians;
+/// never without the configuration rows, nor by the free SO(3) body, which forms no
+/// `Φ(x)`, nor by the SE(3) systems, whose points do not hand them back (forming the 6 × 6
+/// pair cost what it saved: `docs/performance.md` §5.19).
+#[test]
+fn points_hand_back_the_charts_transport() {
+    use crate::system::ElementOf;
+    use lgsvi_lie::SE3;
+    #[allow(clippy::too_many_arguments)]
+    fn check<S, C, const D: usize>(
+        system: &S,
+        chart: C,
+        base: &ElementOf<S, D>,
+        x: &SVector<f64, D>,
+        v: &SVector<f64, D>,
+        hands_back: bool,
+        name: &str,
+    ) where
+        S: crate::GroupLagrangian<D>,
+        C: crate::GroupChart<S::Group, D>,
+    {
+        for with_configuration in [false, true] {
+            for with_hessian in [false, true] {
+                let ell = EllTilde {
+                    system,
+                    chart: &chart,
+                    base,
+                    time: 0.7,
+                };
+                let mut jet = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+                let mut transport = None;
+                super::points::point_derivatives(
+                    &ell,
+                    x,
+                    v,
+                    with_configuration,
+                    with_hessian,
+                    None,
+                    &mut jet,
+                    &mut transport,
+                );
+                let case = format!("{name}, ζ = {with_configuration}, H = {with_hessian}");
+                assert_eq!(
+                    transport.is_some(),
+                    hands_back && with_configuration,
+                    "{case}"
+                );
+                if let Some(t) = transport {
+                    let (to_start, differential) = chart.transport_and_differential(x);
+                    let apart = (t.to_start - to_start)
+                        .amax()
+                        .max((t.differential - differential).amax());
+                    let scale = to_start.amax().max(differential.amax());
+                    assert!(apart <= 1e-14 * scale, "{case}: {apart:e} of {scale:e}");
+                }
+            }
+        }
+    }
+    let b3 = SO3::exp(&Vector3::new(0.4, -0.7, 0.2));
+    let b6 = SE3::new(b3, Vector3::new(3.0, -2.0, 0.5));
+    let inertia = Inertia::from_principal_moments([0.3, 0.2, 0.4]).unwrap();
+    let potential = crate::RigidBodyInPotential::new(inertia, super::tests_potential());
+    let free = crate::RigidBody::new(inertia);
+    let orbit = crate::OrbitingBody::new(inertia, 1.3, 2.0).unwrap();
+    let field = crate::BodyInField::new(inertia, 1.3, Spring).unwrap();
+    /// A spring on the centre of mass and a dipole along body x in a uniform field.
+    struct Spring;
+    impl crate::FieldPotential for Spring {
+        fn potential<T: RealField + Copy>(&self, _t: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
+            x.norm_squared() * nalgebra::convert::<f64, T>(0.4) - r[(2, 0)]
+        }
+    }
+    let rotations = [
+        Vector3::zeros(),
+        Vector3::new(0.3, -0.1, 0.25),
+        Vector3::new(1.5, -2.2, 1.1),
+    ];
+    let w = Vector3::new(1.1, 0.4, -0.6);
+    for chart in ChartKind::ALL {
+        for x in &rotations {
+            let name = format!("{chart} at {x:?}");
+            check::<_, _, 3>(&super::top(), chart, &b3, x, &w, true, &name);
+            check::<_, _, 3>(&potential, chart, &b3, x, &w, true, &name);
+            check::<_, _, 3>(&free, chart, &b3, x, &w, false, &name);
+            let x6 = SVector::<f64, 6>::new(x.x, x.y, x.z, 0.2, 0.1, -0.3);
+            let v6 = SVector::<f64, 6>::new(w.x, w.y, w.z, -0.5, 0.8, 0.1);
+            check::<_, _, 6>(&orbit, chart, &b6, &x6, &v6, false, &name);
+            check::<_, _, 6>(&field, chart, &b6, &x6, &v6, false, &name);
+        }
     }
 }
