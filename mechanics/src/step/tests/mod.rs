@@ -186,11 +186,6 @@ impl Lagrangian for Coupled {
 /// A potential quadratic in `R` (through [`RigidBodyInPotential`]'s closed-form kinetic
 /// part and dual-number potential).
 struct Quadratic;
-
-/// [`Quadratic`], for the other test modules.
-fn tests_potential() -> impl crate::Potential {
-    Quadratic
-}
 impl crate::Potential for Quadratic {
     fn potential<T: RealField + Copy>(&self, r: &Matrix3<T>) -> T {
         let c = |x: f64| -> T { nalgebra::convert(x) };
