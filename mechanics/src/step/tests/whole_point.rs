@@ -6,7 +6,7 @@ use super::*;
 
 /// A Lagrangian on SE(3) that couples attitude, position and both velocities and depends
 /// on time (exercises every block of the generic chain rule).
-struct CoupledSe3;
+pub(super) struct CoupledSe3;
 impl crate::GroupLagrangian<6> for CoupledSe3 {
     type Group = crate::RigidMotions;
     fn lagrangian<T: RealField + Copy>(
