@@ -11,17 +11,19 @@ use nalgebra::Vector3;
 
 fn bench(c: &mut Criterion) {
     let inertia = Inertia::from_paper_jd([1.3, 2.1, 1.2]).unwrap();
+    let case_a = |settings: StepSettings| {
+        Integrator::new(
+            RigidBody::new(inertia),
+            settings,
+            SO3::identity(),
+            Vector3::new(-2.0, 1.9, -1.0),
+        )
+        .unwrap()
+    };
     let mut group = c.benchmark_group("step_case_a_h0.5");
     for chart in [ChartKind::Exp, ChartKind::CayleyUnscaled] {
         for n in [4usize, 8, 12, 16, 24] {
-            let settings = StepSettings::new(0.5, n).unwrap().with_chart(chart);
-            let mut integrator = Integrator::new(
-                RigidBody::new(inertia),
-                settings,
-                SO3::identity(),
-                Vector3::new(-2.0, 1.9, -1.0),
-            )
-            .unwrap();
+            let mut integrator = case_a(StepSettings::new(0.5, n).unwrap().with_chart(chart));
             group.bench_function(BenchmarkId::new(chart.to_string(), n), |b| {
                 b.iter(|| integrator.step().unwrap())
             });
@@ -30,14 +32,7 @@ fn bench(c: &mut Criterion) {
     group.finish();
     let mut group = c.benchmark_group("step_case_a_h1");
     for n in [10usize, 11] {
-        let settings = StepSettings::new(1.0, n).unwrap();
-        let mut integrator = Integrator::new(
-            RigidBody::new(inertia),
-            settings,
-            SO3::identity(),
-            Vector3::new(-2.0, 1.9, -1.0),
-        )
-        .unwrap();
+        let mut integrator = case_a(StepSettings::new(1.0, n).unwrap());
         group.bench_function(BenchmarkId::new("exp", n), |b| {
             b.iter(|| integrator.step().unwrap())
         });
