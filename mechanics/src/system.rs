@@ -199,7 +199,9 @@ pub trait GroupLagrangian<const D: usize> {
     /// formed them on its way and `point.with_configuration` asks for the configuration
     /// force: the exact matching then reads them instead of evaluating the chart at the
     /// point again. They must be [`GroupChart::transport_and_differential`]'s at `point.x`
-    /// to rounding; `transport` is read only when this returns `true`. The default calls
+    /// to rounding; `transport` is read only when this returns `true`, and the step passes
+    /// it as `None` at every point of every assembly (an implementation that hands nothing
+    /// back need not write it). The default calls
     /// `point_derivatives` and hands back nothing (`None`). The built-in SO(3) systems
     /// hand back the chart's terms where their `ℓ` reads the attitude.
     fn point_derivatives_and_transport<C: GroupChart<Self::Group, D>>(

@@ -204,6 +204,8 @@ where
         with_hessian,
         force: force.as_ref().map(|f| f as &dyn PointForce<S::Group, D>),
     };
+    // Nothing left from the last assembly for a system that hands nothing back.
+    *transport = None;
     if !ell
         .system
         .point_derivatives_and_transport(ell.chart, &point, out, transport)

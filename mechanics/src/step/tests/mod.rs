@@ -451,17 +451,39 @@ fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group:
     stepper: &Stepper<'_, S, ChartKind, 3>,
     d: &Discretisation,
 ) -> (Workspace<Stacked<9>, 3>, SO3, Vector3<f64>) {
-    let mut work = Workspace::<Stacked<9>, 3>::new(d);
-    let omega = Vector3::new(0.5, -0.8, 0.3);
-    for (i, t) in d.node_times().iter().enumerate() {
-        work.xi[i] = omega * *t + Vector3::new(0.02, -0.01, 0.03) * (t * t);
-    }
-    work.xi[0] = Vector3::zeros();
     let mu = Vector3::new(2.4, -1.5, 1.52);
     let b = SO3::from_matrix_unchecked(base());
-    stepper.assemble(&b, &mu, &mut work, true);
-    stepper.fill_jacobian(&mut work);
+    let work = assembled_along(
+        stepper,
+        d,
+        (&b, &mu),
+        Vector3::new(0.5, -0.8, 0.3),
+        Vector3::new(0.02, -0.01, 0.03),
+    );
     (work, b, mu)
+}
+
+/// A workspace holding the curve `ξ(t) = rate t + wobble t²` at the nodes, assembled with
+/// its Newton matrix at the step's start `base` with momentum `μ`.
+fn assembled_along<S, C, const D: usize>(
+    stepper: &Stepper<'_, S, C, D>,
+    d: &Discretisation,
+    (base, mu): (&crate::system::ElementOf<S, D>, &SVector<f64, D>),
+    rate: SVector<f64, D>,
+    wobble: SVector<f64, D>,
+) -> WorkspaceOf<S, D>
+where
+    S: crate::GroupLagrangian<D>,
+    C: crate::GroupChart<S::Group, D>,
+{
+    let mut work = WorkspaceOf::<S, D>::new(d);
+    for (i, t) in d.node_times().iter().enumerate() {
+        work.xi[i] = rate * *t + wobble * (t * t);
+    }
+    work.xi[0] = SVector::zeros();
+    stepper.assemble(base, mu, &mut work, true);
+    stepper.fill_jacobian(&mut work);
+    work
 }
 
 /// The exact Newton matrix (both matchings, a configuration-dependent system, every
@@ -737,16 +759,14 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
                 time: 0.3,
                 forcing,
             };
-            let mut work = WorkspaceOf::<S, 6>::new(&d);
-            let rate = SVector::<f64, 6>::new(0.5, -0.8, 0.3, 0.2, 0.55, -0.1);
-            let wobble = SVector::<f64, 6>::new(0.02, -0.01, 0.03, -0.02, 0.01, 0.04);
-            for (i, t) in d.node_times().iter().enumerate() {
-                work.xi[i] = rate * *t + wobble * (t * t);
-            }
-            work.xi[0] = SVector::zeros();
             let mu = SVector::<f64, 6>::new(0.4, -0.5, 0.52, 0.3, 1.1, -0.2);
-            stepper.assemble(base, &mu, &mut work, true);
-            stepper.fill_jacobian(&mut work);
+            let mut work = assembled_along(
+                &stepper,
+                &d,
+                (base, &mu),
+                SVector::<f64, 6>::new(0.5, -0.8, 0.3, 0.2, 0.55, -0.1),
+                SVector::<f64, 6>::new(0.02, -0.01, 0.03, -0.02, 0.01, 0.04),
+            );
             assert_newton_matrix_near_differences(
                 &stepper,
                 base,
@@ -803,5 +823,91 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
             "coupled SE(3)",
         );
         check(&craft, chart, &craft_at, None, "gyrostat");
+    }
+}
+
+/// A system may hand the chart's terms back from some assemblies and not others (the
+/// trait reads `transport` only as a point hands it back): here only from those with
+/// Hessians. A gradient-only assembly at other unknowns must then read the chart at its
+/// own points, not the terms an earlier assembly left at another curve: its matching `w`
+/// is a fresh workspace's bit for bit (the same chart calls on the same points). Reading
+/// the earlier curve's `Φ(x_j)` instead moves `w` by about the curves' distance, 0.1.
+#[test]
+fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
+    use crate::group::Rotations;
+    use crate::point::{GaussPoint, PointTransport};
+    struct FromHessiansOnly(HeavyTop);
+    impl crate::GroupLagrangian<3> for FromHessiansOnly {
+        type Group = Rotations;
+        fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
+            Lagrangian::lagrangian(&self.0, g.matrix(), w)
+        }
+        fn point_derivatives<C: crate::GroupChart<Rotations, 3>>(
+            &self,
+            chart: &C,
+            point: &GaussPoint<'_, Rotations, 3>,
+            out: &mut Stacked<9>,
+        ) -> bool {
+            crate::GroupLagrangian::<3>::point_derivatives(&self.0, chart, point, out)
+        }
+        fn point_derivatives_and_transport<C: crate::GroupChart<Rotations, 3>>(
+            &self,
+            chart: &C,
+            point: &GaussPoint<'_, Rotations, 3>,
+            out: &mut Stacked<9>,
+            transport: &mut Option<PointTransport<3>>,
+        ) -> bool {
+            if point.with_hessian {
+                crate::GroupLagrangian::<3>::point_derivatives_and_transport(
+                    &self.0, chart, point, out, transport,
+                )
+            } else {
+                crate::GroupLagrangian::<3>::point_derivatives(&self.0, chart, point, out)
+            }
+        }
+    }
+    let system = FromHessiansOnly(top());
+    let settings = StepSettings::new(0.4, 5).unwrap();
+    let d = Discretisation::new(&settings).unwrap();
+    let chart = ChartKind::Exp;
+    let stepper = Stepper {
+        system: &system,
+        chart: &chart,
+        settings: &settings,
+        d: &d,
+        time: 0.0,
+        forcing: None,
+    };
+    let b = SO3::from_matrix_unchecked(base());
+    let mu = Vector3::new(2.4, -1.5, 1.52);
+    // An assembly with Hessians along one curve: the points hand their terms back.
+    let mut work = assembled_along(
+        &stepper,
+        &d,
+        (&b, &mu),
+        Vector3::new(0.5, -0.8, 0.3),
+        Vector3::new(0.02, -0.01, 0.03),
+    );
+    assert!(work.transports.iter().all(Option::is_some));
+    // Then a gradient-only one along another, in that workspace and in a fresh one.
+    let other = |xi: &mut Vec<Vector3<f64>>| {
+        for (i, t) in d.node_times().iter().enumerate() {
+            xi[i] = Vector3::new(0.7, -0.6, 0.45) * *t;
+        }
+        xi[0] = Vector3::zeros();
+    };
+    other(&mut work.xi);
+    stepper.assemble(&b, &mu, &mut work, false);
+    let mut fresh = Workspace::<Stacked<9>, 3>::new(&d);
+    other(&mut fresh.xi);
+    stepper.assemble(&b, &mu, &mut fresh, false);
+    for c in 0..3 {
+        assert_eq!(
+            work.matching.w[c].to_bits(),
+            fresh.matching.w[c].to_bits(),
+            "w[{c}]: {} against {}",
+            work.matching.w[c],
+            fresh.matching.w[c]
+        );
     }
 }
