@@ -76,6 +76,7 @@ pub mod gyrostat;
 mod inertia;
 mod integrator;
 mod jet;
+mod jet_lanes;
 mod lagrangian;
 pub mod linearization;
 mod matrix_jet;
@@ -120,3 +121,5 @@ pub use system::{
     ForceValueAlongStep, Forced, Forcing, GaussPoint, GroupLagrangian, LocalDerivatives,
     PointForce, PointTransport, SpaceForce,
 };
+#[doc(hidden)]
+pub use system::{ForceAtPoint, GaussPoints};

@@ -25,6 +25,34 @@ pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
     pub force: Option<&'a dyn PointForce<G, D>>,
 }
 
+/// The force at a step's Gauss point `j`, at a configuration and body velocity: its jet
+/// (its value alone, as [`ForceJet::constant`], where the Hessian is not wanted) and its
+/// power `F·ξ`. What [`GaussPoints`] carries for a forced step.
+#[doc(hidden)]
+pub type ForceAtPoint<'a, G, const D: usize> = &'a dyn Fn(
+    usize,
+    &<G as ConfigurationGroup<D>>::Element<f64>,
+    &SVector<f64, D>,
+) -> (ForceJet<D>, f64);
+
+/// Every Gauss point of one assembly, as [`crate::GroupLagrangian::points_in_lanes`]
+/// receives them: point `j` at `x[j]`, `v[j]`, the flags and force as [`GaussPoint`]'s.
+#[doc(hidden)]
+pub struct GaussPoints<'a, G: ConfigurationGroup<D>, const D: usize> {
+    /// The step's start `g_k`.
+    pub base: &'a G::Element<f64>,
+    /// The points' chart coordinates.
+    pub x: &'a [SVector<f64, D>],
+    /// Their time derivatives.
+    pub v: &'a [SVector<f64, D>],
+    /// Whether the `ζ` rows are wanted.
+    pub with_configuration: bool,
+    /// Whether the Hessians are wanted.
+    pub with_hessian: bool,
+    /// The force, when the step is forced, and whether it reads the configuration.
+    pub force: Option<(ForceAtPoint<'a, G, D>, bool)>,
+}
+
 /// The chart's terms at a Gauss point that the exact momentum matching reads at every
 /// point of a system whose `ℓ` or force depends on the configuration: the transport
 /// `Ad_{Φ(x)⁻¹}ᵀ` of the point's configuration force to the step's start, and the chart's

@@ -20,6 +20,8 @@ use crate::force_jet::ForceJet;
 pub use crate::force_jet::Forcing;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
+#[doc(hidden)]
+pub use crate::point::{ForceAtPoint, GaussPoints};
 pub use crate::point::{GaussPoint, PointForce, PointTransport};
 use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::{LieGroup, SE3, SO3};
@@ -215,6 +217,27 @@ pub trait GroupLagrangian<const D: usize> {
         self.point_derivatives(chart, point, out)
     }
 
+    /// Every Gauss point of an assembly at once: point `j` written into `out[j]` and
+    /// `transports[j]` as [`GroupLagrangian::point_derivatives_and_transport`] would write
+    /// them one by one, and the force's power `F·ξ` at it into `power[j]` (NaN unforced);
+    /// `true` if written, `false` (the default, nothing written) to have the points taken
+    /// one by one. SO(3) Lagrangians ([`Lagrangian`]) that are left-invariant or whose
+    /// attitude term is linear in `R`, under a force that does not read the attitude,
+    /// take four points at a time, the same bits as one by one. An internal fast path,
+    /// hidden from the documentation while its form may change.
+    #[doc(hidden)]
+    fn points_in_lanes<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        points: &GaussPoints<'_, Self::Group, D>,
+        out: &mut [<Self::Group as ConfigurationGroup<D>>::Jet],
+        transports: &mut [Option<PointTransport<D>>],
+        power: &mut [f64],
+    ) -> bool {
+        let _ = (chart, points, out, transports, power);
+        false
+    }
+
     /// Why the state lies outside what the system models, if it does (an
     /// [`crate::OrbitingBody`] whose mass surrounds the attracting point, where its
     /// far-field potential does not hold): a sentence saying what to change. Read only when a step has failed
@@ -363,6 +386,16 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
         transport: &mut Option<PointTransport<3>>,
     ) -> bool {
         crate::jet::point_derivatives(self, chart, point, out, transport)
+    }
+    fn points_in_lanes<C: GroupChart<Rotations, 3>>(
+        &self,
+        chart: &C,
+        points: &GaussPoints<'_, Rotations, 3>,
+        out: &mut [Stacked<9>],
+        transports: &mut [Option<PointTransport<3>>],
+        power: &mut [f64],
+    ) -> bool {
+        crate::jet_lanes::points_in_lanes(self, chart, points, out, transports, power)
     }
     fn model_breakdown(&self, _time: f64, g: &SO3, w: &Vector3<f64>) -> Option<String> {
         Lagrangian::model_breakdown(self, g.matrix(), w)
@@ -712,6 +745,18 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
     ) -> bool {
         self.system
             .point_derivatives_and_transport(chart, point, out, transport)
+    }
+    fn points_in_lanes<C: GroupChart<Self::Group, D>>(
+        &self,
+        chart: &C,
+        points: &GaussPoints<'_, Self::Group, D>,
+        out: &mut [<Self::Group as ConfigurationGroup<D>>::Jet],
+        transports: &mut [Option<PointTransport<D>>],
+        power: &mut [f64],
+    ) -> bool {
+        // The step hands the force (this one's and the input) at every point itself.
+        self.system
+            .points_in_lanes(chart, points, out, transports, power)
     }
     fn model_breakdown(
         &self,

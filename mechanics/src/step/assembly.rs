@@ -8,14 +8,17 @@
 //! `n²m` small block sums ([`Stepper::fill_jacobian`] says how its rows are laid out).
 
 use super::newton::carry::Carry;
-use super::points::{point_derivatives, EllTilde};
+use super::points::{point_derivatives, EllTilde, StepForce};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
 use crate::error::MechanicsError;
+use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::point::PointTransport;
+use crate::point::{ForceAtPoint, GaussPoints};
 use crate::settings::{Matching, NewtonJacobian};
 use crate::system::GroupLagrangian;
+use crate::system::PointForce;
 use faer::Mat;
 use nalgebra::{DMatrix, SMatrix, SVector};
 
@@ -273,6 +276,44 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             }
             work.x[j] = x;
             work.v[j] = v;
+        }
+        // Every point at once where the system has a path for it (SO(3) bodies, free or
+        // in a uniform field: `crate::jet_lanes`), else one by one. The force at point j
+        // as the point-by-point path forms it (`point_derivatives`).
+        let force_at = |j: usize, g: &Element<S, D>, xi: &SVector<f64, D>| {
+            let input = self.forcing.as_ref().expect("asked for a forced step only");
+            let force = StepForce::new(self.system, self.time + d.times[j], input);
+            let jet = if with_jacobian {
+                force.jet(g, xi)
+            } else {
+                ForceJet::constant(force.value(g, xi))
+            };
+            (jet, force.power.get())
+        };
+        let force = self.forcing.as_ref().map(|input| {
+            let reads = StepForce::new(self.system, self.time, input).depends_on_configuration();
+            (&force_at as ForceAtPoint<'_, S::Group, D>, reads)
+        });
+        let points = GaussPoints {
+            base,
+            x: &work.x,
+            v: &work.v,
+            with_configuration,
+            with_hessian: with_jacobian,
+            force,
+        };
+        let in_lanes = self.system.points_in_lanes(
+            self.chart,
+            &points,
+            &mut work.points,
+            &mut work.transports,
+            &mut work.power,
+        );
+        for j in 0..m {
+            if in_lanes {
+                break;
+            }
+            let (x, v) = (work.x[j], work.v[j]);
             let ell = EllTilde {
                 system: self.system,
                 chart: self.chart,

@@ -258,6 +258,248 @@ fn chain_rule_derivatives_match_dual_numbers() {
     }
 }
 
+/// The points of an unforced step four at a time ([`crate::jet_lanes::points_in_lanes`])
+/// against a second-order dual number through the whole of `ℓ̃`, for every chart, with
+/// and without the `ζ` rows, at seven points (a full chunk of four and a short one of
+/// three) from `x = 0` to rotations past 3 rad: the free body (ℓ's derivatives in closed
+/// form), a kinetic energy of the user's own (by dual numbers) and the heavy top (an
+/// attitude term linear in `R`). Both are exact up to rounding, a few hundred ulps of the
+/// largest entry at most, as in [`chain_rule_derivatives_match_dual_numbers`]: 1e-13
+/// relative. Against the point-by-point chain rule ([`jet::point_derivatives`]), bit for
+/// bit, the chart's transports included. A gradient-only evaluation leaves the Hessians
+/// as they were; a system whose attitude term is not linear is refused with nothing
+/// written.
+#[test]
+fn points_in_lanes_match_dual_numbers() {
+    /// `½ΩᵀJΩ + ¼ c |Ω|⁴`: left-invariant, not quadratic, derivatives by dual numbers.
+    struct Quartic;
+    impl Lagrangian for Quartic {
+        fn lagrangian<T: RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
+            let c = |x: f64| -> T { nalgebra::convert(x) };
+            let q = w.x * w.x * c(1.2) + w.y * w.y * c(2.1) + w.z * w.z * c(2.7);
+            let n2 = w.norm_squared();
+            c(0.5) * q + c(0.05) * n2 * n2
+        }
+        fn is_left_invariant(&self) -> bool {
+            true
+        }
+    }
+    let inertia = Inertia::from_paper_jd([1.0, 2.8, 2.0]).unwrap();
+    let xs = [
+        Vector3::zeros(),
+        Vector3::new(1e-9, -2e-9, 5e-10),
+        Vector3::new(0.3, -0.1, 0.25),
+        Vector3::new(-0.4, 0.2, 0.1),
+        Vector3::new(1.5, -2.2, 1.1),
+        Vector3::new(0.9, 0.6, -1.2),
+        Vector3::new(-1.3, 0.2, 0.4),
+    ];
+    let vs = [
+        Vector3::new(1.1, 0.4, -0.6),
+        Vector3::new(-0.3, 0.9, 0.2),
+        Vector3::new(1.1, 0.4, -0.6),
+        Vector3::new(0.5, -1.5, 2.0),
+        Vector3::new(2.0, 0.7, -1.0),
+        Vector3::new(-0.8, 1.3, 0.3),
+        Vector3::new(0.2, -0.4, 1.6),
+    ];
+    fn bits(p: &PointDerivatives) -> Vec<u64> {
+        let h = p.hessian.iter().map(|e| e.to_bits());
+        p.gradient.iter().map(|e| e.to_bits()).chain(h).collect()
+    }
+    fn check<L: Lagrangian>(system: &L, name: &str, xs: &[Vector3<f64>], vs: &[Vector3<f64>]) {
+        let b = SO3::from_matrix_unchecked(base());
+        let sentinel = PointDerivatives {
+            gradient: SVector::repeat(f64::NAN),
+            hessian: nalgebra::SMatrix::repeat(7.0),
+        };
+        let one_by_one = |chart: ChartKind, x, v, with_configuration, with_hessian| {
+            let mut out = PointDerivatives::zeros();
+            let mut transport = None;
+            let point = gauss_point(&b, x, v, with_configuration, with_hessian, None);
+            assert!(jet::point_derivatives(
+                system,
+                &chart,
+                &point,
+                &mut out,
+                &mut transport
+            ));
+            (out, transport)
+        };
+        for chart in ChartKind::ALL {
+            for with_configuration in [false, true] {
+                let lanes = |with_hessian, out: &mut [PointDerivatives], transports: &mut [_]| {
+                    let points = crate::GaussPoints {
+                        base: &b,
+                        x: xs,
+                        v: vs,
+                        with_configuration,
+                        with_hessian,
+                        force: None,
+                    };
+                    let mut power = vec![0.0; xs.len()];
+                    let done = crate::jet_lanes::points_in_lanes(
+                        system, &chart, &points, out, transports, &mut power,
+                    );
+                    assert!(power.iter().all(|p| p.is_nan()), "unforced: no power");
+                    done
+                };
+                let mut out = vec![sentinel; xs.len()];
+                let mut transports = vec![None; xs.len()];
+                assert!(lanes(true, &mut out, &mut transports));
+                let mut gradient_only = vec![sentinel; xs.len()];
+                let mut unused = vec![None; xs.len()];
+                assert!(lanes(false, &mut gradient_only, &mut unused));
+                for (j, (x, v)) in xs.iter().zip(vs).enumerate() {
+                    let slow = point_derivatives_by_dual_numbers(
+                        system,
+                        chart,
+                        &base(),
+                        x,
+                        v,
+                        with_configuration,
+                    );
+                    let scale = slow.gradient.amax().max(slow.hessian.amax()).max(1.0);
+                    let gradient = (out[j].gradient - slow.gradient).amax();
+                    let hessian = (out[j].hessian - slow.hessian).amax();
+                    let at = format!("{name} {chart} ζ = {with_configuration} point {j}");
+                    assert!(
+                        gradient <= 1e-13 * scale && hessian <= 1e-13 * scale,
+                        "{at}: gradient {gradient:e}, Hessian {hessian:e} of {scale:e}"
+                    );
+                    // The lanes do the scalar chain rule's operations in its order: the
+                    // same bits, with and without Hessians (the docs' measurements rely
+                    // on it), and the same transports.
+                    let (scalar, transport) = one_by_one(chart, x, v, with_configuration, true);
+                    assert_eq!(bits(&out[j]), bits(&scalar), "{at}");
+                    assert_eq!(transports[j], transport, "{at}");
+                    let (scalar, _) = one_by_one(chart, x, v, with_configuration, false);
+                    assert_eq!(
+                        gradient_only[j].gradient.map(f64::to_bits),
+                        scalar.gradient.map(f64::to_bits),
+                        "{at}, gradient only"
+                    );
+                    assert_eq!(gradient_only[j].hessian, sentinel.hessian, "{at}");
+                }
+            }
+        }
+    }
+    /// A forced step's points (the system's force and a control input) four at a time
+    /// against the point-by-point path, bit for bit, the powers `F·ξ` included (that path
+    /// is checked against dual numbers in `force_terms_match_dual_numbers_through_the_whole_point`).
+    fn check_forced<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+        system: &S,
+        name: &str,
+        xs: &[Vector3<f64>],
+        vs: &[Vector3<f64>],
+    ) {
+        use super::points::{point_derivatives, StepForce};
+        use crate::PointForce;
+        let b = SO3::from_matrix_unchecked(base());
+        let input = Vector3::new(0.05, 0.0, -0.03);
+        for chart in ChartKind::ALL {
+            for with_hessian in [true, false] {
+                let force_at = |_: usize, g: &SO3, xi: &Vector3<f64>| {
+                    let force = StepForce::new(system, 0.7, &input);
+                    let jet = if with_hessian {
+                        force.jet(g, xi)
+                    } else {
+                        crate::ForceJet::constant(force.value(g, xi))
+                    };
+                    (jet, force.power.get())
+                };
+                let reads = StepForce::new(system, 0.7, &input).depends_on_configuration();
+                let points = crate::GaussPoints {
+                    base: &b,
+                    x: xs,
+                    v: vs,
+                    with_configuration: true,
+                    with_hessian,
+                    force: Some((&force_at, reads)),
+                };
+                let mut out = vec![PointDerivatives::zeros(); xs.len()];
+                let (mut transports, mut power) = (vec![None; xs.len()], vec![0.0; xs.len()]);
+                assert!(system.points_in_lanes(
+                    &chart,
+                    &points,
+                    &mut out,
+                    &mut transports,
+                    &mut power
+                ));
+                for (j, (x, v)) in xs.iter().zip(vs).enumerate() {
+                    let ell = EllTilde {
+                        system,
+                        chart: &chart,
+                        base: &b,
+                        time: 0.7,
+                    };
+                    let mut scalar = PointDerivatives::zeros();
+                    let mut transport = None;
+                    let scalar_power = point_derivatives(
+                        &ell,
+                        x,
+                        v,
+                        true,
+                        with_hessian,
+                        Some(&input),
+                        &mut scalar,
+                        &mut transport,
+                    );
+                    let at = format!("{name} {chart} Hessian {with_hessian} point {j}");
+                    assert_eq!(bits(&out[j]), bits(&scalar), "{at}");
+                    assert_eq!(transports[j], transport, "{at}");
+                    assert_eq!(power[j].to_bits(), scalar_power.to_bits(), "{at}");
+                    assert!(power[j].is_finite(), "{at}");
+                }
+            }
+        }
+    }
+    let torque = crate::BodyTorque(Vector3::new(0.1, -0.2, 0.05));
+    let damping = crate::AngularDamping(0.3);
+    let free = crate::RigidBody::new(inertia);
+    check_forced(
+        &crate::Forced::new(free, torque),
+        "free body, torque",
+        &xs,
+        &vs,
+    );
+    check_forced(
+        &crate::Forced::new(free, (torque, damping)),
+        "free body, damping",
+        &xs,
+        &vs,
+    );
+    check_forced(
+        &crate::Forced::new(top(), (torque, damping)),
+        "heavy top, damping",
+        &xs,
+        &vs,
+    );
+    check(&crate::RigidBody::new(inertia), "free body", &xs, &vs);
+    check(&Quartic, "quartic kinetic energy", &xs, &vs);
+    check(&top(), "heavy top", &xs, &vs);
+    let b = SO3::from_matrix_unchecked(base());
+    let mut out = vec![PointDerivatives::zeros(); xs.len()];
+    let mut transports = vec![None; xs.len()];
+    let points = crate::GaussPoints {
+        base: &b,
+        x: &xs,
+        v: &vs,
+        with_configuration: true,
+        with_hessian: true,
+        force: None,
+    };
+    let refused = !crate::jet_lanes::points_in_lanes(
+        &Coupled,
+        &ChartKind::Exp,
+        &points,
+        &mut out,
+        &mut transports,
+        &mut [0.0; 7],
+    );
+    assert!(refused && out.iter().all(|p| *p == PointDerivatives::zeros()));
+}
+
 /// [`substitute`] on the factors of [`super::lu::lu_in_place`] solves the system: the residual `‖A x − b‖∞` of the
 /// computed solution is at most a small multiple of `ε ‖A‖∞ ‖x‖∞` (partial pivoting is
 /// backward stable; for these sizes the growth factor stays small), on a nonsymmetric
@@ -501,6 +743,12 @@ fn exact_newton_matrix_matches_differences_of_the_residual() {
         ),
     );
     check_newton_matrix(&top(), None, "heavy top");
+    // Its points four at a time (crate::jet_lanes).
+    check_newton_matrix(
+        &crate::RigidBody::new(Inertia::from_paper_jd([1.0, 2.8, 2.0]).unwrap()),
+        None,
+        "free body",
+    );
     check_newton_matrix(
         &forced,
         Some(Vector3::new(0.05, 0.0, -0.03)),
