@@ -193,6 +193,28 @@ impl crate::Potential for Quadratic {
     }
 }
 
+/// `got` against a second-order dual number through the whole of `ℓ̃` at the point: both
+/// exact up to rounding, a few hundred ulps of the largest entry at most (sums of tens of
+/// terms of size ~ the scale), so within 1e-13 of it.
+fn assert_near_dual_numbers<L: Lagrangian>(
+    system: &L,
+    chart: ChartKind,
+    x: &Vector3<f64>,
+    v: &Vector3<f64>,
+    with_configuration: bool,
+    got: &PointDerivatives,
+    at: &str,
+) {
+    let slow = point_derivatives_by_dual_numbers(system, chart, &base(), x, v, with_configuration);
+    let scale = slow.gradient.amax().max(slow.hessian.amax()).max(1.0);
+    let gradient = (got.gradient - slow.gradient).amax();
+    let hessian = (got.hessian - slow.hessian).amax();
+    assert!(
+        gradient <= 1e-13 * scale && hessian <= 1e-13 * scale,
+        "{at}: gradient {gradient:e}, Hessian {hessian:e} of {scale:e}"
+    );
+}
+
 /// The chain rule (chart Rodrigues jets and [`Lagrangian::derivatives`]) against a
 /// second-order dual number through the whole of `ℓ̃`, for every chart, system and
 /// variable set, at points from `x = 0` to rotations past 3 rad. Both are exact up to
@@ -226,22 +248,8 @@ fn chain_rule_derivatives_match_dual_numbers() {
                     gradient_only.gradient,
                     fast.gradient
                 );
-                let slow = point_derivatives_by_dual_numbers(
-                    system,
-                    chart,
-                    &base(),
-                    x,
-                    v,
-                    with_configuration,
-                );
-                let scale = slow.gradient.amax().max(slow.hessian.amax()).max(1.0);
-                let gradient = (fast.gradient - slow.gradient).amax();
-                let hessian = (fast.hessian - slow.hessian).amax();
-                assert!(
-                    gradient <= 1e-13 * scale && hessian <= 1e-13 * scale,
-                    "{name} {chart} x = {x:?} ζ = {with_configuration}: \
-                         gradient {gradient:e}, Hessian {hessian:e} of {scale:e}"
-                );
+                let at = format!("{name} {chart} x = {x:?} ζ = {with_configuration}");
+                assert_near_dual_numbers(system, chart, x, v, with_configuration, &fast, &at);
             }
         }
     }
@@ -351,22 +359,8 @@ fn points_in_lanes_match_dual_numbers() {
                 let mut unused = vec![None; xs.len()];
                 assert!(lanes(false, &mut gradient_only, &mut unused));
                 for (j, (x, v)) in xs.iter().zip(vs).enumerate() {
-                    let slow = point_derivatives_by_dual_numbers(
-                        system,
-                        chart,
-                        &base(),
-                        x,
-                        v,
-                        with_configuration,
-                    );
-                    let scale = slow.gradient.amax().max(slow.hessian.amax()).max(1.0);
-                    let gradient = (out[j].gradient - slow.gradient).amax();
-                    let hessian = (out[j].hessian - slow.hessian).amax();
                     let at = format!("{name} {chart} ζ = {with_configuration} point {j}");
-                    assert!(
-                        gradient <= 1e-13 * scale && hessian <= 1e-13 * scale,
-                        "{at}: gradient {gradient:e}, Hessian {hessian:e} of {scale:e}"
-                    );
+                    assert_near_dual_numbers(system, chart, x, v, with_configuration, &out[j], &at);
                     // The lanes do the scalar chain rule's operations in its order: the
                     // same bits, with and without Hessians (the docs' measurements rely
                     // on it), and the same transports.
