@@ -12,13 +12,10 @@ use super::points::{point_derivatives, EllTilde, StepForce};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, Stepper};
 use crate::error::MechanicsError;
-use crate::force_jet::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
-use crate::point::PointTransport;
-use crate::point::{ForceAtPoint, GaussPoints};
+use crate::point::{ForceAtPoint, GaussPoints, PointTransport};
 use crate::settings::{Matching, NewtonJacobian};
-use crate::system::GroupLagrangian;
-use crate::system::PointForce;
+use crate::system::{GroupLagrangian, PointForce};
 use faer::Mat;
 use nalgebra::{DMatrix, SMatrix, SVector};
 
@@ -282,13 +279,11 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         // as the point-by-point path forms it (`point_derivatives`).
         let force_at = |j: usize, g: &Element<S, D>, xi: &SVector<f64, D>| {
             let input = self.forcing.as_ref().expect("asked for a forced step only");
-            let force = StepForce::new(self.system, self.time + d.times[j], input);
-            let jet = if with_jacobian {
-                force.jet(g, xi)
-            } else {
-                ForceJet::constant(force.value(g, xi))
-            };
-            (jet, force.power.get())
+            StepForce::new(self.system, self.time + d.times[j], input).jet_and_power(
+                g,
+                xi,
+                with_jacobian,
+            )
         };
         let force = self.forcing.as_ref().map(|input| {
             let reads = StepForce::new(self.system, self.time, input).depends_on_configuration();
@@ -309,27 +304,25 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             &mut work.transports,
             &mut work.power,
         );
-        for j in 0..m {
-            if in_lanes {
-                break;
+        if !in_lanes {
+            for j in 0..m {
+                let ell = EllTilde {
+                    system: self.system,
+                    chart: self.chart,
+                    base,
+                    time: self.time + d.times[j],
+                };
+                work.power[j] = point_derivatives(
+                    &ell,
+                    &work.x[j],
+                    &work.v[j],
+                    with_configuration,
+                    with_jacobian,
+                    self.forcing.as_ref(),
+                    &mut work.points[j],
+                    &mut work.transports[j],
+                );
             }
-            let (x, v) = (work.x[j], work.v[j]);
-            let ell = EllTilde {
-                system: self.system,
-                chart: self.chart,
-                base,
-                time: self.time + d.times[j],
-            };
-            work.power[j] = point_derivatives(
-                &ell,
-                &x,
-                &v,
-                with_configuration,
-                with_jacobian,
-                self.forcing.as_ref(),
-                &mut work.points[j],
-                &mut work.transports[j],
-            );
         }
         // ∂S/∂ξⁱ and the scale of its terms, accumulated point by point (the same sums,
         // in the same order, as node by node), one component over all nodes at a time.

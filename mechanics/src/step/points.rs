@@ -132,6 +132,24 @@ impl<'a, S: GroupLagrangian<D>, const D: usize> StepForce<'a, S, D> {
         }
     }
 
+    /// The force's jet at a point (its value alone, as a constant jet, where the Hessian
+    /// is not wanted) and its power `F·ξ` there: what a point's closed form asks of it
+    /// ([`crate::jet`]), for a path that takes the points together
+    /// ([`crate::GaussPoints`]).
+    pub fn jet_and_power(
+        &self,
+        configuration: &ElementOf<S, D>,
+        velocity: &SVector<f64, D>,
+        with_hessian: bool,
+    ) -> (ForceJet<D>, f64) {
+        let jet = if with_hessian {
+            self.jet(configuration, velocity)
+        } else {
+            ForceJet::constant(self.value(configuration, velocity))
+        };
+        (jet, self.power.get())
+    }
+
     /// The same force at another time, without asking the system again.
     pub fn at(&self, time: f64) -> Self {
         Self {

@@ -394,13 +394,7 @@ fn points_in_lanes_match_dual_numbers() {
         for chart in ChartKind::ALL {
             for with_hessian in [true, false] {
                 let force_at = |_: usize, g: &SO3, xi: &Vector3<f64>| {
-                    let force = StepForce::new(system, 0.7, &input);
-                    let jet = if with_hessian {
-                        force.jet(g, xi)
-                    } else {
-                        crate::ForceJet::constant(force.value(g, xi))
-                    };
-                    (jet, force.power.get())
+                    StepForce::new(system, 0.7, &input).jet_and_power(g, xi, with_hessian)
                 };
                 let reads = StepForce::new(system, 0.7, &input).depends_on_configuration();
                 let points = crate::GaussPoints {
