@@ -6,9 +6,12 @@ use crate::so3;
 use lgsvi_baselines::{dop853, Dop853State, Model, State};
 use lgsvi_experiments::Tracker;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
-use lgsvi_mechanics::{each, Flow, Integrator, StepInfo, StepSettings};
+use lgsvi_mechanics::stepper::{each, StepInfo};
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{Integrator, StepSettings};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 type Result<T> = std::result::Result<T, BenchError>;
@@ -59,7 +62,7 @@ pub fn long_run(
     mut tick: impl FnMut(u64),
 ) -> Result<LongRun> {
     let case = so3::case_a();
-    let h = settings.step();
+    let h = settings.h();
     let every = (steps / samples.max(1)).max(1);
     let w0 = case.model.velocity(&case.start.momentum);
     let mut integrator = Integrator::new(so3::free_body(&case)?, settings, SO3::identity(), w0)?;
@@ -78,7 +81,7 @@ pub fn long_run(
             tick((k - reported) as u64);
             reported = k;
         }
-        Ok::<_, BenchError>(Flow::Continue)
+        Ok::<_, BenchError>(ControlFlow::Continue(()))
     };
     integrator.drive(steps, &mut each(sample))?;
     // The clock includes the sampling: a few µs per sample, against ~0.1 s between samples.

@@ -328,7 +328,7 @@ pub fn long_run_report(
     run: &LongRun,
     trend: Option<&EnergyTrend>,
 ) -> (String, Vec<(String, Figure)>) {
-    let (h, n) = (settings.step(), settings.nodes());
+    let (h, n) = (settings.h(), settings.nodes());
     let LongRun {
         lgsvi,
         dop,

@@ -3,10 +3,10 @@
 
 use crate::error::BenchError;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
-use lgsvi_experiments::tolerance;
 use lgsvi_experiments::work_precision::{median, median_time, Point};
 use lgsvi_experiments::BuiltIn;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
@@ -55,21 +55,33 @@ fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> 
     }
 }
 
-/// A tolerance-driven run, its settings chosen as `lgsvi simulate --tol` chooses them (the step from the
-/// initial motion, the first step's nodes from the tolerance), construction included.
+/// A tolerance-driven run, its settings chosen as `lgsvi simulate --tol` chooses them (the
+/// library's builder: the step from the initial motion, the first step's nodes from the
+/// tolerance), construction included.
 fn lgsvi_tolerance_run(case: &Case, t_end: f64, tol: f64) -> Result<Matrix3<f64>> {
-    let w0 = case.model.velocity(&case.start.momentum);
-    // The spin plus, for the top, its pendulum frequency, as `simulate --tol` takes it.
-    let rate = w0.norm()
-        + tolerance::pendulum_frequency(case.model.inertia, case.model.mg * case.model.rho.norm());
-    let h = t_end / tolerance::step_count(t_end, rate, ChartKind::Exp);
-    let settings = StepSettings::new(h, tolerance::first_nodes(tol))?
-        .with_tolerance(tol / t_end)?
-        .with_chart(ChartKind::Exp);
     match lgsvi_system(case)? {
-        BuiltIn::Free(body) => lgsvi_run_with(body, case, t_end, settings),
-        BuiltIn::Top(top) => lgsvi_run_with(top, case, t_end, settings),
+        BuiltIn::Free(body) => lgsvi_tolerance_run_with(body, case, t_end, tol),
+        BuiltIn::Top(top) => lgsvi_tolerance_run_with(top, case, t_end, tol),
     }
+}
+
+/// [`lgsvi_tolerance_run`] of `system`.
+fn lgsvi_tolerance_run_with<L: Lagrangian>(
+    system: L,
+    case: &Case,
+    t_end: f64,
+    tol: f64,
+) -> Result<Matrix3<f64>> {
+    let w0 = case.model.velocity(&case.start.momentum);
+    let mut it = Integrator::builder(system)
+        .start(SO3::identity(), w0)
+        .tolerance(tol)
+        .horizon(t_end)
+        .chart(ChartKind::Exp)
+        .build()?;
+    let steps = (t_end / it.settings().h()).round() as usize;
+    it.run(steps, steps)?;
+    Ok(*it.state().attitude().matrix())
 }
 
 /// A run of `system` from the case's start to `t_end`: the final attitude.
@@ -81,7 +93,7 @@ fn lgsvi_run_with<L: Lagrangian>(
 ) -> Result<Matrix3<f64>> {
     let w0 = case.model.velocity(&case.start.momentum);
     let mut it = Integrator::new(system, settings, SO3::identity(), w0)?;
-    let steps = (t_end / settings.step()).round() as usize;
+    let steps = (t_end / settings.h()).round() as usize;
     it.run(steps, steps)?;
     Ok(*it.state().attitude().matrix())
 }

@@ -8,10 +8,10 @@
 use crate::error::BenchError;
 use lgsvi_baselines::{dop853_in_space, space_problem, SpaceModel, SpaceState};
 use lgsvi_experiments::work_precision::{median_time, Point};
+use lgsvi_mechanics::forces::BodyTorque;
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
-use lgsvi_mechanics::{
-    BodyTorque, Forced, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
-};
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{Forced, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings};
 use nalgebra::{Matrix3, SVector, Vector3};
 
 type Result<T> = std::result::Result<T, BenchError>;

@@ -4,7 +4,8 @@
 use crate::error::CliError;
 use clap::{Args, ValueEnum};
 use lgsvi_mechanics::lie::{ChartKind, LieError, SO3};
-use lgsvi_mechanics::{Matching, NewtonJacobian, MAX_NODES};
+use lgsvi_mechanics::settings::{NewtonJacobian, MAX_NODES};
+use lgsvi_mechanics::Matching;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

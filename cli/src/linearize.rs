@@ -51,7 +51,7 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
     let mut report = json!({
         "command": "linearize",
         "description": problem.description,
-        "settings": settings_json(&problem.settings(), problem.settings().step(), 1),
+        "settings": settings_json(&problem.settings(), problem.settings().h(), 1),
         "coordinates_kind": if momentum { "momentum" } else { "velocity" },
     });
     linearize(&problem.scenario, problem.settings(), momentum, &mut report)?;

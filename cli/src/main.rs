@@ -66,7 +66,7 @@ enum Command {
 /// The run the problem describes, recorded; a `--tol` run that failed says what to change.
 fn integrate(problem: &Problem) -> Result<Recording> {
     let settings = problem.settings();
-    let steps = problem::whole_steps(problem.t_end, settings.step())?;
+    let steps = problem::whole_steps(problem.t_end, settings.h())?;
     let bar = progress::bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut progress = |k: usize| bar.set_position(k as u64);
     let (t_end, every, check) = (problem.t_end, problem.every, problem.check);
@@ -80,7 +80,7 @@ fn integrate(problem: &Problem) -> Result<Recording> {
             | MechanicsError::ToleranceNotChecked { .. }),
         ) => CliError::Tolerance {
             source,
-            h: settings.step(),
+            h: settings.h(),
         },
         other => other,
     })

@@ -5,12 +5,12 @@ use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
-use lgsvi_experiments::tolerance::{first_nodes, step_count};
 use lgsvi_experiments::{BuiltIn, ExperimentError};
-use lgsvi_mechanics::{
-    AngularDamping, BodyTorque, Inertia, MechanicsError, StepSettings, DEFAULT_ADAPTIVE_NODES,
-    ROUNDING_FLOOR,
-};
+use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
+use lgsvi_mechanics::lie::So3Chart;
+use lgsvi_mechanics::settings::{DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR};
+use lgsvi_mechanics::tolerance::{first_nodes, step_count};
+use lgsvi_mechanics::{Inertia, MechanicsError, StepSettings};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
 
@@ -71,15 +71,18 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
     Ok(steps as usize)
 }
 
-/// The step settings of `options` over `[0, t_end]`; with `--tol`, the step (unless given)
-/// turns `lgsvi_experiments::tolerance::STEP_ROTATION` at the rate `rate` and divides
-/// `t_end` (`step_count`), and the nodes adapt to an error per unit time of `tol / t_end`.
+/// The step settings of `options` over `[0, t_end]`; with `--tol`, the library's policy
+/// (`lgsvi_mechanics::tolerance`): the step (unless given) turns `STEP_ROTATION` at the
+/// rate `rate` and divides `t_end` (`step_count`), the first step takes `first_nodes`, and
+/// the nodes adapt to an error per unit time of `tol / t_end`.
 /// Every step must divide `t_end` in at most [`MAX_RUN_STEPS`] steps.
 pub fn step_settings(options: &SimulateOptions, t_end: f64, rate: f64) -> Result<StepSettings> {
     let chart = options.chart.map(Into::into).unwrap_or_default();
     let h = match (options.h, options.tol) {
         (Some(h), _) => h,
-        (None, Some(_)) if t_end > 0.0 => t_end / step_count(t_end, rate, chart),
+        (None, Some(_)) if t_end > 0.0 => {
+            t_end / step_count(t_end, rate, So3Chart::max_rotation_angle(&chart))
+        }
         _ => 0.5,
     };
     let first = options.tol.map_or(10, first_nodes);
@@ -393,7 +396,7 @@ impl Problem {
         if let BuiltIn::Top(top) = &scenario.system.system {
             description["gravity_direction"] = top.gravity_direction().as_slice().into();
         }
-        let settings = step_settings(&options, t_end, scenario.rate())?;
+        let settings = step_settings(&options, t_end, scenario.rate()?)?;
         let problem = Problem {
             scenario: scenario.with_settings(settings),
             name: kind.name(),

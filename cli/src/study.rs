@@ -109,7 +109,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     );
     let reference = Reference::for_subject(&problem.scenario, t_end)?;
     let refinement = Refinement {
-        h: problem.settings().step(),
+        h: problem.settings().h(),
         nodes,
         steps,
         step_nodes,

@@ -34,7 +34,7 @@ pub fn run(
         })?;
     }
     let [first, last] = range.unwrap_or(if estimate { [5, 12] } else { [4, 20] });
-    let top = lgsvi_mechanics::MAX_NODES - TRUTH_EXTRA_NODES;
+    let top = lgsvi_mechanics::settings::MAX_NODES - TRUTH_EXTRA_NODES;
     if !(2 <= first && first <= last && last <= top) {
         return Err(CliError::ConfigValue {
             key: "nodes-range",
@@ -79,7 +79,7 @@ pub fn run(
                 o.tol = Some(tol);
                 Ok((
                     tol,
-                    crate::problem::step_settings(&o, t_end, problem.scenario.rate())?,
+                    crate::problem::step_settings(&o, t_end, problem.scenario.rate()?)?,
                 ))
             })
             .collect::<Result<Vec<_>>>()?;

@@ -1,12 +1,13 @@
 //! The built-in systems as one type per group: [`BuiltIn`] on SO(3), [`BuiltInMotion`]
 //! on SE(3).
 
+use lgsvi_mechanics::forces::ForceJet;
+use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, RigidMotions};
 use lgsvi_mechanics::lie::SE3;
-use lgsvi_mechanics::{
-    ConfigurationGroup, FlowGuess, FlowStart, ForceJet, FreeBody, GaussPoint, GroupChart,
-    GroupLagrangian, HeavyTop, Lagrangian, LagrangianDerivatives, LocalDerivatives, OrbitingBody,
-    RigidBody, RigidMotions,
+use lgsvi_mechanics::system::{
+    FlowGuess, FlowStart, GaussPoint, LagrangianDerivatives, LocalDerivatives,
 };
+use lgsvi_mechanics::{FreeBody, GroupLagrangian, HeavyTop, Lagrangian, OrbitingBody, RigidBody};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
 /// A built-in SO(3) system, the free rigid body or the heavy top: one type, so that
@@ -43,6 +44,12 @@ impl Lagrangian for BuiltIn {
         match self {
             BuiltIn::Free(s) => s.linear_attitude_term(),
             BuiltIn::Top(s) => s.linear_attitude_term(),
+        }
+    }
+    fn natural_frequency(&self) -> f64 {
+        match self {
+            BuiltIn::Free(s) => s.natural_frequency(),
+            BuiltIn::Top(s) => s.natural_frequency(),
         }
     }
     fn velocity_from_momentum(&self, r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
@@ -181,6 +188,12 @@ impl GroupLagrangian<6> for BuiltInMotion {
         out: &mut <RigidMotions as ConfigurationGroup<6>>::Jet,
     ) -> bool {
         each_motion!(self, s => s.point_derivatives(chart, point, out))
+    }
+    fn motion_rate(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> f64 {
+        match self {
+            BuiltInMotion::Free(s) => s.motion_rate(t, g, xi),
+            BuiltInMotion::Orbit(s) => s.motion_rate(t, g, xi),
+        }
     }
     fn model_breakdown(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> Option<String> {
         each_motion!(self, s => s.model_breakdown(t, g, xi))

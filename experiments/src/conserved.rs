@@ -170,7 +170,8 @@ mod tests {
         let rest = Tracker::new(0.0, &r, &Vector3::zeros(), None);
         assert!(rest.drift(0.0, &r, &Vector3::zeros()).energy == 0.0);
         // What a system says it conserves.
-        use lgsvi_mechanics::{BodyTorque, Forced, HeavyTop, Inertia, RigidBody};
+        use lgsvi_mechanics::forces::BodyTorque;
+        use lgsvi_mechanics::{Forced, HeavyTop, Inertia, RigidBody};
         let inertia = Inertia::from_principal_moments([1.0, 2.0, 2.5]).unwrap();
         let top = HeavyTop::new(
             inertia,

@@ -11,10 +11,14 @@ use crate::error::ExperimentError;
 use crate::fit::{algebraic_order, geometric_factor};
 use crate::subject::Subject;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::integrator::GalerkinCurve;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
-use lgsvi_mechanics::{each, Flow, GalerkinCurve, Integrator, Matching, StepInfo, StepSettings};
+use lgsvi_mechanics::stepper::{each, StepInfo};
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{Integrator, Matching, StepSettings};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 /// The step of the high-accuracy reference run used when no exact solution is known.
@@ -66,7 +70,7 @@ impl Reference {
             let record = |it: &Integrator<P::System>, _: StepInfo| {
                 states.push((*it.state().attitude(), it.state().velocity));
                 curves.extend(it.last_curve());
-                Ok::<_, lgsvi_mechanics::MechanicsError>(Flow::Continue)
+                Ok::<_, lgsvi_mechanics::MechanicsError>(ControlFlow::Continue(()))
             };
             integrator
                 .drive(steps, &mut each(record))
@@ -185,7 +189,7 @@ pub fn measure<P: Subject>(
         matching: format!("{:?}", settings.matching()).to_lowercase(),
         nodes: settings.nodes(),
         degree: settings.degree(),
-        h: settings.step(),
+        h: settings.h(),
         steps: 0,
         t_end,
         error_r: f64::NAN,
@@ -237,7 +241,7 @@ fn measure_into<P: Subject>(
                 }
             }
         }
-        Ok::<_, ExperimentError>(Flow::Continue)
+        Ok::<_, ExperimentError>(ControlFlow::Continue(()))
     };
     integrator.drive(steps, &mut each(observe))?;
     m.wall_time_s = start.elapsed().as_secs_f64();
@@ -318,7 +322,7 @@ pub fn study<P: Subject>(
             .with_matching(base.matching())
             .with_jacobian(base.jacobian());
         if base.quadrature_points()
-            != base.nodes() + lgsvi_mechanics::DEFAULT_EXTRA_QUADRATURE_POINTS
+            != base.nodes() + lgsvi_mechanics::settings::DEFAULT_EXTRA_QUADRATURE_POINTS
         {
             s = s.with_quadrature_points(base.quadrature_points().max(n))?;
         }

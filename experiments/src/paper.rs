@@ -12,8 +12,11 @@ use crate::error::ExperimentError;
 use crate::fit;
 use crate::subject::Subject;
 use lgsvi_mechanics::lie::ChartKind;
-use lgsvi_mechanics::{each, Flow, Integrator, Matching, MechanicsError, StepInfo, StepSettings};
+use lgsvi_mechanics::stepper::{each, StepInfo};
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{Integrator, Matching, MechanicsError, StepSettings};
 use nalgebra::Vector3;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 type Result<T> = std::result::Result<T, ExperimentError>;
@@ -133,7 +136,7 @@ pub fn long_run<P: Subject>(
         if (step.index - 1).is_multiple_of(50) {
             tick(50);
         }
-        Ok::<_, MechanicsError>(Flow::Continue)
+        Ok::<_, MechanicsError>(ControlFlow::Continue(()))
     };
     let driven = integrator.drive(steps, &mut each(observe));
     if let Err(e) = driven {

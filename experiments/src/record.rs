@@ -5,9 +5,9 @@
 //!
 //! Every state is checked on the way (a state or invariant that overflows stops the run
 //! with [`ExperimentError::Overflow`], naming the step and the quantity), the recorded ones
-//! are kept. The run goes through the integrator's one driving loop
-//! ([`Integrator::drive`], or [`Checked::drive`] beside a companion); the integration alone
-//! is timed.
+//! are kept. The run goes through the one driving loop ([`Stepper::drive`], of an
+//! integrator or of a [`CheckedIntegrator`] beside its companion); the integration alone is
+//! timed.
 //!
 //! ```
 //! use lgsvi_experiments::record::{record, Recording};
@@ -17,9 +17,9 @@
 //!
 //! # fn main() -> Result<(), lgsvi_experiments::ExperimentError> {
 //! let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4])?);
-//! let integrator =
+//! let mut integrator =
 //!     Integrator::new(body, StepSettings::new(0.5, 8)?, SO3::identity(), Vector3::new(-2.0, 1.9, -1.0))?;
-//! let run: Recording = record(integrator, 10.0, 4, &mut |_| {})?;
+//! let run: Recording = record(&mut integrator, 10.0, 4, &mut |_| {})?;
 //! assert_eq!(run.steps, 20);
 //! assert_eq!(run.states.len(), 6); // t = 0, 2, 4, 6, 8, 10
 //! assert!((run.energies[5] - run.energies[0]).abs() < 1e-12);
@@ -30,13 +30,15 @@
 use crate::error::ExperimentError;
 use lgsvi_mechanics::control::GroupLog;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::group::{GroupChart, Rotations};
 use lgsvi_mechanics::gyrostat::BodyWheels;
 use lgsvi_mechanics::lie::{SE3, SO3};
-use lgsvi_mechanics::{
-    each, Checked, Difference, ElementOf, Flow, GroupChart, GroupLagrangian, Integrator, Observer,
-    Rotations, State, StepSettings, ToleranceCheck,
-};
+use lgsvi_mechanics::stepper::each;
+use lgsvi_mechanics::system::ElementOf;
+use lgsvi_mechanics::tolerance::{CheckReport, CheckedIntegrator};
+use lgsvi_mechanics::{GroupLagrangian, Integrator, State, StepSettings, Stepper};
 use nalgebra::{SVector, Vector3};
+use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 /// A recorded run. The attitude columns are SO(3)'s for every group: for a body in space
@@ -104,20 +106,7 @@ pub struct Estimates {
     /// Solves redone with more nodes (adaptive runs).
     pub rejected: usize,
     /// A checked run's measurement.
-    pub check: Option<CheckRecord>,
-}
-
-/// What a checked run's companion measured.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CheckRecord {
-    /// The largest difference along the run, its time and step.
-    pub largest: Difference,
-    /// The sum of the local estimates (the unchecked model), for comparison.
-    pub local_sum: f64,
-    /// Runs taken (the first, and each with a tightened share per step).
-    pub attempts: usize,
-    /// The accepted run's share per step against the first's.
-    pub tightened: f64,
+    pub check: Option<CheckReport>,
 }
 
 /// The translational part of a recorded state of a body in space.
@@ -203,62 +192,6 @@ macro_rules! wheel_columns {
 }
 wheel_columns!(1 => 4, 2 => 5, 3 => 6, 4 => 7);
 
-/// What steps a recorded run: an integrator alone, or [`Checked`] beside its companion.
-pub trait Runner<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
-    /// The run (the primary, for a checked one).
-    fn integrator(&self) -> &Integrator<S, C, D>;
-    /// Takes up to `steps` steps through the driving loop, telling `observer` after each.
-    ///
-    /// # Errors
-    /// A failed step, or the observer's error.
-    fn drive<O: Observer<S, C, D>>(
-        &mut self,
-        steps: usize,
-        observer: &mut O,
-    ) -> Result<usize, O::Error>;
-    /// The checked difference now and at its largest (`None` unchecked).
-    fn checked(&self) -> Option<(f64, Difference)>;
-}
-
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Runner<S, C, D>
-    for Integrator<S, C, D>
-{
-    fn integrator(&self) -> &Integrator<S, C, D> {
-        self
-    }
-    fn drive<O: Observer<S, C, D>>(
-        &mut self,
-        steps: usize,
-        observer: &mut O,
-    ) -> Result<usize, O::Error> {
-        Integrator::drive(self, steps, observer)
-    }
-    fn checked(&self) -> Option<(f64, Difference)> {
-        None
-    }
-}
-
-impl<S, C, const D: usize> Runner<S, C, D> for Checked<S, C, D>
-where
-    S: GroupLagrangian<D> + Clone,
-    C: GroupChart<S::Group, D>,
-    ElementOf<S, D>: GroupLog<D>,
-{
-    fn integrator(&self) -> &Integrator<S, C, D> {
-        Checked::integrator(self)
-    }
-    fn drive<O: Observer<S, C, D>>(
-        &mut self,
-        steps: usize,
-        observer: &mut O,
-    ) -> Result<usize, O::Error> {
-        Checked::drive(self, steps, observer)
-    }
-    fn checked(&self) -> Option<(f64, Difference)> {
-        Some((self.difference(), self.largest_difference()))
-    }
-}
-
 /// Checks that a state's SO(3) columns and invariants are finite.
 ///
 /// # Errors
@@ -289,7 +222,7 @@ pub fn check_finite(step: usize, state: &State, energy: f64) -> Result<(), Exper
 /// How often [`record`] reports progress, in steps.
 pub const PROGRESS_EVERY: usize = 64;
 
-/// Whether and how a companion checks a run ([`lgsvi_mechanics::Checked`]).
+/// Whether and how a companion checks a run ([`lgsvi_mechanics::tolerance::CheckedIntegrator`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Check {
     /// Unchecked: the estimated error is the sum of the steps' local estimates.
@@ -297,7 +230,7 @@ pub enum Check {
     /// A fixed run measured by its companion (the same steps with 2 more nodes).
     Measure,
     /// A tolerance-driven run accepted or refused by its check
-    /// ([`lgsvi_mechanics::ToleranceCheck`], [`record_to_tolerance`]).
+    /// ([`lgsvi_mechanics::tolerance::ToleranceCheck`], [`record_to_tolerance`]).
     Tolerance(f64),
 }
 
@@ -312,7 +245,7 @@ pub enum Check {
 /// whose step may change ([`Integrator::steps_until`]); a failed step; a state that
 /// overflows ([`ExperimentError::Overflow`]).
 pub fn record<S, C, const D: usize>(
-    mut runner: impl Runner<S, C, D>,
+    runner: &mut impl Stepper<S, C, D>,
     t_end: f64,
     every: usize,
     progress: &mut dyn FnMut(usize),
@@ -383,7 +316,7 @@ where
     let mut wall_time = Duration::ZERO;
     let mut since = Instant::now();
     let mut observer = each(
-        |integrator: &Integrator<S, C, D>, step: lgsvi_mechanics::StepInfo| {
+        |integrator: &Integrator<S, C, D>, step: lgsvi_mechanics::stepper::StepInfo| {
             wall_time += since.elapsed();
             let k = step.index;
             let recorded = k.is_multiple_of(every) || step.last;
@@ -397,24 +330,19 @@ where
                 progress(k);
             }
             since = Instant::now();
-            Ok::<_, ExperimentError>(Flow::Continue)
+            Ok::<_, ExperimentError>(ControlFlow::Continue(()))
         },
     );
     runner.drive(steps, &mut observer)?;
     let integrator = runner.integrator();
     let stats = integrator.statistics();
     let local_sum = integrator.estimated_global_error();
-    let check = runner.checked();
+    let check = runner.check_report();
     run.estimates = Some(Estimates {
-        global: check.map_or(local_sum, |(now, _)| now),
+        global: check.map_or(local_sum, |c| c.difference),
         nodes: integrator.nodes_used().collect(),
         rejected: stats.rejected_steps,
-        check: check.map(|(_, largest)| CheckRecord {
-            largest,
-            local_sum,
-            attempts: 1,
-            tightened: 1.0,
-        }),
+        check,
     });
     run.wall_time_s = wall_time.as_secs_f64();
     run.steps = stats.steps;
@@ -424,11 +352,11 @@ where
     Ok(run)
 }
 
-/// Runs to `t_end` with the integrators `make` builds (its errors are the caller's `E`),
-/// beside their companion, until the companion's measured error is within `tolerance`
-/// ([`ToleranceCheck`]: the first run with `settings`, then up to two with a tightened
-/// share per step). The recording's
-/// [`CheckRecord`] says how many runs it took; its wall time is theirs together.
+/// Runs to `t_end` with the integrator `make` builds from `settings`, beside its
+/// companion, until the companion's measured error is within `tolerance`
+/// ([`CheckedIntegrator::with_tolerance`]: the first run with `settings`, then up to two
+/// with a tightened share per step). The recording's [`CheckReport`] says how many runs it
+/// took; its wall time is theirs together.
 ///
 /// # Errors
 /// As [`record`]; [`lgsvi_mechanics::MechanicsError::ToleranceNotChecked`] (as
@@ -447,22 +375,13 @@ where
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
     E: From<ExperimentError> + From<lgsvi_mechanics::MechanicsError>,
 {
-    let mut policy = ToleranceCheck::new(settings, tolerance)?;
+    let mut runner = CheckedIntegrator::new(make(settings)?)?.with_tolerance(tolerance)?;
     let mut wall_time = 0.0;
     loop {
-        let runner = Checked::new(make(policy.settings())?)?;
-        let mut run = record(runner, t_end, every, progress).map_err(E::from)?;
+        let mut run = record(&mut runner, t_end, every, progress).map_err(E::from)?;
         wall_time += run.wall_time_s;
         run.wall_time_s = wall_time;
-        let check = run
-            .estimates
-            .as_mut()
-            .and_then(|e| e.check.as_mut())
-            .expect("a checked run records its check");
-        check.attempts = policy.attempt();
-        check.tightened = policy.tightened();
-        let largest = check.largest;
-        if policy.judge(largest)? {
+        if runner.judge()? {
             return Ok(run);
         }
     }
@@ -470,7 +389,7 @@ where
 
 /// Runs to `t_end` with the integrators `make` builds from `settings`, as `check` says:
 /// unchecked, one run ([`record`]); beside its companion ([`Check::Measure`]); or until
-/// [`lgsvi_mechanics::ToleranceCheck`] accepts a run or refuses ([`Check::Tolerance`],
+/// [`lgsvi_mechanics::tolerance::ToleranceCheck`] accepts a run or refuses ([`Check::Tolerance`],
 /// [`record_to_tolerance`]).
 ///
 /// # Errors
@@ -489,8 +408,11 @@ where
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
 {
     match check {
-        Check::None => record(make(settings)?, t_end, every, progress),
-        Check::Measure => record(Checked::new(make(settings)?)?, t_end, every, progress),
+        Check::None => record(&mut make(settings)?, t_end, every, progress),
+        Check::Measure => {
+            let mut runner = CheckedIntegrator::new(make(settings)?)?;
+            record(&mut runner, t_end, every, progress)
+        }
         Check::Tolerance(tol) => {
             let make = |s| make(s).map_err(ExperimentError::from);
             record_to_tolerance(make, settings, tol, t_end, every, progress)
@@ -563,7 +485,7 @@ mod tests {
             .unwrap()
         };
         let expected = make().run(7, 3).unwrap();
-        let run = record(make(), 3.5, 3, &mut |_| {}).unwrap();
+        let run = record(&mut make(), 3.5, 3, &mut |_| {}).unwrap();
         // The states and iterations of `Integrator::run` (the Recorder's path), bit for bit.
         assert_eq!(run.states, expected.states);
         assert_eq!(run.newton_iterations, expected.newton_iterations);
@@ -583,9 +505,9 @@ mod tests {
         let system = FreeBody::new(inertia, 2.0).unwrap();
         let start = SE3::new(SO3::identity(), Vector3::new(1.0, 0.0, 0.0));
         let velocity = SVector::<f64, 6>::from_column_slice(&[0.3, 0.1, -0.2, 0.1, -0.2, 0.05]);
-        let it =
+        let mut it =
             Integrator::new(system, StepSettings::new(0.5, 6).unwrap(), start, velocity).unwrap();
-        let run = record(it, 2.0, 1, &mut |_| {}).unwrap();
+        let run = record(&mut it, 2.0, 1, &mut |_| {}).unwrap();
         let motion = run.motion.as_ref().unwrap();
         assert_eq!(motion.len(), 5);
         // A free body's centre of mass moves uniformly: x(t) = x₀ + t ẋ₀ with ẋ₀ = R₀v₀, and
@@ -606,7 +528,7 @@ mod tests {
     #[test]
     fn an_overflowing_state_stops_the_run_naming_the_quantity() {
         let inertia = Inertia::from_principal_moments([1e300, 1e300, 1e300]).unwrap();
-        let it = Integrator::new(
+        let mut it = Integrator::new(
             RigidBody::new(inertia),
             StepSettings::new(0.5, 4).unwrap(),
             SO3::identity(),
@@ -614,7 +536,7 @@ mod tests {
         )
         .unwrap();
         // μ = JΩ = 1e500 overflows already at the start.
-        match record(it, 1.0, 1, &mut |_| {}) {
+        match record(&mut it, 1.0, 1, &mut |_| {}) {
             Err(ExperimentError::Overflow { step, quantity, .. }) => {
                 assert_eq!(step, 0);
                 assert_eq!(quantity, "body momentum μ");

@@ -22,16 +22,16 @@
 
 use crate::built_in::{BuiltIn, BuiltInMotion};
 use crate::record::{record_checked, record_exact, Check, Recording};
-use crate::tolerance::{
-    local_errors, pendulum_frequency, tolerance_runs, LocalError, ToleranceStudy,
-};
+use crate::tolerance::{local_errors, tolerance_runs, LocalError, ToleranceStudy};
 use crate::{ExperimentError, Subject};
 use lgsvi_mechanics::exact::{FreeRigidBodyExact, Regime};
+use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
+use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart};
 use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
-    AngularDamping, BodyTorque, ConfigurationGroup, Forced, FreeBody, GroupChart, GroupLagrangian,
-    HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody, RigidBody, StepSettings,
+    Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody,
+    RigidBody, StepSettings,
 };
 use nalgebra::{SVector, Vector3};
 
@@ -302,10 +302,6 @@ pub struct Scenario {
     pub attitude0: SO3,
     /// `Ω(0)`.
     pub omega0: Vector3<f64>,
-    /// The fastest natural motion besides the spin, rad per unit time: the heavy top's
-    /// pendulum frequency, the orbiting body's gravity-gradient libration, the wheels'
-    /// fastest spin; zero for a free body.
-    pub frequency: f64,
     /// The settings of [`Subject::settings`] (the studies' chart, matching and Newton
     /// Jacobian): ten nodes at `h = 0.5` unless [`Scenario::with_settings`] says otherwise.
     pub settings: StepSettings,
@@ -352,7 +348,6 @@ impl Scenario {
             inertia,
             attitude0,
             omega0,
-            frequency: 0.0,
             settings: StepSettings::new(0.5, 10)?,
         };
         let (inner, body) = match model {
@@ -365,8 +360,6 @@ impl Scenario {
                     direction,
                 } = top;
                 let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
-                let lever = mass * gravity * com.norm();
-                scenario.frequency = pendulum_frequency(inertia.principal_moments(), lever);
                 scenario.system = Forced::new(BuiltIn::Top(top), drive);
                 return Ok(scenario);
             }
@@ -393,8 +386,6 @@ impl Scenario {
                 let j = inertia.matrix();
                 let system = AnyGyrostat::new(j, &wheels.axes, &wheels.inertia)
                     .map_err(parameter("axes/inertia"))?;
-                // The wheels' spin joins the fastest motion a --tol step must follow.
-                scenario.frequency = wheels.speeds0.iter().fold(0.0f64, |m, w| m.max(w.abs()));
                 scenario.wheels = Some(WheelRun {
                     system,
                     speeds0: wheels.speeds0,
@@ -407,12 +398,7 @@ impl Scenario {
                 (BuiltInMotion::Free(free), body)
             }
             Model::Orbiting(Orbit { body, mu }) => {
-                let r = checked_orbit_radius(&body, mu)?;
-                // The gravity-gradient libration, √3 times the orbit's mean motion (none
-                // without attraction, wherever the body starts).
-                if mu != 0.0 {
-                    scenario.frequency = (3.0 * mu.abs() / r.powi(3)).sqrt();
-                }
+                checked_orbit_radius(&body, mu)?;
                 let orbiting =
                     OrbitingBody::new(inertia, body.mass, mu).map_err(parameter("mass/mu"))?;
                 (BuiltInMotion::Orbit(orbiting), body)
@@ -434,10 +420,19 @@ impl Scenario {
         self
     }
 
-    /// The initial motion's fastest rate, rad per unit time: the spin plus
-    /// [`Scenario::frequency`] (a tolerance-driven run's step turns a fixed angle at it).
-    pub fn rate(&self) -> f64 {
-        self.omega0.norm() + self.frequency
+    /// The initial motion's fastest rate, rad per unit time: the system's own
+    /// ([`GroupLagrangian::motion_rate`]: the spin, and the heavy top's pendulum
+    /// frequency, the orbiting body's gravity-gradient libration or the wheels' fastest
+    /// spin). A tolerance-driven run's step turns a fixed angle at it.
+    ///
+    /// # Errors
+    /// The start's refusal by [`Integrator::new`] (not finite, off the group).
+    pub fn rate(&self) -> Result<f64, ExperimentError> {
+        with_system!(self, (make, _K, _D) => {
+            let it = make(self.settings)?;
+            let s = it.state();
+            Ok(it.system().motion_rate(s.time, &s.configuration, &s.velocity))
+        })
     }
 
     /// Runs to `t_end` with `settings`, checked as `check` says, recording every
@@ -474,7 +469,7 @@ impl Scenario {
         Some((|| {
             let body = exact?;
             let steps = Subject::integrator(self, settings)?.steps_until(t_end)?;
-            let recording = record_exact(&body, &self.system, settings.step(), steps, every)?;
+            let recording = record_exact(&body, &self.system, settings.h(), steps, every)?;
             Ok((recording, body.regime()))
         })())
     }
@@ -618,7 +613,10 @@ mod tests {
         let last = run.motion.as_ref().unwrap().last().unwrap();
         assert_eq!(last.position, by_hand.state().position());
         // The libration joins the spin in the rate: √(3μ/r³) at r = 3.
-        assert_eq!(scenario.frequency, (3.0f64 / 27.0).sqrt());
+        assert_eq!(
+            scenario.rate().unwrap(),
+            omega.norm() + (3.0f64 / 27.0).sqrt()
+        );
     }
 
     /// An orbiting body at the attracting centre, next to it, or too far out for double
@@ -641,7 +639,7 @@ mod tests {
             orbit.mu = 0.0;
             let free = at_rest(Model::Orbiting(orbit)).unwrap();
             // No attraction, no libration to follow (not 0/0 at the origin).
-            assert_eq!(free.frequency, 0.0);
+            assert_eq!(free.rate().unwrap(), 0.0);
         }
     }
 

@@ -2,10 +2,9 @@
 
 use crate::conserved::{Symmetry, Tracker};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::group::Rotations;
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::{
-    GroupLagrangian, Inertia, Integrator, MechanicsError, Rotations, State, StepSettings,
-};
+use lgsvi_mechanics::{GroupLagrangian, Inertia, Integrator, MechanicsError, State, StepSettings};
 use nalgebra::Vector3;
 
 /// A problem on SO(3) that the studies of this crate run: the system, its initial state

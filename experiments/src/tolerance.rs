@@ -10,21 +10,23 @@
 //!   grid that is at least as accurate, with the run's own estimate of its global error and
 //!   its nodes per step.
 //!
-//! - **the policy of tolerance-driven runs** ([`step_count`], [`first_nodes`]): the step
-//!   from the initial motion's rate, the first step's nodes from the tolerance.
+//! The policy of tolerance-driven runs (the step from the initial motion's rate, the first
+//! step's nodes from the tolerance) is the library's: [`lgsvi_mechanics::tolerance`].
 //!
 //! Both studies are generic over the group: the error of a state is the largest difference in the
 //! entries of what [`Observe`] lists (`R`, `Ω` and, on SE(3), `x` and `ẋ`; for a gyrostat
 //! the wheel angles `φ` and their rates `φ̇`).
 
 use crate::error::ExperimentError;
+use lgsvi_mechanics::group::GroupChart;
 use lgsvi_mechanics::gyrostat::BodyWheels;
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
-use lgsvi_mechanics::{
-    each, ElementOf, Flow, GroupChart, GroupLagrangian, Integrator, MechanicsError, State,
-    StepInfo, StepSettings,
-};
+use lgsvi_mechanics::stepper::{each, StepInfo};
+use lgsvi_mechanics::system::ElementOf;
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{GroupLagrangian, Integrator, MechanicsError, State, StepSettings};
 use serde::Serialize;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 type Result<T> = std::result::Result<T, ExperimentError>;
@@ -212,7 +214,7 @@ where
                         scale: end.iter().fold(0.0, |m, x| m.max(x.abs())),
                     });
                     before = *it.state();
-                    Ok::<_, ExperimentError>(Flow::Continue)
+                    Ok::<_, ExperimentError>(ControlFlow::Continue(()))
                 };
                 integrator.drive(count, &mut each(compare))?;
                 Ok(rows)
@@ -245,7 +247,9 @@ where
         let mut integrator = make(settings)?;
         let steps = integrator.steps_until(t_end)?;
         let start = Instant::now();
-        let none = |_: &Integrator<S, C, D>, _: StepInfo| Ok::<_, ExperimentError>(Flow::Continue);
+        let none = |_: &Integrator<S, C, D>, _: StepInfo| {
+            Ok::<_, ExperimentError>(ControlFlow::Continue(()))
+        };
         integrator.drive(steps, &mut each(none))?;
         best = best.min(start.elapsed().as_secs_f64());
         last = Some(integrator);
@@ -311,7 +315,7 @@ where
         tick();
         let mut run = ToleranceRun {
             tol,
-            h: settings.step(),
+            h: settings.h(),
             error: f64::NAN,
             estimated_error: f64::NAN,
             wall_time_s: f64::NAN,
@@ -367,39 +371,6 @@ pub fn calibration(rows: &[LocalError]) -> Option<(f64, f64, f64, f64, f64, usiz
 
 /// The rotation a tolerance-driven run's step takes at the initial motion's fastest rate,
 /// as a fraction of what the chart can follow in one step (exp 2π, Cayley π), at most
-/// 3 rad: on the reference cases the fastest fixed `(h, n)` for errors 1e-6 … 1e-13 turn
-/// the body 2.5–4 rad per step (the tolerance study), and a longer step also makes each
-/// node count a smaller change in the error (about 30× per node at 3 rad, 100× at
-/// 1.5 rad), so the tolerance is met more closely.
-pub const STEP_ROTATION: (f64, f64) = (0.5, 3.0);
-
-/// The nodes a tolerance-driven run's first step takes: `3 + ⌈−log₁₀(tol)/2⌉` within
-/// [`lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES`], the fewest the reference cases settle on
-/// at steps of about 3 rad (6 at 1e-6, 10 at 1e-13); the nodes only rise from there, as
-/// far as the estimates ask. A first guess too low costs the first step a second solve;
-/// one too high would keep the whole run more accurate (and slower) than asked.
-pub fn first_nodes(tol: f64) -> usize {
-    let (least, most) = lgsvi_mechanics::DEFAULT_ADAPTIVE_NODES;
-    (3.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
-}
-
-/// The heavy top's small-oscillation frequency `√(m g |ρ| / J_min)` about its least
-/// principal moment, from the moments and the weight's lever `m g |ρ|` (0 for a free
-/// body): with the spin, the rate a tolerance-driven step is sized for.
-pub fn pendulum_frequency(moments: [f64; 3], weight_lever: f64) -> f64 {
-    let least = moments.iter().copied().fold(f64::INFINITY, f64::min);
-    (weight_lever / least).sqrt()
-}
-
-/// The number of steps of a tolerance-driven run over `[0, t_end]` at the motion's rate
-/// `rate` in `chart`: the fewest whole steps that each turn [`STEP_ROTATION`] or less
-/// (at least one); the step is `t_end` over it.
-pub fn step_count(t_end: f64, rate: f64, chart: ChartKind) -> f64 {
-    let reach = lgsvi_mechanics::lie::So3Chart::max_rotation_angle(&chart);
-    let rotation = (STEP_ROTATION.0 * reach).min(STEP_ROTATION.1);
-    (t_end * rate / rotation).ceil().max(1.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

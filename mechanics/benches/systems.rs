@@ -13,14 +13,15 @@
 //!
 //! `cargo bench -p lgsvi-mechanics --bench systems` (add `-- --quick` for a short run).
 use criterion::{criterion_group, criterion_main, Criterion};
+use lgsvi_mechanics::forces::{AngularDamping, BodyTorque, ForceOfTime, SpaceForce};
+use lgsvi_mechanics::group::Screw;
 use lgsvi_mechanics::gyrostat::{BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::lie::{SE3, SO3};
-use lgsvi_mechanics::LocalDerivatives;
+use lgsvi_mechanics::system::LocalDerivatives;
 use lgsvi_mechanics::{
-    AngularDamping, BodyInField, BodyTorque, FieldPotential, ForceOfTime, Forced, FreeBody,
-    GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody, Potential, RigidBody,
-    RigidBodyInPotential, Screw, SpaceForce, StepSettings,
+    BodyInField, FieldPotential, Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator,
+    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, StepSettings,
 };
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
@@ -104,7 +105,7 @@ impl GroupLagrangian<6> for ProductFreeBody {
 
 fn bench_steps<
     S: GroupLagrangian<D>,
-    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
     const D: usize,
 >(
     c: &mut Criterion,
@@ -118,7 +119,7 @@ fn bench_steps<
 /// ([`Integrator::step_linearized`]): the cost of `A` and `B` beside a plain step.
 fn bench_linearized<
     S: GroupLagrangian<D>,
-    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
     const D: usize,
 >(
     c: &mut Criterion,
@@ -132,7 +133,7 @@ fn bench_linearized<
 /// system's parameters ([`Integrator::step_linearized_with_parameters`]).
 fn bench_with_parameters<
     S: GroupLagrangian<D>,
-    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
     const D: usize,
 >(
     c: &mut Criterion,
@@ -152,7 +153,7 @@ enum Linearized {
 
 fn bench_with<
     S: GroupLagrangian<D>,
-    C: lgsvi_mechanics::GroupChart<S::Group, D>,
+    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
     const D: usize,
 >(
     c: &mut Criterion,
@@ -185,9 +186,9 @@ fn bench_with<
 
 fn so3<S: GroupLagrangian<3>>(system: S) -> Integrator<S, ChartKind, 3>
 where
-    ChartKind: lgsvi_mechanics::GroupChart<S::Group, 3>,
+    ChartKind: lgsvi_mechanics::group::GroupChart<S::Group, 3>,
 {
-    let start = <S::Group as lgsvi_mechanics::ConfigurationGroup<3>>::exp(&Vector3::zeros());
+    let start = <S::Group as lgsvi_mechanics::group::ConfigurationGroup<3>>::exp(&Vector3::zeros());
     Integrator::new(system, settings(), start, omega0()).unwrap()
 }
 

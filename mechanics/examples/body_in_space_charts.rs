@@ -13,10 +13,9 @@
 //! Demonstrates: `Integrator::with_chart` with `Screw(ChartKind::Exp)`; asserts that both
 //! charts reach 1e-12 at `t = 10` with `h = 0.5`, `n = 12`, and conserve the angular
 //! momentum to 1e-13 relative.
+use lgsvi_mechanics::group::{GroupChart, RigidMotions, Screw};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
-use lgsvi_mechanics::{
-    GroupChart, Inertia, Integrator, OrbitingBody, RigidMotions, Screw, StepSettings,
-};
+use lgsvi_mechanics::{Inertia, Integrator, OrbitingBody, StepSettings};
 use nalgebra::SVector;
 use std::time::Instant;
 

@@ -20,7 +20,8 @@
 use lgsvi_mechanics::control::{finite_horizon_gains, TrajectoryTracker};
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{LieGroup, SO3};
-use lgsvi_mechanics::{Coordinates, Integrator, State, StepSettings};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::{Integrator, State, StepSettings};
 use nalgebra::{DMatrix, DVector, Matrix3, SVector, Unit, Vector3};
 
 const H: f64 = 0.1;

@@ -24,7 +24,8 @@
 //! `cargo run --release -p lgsvi-mechanics --example inertia_estimation`
 
 use lgsvi_mechanics::lie::{LieGroup, SO3};
-use lgsvi_mechanics::{Coordinates, Inertia, Integrator, RigidBody, StepSettings};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// The run: 120 steps of 0.1 s (12 s) from the identity, turning at (0.3, −0.2, 0.1)

@@ -17,7 +17,8 @@
 
 use lgsvi_mechanics::control::{error_state, lqr, Regulator};
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::{Coordinates, HeavyTop, Inertia, Integrator, StepSettings};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, StepSettings};
 use nalgebra::{DMatrix, DVector, Vector3};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

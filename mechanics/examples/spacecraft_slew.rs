@@ -14,6 +14,7 @@
 
 use lgsvi_mechanics::lie::so3::vee;
 use lgsvi_mechanics::lie::SO3;
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
 use nalgebra::{Matrix3, Unit, Vector3};
 

@@ -46,7 +46,7 @@ fn run(
     let every = (steps / 1000).max(1);
     for k in 1..=steps {
         it.step()?;
-        let h = it.settings().step();
+        let h = it.settings().h();
         lo = lo.min(h);
         hi = hi.max(h);
         let s = it.state();

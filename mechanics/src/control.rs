@@ -5,14 +5,15 @@
 //! calls each step ([`Regulator`], [`TrajectoryTracker`]), with the error state taken by
 //! the group's logarithm ([`GroupLog`]).
 //!
-//! Coordinates are those of [`crate::StepLinearization`] in [`crate::Coordinates::Velocity`]:
+//! Coordinates are those of [`crate::linearization::StepLinearization`] in [`crate::linearization::Coordinates::Velocity`]:
 //! the error state of `(g, ξ)` against a reference `(ḡ, ξ̄)` is `(θ, ξ − ξ̄)` with
 //! `g = ḡ exp(θ)`, and the input is the control input of [`crate::Integrator::set_input`].
 //!
 //! ```
 //! use lgsvi_mechanics::control::{lqr, Regulator};
 //! use lgsvi_mechanics::lie::SO3;
-//! use lgsvi_mechanics::{Coordinates, HeavyTop, Inertia, Integrator, StepSettings};
+//! use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, StepSettings};
+//! use lgsvi_mechanics::linearization::Coordinates;
 //! use nalgebra::{DMatrix, Vector3};
 //!
 //! // A 3D pendulum held upright: gravity pulls along −e₃, the centre of mass on +e₃.
@@ -220,7 +221,7 @@ fn check_sizes(
 }
 
 /// The group's logarithm as the error coordinates of a control loop: `θ` with
-/// `g = reference · exp(θ)`, the coordinates of [`crate::StepLinearization`].
+/// `g = reference · exp(θ)`, the coordinates of [`crate::linearization::StepLinearization`].
 pub trait GroupLog<const D: usize>: Sized {
     /// `θ = log(reference⁻¹ g)`.
     fn log_from(&self, reference: &Self) -> SVector<f64, D>;

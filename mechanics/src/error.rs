@@ -182,7 +182,7 @@ pub enum MechanicsError {
         /// What to change.
         advice: &'static str,
     },
-    /// A checked tolerance run ([`crate::ToleranceCheck`]) whose difference from its
+    /// A checked tolerance run ([`crate::tolerance::ToleranceCheck`]) whose difference from its
     /// companion stayed above `CHECK_ACCEPTS · tolerance` on every run allowed, or at the
     /// rounding of a step.
     #[error(
@@ -215,7 +215,7 @@ pub enum MechanicsError {
         /// The least largest difference of the runs: what the motion allows.
         best: f64,
     },
-    /// The companion of a checked run ([`crate::Checked`]) failed on a step the run itself
+    /// The companion of a checked run ([`crate::tolerance::CheckedIntegrator`]) failed on a step the run itself
     /// took: the run cannot be checked from there.
     #[error(
         "step {step} (t = {time}): the check of the run (the same step with more nodes) \

@@ -13,7 +13,7 @@
 //! needs no chart differential (`A(ξ)⁻¹` of the exp chart costs a `sin_cos` and a series
 //! per evaluation; `docs/performance.md` §6), and the chart enters once per node.
 
-use crate::force_jet::ForceJet;
+use crate::forces::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};
 use crate::lagrangian::Lagrangian;
 use lgsvi_lie::so3::vee;

@@ -23,6 +23,7 @@
 //! (every `So3Chart` is a chart of these groups).
 //!
 //! ```
+//! use lgsvi_mechanics::Stepper;
 //! use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 //! use lgsvi_mechanics::lie::SO3;
 //! use lgsvi_mechanics::{Integrator, StepSettings};
@@ -577,6 +578,16 @@ macro_rules! wheels {
             }
             fn is_left_invariant(&self) -> bool {
                 true
+            }
+            /// `|Ω|` and the fastest wheel's spin `max |φ̇_i|`.
+            fn motion_rate(
+                &self,
+                _time: f64,
+                _configuration: &BodyWheels<f64, $k>,
+                velocity: &SVector<f64, $d>,
+            ) -> f64 {
+                let spin = velocity.fixed_rows::<3>(0).norm();
+                spin + velocity.iter().skip(3).fold(0.0f64, |m, w| m.max(w.abs()))
             }
             /// `Ω = J_b⁻¹(h − Σ a_i p_i)`, `φ̇_i = p_i / I_i − a_iᵀΩ`.
             fn velocity_from_momentum(

@@ -39,7 +39,7 @@ use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, SMatrix, SVector};
 use num_dual::{Dual2_64, Dual64};
 
-/// `R`'s entries flattened row-major, as [`crate::LagrangianDerivatives`] indexes them.
+/// `R`'s entries flattened row-major, as [`crate::system::LagrangianDerivatives`] indexes them.
 fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
     SVector::<f64, 9>::from_fn(|i, _| m[(i / 3, i % 3)])
 }

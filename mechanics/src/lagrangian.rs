@@ -129,6 +129,13 @@ pub trait Lagrangian {
         None
     }
 
+    /// The fastest natural motion besides the spin, rad per unit time (a heavy top's
+    /// pendulum frequency): with `|Ω|`, the rate a tolerance-driven run's step is sized
+    /// for ([`crate::GroupLagrangian::motion_rate`]). The default: 0.
+    fn natural_frequency(&self) -> f64 {
+        0.0
+    }
+
     /// `Ω` from `μ` in closed form where known (`J⁻¹μ` for `ℓ = ½ΩᵀJΩ − V(R)`);
     /// `None` (the default) makes the integrator solve `∂ℓ/∂Ω(R, Ω) = μ` by Newton.
     fn velocity_from_momentum(
@@ -158,7 +165,7 @@ pub trait Lagrangian {
     /// The names of the physical parameters `p` of `ℓ` that a step can be differentiated
     /// by ([`crate::Integrator::linearize_with_parameters`]), in the order of
     /// [`Lagrangian::parameter_lagrangian`]'s index. The default: none. The built-in
-    /// bodies name the six entries of the inertia tensor ([`crate::INERTIA_PARAMETERS`]) and,
+    /// bodies name the six entries of the inertia tensor ([`crate::inertia::INERTIA_PARAMETERS`]) and,
     /// where `ℓ` has one, the mass. A type that wraps other Lagrangians should forward it
     /// (and [`Lagrangian::parameter_lagrangian`]).
     fn parameter_names(&self) -> Vec<String> {
@@ -268,9 +275,9 @@ pub(crate) fn kinetic_parameter<T: RealField + Copy>(index: usize, w: &Vector3<T
     }
 }
 
-/// [`INERTIA_PARAMETERS`](crate::INERTIA_PARAMETERS) followed by `extra`.
+/// [`INERTIA_PARAMETERS`](crate::inertia::INERTIA_PARAMETERS) followed by `extra`.
 pub(crate) fn inertia_parameter_names(extra: &[&str]) -> Vec<String> {
-    crate::INERTIA_PARAMETERS
+    crate::inertia::INERTIA_PARAMETERS
         .iter()
         .chain(extra)
         .map(|name| name.to_string())
@@ -444,6 +451,18 @@ impl Lagrangian for HeavyTop {
     /// The gravity direction `d`: `d·Rμ` is conserved.
     fn symmetry_axis(&self) -> Option<Vector3<f64>> {
         Some(self.gravity_direction)
+    }
+    /// The small-oscillation frequency `√(m g |ρ| / J_min)` about the least principal
+    /// moment.
+    fn natural_frequency(&self) -> f64 {
+        let lever = self.mass * self.gravity * self.center_of_mass.norm();
+        let least = self
+            .inertia
+            .principal_moments()
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        (lever / least).sqrt()
     }
     /// `a = m g d`, `b = ρ`.
     fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {

@@ -47,79 +47,77 @@
 //!
 //! # Example
 //! ```
-//! use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, StepSettings};
-//! use lgsvi_lie::SO3;
-//! use nalgebra::Vector3;
+//! use lgsvi_mechanics::prelude::*;
 //!
 //! // The paper's 3D pendulum near its stable equilibrium, h = 0.5, 8 nodes.
 //! let top = HeavyTop::paper(Inertia::from_paper_jd([1.0, 2.8, 2.0])?)?;
-//! let mut integrator =
-//!     Integrator::new(top, StepSettings::new(0.5, 8)?, SO3::identity(), Vector3::new(0.5, -0.5, 0.4))?;
+//! let mut integrator = Integrator::builder(top)
+//!     .start(SO3::identity(), Vector3::new(0.5, -0.5, 0.4))
+//!     .step(0.5)
+//!     .nodes(8)
+//!     .build()?;
 //! let e0 = integrator.state().energy(&top);
 //! integrator.run(20, 1)?;
 //! assert!((integrator.state().energy(&top) - e0).abs() < 1e-8 * e0.abs());
 //! # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 //! ```
+//!
+//! # Where things are
+//! | module | what it holds |
+//! |---|---|
+//! | the crate root, [`prelude`] | the integrator and its builder, the built-in systems, settings, states, errors |
+//! | [`stepper`] | the driving loop and its observers ([`Stepper`], [`stepper::Observer`], [`stepper::Recorder`]) |
+//! | [`tolerance`] | tolerance-driven and checked runs ([`tolerance::CheckedIntegrator`]) and their policy |
+//! | [`forces`] | forces and control inputs by the Lagrange–d'Alembert principle |
+//! | [`settings`] | step settings and their limits |
+//! | [`integrator`] | the integrator's dense output and statistics |
+//! | [`system`] | the systems' trait and the closed-form paths of the built-in ones |
+//! | [`group`] | configuration groups and charts of the integrator, your own included |
+//! | [`control`], [`linearization`] | the exact linearisation of a step, discrete LQR, regulators |
+//! | [`gyrostat`], [`exact`], [`ensemble`] | reaction wheels, the exact free rigid body, parallel ensembles |
 #![deny(missing_docs)]
 
+mod builder;
 mod chart_flow;
-mod checked;
 pub mod control;
 mod dual;
 pub mod ensemble;
 mod error;
 pub mod exact;
 mod flow;
-mod force_jet;
+
+pub mod forces;
 pub mod group;
 pub mod gyrostat;
-mod inertia;
-mod integrator;
+pub mod inertia;
+pub mod integrator;
 mod jet;
 mod jet_lanes;
 mod lagrangian;
 pub mod linearization;
 mod matrix_jet;
 mod point;
+pub mod prelude;
 mod rigid_motion;
-mod settings;
-mod state;
+pub mod settings;
+pub mod state;
 mod step;
-mod system;
+pub mod stepper;
+pub mod system;
+pub mod tolerance;
 
-pub use checked::{
-    tightened_rate, Checked, Difference, ToleranceCheck, CHECK_ACCEPTS, CHECK_ATTEMPTS,
-    CHECK_EXTRA_NODES,
-};
+pub use builder::IntegratorBuilder;
 pub use error::MechanicsError;
-pub use flow::FlowGuess;
-pub use force_jet::ForceJet;
-pub use group::{
-    dual_number_derivatives, ChartDerivatives, ConfigurationGroup, GroupChart, RigidMotions,
-    Rotations, Screw,
-};
-pub use inertia::{Inertia, INERTIA_PARAMETERS};
-pub use integrator::{
-    each, Each, Flow, GalerkinCurve, Integrator, Observer, Recorder, Statistics, StepInfo,
-    Trajectory,
-};
-pub use lagrangian::{
-    HeavyTop, Lagrangian, LagrangianDerivatives, Potential, RigidBody, RigidBodyInPotential,
-};
+pub use inertia::Inertia;
+pub use integrator::{Integrator, Trajectory};
+pub use lagrangian::{HeavyTop, Lagrangian, Potential, RigidBody, RigidBodyInPotential};
 /// The geometry layer, re-exported so that users of this crate need no second import.
 pub use lgsvi_lie as lie;
-pub use linearization::{Coordinates, StepLinearization};
 pub use rigid_motion::{BodyInField, FieldPotential, FreeBody, OrbitingBody};
-pub use settings::{
-    AdaptiveNodes, Matching, NewtonJacobian, StepSettings, DEFAULT_ADAPTIVE_NODES,
-    DEFAULT_EXTRA_QUADRATURE_POINTS, DEFAULT_MAX_NEWTON_ITERATIONS, MAX_NODES,
-    MAX_QUADRATURE_POINTS, ROUNDING_FLOOR, STEP_RANGE,
-};
-pub use state::{body_momentum, body_velocity, State};
-pub use system::{
-    AngularDamping, BodyTorque, ElementOf, FlowStart, ForceAlongStep, ForceOfTime,
-    ForceValueAlongStep, Forced, Forcing, GaussPoint, GroupLagrangian, LocalDerivatives,
-    PointForce, PointTransport, SpaceForce,
-};
-#[doc(hidden)]
-pub use system::{ForceAtPoint, GaussPoints};
+pub use settings::{Matching, StepSettings};
+pub use state::State;
+pub use stepper::Stepper;
+pub use system::{Forced, GroupLagrangian};
+
+// A crate-internal shorthand.
+pub(crate) use group::GroupChart;

@@ -116,7 +116,7 @@ impl<E, const D: usize> StepLinearization<E, D> {
 
     /// The names of the columns of [`StepLinearization::p`] (empty when it is `None`, or
     /// for a system without parameters): for the built-in bodies
-    /// [`crate::INERTIA_PARAMETERS`], then the mass where `ℓ` has one (the gyrostat: its
+    /// [`crate::inertia::INERTIA_PARAMETERS`], then the mass where `ℓ` has one (the gyrostat: its
     /// wheels' inertias `I_1 … I_K`).
     pub fn parameter_names(&self) -> &[String] {
         self.parameters.as_ref().map_or(&[], |p| &p.names)

@@ -2,7 +2,7 @@
 //! force acting there ([`PointForce`]), and how a force's terms enter a point's
 //! derivatives ([`add_force_terms`]).
 
-use crate::force_jet::ForceJet;
+use crate::forces::ForceJet;
 use crate::group::{ConfigurationGroup, PointJet};
 use nalgebra::{SMatrix, SVector};
 

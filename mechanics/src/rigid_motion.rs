@@ -73,7 +73,7 @@ fn kinetic6<T: RealField + Copy>(inertia: &Inertia, mass: f64, xi: &SVector<T, 6
     kinetic(inertia, &w) + half_mass * v.dot(&v)
 }
 
-/// `∂ℓ/∂p` of the kinetic energy `½ΩᵀJΩ + ½m|v|²` for [`INERTIA_PARAMETERS`](crate::INERTIA_PARAMETERS)
+/// `∂ℓ/∂p` of the kinetic energy `½ΩᵀJΩ + ½m|v|²` for [`INERTIA_PARAMETERS`](crate::inertia::INERTIA_PARAMETERS)
 /// then the mass (index 6).
 fn kinetic6_parameter<T: RealField + Copy>(index: usize, xi: &SVector<T, 6>) -> T {
     let w = Vector3::new(xi[0], xi[1], xi[2]);
@@ -433,6 +433,7 @@ pub trait FieldPotential {
 /// A rigid body in a potential of your own: `ℓ = ½ΩᵀJΩ + ½m|v|² − V(t, R, x)`.
 ///
 /// ```
+/// use lgsvi_mechanics::Stepper;
 /// use lgsvi_mechanics::{BodyInField, FieldPotential, Inertia, Integrator, StepSettings};
 /// use lgsvi_mechanics::lie::{SE3, SO3};
 /// use nalgebra::{Matrix3, RealField, SVector, Vector3};
@@ -543,6 +544,7 @@ impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
 /// angular momentum `m x × ẋ + RJΩ` are conserved.
 ///
 /// ```
+/// use lgsvi_mechanics::Stepper;
 /// use lgsvi_mechanics::{Inertia, Integrator, OrbitingBody, StepSettings};
 /// use lgsvi_mechanics::lie::{SE3, SO3};
 /// use nalgebra::{SVector, Vector3};
@@ -717,6 +719,23 @@ impl GroupLagrangian<6> for OrbitingBody {
         mu: &SVector<f64, 6>,
     ) -> Option<SVector<f64, 6>> {
         Some(velocity6(&self.inertia, self.mass, mu))
+    }
+    /// `|ω|` and the gravity-gradient libration `√(3|μ|/r³)`, √3 times the orbit's mean
+    /// motion (none without attraction).
+    fn motion_rate(&self, _t: f64, g: &SE3, xi: &SVector<f64, 6>) -> f64 {
+        let spin = xi.fixed_rows::<3>(0).norm();
+        if self.gravitational_parameter == 0.0 {
+            return spin;
+        }
+        // |x| without underflow (1e-300 squared is zero).
+        let position = g.translation();
+        let scale = position.amax();
+        let r = if scale > 0.0 {
+            scale * (position / scale).norm()
+        } else {
+            0.0
+        };
+        spin + (3.0 * self.gravitational_parameter.abs() / r.powi(3)).sqrt()
     }
     /// A failed step whose start lies within twice the body's radius of gyration
     /// `k = √(tr J / 2m)` (the root-mean-square distance of its mass from its centre) of the

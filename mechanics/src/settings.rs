@@ -71,6 +71,10 @@ pub struct AdaptiveNodes {
     pub falling_nodes: bool,
 }
 
+/// The nodes of a fixed run built without a node count ([`crate::IntegratorBuilder`]): ten,
+/// as the command line takes.
+pub const DEFAULT_NODES: usize = 10;
+
 /// The default node range of adaptive runs: below 5 nodes the estimate has no decay to read
 /// (it needs the last four Chebyshev coefficients); 30 nodes reach the rounding floor at
 /// steps up to `h|Ω| ≈ 4` on the reference cases (measured, `lgsvi converge`).
@@ -315,7 +319,7 @@ impl StepSettings {
     }
 
     /// The step `h`.
-    pub fn step(&self) -> f64 {
+    pub fn h(&self) -> f64 {
         self.step
     }
 
@@ -333,6 +337,11 @@ impl StepSettings {
     pub fn quadrature_points(&self) -> usize {
         self.quadrature_points
             .unwrap_or(self.nodes + DEFAULT_EXTRA_QUADRATURE_POINTS)
+    }
+
+    /// The Gauss points set by [`StepSettings::with_quadrature_points`], if any.
+    pub(crate) fn explicit_quadrature_points(&self) -> Option<usize> {
+        self.quadrature_points
     }
 
     /// The chart.
@@ -400,7 +409,7 @@ impl StepSettings {
     ///
     /// [`Integrator::steps_until`]: crate::Integrator::steps_until
     /// [`Integrator::state`]: crate::Integrator::state
-    /// [`Integrator::run_until`]: crate::Integrator::run_until
+    /// [`Integrator::run_until`]: crate::Stepper::run_until
     pub fn with_step_changes(mut self, allowed: bool) -> Self {
         self.step_changes = allowed;
         self

@@ -1,30 +1,20 @@
-//! Systems on any configuration group: the generic reduced Lagrangian, forcing, and the
-//! bridge from the SO(3) [`Lagrangian`].
+//! Systems on any configuration group: the generic reduced Lagrangian, a system under a
+//! force, and the bridge from the SO(3) [`Lagrangian`].
 //!
-//! # Forces (discrete Lagrange–d'Alembert)
-//! A left-trivialised generalised force `F(t, g, ξ) ∈ ℝ^D` (for SO(3) a body-frame torque;
-//! for SE(3) a body-frame torque and a body-frame force, `(τ, Rᵀf)`) enters a step through
-//! the virtual work of the variation `δg = g η^`, integrated by the step's own quadrature:
-//! `δS + Σ_j h b_j ⟨F_j, η_j⟩ = 0`. On the curve `g(t) = g_k Φ(ξ(t))` a node variation
-//! gives `η_j = A(x_j) δx_j`, so each Gauss point adds `A(x_j)ᵀ F_j` to the `x`-gradient of
-//! its term, and moving the base point (the exact momentum matching) adds `F_j` to the
-//! configuration force `p_j`: `μ_{k+1} = Ad_{Φ(ξⁿ)}ᵀ (μ_k + Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ (p_j + F_j))`.
-//! These are the discrete forces `F_d^±` of Marsden and West's forced discrete
-//! Euler–Lagrange equations for this discrete Lagrangian, so the energy balance
-//! `E(T) − E(0) = ∫ ⟨F, ξ⟩ dt` holds to the method's order. With no force the step is the
-//! unforced one, bit for bit (the force terms are skipped, not added as zeros).
+//! Forces are added with [`Forced`] (a [`crate::forces::Forcing`] beside a system) or as
+//! the integrator's control input ([`crate::Integrator::set_input`]); [`crate::forces`]
+//! says how they enter a step.
 
-use crate::flow::FlowGuess;
+pub use crate::flow::FlowGuess;
 pub use crate::flow::{FlowStart, ForceAlongStep, ForceValueAlongStep};
-use crate::force_jet::ForceJet;
-pub use crate::force_jet::Forcing;
-use crate::group::{ConfigurationGroup, GroupChart, RigidMotions, Rotations, Stacked};
+use crate::forces::{ForceJet, Forcing};
+use crate::group::{ConfigurationGroup, GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
+pub use crate::lagrangian::LagrangianDerivatives;
 #[doc(hidden)]
 pub use crate::point::{ForceAtPoint, GaussPoints};
 pub use crate::point::{GaussPoint, PointForce, PointTransport};
-use lgsvi_lie::se3::{blocks, join, split};
-use lgsvi_lie::{LieGroup, SE3, SO3};
+use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
 /// The element type of a system's group over the scalar `T`.
@@ -41,7 +31,8 @@ pub type ElementOf<S, const D: usize, T = f64> =
 /// generically over the scalar: the integrator differentiates it by dual numbers.
 ///
 /// ```
-/// use lgsvi_mechanics::{GroupLagrangian, RigidMotions};
+/// use lgsvi_mechanics::GroupLagrangian;
+/// use lgsvi_mechanics::group::RigidMotions;
 /// use lgsvi_mechanics::lie::SE3;
 /// use nalgebra::{RealField, SVector};
 ///
@@ -82,6 +73,22 @@ pub trait GroupLagrangian<const D: usize> {
     /// says.
     fn symmetry_generator(&self) -> Option<SVector<f64, D>> {
         None
+    }
+
+    /// How fast the motion from `(t, g, ξ)` is, in radians per unit time: a
+    /// tolerance-driven run's first step is sized to turn about 3 rad at it
+    /// ([`crate::tolerance::step_count`]). The default is the group's angular speed of `ξ`
+    /// ([`ConfigurationGroup::angular_speed`]); a system with a faster natural motion adds
+    /// it (a heavy top its pendulum frequency, an orbiting body its gravity-gradient
+    /// libration, a gyrostat its fastest wheel).
+    fn motion_rate(
+        &self,
+        time: f64,
+        configuration: &ElementOf<Self, D>,
+        velocity: &SVector<f64, D>,
+    ) -> f64 {
+        let _ = (time, configuration);
+        <Self::Group as ConfigurationGroup<D>>::angular_speed(velocity)
     }
 
     /// `ξ` from `μ` in closed form where known; `None` (the default) makes the integrator
@@ -146,7 +153,7 @@ pub trait GroupLagrangian<const D: usize> {
     /// `(∂²L/∂ξ∂η, ∂²L/∂ξ²)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0` (entry
     /// `(component of ξ, component of η or ξ)`): how the body momentum `μ = ∂ℓ/∂ξ` moves
     /// with the configuration (body frame) and with the velocity, which the linearisation
-    /// of a step reads at both ends ([`crate::StepLinearization`]). `None` (the default)
+    /// of a step reads at both ends ([`crate::linearization::StepLinearization`]). `None` (the default)
     /// has them from [`GroupLagrangian::local_derivatives`] or by dual numbers through
     /// `ℓ`; the SO(3) systems of [`Lagrangian`] give them from
     /// [`Lagrangian::derivatives`].
@@ -181,7 +188,7 @@ pub trait GroupLagrangian<const D: usize> {
     /// A closed-form path for one Gauss point's derivatives of
     /// `ℓ̃(x, v, ζ) = ℓ(t, base Φ(x) exp(ζ), A(x) v)` at the point `point` (see
     /// [`crate::group::PointJet`]), with the force terms of [`GaussPoint::force`] added
-    /// when it is `Some` (its jet through the chart: [`crate::ForceJet`]'s documentation):
+    /// when it is `Some` (its jet through the chart: [`crate::forces::ForceJet`]'s documentation):
     /// write them into `out` and return `true`, or return `false` (the default) to have
     /// them taken by the generic chain rule. The SO(3) systems use their chart's
     /// Rodrigues form, the built-in SE(3) systems the rotation–translation chart's 3 × 3
@@ -258,7 +265,7 @@ pub trait GroupLagrangian<const D: usize> {
     /// by ([`crate::Integrator::linearize_with_parameters`]), in the order of
     /// [`GroupLagrangian::parameter_lagrangian`]'s index. The default: none. The built-in
     /// bodies name the six entries of the inertia tensor
-    /// ([`crate::INERTIA_PARAMETERS`]) and, where `ℓ` has one, the mass (and
+    /// ([`crate::inertia::INERTIA_PARAMETERS`]) and, where `ℓ` has one, the mass (and
     /// the gyrostat its wheels' inertias). Forces do not depend on these parameters. A
     /// type that wraps other systems should forward it (and
     /// [`GroupLagrangian::parameter_lagrangian`]).
@@ -370,6 +377,10 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
     ) -> Option<Vector3<f64>> {
         Lagrangian::velocity_from_momentum(self, g.matrix(), mu)
     }
+    /// `|Ω|` and the system's natural frequency ([`Lagrangian::natural_frequency`]).
+    fn motion_rate(&self, _time: f64, _g: &SO3, w: &Vector3<f64>) -> f64 {
+        w.norm() + Lagrangian::natural_frequency(self)
+    }
     fn point_derivatives<C: GroupChart<Rotations, 3>>(
         &self,
         chart: &C,
@@ -442,205 +453,6 @@ impl<L: Lagrangian> GroupLagrangian<3> for L {
     }
 }
 
-/// A generalised force given as a closure of time alone, `t ↦ F(t)` (for SO(3) a body
-/// torque, for SE(3) `(body torque, body force)`), on any group: a feed-forward profile or
-/// a disturbance. Exact in Newton (it does not depend on the state); for a force that
-/// depends on the state, implement [`Forcing`] (generic over the scalar) instead.
-///
-/// ```
-/// use lgsvi_mechanics::{Forced, ForceOfTime, Inertia, Integrator, RigidBody, StepSettings};
-/// use lgsvi_mechanics::lie::SO3;
-/// use nalgebra::Vector3;
-/// // A torque pulse about z for the first second spins a sphere up to Ω_z = τ t / J.
-/// let pulse = ForceOfTime(|t: f64| Vector3::new(0.0, 0.0, if t < 1.0 { 0.2 } else { 0.0 }));
-/// let body = RigidBody::new(Inertia::from_principal_moments([2.0, 2.0, 2.0])?);
-/// let mut it = Integrator::new(Forced::new(body, pulse), StepSettings::new(0.25, 6)?, SO3::identity(), Vector3::zeros())?;
-/// it.run(8, 1)?;
-/// assert!((it.state().velocity.z - 0.1).abs() < 1e-14);
-/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
-/// ```
-#[derive(Debug, Clone, Copy)]
-pub struct ForceOfTime<F>(pub F);
-
-impl<G: ConfigurationGroup<D>, F: Fn(f64) -> SVector<f64, D>, const D: usize> Forcing<G, D>
-    for ForceOfTime<F>
-{
-    fn force<T: RealField + Copy>(
-        &self,
-        time: f64,
-        _g: &G::Element<T>,
-        _xi: &SVector<T, D>,
-    ) -> SVector<T, D> {
-        (self.0)(time).map(nalgebra::convert)
-    }
-    fn jet(&self, time: f64, _g: &G::Element<f64>, _xi: &SVector<f64, D>) -> ForceJet<D> {
-        ForceJet::constant((self.0)(time))
-    }
-    fn depends_on_configuration(&self) -> bool {
-        false
-    }
-}
-
-/// A constant body-frame torque `τ` (N·m), on SO(3) and SE(3).
-///
-/// ```
-/// use lgsvi_mechanics::{BodyTorque, Forced, Inertia, Integrator, RigidBody, StepSettings};
-/// use lgsvi_mechanics::lie::SO3;
-/// use nalgebra::Vector3;
-/// // A body at rest spun up about its z axis by τ = 0.1 for 1 s: Ω_z = τ/J_z t.
-/// let body = Forced::new(
-///     RigidBody::new(Inertia::from_principal_moments([1.0, 1.0, 2.0])?),
-///     BodyTorque(Vector3::new(0.0, 0.0, 0.1)),
-/// );
-/// let mut integrator = Integrator::new(body, StepSettings::new(0.25, 6)?, SO3::identity(), Vector3::zeros())?;
-/// integrator.run(4, 1)?;
-/// assert!((integrator.state().velocity.z - 0.05).abs() < 1e-14);
-/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodyTorque(pub Vector3<f64>);
-
-/// Damping `τ = −c Ω` of the angular velocity (`c ≥ 0`, N·m·s), on SO(3) and SE(3).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AngularDamping(pub f64);
-
-/// A constant space-frame force `f` (N) on an SE(3) body's centre of mass: body force
-/// `Rᵀ f`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpaceForce(pub Vector3<f64>);
-
-fn convert3<T: RealField + Copy>(v: &Vector3<f64>) -> Vector3<T> {
-    v.map(nalgebra::convert)
-}
-
-impl Forcing<Rotations, 3> for BodyTorque {
-    fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, _w: &Vector3<T>) -> Vector3<T> {
-        convert3(&self.0)
-    }
-    fn is_zero(&self) -> bool {
-        self.0 == Vector3::zeros()
-    }
-    fn jet(&self, _t: f64, _g: &SO3, _w: &Vector3<f64>) -> ForceJet<3> {
-        ForceJet::constant(self.0)
-    }
-    fn depends_on_configuration(&self) -> bool {
-        false
-    }
-}
-
-impl Forcing<Rotations, 3> for AngularDamping {
-    fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, w: &Vector3<T>) -> Vector3<T> {
-        w * nalgebra::convert::<f64, T>(-self.0)
-    }
-    fn is_zero(&self) -> bool {
-        self.0 == 0.0
-    }
-    fn jet(&self, _t: f64, _g: &SO3, w: &Vector3<f64>) -> ForceJet<3> {
-        ForceJet {
-            value: w * -self.0,
-            velocity: Matrix3::identity() * -self.0,
-            configuration: Matrix3::zeros(),
-        }
-    }
-    fn depends_on_configuration(&self) -> bool {
-        false
-    }
-}
-
-/// A torque acting on the rotation of an SE(3) body: the SO(3) force `F(t, R, Ω)` as
-/// `(F, 0)`, so that each torque is written once, for SO(3).
-fn on_rotation<F: Forcing<Rotations, 3>, T: RealField + Copy>(
-    forcing: &F,
-    time: f64,
-    g: &SE3<T>,
-    xi: &SVector<T, 6>,
-) -> SVector<T, 6> {
-    let omega = Vector3::new(xi[0], xi[1], xi[2]);
-    let torque = forcing.force(time, g.rotation(), &omega);
-    SVector::<T, 6>::new(
-        torque.x,
-        torque.y,
-        torque.z,
-        T::zero(),
-        T::zero(),
-        T::zero(),
-    )
-}
-
-/// The jet of [`on_rotation`]: the SO(3) jet in the rotational rows and columns (a
-/// torque that depends on `R` and `Ω` alone).
-fn jet_on_rotation<F: Forcing<Rotations, 3>>(
-    forcing: &F,
-    time: f64,
-    g: &SE3,
-    xi: &SVector<f64, 6>,
-) -> ForceJet<6> {
-    let (omega, _) = split(xi);
-    let jet = forcing.jet(time, g.rotation(), &omega);
-    let zero = Matrix3::zeros();
-    ForceJet {
-        value: join(&jet.value, &Vector3::zeros()),
-        velocity: blocks(&jet.velocity, &zero, &zero, &zero),
-        configuration: blocks(&jet.configuration, &zero, &zero, &zero),
-    }
-}
-
-impl Forcing<RigidMotions, 6> for BodyTorque {
-    fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
-        on_rotation(self, t, g, xi)
-    }
-    fn is_zero(&self) -> bool {
-        Forcing::<Rotations, 3>::is_zero(self)
-    }
-    fn jet(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> ForceJet<6> {
-        jet_on_rotation(self, t, g, xi)
-    }
-    fn depends_on_configuration(&self) -> bool {
-        false
-    }
-}
-
-impl Forcing<RigidMotions, 6> for AngularDamping {
-    fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
-        on_rotation(self, t, g, xi)
-    }
-    fn is_zero(&self) -> bool {
-        Forcing::<Rotations, 3>::is_zero(self)
-    }
-    fn jet(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> ForceJet<6> {
-        jet_on_rotation(self, t, g, xi)
-    }
-    fn depends_on_configuration(&self) -> bool {
-        false
-    }
-}
-
-impl Forcing<RigidMotions, 6> for SpaceForce {
-    fn force<T: RealField + Copy>(
-        &self,
-        _t: f64,
-        g: &SE3<T>,
-        _xi: &SVector<T, 6>,
-    ) -> SVector<T, 6> {
-        let body = g.rotation().inverse().act(&convert3::<T>(&self.0));
-        SVector::<T, 6>::new(T::zero(), T::zero(), T::zero(), body.x, body.y, body.z)
-    }
-    fn is_zero(&self) -> bool {
-        self.0 == Vector3::zeros()
-    }
-    /// `b = Rᵀf`; under `R ↦ R exp(ω̂)`, `b ↦ exp(−ω̂) b = b + b̂ ω + O(ω²)`: the
-    /// configuration derivative is `b̂` in the force rows and rotation columns.
-    fn jet(&self, _t: f64, g: &SE3, _xi: &SVector<f64, 6>) -> ForceJet<6> {
-        let body = g.rotation().matrix().transpose() * self.0;
-        let zero = Matrix3::zeros();
-        ForceJet {
-            value: join(&Vector3::zeros(), &body),
-            velocity: SMatrix::zeros(),
-            configuration: blocks(&zero, &zero, &lgsvi_lie::so3::hat(&body), &zero),
-        }
-    }
-}
-
 /// A system with a generalised force added ([`Forcing`]): `Forced::new(body, BodyTorque(τ))`.
 /// Everything else (the closed-form derivatives of `ℓ`, the flow predictor, which the
 /// integrator hands the step's total force) is the inner system's; the force's own
@@ -687,6 +499,9 @@ impl<S: GroupLagrangian<D>, F: Forcing<S::Group, D>, const D: usize> GroupLagran
         mu: &SVector<f64, D>,
     ) -> Option<SVector<f64, D>> {
         self.system.velocity_from_momentum(time, g, mu)
+    }
+    fn motion_rate(&self, time: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>) -> f64 {
+        self.system.motion_rate(time, g, xi)
     }
     fn is_forced(&self) -> bool {
         self.system.is_forced() || !self.forcing.is_zero()

@@ -4,9 +4,10 @@
 
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{LieGroup, SO3};
-use lgsvi_mechanics::{
-    Checked, Inertia, Integrator, MechanicsError, RigidBody, StepSettings, MAX_NODES,
-};
+use lgsvi_mechanics::settings::MAX_NODES;
+use lgsvi_mechanics::tolerance::CheckedIntegrator;
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
 use nalgebra::Vector3;
 
 /// The largest entry of `(log(R_exactᵀ R), Ω − Ω_exact)`: the check's own measure.
@@ -40,7 +41,7 @@ fn the_difference_is_the_error_along_the_run() {
         let exact = FreeRigidBodyExact::new(inertia, SO3::identity(), omega).unwrap();
         let primary =
             Integrator::new(RigidBody::new(inertia), settings, SO3::identity(), omega).unwrap();
-        let mut run = Checked::new(primary).unwrap();
+        let mut run = CheckedIntegrator::new(primary).unwrap();
         let mut compared = 0;
         for _ in 0..(10.0 / h) as usize {
             run.step().unwrap();
@@ -73,7 +74,7 @@ fn a_checked_run_refuses_what_it_cannot_check() {
     let fixed = StepSettings::new(0.5, 8).unwrap();
     for extra in [0, 9] {
         assert!(matches!(
-            Checked::with_extra_nodes(make(fixed), extra),
+            CheckedIntegrator::with_extra_nodes(make(fixed), extra),
             Err(MechanicsError::InvalidSetting {
                 name: "extra nodes",
                 ..
@@ -82,7 +83,7 @@ fn a_checked_run_refuses_what_it_cannot_check() {
     }
     let changing = fixed.with_tolerance(1e-8).unwrap().with_step_changes(true);
     assert!(matches!(
-        Checked::new(make(changing)),
+        CheckedIntegrator::new(make(changing)),
         Err(MechanicsError::InvalidSetting {
             name: "step changes",
             ..
@@ -90,11 +91,11 @@ fn a_checked_run_refuses_what_it_cannot_check() {
     ));
     let most = StepSettings::new(0.5, MAX_NODES - 1).unwrap();
     assert!(matches!(
-        Checked::new(make(most)),
+        CheckedIntegrator::new(make(most)),
         Err(MechanicsError::InvalidSetting { name: "nodes", .. })
     ));
     // The input reaches both runs: a torque held over the steps moves the two alike.
-    let mut run = Checked::new(make(fixed)).unwrap();
+    let mut run = CheckedIntegrator::new(make(fixed)).unwrap();
     run.set_input(Vector3::new(0.3, 0.0, -0.2)).unwrap();
     for _ in 0..10 {
         run.step().unwrap();
@@ -112,7 +113,8 @@ fn a_checked_run_refuses_what_it_cannot_check() {
 /// rounding of a step says so with the closest run's difference.
 #[test]
 fn the_tolerance_policy_accepts_tightens_and_refuses() {
-    use lgsvi_mechanics::{Difference, ToleranceCheck, ROUNDING_FLOOR};
+    use lgsvi_mechanics::settings::ROUNDING_FLOOR;
+    use lgsvi_mechanics::tolerance::{Difference, ToleranceCheck};
     let at = |value| Difference {
         value,
         step: 3,
@@ -129,7 +131,10 @@ fn the_tolerance_policy_accepts_tightens_and_refuses() {
     assert_eq!(policy.attempt(), 1);
     // 1e-6 against 1e-8: the share falls by 1e-8 / (10 · 1e-6) = 1e-3.
     // (At least tenfold: `tightened_rate` never takes less than a tenth.)
-    assert_eq!(lgsvi_mechanics::tightened_rate(1.0, 1e-9, 1e-8), 0.1);
+    assert_eq!(
+        lgsvi_mechanics::tolerance::tightened_rate(1.0, 1e-9, 1e-8),
+        0.1
+    );
     assert!(!policy.judge(at(1e-6)).unwrap());
     assert_eq!(policy.attempt(), 2);
     assert!((policy.tightened() / 1e3 - 1.0).abs() < 1e-12);

@@ -5,7 +5,8 @@
 
 use lgsvi_mechanics::control::{dare, error_state, finite_horizon_gains, lqr, Regulator};
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::{Coordinates, HeavyTop, Inertia, Integrator, MechanicsError, StepSettings};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, MechanicsError, StepSettings};
 use nalgebra::{DMatrix, Vector3};
 use serde_json::Value;
 

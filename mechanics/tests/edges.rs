@@ -5,6 +5,7 @@
 
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::lie::{LieError, SE3, SO3};
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{FreeBody, Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
 use nalgebra::{Matrix3, SVector, Vector3};
 
@@ -101,7 +102,7 @@ fn run_until_lands_on_the_time_asked() {
         "{}",
         it.state().time
     );
-    assert_eq!(it.settings().step(), 0.1);
+    assert_eq!(it.settings().h(), 0.1);
     // A whole number of steps away: no extra step.
     let mut it = integrator(0.1, 8);
     let trajectory = it.run_until(0.3, 1).unwrap();
@@ -219,8 +220,13 @@ fn tolerances_below_the_rounding_floor_are_refused_and_estimates_floored() {
     assert!(settings.with_tolerance(2e-15).is_ok());
     let mut it = integrator(0.5, 8);
     it.run(10, 10).unwrap();
-    assert_eq!(it.error_estimate(), lgsvi_mechanics::ROUNDING_FLOOR);
-    assert!(it.estimated_global_error() >= 10.0 * lgsvi_mechanics::ROUNDING_FLOOR * 0.999);
+    assert_eq!(
+        it.error_estimate(),
+        lgsvi_mechanics::settings::ROUNDING_FLOOR
+    );
+    assert!(
+        it.estimated_global_error() >= 10.0 * lgsvi_mechanics::settings::ROUNDING_FLOOR * 0.999
+    );
 }
 
 /// A principal moment below ε times the largest is refused with its cause (before: the
@@ -242,7 +248,8 @@ fn an_inertia_thinner_than_double_precision_is_refused() {
 /// the force (before: "momentum after the step is not finite", nothing else).
 #[test]
 fn a_non_finite_force_is_named_with_its_step() {
-    use lgsvi_mechanics::{ForceOfTime, Forced};
+    use lgsvi_mechanics::forces::ForceOfTime;
+    use lgsvi_mechanics::Forced;
     let force = ForceOfTime(|t: f64| {
         if t > 1.0 {
             Vector3::new(f64::NAN, 0.0, 0.0)

@@ -3,6 +3,7 @@
 
 use lgsvi_mechanics::ensemble::{run_ensemble, InitialCondition};
 use lgsvi_mechanics::lie::SO3;
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, StepSettings};
 use nalgebra::Vector3;
 

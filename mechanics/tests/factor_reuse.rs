@@ -5,11 +5,13 @@
 //! to the method's error, Noether's momenta to rounding), and leave longer steps alone.
 
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::group::GroupChart;
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{SE3, SO3};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{
-    Coordinates, GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody,
-    RigidBody, StepSettings,
+    GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
 };
 use nalgebra::{Matrix3, SVector, Vector3};
 

@@ -5,7 +5,9 @@
 
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, LieGroup, SO3};
-use lgsvi_mechanics::{Coordinates, Integrator, MechanicsError, StepSettings};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{Integrator, MechanicsError, StepSettings};
 use nalgebra::{DMatrix, Matrix3, SVector, Vector3, Vector4};
 
 fn craft3() -> Gyrostat<3> {
@@ -94,8 +96,9 @@ fn motor_torques_exchange_momentum_and_conserve_the_total() {
             Group = lgsvi_mechanics::gyrostat::BodyAndWheels<K>,
         >,
         lgsvi_mechanics::gyrostat::BodyAndWheels<K>:
-            lgsvi_mechanics::ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
-        ChartKind: lgsvi_mechanics::GroupChart<lgsvi_mechanics::gyrostat::BodyAndWheels<K>, D>,
+            lgsvi_mechanics::group::ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
+        ChartKind:
+            lgsvi_mechanics::group::GroupChart<lgsvi_mechanics::gyrostat::BodyAndWheels<K>, D>,
         BodyWheels<f64, K>: LieGroup<
             Scalar = f64,
             Tangent = SVector<f64, D>,

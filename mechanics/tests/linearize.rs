@@ -6,12 +6,13 @@
 //! `cargo test -p lgsvi-mechanics --release --test linearize -- --nocapture` prints the
 //! comparison table.
 
+use lgsvi_mechanics::forces::{AngularDamping, BodyTorque, ForceOfTime, SpaceForce};
+use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, Rotations};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
+use lgsvi_mechanics::linearization::{Coordinates, StepLinearization};
 use lgsvi_mechanics::{
-    AngularDamping, BodyTorque, ConfigurationGroup, Coordinates, ForceOfTime, Forced, FreeBody,
-    GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, Lagrangian, Matching,
-    MechanicsError, OrbitingBody, Potential, RigidBody, RigidBodyInPotential, Rotations,
-    SpaceForce, State, StepLinearization, StepSettings,
+    Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator, Lagrangian, Matching,
+    MechanicsError, OrbitingBody, Potential, RigidBody, RigidBodyInPotential, State, StepSettings,
 };
 use nalgebra::{DMatrix, Matrix3, RealField, SVector, Vector3};
 

@@ -7,13 +7,16 @@
 //! `cargo test -p lgsvi-mechanics --release --test parameters -- --nocapture` prints the
 //! comparison table.
 
+use lgsvi_mechanics::forces::{AngularDamping, SpaceForce};
+use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart};
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
+use lgsvi_mechanics::inertia::INERTIA_PARAMETERS;
 use lgsvi_mechanics::lie::{ChartKind, LieGroup, SE3, SO3};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::state::body_velocity;
 use lgsvi_mechanics::{
-    body_velocity, AngularDamping, BodyInField, ConfigurationGroup, Coordinates, FieldPotential,
-    Forced, FreeBody, GroupChart, GroupLagrangian, HeavyTop, Inertia, Integrator, Lagrangian,
-    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, SpaceForce, StepSettings,
-    INERTIA_PARAMETERS,
+    BodyInField, FieldPotential, Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator,
+    Lagrangian, OrbitingBody, Potential, RigidBody, RigidBodyInPotential, StepSettings,
 };
 use nalgebra::{DMatrix, Matrix3, RealField, SVector, Vector3};
 

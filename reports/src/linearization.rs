@@ -6,7 +6,8 @@ use lgsvi_experiments::scenario::Scenario;
 use lgsvi_experiments::Subject;
 use lgsvi_mechanics::gyrostat::BodyWheels;
 use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
-use lgsvi_mechanics::{Coordinates, MechanicsError, State, StepLinearization, StepSettings};
+use lgsvi_mechanics::linearization::{Coordinates, StepLinearization};
+use lgsvi_mechanics::{MechanicsError, State, StepSettings};
 use nalgebra::DMatrix;
 use serde_json::{json, Value};
 

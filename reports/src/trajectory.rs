@@ -15,9 +15,9 @@
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4])?);
-//! let integrator =
+//! let mut integrator =
 //!     Integrator::new(body, StepSettings::new(0.5, 8)?, SO3::identity(), Vector3::new(-2.0, 1.9, -1.0))?;
-//! let run = record(integrator, 2.0, 1, &mut |_| {})?;
+//! let run = record(&mut integrator, 2.0, 1, &mut |_| {})?;
 //! let mut json = Vec::new();
 //! write_json(&run, &serde_json::json!({"system": "rigid-body"}), &mut json)?;
 //! let document: serde_json::Value = serde_json::from_slice(&json)?;
@@ -35,7 +35,8 @@
 use lgsvi_experiments::record::Recording;
 use lgsvi_experiments::scenario::{Motion, Scenario};
 use lgsvi_experiments::{BuiltIn, BuiltInMotion};
-use lgsvi_mechanics::{NewtonJacobian, StepSettings};
+use lgsvi_mechanics::settings::NewtonJacobian;
+use lgsvi_mechanics::StepSettings;
 use lgsvi_plot::{Figure, Series, Style};
 use nalgebra::Vector3;
 use serde::ser::{SerializeMap, Serializer};
@@ -90,7 +91,7 @@ impl Document<'_> {
                     "local_estimates_sum": check.local_sum,
                     "runs": check.attempts,
                     "share_tightened": check.tightened,
-                    "companion_extra_nodes": lgsvi_mechanics::CHECK_EXTRA_NODES,
+                    "companion_extra_nodes": lgsvi_mechanics::tolerance::CHECK_EXTRA_NODES,
                 });
             }
         }
@@ -181,7 +182,7 @@ fn consistent(run: &Recording) -> io::Result<()> {
 /// the node range.
 pub fn settings_json(settings: &StepSettings, t_end: f64, every: usize) -> serde_json::Value {
     let mut json = serde_json::json!({
-        "h": settings.step(), "nodes": settings.nodes(), "degree": settings.degree(),
+        "h": settings.h(), "nodes": settings.nodes(), "degree": settings.degree(),
         "quadrature_points": settings.quadrature_points(), "chart": settings.chart().to_string(),
         "matching": format!("{:?}", settings.matching()).to_lowercase(),
         "jacobian": match settings.jacobian() { NewtonJacobian::Exact => "exact", _ => "finite-difference" },
@@ -417,16 +418,16 @@ mod tests {
         let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap());
         let system = Forced::new(
             body,
-            lgsvi_mechanics::BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
+            lgsvi_mechanics::forces::BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
         );
-        let it = Integrator::new(
+        let mut it = Integrator::new(
             system,
             StepSettings::new(0.5, 8).unwrap(),
             SO3::identity(),
             Vector3::new(-2.0, 1.9, -1.0),
         )
         .unwrap();
-        record(it, 3.0, 2, &mut |_| {}).unwrap()
+        record(&mut it, 3.0, 2, &mut |_| {}).unwrap()
     }
 
     #[test]

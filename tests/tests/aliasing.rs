@@ -6,6 +6,7 @@
 //! against the present angular speed) and refuses such steps with a typed error.
 
 use lgsvi_lie::{ChartKind, SO3};
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
 use nalgebra::Vector3;
 

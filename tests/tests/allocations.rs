@@ -157,7 +157,8 @@ fn adaptive_steps_do_not_allocate_once_warm() {
 /// Called from the one test of this binary.
 fn control_loops_and_se3_steps_do_not_allocate() {
     use lgsvi_lie::SE3;
-    use lgsvi_mechanics::{AngularDamping, BodyTorque, Forced, OrbitingBody};
+    use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
+    use lgsvi_mechanics::{Forced, OrbitingBody};
     use nalgebra::SVector;
     let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap();
     let forced = Forced::new(

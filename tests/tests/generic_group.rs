@@ -9,6 +9,7 @@
 
 use lgsvi_lie::{LieError, LieGroup};
 use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, Stacked};
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{GroupLagrangian, Integrator, StepSettings};
 use nalgebra::{RealField, SMatrix, SVector, Vector2};
 

@@ -12,9 +12,12 @@
 mod common;
 
 use lgsvi_lie::{ChartKind, SE3, SO3};
+use lgsvi_mechanics::group::{GroupChart, Screw};
+use lgsvi_mechanics::integrator::Statistics;
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{
-    FreeBody, GroupChart, GroupLagrangian, Inertia, Integrator, Matching, MechanicsError,
-    OrbitingBody, Screw, Statistics, StepSettings,
+    FreeBody, GroupLagrangian, Inertia, Integrator, Matching, MechanicsError, OrbitingBody,
+    StepSettings,
 };
 use nalgebra::SVector;
 

@@ -10,9 +10,11 @@
 //! on these cases, 40 steps): the 1e-12 the project promises leaves a factor ≥ 10 over that.
 
 use lgsvi_lie::{CayleyChart, ExpChart, SE3, SO3};
+use lgsvi_mechanics::forces::{AngularDamping, BodyTorque, SpaceForce};
+use lgsvi_mechanics::group::Screw;
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{
-    AngularDamping, BodyTorque, Forced, FreeBody, Inertia, Integrator, OrbitingBody, RigidBody,
-    Screw, SpaceForce, StepSettings,
+    Forced, FreeBody, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
 };
 use nalgebra::{Matrix3, SVector, Vector3};
 
@@ -51,7 +53,7 @@ fn full_tensor() -> Matrix3<f64> {
 /// Runs to each reference time (every 0.5) and returns the worst errors in `R` and `Ω`.
 fn so3_errors<S>(mut it: Integrator<S>, case: &str) -> (f64, f64)
 where
-    S: lgsvi_mechanics::GroupLagrangian<3, Group = lgsvi_mechanics::Rotations>,
+    S: lgsvi_mechanics::GroupLagrangian<3, Group = lgsvi_mechanics::group::Rotations>,
 {
     let (mut er, mut ew) = (0.0f64, 0.0f64);
     for s in states(case) {
@@ -117,7 +119,7 @@ fn constant_torque_matches_the_reference_and_balances_energy() {
 fn orbiting_body_matches_the_reference_in_both_charts() {
     let (body, start, xi) = o1();
     let settings = StepSettings::new(0.5, 12).unwrap();
-    fn check<C: lgsvi_mechanics::GroupChart<lgsvi_mechanics::RigidMotions, 6>>(
+    fn check<C: lgsvi_mechanics::group::GroupChart<lgsvi_mechanics::group::RigidMotions, 6>>(
         mut it: Integrator<OrbitingBody, C, 6>,
         name: &str,
     ) {
@@ -335,7 +337,8 @@ fn a_space_force_accelerates_the_centre_of_mass() {
 /// n = 8 at h = 0.25 is at rounding.
 #[test]
 fn time_dependent_forces_are_read_at_every_gauss_point() {
-    use lgsvi_mechanics::{Forcing, Rotations};
+    use lgsvi_mechanics::forces::Forcing;
+    use lgsvi_mechanics::group::Rotations;
     use nalgebra::RealField;
     struct Oscillating {
         amplitude: f64,
@@ -390,7 +393,7 @@ fn forced_steps_take_the_iterations_of_the_unforced_step() {
     let omega0 = Vector3::new(-2.0, 1.9, -1.0);
     let settings = StepSettings::new(0.5, 8).unwrap();
     let steps = 200;
-    let per_step = |s: &lgsvi_mechanics::Statistics| {
+    let per_step = |s: &lgsvi_mechanics::integrator::Statistics| {
         (
             s.newton_iterations as f64 / s.steps as f64,
             s.factorizations as f64 / s.steps as f64,
@@ -431,7 +434,9 @@ fn forced_steps_take_the_iterations_of_the_unforced_step() {
 
 /// Discrete Noether in space, in the SE(3) chart `chart` (see
 /// [`discrete_noether_holds_for_every_symmetry_over_ten_thousand_steps`]).
-fn noether_in_space<C: lgsvi_mechanics::GroupChart<lgsvi_mechanics::RigidMotions, 6>>(
+fn noether_in_space<
+    C: lgsvi_mechanics::group::GroupChart<lgsvi_mechanics::group::RigidMotions, 6>,
+>(
     chart: C,
     name: &str,
 ) {

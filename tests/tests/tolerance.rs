@@ -5,9 +5,9 @@
 
 use lgsvi_lie::SO3;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::{
-    HeavyTop, Inertia, Integrator, MechanicsError, RigidBody, StepSettings, DEFAULT_ADAPTIVE_NODES,
-};
+use lgsvi_mechanics::settings::DEFAULT_ADAPTIVE_NODES;
+use lgsvi_mechanics::Stepper;
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
 use nalgebra::Vector3;
 
 /// Case A of the paper: J = (3.3, 2.5, 3.4), Ω(0) = (−2, 1.9, −1), |Ω| ≈ 2.9.

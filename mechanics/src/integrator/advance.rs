@@ -122,7 +122,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let base = self.state.configuration;
         let mut halvings = 0;
         loop {
-            let budget = adaptive.rate * self.settings.step();
+            let budget = adaptive.rate * self.settings.h();
             let outcome = match self.attempt(&base) {
                 Ok(outcome) => outcome,
                 // A step the chart cannot follow, or that Newton cannot solve, is tried
@@ -130,7 +130,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 Err(_) if adaptive.step_changes && halvings < MAX_HALVINGS => {
                     halvings += 1;
                     self.statistics.rejected_steps += 1;
-                    self.switch_step(0.5 * self.settings.step())?;
+                    self.switch_step(0.5 * self.settings.h())?;
                     continue;
                 }
                 Err(error) => return Err(error),
@@ -168,7 +168,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 // The most nodes allowed do not reach the tolerance: half the step.
                 halvings += 1;
                 self.count_redone(&outcome);
-                self.switch_step(0.5 * self.settings.step())?;
+                self.switch_step(0.5 * self.settings.h())?;
                 continue;
             }
             if floored > budget {
@@ -177,7 +177,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                     (
                         format!(
                             ", after halving the step {halvings} times to {:e}",
-                            self.settings.step()
+                            self.settings.h()
                         ),
                         "the tolerance is below what this motion allows in double precision: \
                          raise it",
@@ -240,7 +240,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             // With room below the budget, the step may grow back: doubling it multiplies
             // the local error by about 2^(2n−1) (order 2(n−1)) and the budget by 2; it
             // doubles where that stays under half the new budget.
-            let h = self.settings.step();
+            let h = self.settings.h();
             if adaptive.step_changes
                 && self.next_nodes.is_none_or(|next| next <= n)
                 && h < self.largest_step
@@ -265,7 +265,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// are counted from the present state, and the last step's curve, made for the old
     /// step, no longer seeds the predictor.
     pub(super) fn switch_step(&mut self, h: f64) -> Result<(), MechanicsError> {
-        if h == self.settings.step() {
+        if h == self.settings.h() {
             return Ok(());
         }
         if !(h.is_finite() && h >= crate::settings::STEP_RANGE.0) {
@@ -373,7 +373,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         let configuration =
             <S::Group as ConfigurationGroup<D>>::renormalise(&outcome.configuration);
         let since = self.step_index + 1 - self.origin_steps;
-        let time = self.origin + since as f64 * self.settings.step();
+        let time = self.origin + since as f64 * self.settings.h();
         let velocity = body_velocity(
             &self.system,
             time,
@@ -447,10 +447,10 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     }
 
     /// The step solver over this integrator's system and settings, beside its workspace.
-    pub(super) fn stepper(&mut self) -> (Stepper<'_, S, C, D>, &mut WorkspaceOf<S, D>) {
+    pub(super) fn stepper(&mut self) -> (StepSolver<'_, S, C, D>, &mut WorkspaceOf<S, D>) {
         let forcing = self.forcing();
         (
-            Stepper {
+            StepSolver {
                 system: &self.system,
                 chart: &self.chart,
                 settings: &self.settings,

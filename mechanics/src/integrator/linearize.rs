@@ -10,7 +10,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// linearises the step at its present nodes and step.
     ///
     /// ```
-    /// use lgsvi_mechanics::{Coordinates, Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_mechanics::linearization::Coordinates;
     /// use lgsvi_mechanics::lie::SO3;
     /// use nalgebra::Vector3;
     /// // A body at rest: the step is the exact zero-order hold of θ̈ = J⁻¹u.
@@ -58,7 +59,8 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// per call.
     ///
     /// ```
-    /// use lgsvi_mechanics::{Coordinates, Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_mechanics::linearization::Coordinates;
     /// use lgsvi_mechanics::lie::SO3;
     /// use nalgebra::Vector3;
     /// // A body at rest under a torque u: ω₊ = h J⁻¹u, so ∂ω₊/∂J_zz = −h u_z / J_zz².
@@ -134,7 +136,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
         end: State<ElementOf<S, D>, D>,
         parameters: bool,
     ) -> Result<StepLinearization<ElementOf<S, D>, D>, MechanicsError> {
-        let stepper = Stepper {
+        let stepper = StepSolver {
             system: &self.system,
             chart: &self.chart,
             settings: &self.settings,
@@ -162,7 +164,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             start,
             end,
             self.input,
-            (self.settings.step(), self.discretisation.n, index),
+            (self.settings.h(), self.discretisation.n, index),
             parameter_jacobians,
         )
     }

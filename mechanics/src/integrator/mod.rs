@@ -2,11 +2,11 @@
 //! dense output — for any configuration group and chart.
 //!
 //! By concern: this file holds the integrator's state, construction, accessors, inputs
-//! and reset; [`predictor`] the first guess of each step and the checks that a converged
-//! step is the motion's; [`advance`] a step's attempt, node and step control and commit;
-//! [`linearize`] the exact linearisation of a step; [`drive`] the one loop over many steps
-//! and its observers; [`run`] the runs built on it;
-//! [`curve`] the statistics, dense output and trajectories a run returns.
+//! and reset; `predictor` the first guess of each step and the checks that a converged
+//! step is the motion's; `advance` a step's attempt, node and step control and commit;
+//! `linearize` the exact linearisation of a step; `run` the step count to a horizon
+//! and the integrator's [`crate::stepper::Stepper`] implementation;
+//! `curve` the statistics, dense output and trajectories a run returns.
 
 use crate::error::{check_finite, MechanicsError};
 use crate::flow::FlowGuess;
@@ -17,7 +17,7 @@ use crate::state::{body_momentum, body_velocity, State};
 use crate::step::assembly::{Workspace, WorkspaceOf};
 use crate::step::points::StepForce;
 use crate::step::tables::Discretisation;
-use crate::step::{StepOutcome, Stepper};
+use crate::step::{StepOutcome, StepSolver};
 use crate::system::{
     ElementOf, FlowStart, ForceAlongStep, ForceValueAlongStep, GroupLagrangian, PointForce,
 };
@@ -28,15 +28,12 @@ use std::sync::Arc;
 
 mod advance;
 mod curve;
-mod drive;
 mod linearize;
 mod predictor;
 mod run;
 
 use advance::NODES_HOLD;
 pub use curve::{GalerkinCurve, Statistics, Trajectory};
-pub(crate) use drive::drive_by;
-pub use drive::{each, Each, Flow, Observer, Recorder, StepInfo};
 
 /// Adds `term` to `sum` with Kahan's compensation, `carry` holding what the last additions
 /// lost: long runs add millions of terms (the work of the forces, the error estimates).
@@ -66,6 +63,7 @@ fn with_length<const D: usize>(n: usize, capacity: usize) -> Vec<SVector<f64, D>
 ///   Nothing is rebuilt, and a step allocates nothing.
 ///
 /// ```
+/// use lgsvi_mechanics::Stepper;
 /// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
 /// use lgsvi_lie::SO3;
 /// use nalgebra::Vector3;
@@ -171,6 +169,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// As [`Integrator::new`] in the chart `chart` (whatever `settings.chart()` says).
     ///
     /// ```
+    /// use lgsvi_mechanics::Stepper;
     /// use lgsvi_mechanics::{FreeBody, Inertia, Integrator, StepSettings};
     /// use lgsvi_mechanics::lie::{CayleyChart, SE3};
     /// use nalgebra::SVector;
@@ -251,7 +250,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             lowered: false,
             previous_estimate: 0.0,
             origin_steps: 0,
-            largest_step: settings.step(),
+            largest_step: settings.h(),
             next_step: None,
             spare_work: Vec::with_capacity(capacity),
             linearizing: false,
@@ -456,7 +455,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             nodes: self.last_nodes.clone(),
             basis: self.discretisation.basis.clone(),
             chart: self.chart,
-            start: self.state.time - self.settings.step(),
+            start: self.state.time - self.settings.h(),
             group: PhantomData,
         })
     }
@@ -467,7 +466,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// radians per unit time on SO(3); SE(3) adds the units of the position). Calibrated on
     /// the free body and the heavy top: near the true local error on average, between 25×
     /// below and 30× above it on the steps measured (`docs/tolerance.md` §2), and never
-    /// below the rounding of one step, [`crate::ROUNDING_FLOOR`] (`4ε`). Costs `4nD`
+    /// below the rounding of one step, [`crate::settings::ROUNDING_FLOOR`] (`4ε`). Costs `4nD`
     /// multiplications per step.
     pub fn error_estimate(&self) -> f64 {
         self.estimate

@@ -79,7 +79,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
                 FlowGuess::Unavailable => {
                     // Without the flow, the present angular speed bounds what a step
                     // must be able to turn.
-                    let h = self.settings.step();
+                    let h = self.settings.h();
                     let rotation =
                         <S::Group as ConfigurationGroup<D>>::angular_speed(&self.state.velocity)
                             * h;
@@ -153,7 +153,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
             base: &self.state.configuration,
             momentum: &self.state.momentum,
             velocity: &self.state.velocity,
-            h: self.settings.step(),
+            h: self.settings.h(),
             times: self.discretisation.node_times(),
             force: self
                 .forcing()

@@ -5,12 +5,12 @@
 //! `∂²S/∂ξⁱ∂ξᵏ = Σ_j h b_j [φ_i φ_k H_xx + φ_i φ_k' H_xv + φ_i' φ_k H_vx + φ_i' φ_k' H_vv]_j`,
 //! formed for all `D` components at once as the basis times the points' Hessian entries
 //! (`D·D(n−1) × 2m`) times the weighted basis (`2m × n`): one dense product instead of
-//! `n²m` small block sums ([`Stepper::fill_jacobian`] says how its rows are laid out).
+//! `n²m` small block sums ([`StepSolver::fill_jacobian`] says how its rows are laid out).
 
 use super::newton::carry::Carry;
 use super::points::{point_derivatives, EllTilde, StepForce};
 use super::tables::Discretisation;
-use super::{Element, MatchingTerms, Stepper};
+use super::{Element, MatchingTerms, StepSolver};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::point::{ForceAtPoint, GaussPoints, PointTransport};
@@ -53,7 +53,7 @@ pub(crate) struct Workspace<J, const D: usize> {
     pub(super) matching: MatchingTerms<D>,
     /// The basis times the points' Hessian entries (`D·D(n−1) × 2m`, columns `2j`,
     /// `2j + 1` for `x`, `v`), and `∂²S/∂ξᵏ_c ∂ξⁱ_r` (`D·D(n−1) × n`) = that times
-    /// `weighted_basis`, laid out by [`Stepper::fill_jacobian`]: with the exact matching
+    /// `weighted_basis`, laid out by [`StepSolver::fill_jacobian`]: with the exact matching
     /// row `D(n−1)c + D(i−1) + r`, column `k`; with the paper's, row
     /// `D(n−1)r + D(k−1) + c`, column `i`.
     hessian_times_basis: Mat<f64>,
@@ -84,17 +84,17 @@ pub(crate) struct Workspace<J, const D: usize> {
     pub(super) node_blocks: Mat<f64>,
     pub(super) sensitivity: Vec<[SVector<f64, D>; 3]>,
     /// `(‖F‖∞, scale)` of an assembly (with Hessians for the exact Jacobian) at the
-    /// current `xi`, made by [`Stepper::relative_residual`]: the Newton loop's first
+    /// current `xi`, made by [`StepSolver::relative_residual`]: the Newton loop's first
     /// assembly, saved.
     pub(super) guess_assembled: Option<(f64, f64)>,
     /// Asked for by a caller that linearises the step it solves
-    /// ([`Stepper::linearize`]): the assembly the Newton loop expects to be its last then
+    /// ([`StepSolver::linearize`]): the assembly the Newton loop expects to be its last then
     /// carries the points' Hessians, so that the linearisation forms its Newton matrix
     /// from it instead of assembling the converged step once more.
     pub(crate) keep_converged_hessians: bool,
     /// Whether the points hold Hessians from an assembly at the rounding floor of the
     /// last solve (set by the Newton loop as it accepts the step, cleared by every
-    /// assembly): the converged step's, to rounding, for [`Stepper::linearize`].
+    /// assembly): the converged step's, to rounding, for [`StepSolver::linearize`].
     pub(super) converged_hessians: bool,
     /// Whether `jacobian` holds an earlier solve's factors that the next step may start
     /// from, and the reuse policy's waits ([`super::newton::carry`]).
@@ -223,10 +223,10 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
 pub(crate) type WorkspaceOf<S, const D: usize> =
     Workspace<<<S as GroupLagrangian<D>>::Group as ConfigurationGroup<D>>::Jet, D>;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The residual at the unknowns in `work.xi` relative to the equations' largest terms
     /// (infinite outside the chart's domain or where not finite): how good a predictor is.
-    /// The assembly (with Hessians, for the exact Jacobian) is kept for [`Stepper::solve`]'s
+    /// The assembly (with Hessians, for the exact Jacobian) is kept for [`StepSolver::solve`]'s
     /// first iteration until `work.xi` changes ([`Workspace::guess_changed`]).
     pub fn relative_residual(
         &self,
@@ -250,7 +250,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     }
 
     /// Evaluates the points (with their Hessians if `with_jacobian`, for a following
-    /// [`Stepper::fill_jacobian`]) and the residual at the current unknowns; returns
+    /// [`StepSolver::fill_jacobian`]) and the residual at the current unknowns; returns
     /// `(‖F‖∞, scale)` with the residual written to `work.residual`.
     pub(super) fn assemble(
         &self,
@@ -366,7 +366,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     }
 
     /// The exact Newton matrix from the point Hessians of the last assembly (module
-    /// documentation); the matching rows from [`Stepper::fill_matching_rows`].
+    /// documentation); the matching rows from [`StepSolver::fill_matching_rows`].
     ///
     /// The product's rows run over the equations' `(i, r)` inside each component `c` of
     /// an unknown, and its columns over that unknown's node `k` (`by_unknown`, the exact
@@ -456,14 +456,14 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         self.fill_matching_rows(work);
     }
 
-    /// Whether [`Stepper::fill_jacobian`]'s product is laid out by unknowns (the exact
+    /// Whether [`StepSolver::fill_jacobian`]'s product is laid out by unknowns (the exact
     /// matching) rather than by equations (the paper's).
     fn by_unknown(&self) -> bool {
         self.settings.matching() == Matching::Exact
     }
 
     /// `∂²S/∂ξᵏ∂ξⁱ` as a `D × D` block (rows the components of `ξⁱ`'s equation, columns
-    /// those of the unknown `ξᵏ`, `k ≥ 1`), from the last [`Stepper::fill_jacobian`]; `i ≥ 1`
+    /// those of the unknown `ξᵏ`, `k ≥ 1`), from the last [`StepSolver::fill_jacobian`]; `i ≥ 1`
     /// with the exact matching.
     #[inline]
     pub(super) fn hessian_block(
@@ -561,7 +561,7 @@ pub(super) fn accumulate_gradient<const D: usize>(
 
 /// One point's Hessian entries, scaled by the basis at the point, into a column of the
 /// product's left factor: in the chunk of outer index `a`, node `k`'s entry `b` gets
-/// `φ_k hx[a][b] + φ'_k hv[a][b]` ([`Stepper::fill_jacobian`] chooses which entries `hx`
+/// `φ_k hx[a][b] + φ'_k hv[a][b]` ([`StepSolver::fill_jacobian`] chooses which entries `hx`
 /// and `hv` hold). Compiled for the x86-64 baseline and with AVX2 (chosen at run time,
 /// as the LU): element-wise products and sums, the same in both.
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]

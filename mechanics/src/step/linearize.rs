@@ -9,7 +9,7 @@
 //! (`Workspace::converged_hessians`: an assembly at the rounding floor, at the accepted
 //! unknowns or one chord step of at most a few ulps before them), else from an assembly
 //! here — and `F_P` in closed form: the Gauss points' gradients move with `θ` through
-//! their derivatives in `ζ` ([`Stepper::point_mixed`]; three hyper-dual numbers per point
+//! their derivatives in `ζ` ([`StepSolver::point_mixed`]; three hyper-dual numbers per point
 //! through the whole point are the tests' reference).
 //!
 //! With `ξⁿ` and `w` of the exact matching (module [`super::matching`]):
@@ -28,7 +28,7 @@
 use super::assembly::WorkspaceOf;
 use super::newton::{substitute, substitute_rows};
 use super::points::StepForce;
-use super::{Element, Stepper};
+use super::{Element, StepSolver};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
@@ -145,7 +145,7 @@ struct EndMap<E, const D: usize> {
 
 impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
     /// From the converged unknowns and the matching's `w` in `work`.
-    fn at<S, C>(stepper: &Stepper<'_, S, C, D>, work: &WorkspaceOf<S, D>) -> Self
+    fn at<S, C>(stepper: &StepSolver<'_, S, C, D>, work: &WorkspaceOf<S, D>) -> Self
     where
         S: GroupLagrangian<D>,
         S::Group: ConfigurationGroup<D, Element<f64> = E>,
@@ -172,7 +172,7 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
     /// configuration terms). A `θ` column adds `Ad_{Φ(ξⁿ)⁻¹}` to the first part itself.
     fn perturbation<S, C>(
         &self,
-        stepper: &Stepper<'_, S, C, D>,
+        stepper: &StepSolver<'_, S, C, D>,
         work: &WorkspaceOf<S, D>,
         explicit: SVector<f64, D>,
         delta: impl Fn(usize) -> SVector<f64, D>,
@@ -193,7 +193,7 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
     }
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The linearisation of the step from `(base, mu)` whose converged unknowns are in
     /// `work.xi` (module documentation). Overwrites the workspace's Newton matrix (and its
     /// assembly, when the Newton loop did not keep one with Hessians).
@@ -340,7 +340,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     }
 
     /// The step's derivatives in the system's parameters ([`ParameterJacobians`]), after
-    /// [`Stepper::linearize`] of the same step: its fresh factors of the Newton matrix at
+    /// [`StepSolver::linearize`] of the same step: its fresh factors of the Newton matrix at
     /// the converged unknowns, its `∂w/∂ξ` and matching terms in `work` (unchanged here).
     /// Each parameter costs one gradient-only assembly of [`ParameterDerivative`] in
     /// `scratch` and one substitution: `∂Ξ/∂p_k = −F_Ξ⁻¹ F[∂ℓ/∂p_k]`, then the end state as
@@ -371,7 +371,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
                 system: self.system,
                 index,
             };
-            let stepper = Stepper {
+            let stepper = StepSolver {
                 system: &derivative,
                 chart: self.chart,
                 settings: self.settings,
@@ -467,7 +467,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         mixed
     }
 
-    /// [`Stepper::point_mixed`] by three hyper-dual evaluations through the whole point
+    /// [`StepSolver::point_mixed`] by three hyper-dual evaluations through the whole point
     /// (first variables `x`, `v`, `ζ` in turn, second variables `θ`): the tests'
     /// independent reference.
     #[cfg(test)]

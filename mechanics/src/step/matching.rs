@@ -20,7 +20,7 @@
 
 use super::assembly::WorkspaceOf;
 use super::product::fixed_product;
-use super::{Element, MatchingTerms, StepOutcome, Stepper};
+use super::{Element, MatchingTerms, StepOutcome, StepSolver};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
 use crate::system::GroupLagrangian;
@@ -29,7 +29,7 @@ use nalgebra::{SMatrix, SVector};
 #[cfg(test)]
 use num_dual::DualSVec64;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The matching residual at the last points and the scale of its terms; records `w`
     /// and the transport (and, with `with_jacobian`, `∂q/∂x`, `∂q/∂v`) for the Jacobian.
     pub(super) fn matching_residual(
@@ -115,7 +115,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
     }
 
     /// The matching rows of the Newton matrix (the last `D`), after the action Hessian of
-    /// [`Stepper::fill_jacobian`].
+    /// [`StepSolver::fill_jacobian`].
     pub(super) fn fill_matching_rows(&self, work: &mut WorkspaceOf<S, D>) {
         let d = self.d;
         let n = d.n;
@@ -206,7 +206,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         })
     }
 
-    /// [`Stepper::matching_map_jacobian`] by dual numbers through the chart and the
+    /// [`StepSolver::matching_map_jacobian`] by dual numbers through the chart and the
     /// group's adjoint: the tests' reference.
     #[cfg(test)]
     pub(super) fn matching_map_jacobian_by_dual_numbers(

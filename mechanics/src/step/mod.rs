@@ -69,7 +69,7 @@ impl<const D: usize> Default for MatchingTerms<D> {
 }
 
 /// The solver of one step, for a system, a chart and fixed settings.
-pub(crate) struct Stepper<'a, S, C, const D: usize> {
+pub(crate) struct StepSolver<'a, S, C, const D: usize> {
     pub system: &'a S,
     pub chart: &'a C,
     pub settings: &'a StepSettings,
@@ -81,7 +81,7 @@ pub(crate) struct Stepper<'a, S, C, const D: usize> {
     pub forcing: Option<SVector<f64, D>>,
 }
 
-impl<S: GroupLagrangian<D>, C, const D: usize> Stepper<'_, S, C, D> {
+impl<S: GroupLagrangian<D>, C, const D: usize> StepSolver<'_, S, C, D> {
     /// Whether the points need their `ζ` derivatives: the exact matching of a system
     /// that is not left-invariant or is forced.
     fn needs_configuration(&self) -> bool {
@@ -91,7 +91,7 @@ impl<S: GroupLagrangian<D>, C, const D: usize> Stepper<'_, S, C, D> {
 
     /// Whether the momentum update needs no assembly at the final iterate: the exact
     /// matching, whose `w` is `μ_k` without configuration terms and is carried through a
-    /// last chord step with them ([`Stepper::carry_matching`]).
+    /// last chord step with them ([`StepSolver::carry_matching`]).
     fn momentum_is_assembly_free(&self) -> bool {
         self.settings.matching() == Matching::Exact
     }

@@ -6,7 +6,7 @@
 //! factored matrix) and [`line_search`] (backtracking).
 
 use super::assembly::WorkspaceOf;
-use super::{Element, StepOutcome, Stepper};
+use super::{Element, StepOutcome, StepSolver};
 use crate::error::MechanicsError;
 use crate::group::GroupChart;
 use crate::settings::NewtonJacobian;
@@ -100,7 +100,7 @@ fn substitute_families<const D: usize, const FIRST: usize>(
 /// 64 ulps, so that the linearisation from them is the converged step's to ~1e-14.
 const KEPT_STEP: f64 = 64.0 * f64::EPSILON;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<'_, S, C, D> {
+impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// Newton on the step's equations from the guess in `work.xi`. A solve that fails
     /// leaves no factors for a later step to start from.
     pub(crate) fn solve(
@@ -118,7 +118,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
         solved
     }
 
-    /// [`Stepper::solve`]'s loop.
+    /// [`StepSolver::solve`]'s loop.
     fn newton(
         &self,
         base: &Element<S, D>,
@@ -326,7 +326,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<
             // Runge–Kutta codes: stop when the estimated error after the step is below
             // tolerance). The exact matching's momentum update reads `w`, which is `μ_k`
             // for a left-invariant, unforced ℓ and otherwise is carried through the step
-            // to first order ([`Stepper::carry_matching`]). Saves one of the four
+            // to first order ([`StepSolver::carry_matching`]). Saves one of the four
             // assemblies of a typical step.
             if chord.is_some()
                 && factors.pending == 0.0

@@ -38,7 +38,7 @@
 //! second-order dual number over all `3D` variables through `ℓ̃` (`docs/performance.md`
 //! §6), which the tests keep as the independent reference.
 
-use crate::force_jet::ForceJet;
+use crate::forces::ForceJet;
 use crate::group::{ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction};
 pub(crate) use crate::point::{add_force_terms, add_force_value};
 use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce, PointTransport};
@@ -135,7 +135,7 @@ impl<'a, S: GroupLagrangian<D>, const D: usize> StepForce<'a, S, D> {
     /// The force's jet at a point (its value alone, as a constant jet, where the Hessian
     /// is not wanted) and its power `F·ξ` there: what a point's closed form asks of it
     /// ([`crate::jet`]), for a path that takes the points together
-    /// ([`crate::GaussPoints`]).
+    /// ([`crate::system::GaussPoints`]).
     pub fn jet_and_power(
         &self,
         configuration: &ElementOf<S, D>,

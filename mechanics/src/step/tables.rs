@@ -75,7 +75,7 @@ impl Discretisation {
     /// result. A poisoned lock (a panic elsewhere while holding it) only skips the cache.
     pub fn shared(settings: &StepSettings) -> Result<Arc<Self>, MechanicsError> {
         let key = (
-            settings.step().to_bits(),
+            settings.h().to_bits(),
             settings.nodes(),
             settings.quadrature_points(),
         );
@@ -95,11 +95,7 @@ impl Discretisation {
     }
 
     pub fn new(settings: &StepSettings) -> Result<Self, MechanicsError> {
-        let (n, m, h) = (
-            settings.nodes(),
-            settings.quadrature_points(),
-            settings.step(),
-        );
+        let (n, m, h) = (settings.nodes(), settings.quadrature_points(), settings.h());
         let rule = gauss_legendre(m)?.on(0.0, h)?;
         let basis = Barycentric::chebyshev_lobatto(n, 0.0, h)?;
         let (b, d) = basis.evaluation_and_derivative_matrices(rule.nodes())?;

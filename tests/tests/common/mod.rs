@@ -4,8 +4,10 @@
 #![allow(dead_code)]
 
 use lgsvi_lie::SO3;
+use lgsvi_mechanics::integrator::Statistics;
+use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{
-    HeavyTop, Inertia, Integrator, MechanicsError, RigidBody, Statistics, StepSettings, Trajectory,
+    HeavyTop, Inertia, Integrator, MechanicsError, RigidBody, StepSettings, Trajectory,
 };
 use nalgebra::{Matrix3, Vector3};
 

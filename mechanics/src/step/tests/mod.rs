@@ -76,15 +76,15 @@ fn base() -> Matrix3<f64> {
 }
 
 /// A Gauss point at time 0.7 from `base`.
-fn gauss_point<'a, G: crate::ConfigurationGroup<D>, const D: usize>(
+fn gauss_point<'a, G: crate::group::ConfigurationGroup<D>, const D: usize>(
     base: &'a G::Element<f64>,
     x: &'a SVector<f64, D>,
     v: &'a SVector<f64, D>,
     with_configuration: bool,
     with_hessian: bool,
-    force: Option<&'a dyn crate::PointForce<G, D>>,
-) -> crate::GaussPoint<'a, G, D> {
-    crate::GaussPoint {
+    force: Option<&'a dyn crate::system::PointForce<G, D>>,
+) -> crate::system::GaussPoint<'a, G, D> {
+    crate::system::GaussPoint {
         time: 0.7,
         base,
         x,
@@ -337,7 +337,7 @@ fn points_in_lanes_match_dual_numbers() {
         for chart in ChartKind::ALL {
             for with_configuration in [false, true] {
                 let lanes = |with_hessian, out: &mut [PointDerivatives], transports: &mut [_]| {
-                    let points = crate::GaussPoints {
+                    let points = crate::system::GaussPoints {
                         base: &b,
                         x: xs,
                         v: vs,
@@ -388,7 +388,7 @@ fn points_in_lanes_match_dual_numbers() {
         vs: &[Vector3<f64>],
     ) {
         use super::points::{point_derivatives, StepForce};
-        use crate::PointForce;
+        use crate::system::PointForce;
         let b = SO3::from_matrix_unchecked(base());
         let input = Vector3::new(0.05, 0.0, -0.03);
         for chart in ChartKind::ALL {
@@ -397,7 +397,7 @@ fn points_in_lanes_match_dual_numbers() {
                     StepForce::new(system, 0.7, &input).jet_and_power(g, xi, with_hessian)
                 };
                 let reads = StepForce::new(system, 0.7, &input).depends_on_configuration();
-                let points = crate::GaussPoints {
+                let points = crate::system::GaussPoints {
                     base: &b,
                     x: xs,
                     v: vs,
@@ -442,8 +442,8 @@ fn points_in_lanes_match_dual_numbers() {
             }
         }
     }
-    let torque = crate::BodyTorque(Vector3::new(0.1, -0.2, 0.05));
-    let damping = crate::AngularDamping(0.3);
+    let torque = crate::forces::BodyTorque(Vector3::new(0.1, -0.2, 0.05));
+    let damping = crate::forces::AngularDamping(0.3);
     let free = crate::RigidBody::new(inertia);
     check_forced(
         &crate::Forced::new(free, torque),
@@ -469,7 +469,7 @@ fn points_in_lanes_match_dual_numbers() {
     let b = SO3::from_matrix_unchecked(base());
     let mut out = vec![PointDerivatives::zeros(); xs.len()];
     let mut transports = vec![None; xs.len()];
-    let points = crate::GaussPoints {
+    let points = crate::system::GaussPoints {
         base: &b,
         x: &xs,
         v: &vs,
@@ -678,7 +678,7 @@ fn the_gradient_kernel_is_the_point_by_point_sum_bit_for_bit() {
 /// A workspace holding a curve that is not a solution (constant velocity plus a wobble),
 /// assembled with its Newton matrix at the step's start `b` with momentum `μ`.
 fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
-    stepper: &Stepper<'_, S, ChartKind, 3>,
+    stepper: &StepSolver<'_, S, ChartKind, 3>,
     d: &Discretisation,
 ) -> (Workspace<Stacked<9>, 3>, SO3, Vector3<f64>) {
     let mu = Vector3::new(2.4, -1.5, 1.52);
@@ -696,7 +696,7 @@ fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group:
 /// A workspace holding the curve `ξ(t) = rate t + wobble t²` at the nodes, assembled with
 /// its Newton matrix at the step's start `base` with momentum `μ`.
 fn assembled_along<S, C, const D: usize>(
-    stepper: &Stepper<'_, S, C, D>,
+    stepper: &StepSolver<'_, S, C, D>,
     d: &Discretisation,
     (base, mu): (&crate::system::ElementOf<S, D>, &SVector<f64, D>),
     rate: SVector<f64, D>,
@@ -726,8 +726,8 @@ fn exact_newton_matrix_matches_differences_of_the_residual() {
     let forced = crate::Forced::new(
         top(),
         (
-            crate::BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
-            crate::AngularDamping(0.3),
+            crate::forces::BodyTorque(Vector3::new(0.1, -0.2, 0.05)),
+            crate::forces::AngularDamping(0.3),
         ),
     );
     check_newton_matrix(&top(), None, "heavy top");
@@ -757,7 +757,7 @@ fn check_newton_matrix<S: crate::GroupLagrangian<3, Group = crate::group::Rotati
                 .with_chart(chart)
                 .with_matching(matching);
             let d = Discretisation::new(&settings).unwrap();
-            let stepper = Stepper {
+            let stepper = StepSolver {
                 system,
                 chart: &chart,
                 settings: &settings,
@@ -777,11 +777,11 @@ fn check_newton_matrix<S: crate::GroupLagrangian<3, Group = crate::group::Rotati
     }
 }
 
-/// The exact Newton matrix in `work` (from [`Stepper::fill_jacobian`]) within 1e-6 of its
+/// The exact Newton matrix in `work` (from [`StepSolver::fill_jacobian`]) within 1e-6 of its
 /// largest entry of forward differences of the residual (accurate to ~√ε·|F''| ≈ 1e-7
 /// relative).
 fn assert_newton_matrix_near_differences<S, C, const D: usize>(
-    stepper: &Stepper<'_, S, C, D>,
+    stepper: &StepSolver<'_, S, C, D>,
     base: &crate::system::ElementOf<S, D>,
     mu: &SVector<f64, D>,
     work: &mut WorkspaceOf<S, D>,
@@ -804,7 +804,7 @@ fn assert_newton_matrix_near_differences<S, C, const D: usize>(
 }
 
 /// The exact matching's `w` carried through a move `δ` of the unknowns with the last
-/// Newton matrix's `∂w/∂ξ` ([`Stepper::carry_matching`], which the Newton loop applies
+/// Newton matrix's `∂w/∂ξ` ([`StepSolver::carry_matching`], which the Newton loop applies
 /// to its last chord step instead of assembling again) agrees with `w` assembled at the
 /// moved unknowns up to the second-order remainder: for `|δ| = 1e-5` that is ~1e-10 of
 /// `|w|` (curvature of order one), where leaving `w` where it was is off by ~1e-5. The
@@ -816,7 +816,7 @@ fn carried_matching_momentum_agrees_with_a_new_assembly() {
     for chart in ChartKind::ALL {
         let settings = StepSettings::new(0.4, 6).unwrap().with_chart(chart);
         let d = Discretisation::new(&settings).unwrap();
-        let stepper = Stepper {
+        let stepper = StepSolver {
             system: &system,
             chart: &chart,
             settings: &settings,
@@ -877,7 +877,7 @@ fn a_linearisation_from_the_kept_hessians_is_the_fresh_one() {
             for n in [5, 8] {
                 let settings = StepSettings::new(0.5, n).unwrap().with_chart(chart);
                 let d = Discretisation::new(&settings).unwrap();
-                let stepper = Stepper {
+                let stepper = StepSolver {
                     system,
                     chart: &chart,
                     settings: &settings,
@@ -987,7 +987,7 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
         for matching in [Matching::Exact, Matching::Paper] {
             let settings = StepSettings::new(0.4, 5).unwrap().with_matching(matching);
             let d = Discretisation::new(&settings).unwrap();
-            let stepper = Stepper {
+            let stepper = StepSolver {
                 system,
                 chart: &chart,
                 settings: &settings,
@@ -1026,7 +1026,10 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
     );
     let free = crate::FreeBody::new(inertia, 1.3).unwrap();
     let orbit = crate::OrbitingBody::new(inertia, 1.0, 2.0).unwrap();
-    let pushed = crate::Forced::new(free, crate::SpaceForce(Vector3::new(0.1, -0.3, 0.2)));
+    let pushed = crate::Forced::new(
+        free,
+        crate::forces::SpaceForce(Vector3::new(0.1, -0.3, 0.2)),
+    );
     let field = crate::BodyInField::new(inertia, 1.3, Spring).unwrap();
     let craft = crate::gyrostat::Gyrostat::new(
         Matrix3::from_diagonal(&Vector3::new(1.0, 1.2, 0.8)),
@@ -1106,7 +1109,7 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
     let settings = StepSettings::new(0.4, 5).unwrap();
     let d = Discretisation::new(&settings).unwrap();
     let chart = ChartKind::Exp;
-    let stepper = Stepper {
+    let stepper = StepSolver {
         system: &system,
         chart: &chart,
         settings: &settings,

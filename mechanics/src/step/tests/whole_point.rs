@@ -8,7 +8,7 @@ use super::*;
 /// on time (exercises every block of the generic chain rule).
 pub(super) struct CoupledSe3;
 impl crate::GroupLagrangian<6> for CoupledSe3 {
-    type Group = crate::RigidMotions;
+    type Group = crate::group::RigidMotions;
     fn lagrangian<T: RealField + Copy>(
         &self,
         t: f64,
@@ -41,7 +41,7 @@ const OFFSET_MASS: f64 = 1.7;
 const OFFSET: [f64; 3] = [0.2, -0.1, 0.3];
 const OFFSET_INERTIA: [f64; 3] = [1.2, 2.1, 2.7];
 impl crate::GroupLagrangian<6> for OffsetBody {
-    type Group = crate::RigidMotions;
+    type Group = crate::group::RigidMotions;
     fn lagrangian<T: RealField + Copy>(
         &self,
         _t: f64,
@@ -65,7 +65,7 @@ impl crate::GroupLagrangian<6> for OffsetBody {
         _g: &lgsvi_lie::SE3,
         xi: &SVector<f64, 6>,
         with_hessian: bool,
-    ) -> Option<crate::LocalDerivatives<6>> {
+    ) -> Option<crate::system::LocalDerivatives<6>> {
         let m = OFFSET_MASS;
         let j = Matrix3::from_diagonal(&Vector3::from(OFFSET_INERTIA));
         let c = Vector3::from(OFFSET);
@@ -89,17 +89,17 @@ impl crate::GroupLagrangian<6> for OffsetBody {
                     .copy_from(&block);
             }
         }
-        Some(crate::LocalDerivatives {
+        Some(crate::system::LocalDerivatives {
             configuration_gradient: SVector::zeros(),
             momentum: lgsvi_lie::se3::join(&(j * w + c.cross(&v_c) * m), &(v_c * m)),
             configuration_hessian: nalgebra::SMatrix::zeros(),
             velocity_hessian,
         })
     }
-    fn point_derivatives<C: crate::GroupChart<crate::RigidMotions, 6>>(
+    fn point_derivatives<C: crate::GroupChart<crate::group::RigidMotions, 6>>(
         &self,
         chart: &C,
-        point: &crate::point::GaussPoint<'_, crate::RigidMotions, 6>,
+        point: &crate::point::GaussPoint<'_, crate::group::RigidMotions, 6>,
         out: &mut Stacked<18>,
     ) -> bool {
         super::rotation_translation::point_derivatives(self, chart, point, out)
@@ -133,7 +133,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                 base,
                 time: 0.7,
             };
-            let mut fast = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+            let mut fast = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
             let point = gauss_point(base, x, v, with_configuration, true, None);
             super::points::chain_rule(&ell, &point, &mut fast);
             let mut gradient_only = fast.clone();
@@ -142,7 +142,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
             // The system's own path where it has one (the built-in SE(3) systems: by
             // blocks on the rotation–translation chart), else the generic chain rule again;
             // started from NaN, so that a block it does not write shows.
-            let mut own = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+            let mut own = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
             own.gradient_mut().fill(f64::NAN);
             for r in 0..own.size() {
                 for c in 0..own.size() {
@@ -170,7 +170,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                 &mut own_gradient,
                 &mut None,
             );
-            let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+            let mut slow = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
             slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), with_configuration);
             let n = fast.size();
             let mut scale = 1.0f64;
@@ -372,9 +372,14 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
 #[test]
 fn force_terms_match_dual_numbers_through_the_whole_point() {
     use super::points::{point_derivatives, ForceTerms};
+    use crate::forces::AngularDamping;
+    use crate::forces::BodyTorque;
+    use crate::forces::ForceOfTime;
+    use crate::forces::Forcing;
+    use crate::forces::SpaceForce;
     use crate::group::{RigidMotions, Rotations};
-    use crate::system::{ElementOf, Forced, Forcing};
-    use crate::{AngularDamping, BodyTorque, ForceOfTime, RigidBody, SpaceForce};
+    use crate::system::{ElementOf, Forced};
+    use crate::RigidBody;
     use lgsvi_lie::{CayleyChart, ExpChart, SE3};
 
     fn compare<S, C, const D: usize>(
@@ -395,7 +400,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
             base,
             time: 0.7,
         };
-        let mut fast = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+        let mut fast = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
         point_derivatives(&ell, x, v, true, true, Some(input), &mut fast, &mut None);
         let mut gradient_only = fast.clone();
         point_derivatives(
@@ -408,7 +413,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
             &mut gradient_only,
             &mut None,
         );
-        let mut slow = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+        let mut slow = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
         slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), true);
         slow.add_force(&ForceTerms { ell: &ell, input }, x.as_slice(), v.as_slice());
         let n = fast.size();
@@ -765,7 +770,7 @@ fn matching_map_jacobian_matches_dual_numbers() {
     ) {
         let settings = StepSettings::new(0.4, 5).unwrap();
         let d = Discretisation::new(&settings).unwrap();
-        let stepper = Stepper {
+        let stepper = StepSolver {
             system,
             chart: &chart,
             settings: &settings,
@@ -824,7 +829,7 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
             .into_iter()
             .flat_map(|f| [0.0, 0.3, 1.0, 2.1].map(|s| (f, s)))
         {
-            let stepper = Stepper {
+            let stepper = StepSolver {
                 system,
                 chart: &chart,
                 settings: &settings,
@@ -832,7 +837,8 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
                 time: 0.3,
                 forcing,
             };
-            let mut jet = <<S::Group as crate::ConfigurationGroup<D>>::Jet as PointJet>::zeros();
+            let mut jet =
+                <<S::Group as crate::group::ConfigurationGroup<D>>::Jet as PointJet>::zeros();
             {
                 let x = SVector::<f64, D>::from_fn(|i, _| scale * (0.9 * i as f64 + 0.4).sin());
                 let v = SVector::<f64, D>::from_fn(|i, _| 0.8 - 0.3 * i as f64);
@@ -878,7 +884,10 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
     let potential = crate::RigidBodyInPotential::new(inertia, Quadratic);
     let free = crate::FreeBody::new(inertia, 1.3).unwrap();
     let orbit = crate::OrbitingBody::new(inertia, 1.0, 2.0).unwrap();
-    let pushed = crate::Forced::new(free, crate::SpaceForce(Vector3::new(0.1, -0.3, 0.2)));
+    let pushed = crate::Forced::new(
+        free,
+        crate::forces::SpaceForce(Vector3::new(0.1, -0.3, 0.2)),
+    );
     let place = SE3::new(attitude, Vector3::new(2.0, -1.0, 0.5));
     for chart in ChartKind::ALL {
         compare::<_, _, 3>(&top, chart, &attitude, &format!("heavy top, {chart}"));
@@ -901,7 +910,7 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
     }
 }
 
-/// The chart's terms a point hands back to the exact matching ([`crate::PointTransport`])
+/// The chart's terms a point hands back to the exact matching ([`crate::system::PointTransport`])
 /// are the chart's own [`crate::GroupChart::transport_and_differential`] at the point: the
 /// same Rodrigues coefficients put together in another order, so equal to a few roundings
 /// of their largest entry (1e-14 relative). They are handed back exactly where the matching
@@ -934,7 +943,7 @@ fn points_hand_back_the_charts_transport() {
                     base,
                     time: 0.7,
                 };
-                let mut jet = <S::Group as crate::ConfigurationGroup<D>>::Jet::zeros();
+                let mut jet = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
                 let mut transport = None;
                 super::points::point_derivatives(
                     &ell,

@@ -1,5 +1,13 @@
-//! Runs that check themselves: a companion integrator takes every step again with more
-//! nodes, and the difference between the two is the run's measured error.
+//! Tolerance-driven runs and runs that check themselves.
+//!
+//! - **The policy of a tolerance-driven run** ([`step_count`], [`first_nodes`],
+//!   [`STEP_ROTATION`]): the step from the initial motion's rate, the first step's nodes
+//!   from the tolerance, the nodes per step from each step's own spectral estimate
+//!   ([`StepSettings::with_tolerance`]). [`crate::IntegratorBuilder`] applies it.
+//! - **Checked runs** ([`CheckedIntegrator`]): a companion integrator takes every step
+//!   again with more nodes, and the difference between the two is the run's measured
+//!   error; with a tolerance ([`CheckedIntegrator::with_tolerance`]) a run that misses is
+//!   taken again with a tightened share per step ([`ToleranceCheck`]).
 //!
 //! A tolerance-driven run ([`StepSettings::with_tolerance`]) chooses each step's nodes from
 //! that step's own spectral estimate, and the sum of those estimates
@@ -9,7 +17,7 @@
 //! calibration does not reach (spins far faster than the reference cases): there the error
 //! at the end can be hundreds of times the sum of the local estimates.
 //!
-//! [`Checked`] measures instead of modelling. Beside the run (the *primary*) a companion
+//! [`CheckedIntegrator`] measures instead of modelling. Beside the run (the *primary*) a companion
 //! integrator starts from the same state and takes the same steps, each with
 //! [`CHECK_EXTRA_NODES`] more nodes than the primary took (same step, chart, matching,
 //! input). The method converges geometrically in the nodes (on the reference cases about
@@ -27,15 +35,14 @@
 //! tolerance-driven runs (more nodes per step, the same steps).
 //!
 //! ```
-//! use lgsvi_mechanics::{Checked, Inertia, Integrator, RigidBody, StepSettings};
+//! use lgsvi_mechanics::prelude::*;
 //! use lgsvi_mechanics::exact::FreeRigidBodyExact;
-//! use lgsvi_mechanics::lie::SO3;
-//! use nalgebra::Vector3;
+//! use lgsvi_mechanics::tolerance::CheckedIntegrator;
 //! // A fast spin near the intermediate axis: the errors of early steps grow along the motion.
 //! let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4])?;
 //! let omega = Vector3::new(20.0, 0.1, 0.1);
 //! let settings = StepSettings::new(0.15, 9)?;
-//! let mut run = Checked::new(Integrator::new(RigidBody::new(inertia), settings, SO3::identity(), omega)?)?;
+//! let mut run = CheckedIntegrator::new(Integrator::new(RigidBody::new(inertia), settings, SO3::identity(), omega)?)?;
 //! for _ in 0..20 {
 //!     run.step()?;
 //! }
@@ -51,11 +58,12 @@
 
 use crate::control::GroupLog;
 use crate::error::MechanicsError;
-use crate::integrator::{Integrator, Observer};
-use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
+use crate::group::GroupChart;
+use crate::integrator::{Integrator, Trajectory};
+use crate::settings::{StepSettings, DEFAULT_ADAPTIVE_NODES, MAX_NODES, ROUNDING_FLOOR};
 use crate::state::State;
+use crate::stepper::{run_until_by_steps, Stepper};
 use crate::system::{ElementOf, GroupLagrangian};
-use crate::GroupChart;
 use nalgebra::SVector;
 
 /// The companion's nodes beyond the primary's, per step: two nodes make it about a
@@ -71,9 +79,47 @@ pub const CHECK_EXTRA_NODES: usize = 2;
 /// ends within this factor (at most the 10 promised) of the truth.
 pub const CHECK_ACCEPTS: f64 = 3.0;
 
-/// How many runs a tolerance-driven run checked by [`Checked`] may take (the first and two
-/// with a tightened rate, [`tightened_rate`]) before it fails.
+/// How many runs a checked tolerance-driven run may take (the first and two with a
+/// tightened rate, [`tightened_rate`]) before it fails.
 pub const CHECK_ATTEMPTS: usize = 3;
+
+/// The rotation per step a tolerance-driven run's step is sized for: the smaller of
+/// `0.5 ×` the chart's reach and 3 rad. On the reference cases the fastest fixed `(h, n)`
+/// for errors 1e-6 … 1e-13 turn the body 2.5–4 rad per step, and a longer step also makes
+/// each node count a smaller change in the error (about 30× per node at 3 rad, 100× at
+/// 1.5 rad), so the tolerance is met more closely.
+pub const STEP_ROTATION: (f64, f64) = (0.5, 3.0);
+
+/// The nodes a tolerance-driven run's first step takes: `3 + ⌈−log₁₀(tol)/2⌉` within
+/// [`DEFAULT_ADAPTIVE_NODES`], the fewest the reference cases settle on at steps of about
+/// 3 rad (6 at 1e-6, 10 at 1e-13); the nodes only rise from there, as far as the estimates
+/// ask. A first guess too low costs the first step a second solve; one too high would keep
+/// the whole run more accurate (and slower) than asked.
+///
+/// ```
+/// use lgsvi_mechanics::tolerance::first_nodes;
+/// assert_eq!(first_nodes(1e-6), 6);
+/// assert_eq!(first_nodes(1e-13), 10);
+/// ```
+pub fn first_nodes(tol: f64) -> usize {
+    let (least, most) = DEFAULT_ADAPTIVE_NODES;
+    (3.0 + (-tol.log10() / 2.0).ceil()).clamp(least as f64, most as f64) as usize
+}
+
+/// The number of steps of a tolerance-driven run over `[0, t_end]` at the motion's rate
+/// `rate` (rad per unit time, [`GroupLagrangian::motion_rate`]) in a chart that reaches
+/// `max_rotation` rad per step: the fewest whole steps that each turn [`STEP_ROTATION`] or
+/// less (at least one); the step is `t_end` over it.
+///
+/// ```
+/// use lgsvi_mechanics::tolerance::step_count;
+/// // Case A turns at |Ω₀| ≈ 2.93 rad/s: 98 steps of about 3 rad over T = 100 in the exp chart.
+/// assert_eq!(step_count(100.0, 2.93, std::f64::consts::PI * 2.0), 98.0);
+/// ```
+pub fn step_count(t_end: f64, rate: f64, max_rotation: f64) -> f64 {
+    let rotation = (STEP_ROTATION.0 * max_rotation).min(STEP_ROTATION.1);
+    (t_end * rate / rotation).ceil().max(1.0)
+}
 
 /// The largest difference of a checked run and where it was measured.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -86,17 +132,40 @@ pub struct Difference {
     pub time: f64,
 }
 
-/// A run and its companion, stepped together (module docs).
-pub struct Checked<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+/// What a checked run's companion measured ([`Stepper::check_report`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckReport {
+    /// The difference of the two runs after the last step: the run's measured error now.
+    pub difference: f64,
+    /// The largest difference along the run, its time and step.
+    pub largest: Difference,
+    /// The sum of the run's local error estimates (the unchecked model), for comparison.
+    pub local_sum: f64,
+    /// Runs taken: the first, and each with a tightened share per step.
+    pub attempts: usize,
+    /// The present run's share per step against the first's (1 for the first).
+    pub tightened: f64,
+}
+
+/// A run and its companion, stepped together (module docs); with a tolerance, also the
+/// policy that takes the run again when it misses.
+///
+/// Build one with [`crate::IntegratorBuilder::build_checked`], or around an integrator
+/// with [`CheckedIntegrator::new`].
+pub struct CheckedIntegrator<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
     primary: Integrator<S, C, D>,
     companion: Integrator<S, C, D>,
     extra: usize,
     steps: usize,
     now: f64,
     largest: Difference,
+    /// The state and input the run started from, where a run that missed starts again.
+    start: State<ElementOf<S, D>, D>,
+    start_input: SVector<f64, D>,
+    policy: Option<ToleranceCheck>,
 }
 
-impl<S, C, const D: usize> Checked<S, C, D>
+impl<S, C, const D: usize> CheckedIntegrator<S, C, D>
 where
     S: GroupLagrangian<D> + Clone,
     C: GroupChart<S::Group, D>,
@@ -105,7 +174,7 @@ where
     /// Checks `primary` from its present state on, with [`CHECK_EXTRA_NODES`] more nodes.
     ///
     /// # Errors
-    /// As [`Checked::with_extra_nodes`].
+    /// As [`CheckedIntegrator::with_extra_nodes`].
     pub fn new(primary: Integrator<S, C, D>) -> Result<Self, MechanicsError> {
         Self::with_extra_nodes(primary, CHECK_EXTRA_NODES)
     }
@@ -160,63 +229,64 @@ where
         companion.reset(state.time, state.configuration, state.velocity)?;
         companion.set_input(*primary.input())?;
         Ok(Self {
+            start: state,
+            start_input: *primary.input(),
             primary,
             companion,
             extra,
             steps: 0,
             now: 0.0,
             largest: Difference::default(),
+            policy: None,
         })
     }
 
-    /// One step of the primary, then the same step of the companion with `extra` more
-    /// nodes; returns the primary's Newton iterations.
+    /// This checked run held to `tolerance` at its end ([`ToleranceCheck`]): the primary's
+    /// settings must be tolerance-driven ([`StepSettings::with_tolerance`], as the builder
+    /// makes them). [`Stepper::run_until`] then judges the run by its largest measured
+    /// difference and, where it exceeds [`CHECK_ACCEPTS`]` · tolerance`, takes it again
+    /// from its start with a tightened share per step, up to [`CHECK_ATTEMPTS`] runs;
+    /// [`CheckedIntegrator::judge`] does the same for a run driven by hand.
     ///
     /// # Errors
-    /// The primary's errors, as [`Integrator::step`]; [`MechanicsError::CheckFailed`]
-    /// where the companion's step fails after the primary's succeeded (the primary has
-    /// then taken the step; the check cannot go on).
-    pub fn step(&mut self) -> Result<usize, MechanicsError> {
-        let iterations = self.primary.step()?;
-        let nodes = self.primary.settings().nodes() + self.extra;
-        let time = self.primary.state().time;
-        let failed = |source| MechanicsError::CheckFailed {
-            step: self.steps,
-            time,
-            source: Box::new(source),
-        };
-        self.companion.set_nodes(nodes).map_err(failed)?;
-        self.companion
-            .set_input(*self.primary.input())
-            .map_err(failed)?;
-        self.companion.step().map_err(failed)?;
-        self.steps += 1;
-        self.now = difference(self.primary.state(), self.companion.state());
-        // A NaN difference is kept as the largest once seen.
-        let larger = self.now.is_nan() || self.now > self.largest.value;
-        if larger && !self.largest.value.is_nan() {
-            self.largest = Difference {
-                value: self.now,
-                step: self.steps,
-                time,
-            };
-        }
-        Ok(iterations)
+    /// As [`ToleranceCheck::new`].
+    pub fn with_tolerance(mut self, tolerance: f64) -> Result<Self, MechanicsError> {
+        self.policy = Some(ToleranceCheck::new(*self.primary.settings(), tolerance)?);
+        Ok(self)
     }
 
-    /// Takes up to `steps` checked steps, telling `observer` after each with the primary
-    /// run (the companion's difference is [`Checked::difference`]); returns the steps taken
-    /// (fewer when the observer stopped the run): [`Integrator::drive`] for a checked run.
+    /// Judges the run so far by its largest measured difference ([`ToleranceCheck`]):
+    /// `Ok(true)` accepts it (always, without a tolerance); `Ok(false)` has restarted the
+    /// run from its start with a tightened share per step, to be taken again.
     ///
     /// # Errors
-    /// A failed step ([`Checked::step`]'s errors, through the observer's error type) or
-    /// the observer's own.
-    pub fn drive<O: Observer<S, C, D>>(
-        &mut self,
-        steps: usize,
-        observer: &mut O,
-    ) -> Result<usize, O::Error> {
-        crate::integrator::drive_by(self, steps, observer, Checked::step, Checked::integrator)
+    /// [`MechanicsError::ToleranceNotChecked`] after the last run allowed, or where the
+    /// share per step has reached the rounding of a step; a restart's construction errors
+    /// (not expected: the run was built from the same state).
+    pub fn judge(&mut self) -> Result<bool, MechanicsError> {
+        let Some(policy) = self.policy.as_mut() else {
+            return Ok(true);
+        };
+        if policy.judge(self.largest)? {
+            return Ok(true);
+        }
+        let settings = policy.settings();
+        let start = self.start;
+        let mut primary = Integrator::with_chart(
+            self.primary.system().clone(),
+            *self.primary.chart(),
+            settings,
+            start.configuration,
+            start.velocity,
+        )?;
+        if start.time != 0.0 {
+            primary.reset(start.time, start.configuration, start.velocity)?;
+        }
+        primary.set_input(self.start_input)?;
+        let policy = self.policy.take();
+        *self = Self::with_extra_nodes(primary, self.extra)?;
+        self.policy = policy;
+        Ok(false)
     }
 
     /// Sets the control input of both runs ([`Integrator::set_input`]).
@@ -228,14 +298,14 @@ where
         self.companion.set_input(input)
     }
 
-    /// The run being checked.
-    pub fn integrator(&self) -> &Integrator<S, C, D> {
-        &self.primary
-    }
-
     /// The run being checked, the companion dropped.
     pub fn into_integrator(self) -> Integrator<S, C, D> {
         self.primary
+    }
+
+    /// The present state of the run being checked.
+    pub fn state(&self) -> &State<ElementOf<S, D>, D> {
+        self.primary.state()
     }
 
     /// The companion's present state (the same time as the primary's).
@@ -253,6 +323,108 @@ where
     pub fn largest_difference(&self) -> Difference {
         self.largest
     }
+
+    /// The tolerance policy, for a run with a tolerance.
+    pub fn policy(&self) -> Option<&ToleranceCheck> {
+        self.policy.as_ref()
+    }
+
+    /// One step of the primary, then the same step of the companion with `extra` more
+    /// nodes (of length `h`, or the primary's own when `None`).
+    fn step_both(&mut self, h: Option<f64>) -> Result<usize, MechanicsError> {
+        let iterations = match h {
+            Some(h) => self.primary.step_by(h)?,
+            None => self.primary.step()?,
+        };
+        let nodes = self.primary.settings().nodes() + self.extra;
+        let time = self.primary.state().time;
+        let failed = |source| MechanicsError::CheckFailed {
+            step: self.steps,
+            time,
+            source: Box::new(source),
+        };
+        self.companion.set_nodes(nodes).map_err(failed)?;
+        self.companion
+            .set_input(*self.primary.input())
+            .map_err(failed)?;
+        match h {
+            Some(h) => self.companion.step_by(h).map_err(failed)?,
+            None => self.companion.step().map_err(failed)?,
+        };
+        self.steps += 1;
+        self.now = difference(self.primary.state(), self.companion.state());
+        // A NaN difference is kept as the largest once seen.
+        let larger = self.now.is_nan() || self.now > self.largest.value;
+        if larger && !self.largest.value.is_nan() {
+            self.largest = Difference {
+                value: self.now,
+                step: self.steps,
+                time,
+            };
+        }
+        Ok(iterations)
+    }
+}
+
+impl<S, C, const D: usize> Stepper<S, C, D> for CheckedIntegrator<S, C, D>
+where
+    S: GroupLagrangian<D> + Clone,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: GroupLog<D>,
+{
+    /// One step of the primary, then the same step of the companion with `extra` more
+    /// nodes; returns the primary's Newton iterations.
+    ///
+    /// # Errors
+    /// The primary's errors, as [`Integrator::step`]; [`MechanicsError::CheckFailed`]
+    /// where the companion's step fails after the primary's succeeded (the primary has
+    /// then taken the step; the check cannot go on).
+    fn step(&mut self) -> Result<usize, MechanicsError> {
+        self.step_both(None)
+    }
+
+    fn step_by(&mut self, h: f64) -> Result<usize, MechanicsError> {
+        self.step_both(Some(h))
+    }
+
+    fn integrator(&self) -> &Integrator<S, C, D> {
+        &self.primary
+    }
+
+    /// As [`Stepper::run_until`]; a run with a tolerance is then judged
+    /// ([`CheckedIntegrator::judge`]) and, where it missed, taken again from its start:
+    /// the trajectory returned is the accepted run's, from its start.
+    ///
+    /// # Errors
+    /// As [`Stepper::run_until`]; [`MechanicsError::ToleranceNotChecked`] where no run
+    /// allowed met the tolerance.
+    fn run_until(
+        &mut self,
+        t_end: f64,
+        every: usize,
+    ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError> {
+        loop {
+            let trajectory = run_until_by_steps(self, t_end, every)?;
+            if self.judge()? {
+                return Ok(trajectory);
+            }
+        }
+    }
+
+    /// The measured difference at the last step.
+    fn estimated_error(&self) -> f64 {
+        self.now
+    }
+
+    fn check_report(&self) -> Option<CheckReport> {
+        Some(CheckReport {
+            difference: self.now,
+            largest: self.largest,
+            local_sum: self.primary.estimated_global_error(),
+            attempts: self.policy.map_or(1, |p| p.attempt()),
+            tightened: self.policy.map_or(1.0, |p| p.tightened()),
+        })
+    }
 }
 
 /// The largest entry of `(log(b⁻¹a), ξ_a − ξ_b)`.
@@ -266,6 +438,22 @@ fn difference<E: GroupLog<D>, const D: usize>(a: &State<E, D>, b: &State<E, D>) 
         largest = largest.max(x.abs());
     }
     largest
+}
+
+/// The first step `h` of a tolerance-driven run over `[t₀, t₀ + t_end]` of `system` from
+/// `(g, ξ)` in `chart`: `t_end` over [`step_count`] at the motion's rate
+/// ([`GroupLagrangian::motion_rate`]); `None` for a horizon that is not positive.
+pub fn tolerance_step<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize>(
+    system: &S,
+    chart: &C,
+    t_end: f64,
+    configuration: &ElementOf<S, D>,
+    velocity: &SVector<f64, D>,
+) -> Option<f64> {
+    (t_end > 0.0).then(|| {
+        let rate = system.motion_rate(0.0, configuration, velocity);
+        t_end / step_count(t_end, rate, chart.max_rotation_angle())
+    })
 }
 
 /// The error per unit time a tolerance-driven run takes again after a checked run of
@@ -283,8 +471,10 @@ pub fn tightened_rate(rate: f64, measured: f64, tolerance: f64) -> f64 {
 }
 
 /// The policy of a checked tolerance-driven run: which settings each run takes, and whether
-/// a run's largest difference ([`Checked::largest_difference`]) accepts the tolerance, asks
-/// for another run, or ends in [`MechanicsError::ToleranceNotChecked`].
+/// a run's largest difference ([`CheckedIntegrator::largest_difference`]) accepts the
+/// tolerance, asks for another run, or ends in [`MechanicsError::ToleranceNotChecked`].
+/// [`CheckedIntegrator::with_tolerance`] applies it; this is the policy alone, for runs
+/// of your own.
 ///
 /// A run is accepted when its largest difference is at most [`CHECK_ACCEPTS`]` · tolerance`;
 /// otherwise the next run takes the share per step [`tightened_rate`] gives (never below the
@@ -293,9 +483,8 @@ pub fn tightened_rate(rate: f64, measured: f64, tolerance: f64) -> f64 {
 /// motion allows.
 ///
 /// ```
-/// use lgsvi_mechanics::{Checked, Inertia, Integrator, RigidBody, StepSettings, ToleranceCheck};
-/// use lgsvi_mechanics::lie::SO3;
-/// use nalgebra::Vector3;
+/// use lgsvi_mechanics::prelude::*;
+/// use lgsvi_mechanics::tolerance::{CheckedIntegrator, ToleranceCheck};
 /// let (t_end, tolerance) = (10.0, 1e-8);
 /// let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4])?);
 /// let omega = Vector3::new(20.0, 0.1, 0.1);
@@ -303,7 +492,7 @@ pub fn tightened_rate(rate: f64, measured: f64, tolerance: f64) -> f64 {
 /// let mut policy = ToleranceCheck::new(first, tolerance)?;
 /// let run = loop {
 ///     let integrator = Integrator::new(body, policy.settings(), SO3::identity(), omega)?;
-///     let mut run = Checked::new(integrator)?;
+///     let mut run = CheckedIntegrator::new(integrator)?;
 ///     for _ in 0..67 {
 ///         run.step()?;
 ///     }
@@ -388,7 +577,7 @@ impl ToleranceCheck {
             return Ok(true);
         }
         let rate = self.rate();
-        let floor = ROUNDING_FLOOR / self.settings.step() * (1.0 + 1e-9);
+        let floor = ROUNDING_FLOOR / self.settings.h() * (1.0 + 1e-9);
         let at_floor = rate <= floor;
         if self.attempt >= CHECK_ATTEMPTS || at_floor {
             return Err(MechanicsError::ToleranceNotChecked {

@@ -1,0 +1,378 @@
+//! Forces and control inputs, by the discrete Lagrange–d'Alembert principle.
+//!
+//! A left-trivialised generalised force `F(t, g, ξ) ∈ ℝ^D` (for SO(3) a body-frame torque;
+//! for SE(3) a body-frame torque and a body-frame force, `(τ, Rᵀf)`) enters a step through
+//! the virtual work of the variation `δg = g η^`, integrated by the step's own quadrature:
+//! `δS + Σ_j h b_j ⟨F_j, η_j⟩ = 0`. On the curve `g(t) = g_k Φ(ξ(t))` a node variation
+//! gives `η_j = A(x_j) δx_j`, so each Gauss point adds `A(x_j)ᵀ F_j` to the `x`-gradient of
+//! its term, and moving the base point (the exact momentum matching) adds `F_j` to the
+//! configuration force `p_j`: `μ_{k+1} = Ad_{Φ(ξⁿ)}ᵀ (μ_k + Σ_j h b_j Ad_{Φ(x_j)⁻¹}ᵀ (p_j + F_j))`.
+//! These are the discrete forces `F_d^±` of Marsden and West's forced discrete
+//! Euler–Lagrange equations for this discrete Lagrangian, so the energy balance
+//! `E(T) − E(0) = ∫ ⟨F, ξ⟩ dt` holds to the method's order. With no force the step is the
+//! unforced one, bit for bit (the force terms are skipped, not added as zeros).
+//!
+//! A force is added to a system with [`crate::Forced`]`::new(system, force)`: the built-in
+//! ones ([`BodyTorque`], [`AngularDamping`], [`SpaceForce`], [`ForceOfTime`]), a tuple of two
+//! (their sum), or a [`Forcing`] of your own, written once generically over the scalar so
+//! that Newton differentiates it exactly. A control input set between steps
+//! ([`crate::Integrator::set_input`]) is a force held over the step.
+//!
+//! Newton's exact matrix needs a force's value and first derivatives at each Gauss point,
+//! its [`ForceJet`]: in closed form for the built-in forces and by first-order dual
+//! numbers on the force alone otherwise. With `F(t, g, ξ)` the left-trivialised force, the
+//! jet holds `F`, `F_ξ = ∂F/∂ξ` and `F_η = ∂F(t, g exp(η), ξ)/∂η` at `η = 0`. At a Gauss
+//! point `g = g_k Φ(x)`, `ξ = A(x) v`, so (a node variation moves `g` by `exp(A δx)` to
+//! first order) `∂F/∂x = F_η A + F_ξ ∂(A v)/∂x` and `∂F/∂v = F_ξ A`: the chart's part comes
+//! from the chart's own derivatives (the integrator's point derivatives), the force's from
+//! this jet.
+
+use crate::dual::{jacobian_of, seeded};
+use crate::group::{ConfigurationGroup, RigidMotions, Rotations};
+use lgsvi_lie::se3::{blocks, join, split};
+use lgsvi_lie::{LieGroup, SE3, SO3};
+use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
+use num_dual::DualSVec64;
+
+/// A left-trivialised force and its first derivatives at one point `(t, g, ξ)`.
+///
+/// ```
+/// use lgsvi_mechanics::forces::{AngularDamping, Forcing};
+/// use lgsvi_mechanics::group::Rotations;
+/// use lgsvi_mechanics::lie::SO3;
+/// use nalgebra::{Matrix3, Vector3};
+/// let jet = Forcing::<Rotations, 3>::jet(&AngularDamping(0.5), 0.0, &SO3::identity(), &Vector3::new(1.0, 0.0, 0.0));
+/// assert_eq!(jet.value, Vector3::new(-0.5, 0.0, 0.0));
+/// assert_eq!(jet.velocity, Matrix3::identity() * -0.5);
+/// assert_eq!(jet.configuration, Matrix3::zeros());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForceJet<const D: usize> {
+    /// `F(t, g, ξ)`.
+    pub value: SVector<f64, D>,
+    /// `∂F/∂ξ`, entry `(component of F, component of ξ)`.
+    pub velocity: SMatrix<f64, D, D>,
+    /// `∂F(t, g exp(η), ξ)/∂η` at `η = 0`, entry `(component of F, component of η)`.
+    pub configuration: SMatrix<f64, D, D>,
+}
+
+impl<const D: usize> ForceJet<D> {
+    /// A force that depends on neither the configuration nor the velocity.
+    pub fn constant(value: SVector<f64, D>) -> Self {
+        Self {
+            value,
+            velocity: SMatrix::zeros(),
+            configuration: SMatrix::zeros(),
+        }
+    }
+
+    /// The jet of `f` at `(t, g, ξ)` by first-order dual numbers (`D` directions, one
+    /// pass for `ξ` and, unless `velocity_only`, one for `η`).
+    pub(crate) fn by_dual_numbers<G: ConfigurationGroup<D>, F: Forcing<G, D>>(
+        f: &F,
+        time: f64,
+        configuration: &G::Element<f64>,
+        velocity: &SVector<f64, D>,
+        velocity_only: bool,
+    ) -> Self {
+        let g = G::lift::<DualSVec64<D>>(configuration);
+        let by_velocity = f.force(time, &g, &seeded(velocity));
+        let value = by_velocity.map(|d| d.re);
+        let velocity_jacobian = jacobian_of(&by_velocity);
+        let configuration_jacobian = if velocity_only {
+            SMatrix::zeros()
+        } else {
+            // g exp(η) to first order is all a first derivative reads.
+            let moved = g.compose(&G::exp_second_order(&seeded(&SVector::zeros())));
+            jacobian_of(&f.force(time, &moved, &velocity.map(nalgebra::convert)))
+        };
+        Self {
+            value,
+            velocity: velocity_jacobian,
+            configuration: configuration_jacobian,
+        }
+    }
+}
+
+impl<const D: usize> std::ops::Add for ForceJet<D> {
+    type Output = Self;
+    fn add(self, other: Self) -> Self {
+        Self {
+            value: self.value + other.value,
+            velocity: self.velocity + other.velocity,
+            configuration: self.configuration + other.configuration,
+        }
+    }
+}
+
+/// A generalised force on a group (module documentation): for SO(3) a body torque, for
+/// SE(3) `(body torque, body force)`. Generic over the scalar, so Newton differentiates it
+/// exactly; combine two with a tuple `(a, b)` (their sum).
+pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
+    /// `F(t, g, ξ)`.
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        configuration: &G::Element<T>,
+        velocity: &SVector<T, D>,
+    ) -> SVector<T, D>;
+
+    /// Whether the force is identically zero (then the step is the unforced one, bit for
+    /// bit). The default `false` is always correct.
+    fn is_zero(&self) -> bool {
+        false
+    }
+
+    /// The force and its first derivatives at `(t, g, ξ)` ([`ForceJet`]), which Newton's
+    /// exact matrix is built from. The default takes them by first-order dual numbers
+    /// through [`Forcing::force`] alone (exact); the built-in forces give them in closed
+    /// form.
+    fn jet(
+        &self,
+        time: f64,
+        configuration: &G::Element<f64>,
+        velocity: &SVector<f64, D>,
+    ) -> ForceJet<D>
+    where
+        Self: Sized,
+    {
+        ForceJet::by_dual_numbers(
+            self,
+            time,
+            configuration,
+            velocity,
+            !self.depends_on_configuration(),
+        )
+    }
+
+    /// Whether the force depends on the configuration `g`. The default `true` is always
+    /// correct; `false` spares the integrator forming `g` at every Gauss point.
+    fn depends_on_configuration(&self) -> bool {
+        true
+    }
+}
+
+impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D>
+    for (A, B)
+{
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        g: &G::Element<T>,
+        xi: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        self.0.force(time, g, xi) + self.1.force(time, g, xi)
+    }
+    fn is_zero(&self) -> bool {
+        self.0.is_zero() && self.1.is_zero()
+    }
+    fn jet(&self, time: f64, g: &G::Element<f64>, xi: &SVector<f64, D>) -> ForceJet<D> {
+        self.0.jet(time, g, xi) + self.1.jet(time, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        self.0.depends_on_configuration() || self.1.depends_on_configuration()
+    }
+}
+
+/// A generalised force given as a closure of time alone, `t ↦ F(t)` (for SO(3) a body
+/// torque, for SE(3) `(body torque, body force)`), on any group: a feed-forward profile or
+/// a disturbance. Exact in Newton (it does not depend on the state); for a force that
+/// depends on the state, implement [`Forcing`] (generic over the scalar) instead.
+///
+/// ```
+/// use lgsvi_mechanics::Stepper;
+/// use lgsvi_mechanics::{Forced, Inertia, Integrator, RigidBody, StepSettings};
+/// use lgsvi_mechanics::forces::ForceOfTime;
+/// use lgsvi_mechanics::lie::SO3;
+/// use nalgebra::Vector3;
+/// // A torque pulse about z for the first second spins a sphere up to Ω_z = τ t / J.
+/// let pulse = ForceOfTime(|t: f64| Vector3::new(0.0, 0.0, if t < 1.0 { 0.2 } else { 0.0 }));
+/// let body = RigidBody::new(Inertia::from_principal_moments([2.0, 2.0, 2.0])?);
+/// let mut it = Integrator::new(Forced::new(body, pulse), StepSettings::new(0.25, 6)?, SO3::identity(), Vector3::zeros())?;
+/// it.run(8, 1)?;
+/// assert!((it.state().velocity.z - 0.1).abs() < 1e-14);
+/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct ForceOfTime<F>(pub F);
+
+impl<G: ConfigurationGroup<D>, F: Fn(f64) -> SVector<f64, D>, const D: usize> Forcing<G, D>
+    for ForceOfTime<F>
+{
+    fn force<T: RealField + Copy>(
+        &self,
+        time: f64,
+        _g: &G::Element<T>,
+        _xi: &SVector<T, D>,
+    ) -> SVector<T, D> {
+        (self.0)(time).map(nalgebra::convert)
+    }
+    fn jet(&self, time: f64, _g: &G::Element<f64>, _xi: &SVector<f64, D>) -> ForceJet<D> {
+        ForceJet::constant((self.0)(time))
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
+    }
+}
+
+/// A constant body-frame torque `τ` (N·m), on SO(3) and SE(3).
+///
+/// ```
+/// use lgsvi_mechanics::Stepper;
+/// use lgsvi_mechanics::{Forced, Inertia, Integrator, RigidBody, StepSettings};
+/// use lgsvi_mechanics::forces::BodyTorque;
+/// use lgsvi_mechanics::lie::SO3;
+/// use nalgebra::Vector3;
+/// // A body at rest spun up about its z axis by τ = 0.1 for 1 s: Ω_z = τ/J_z t.
+/// let body = Forced::new(
+///     RigidBody::new(Inertia::from_principal_moments([1.0, 1.0, 2.0])?),
+///     BodyTorque(Vector3::new(0.0, 0.0, 0.1)),
+/// );
+/// let mut integrator = Integrator::new(body, StepSettings::new(0.25, 6)?, SO3::identity(), Vector3::zeros())?;
+/// integrator.run(4, 1)?;
+/// assert!((integrator.state().velocity.z - 0.05).abs() < 1e-14);
+/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyTorque(pub Vector3<f64>);
+
+/// Damping `τ = −c Ω` of the angular velocity (`c ≥ 0`, N·m·s), on SO(3) and SE(3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AngularDamping(pub f64);
+
+/// A constant space-frame force `f` (N) on an SE(3) body's centre of mass: body force
+/// `Rᵀ f`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpaceForce(pub Vector3<f64>);
+
+fn convert3<T: RealField + Copy>(v: &Vector3<f64>) -> Vector3<T> {
+    v.map(nalgebra::convert)
+}
+
+impl Forcing<Rotations, 3> for BodyTorque {
+    fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, _w: &Vector3<T>) -> Vector3<T> {
+        convert3(&self.0)
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == Vector3::zeros()
+    }
+    fn jet(&self, _t: f64, _g: &SO3, _w: &Vector3<f64>) -> ForceJet<3> {
+        ForceJet::constant(self.0)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
+    }
+}
+
+impl Forcing<Rotations, 3> for AngularDamping {
+    fn force<T: RealField + Copy>(&self, _t: f64, _g: &SO3<T>, w: &Vector3<T>) -> Vector3<T> {
+        w * nalgebra::convert::<f64, T>(-self.0)
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == 0.0
+    }
+    fn jet(&self, _t: f64, _g: &SO3, w: &Vector3<f64>) -> ForceJet<3> {
+        ForceJet {
+            value: w * -self.0,
+            velocity: Matrix3::identity() * -self.0,
+            configuration: Matrix3::zeros(),
+        }
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
+    }
+}
+
+/// A torque acting on the rotation of an SE(3) body: the SO(3) force `F(t, R, Ω)` as
+/// `(F, 0)`, so that each torque is written once, for SO(3).
+fn on_rotation<F: Forcing<Rotations, 3>, T: RealField + Copy>(
+    forcing: &F,
+    time: f64,
+    g: &SE3<T>,
+    xi: &SVector<T, 6>,
+) -> SVector<T, 6> {
+    let omega = Vector3::new(xi[0], xi[1], xi[2]);
+    let torque = forcing.force(time, g.rotation(), &omega);
+    SVector::<T, 6>::new(
+        torque.x,
+        torque.y,
+        torque.z,
+        T::zero(),
+        T::zero(),
+        T::zero(),
+    )
+}
+
+/// The jet of [`on_rotation`]: the SO(3) jet in the rotational rows and columns (a
+/// torque that depends on `R` and `Ω` alone).
+fn jet_on_rotation<F: Forcing<Rotations, 3>>(
+    forcing: &F,
+    time: f64,
+    g: &SE3,
+    xi: &SVector<f64, 6>,
+) -> ForceJet<6> {
+    let (omega, _) = split(xi);
+    let jet = forcing.jet(time, g.rotation(), &omega);
+    let zero = Matrix3::zeros();
+    ForceJet {
+        value: join(&jet.value, &Vector3::zeros()),
+        velocity: blocks(&jet.velocity, &zero, &zero, &zero),
+        configuration: blocks(&jet.configuration, &zero, &zero, &zero),
+    }
+}
+
+impl Forcing<RigidMotions, 6> for BodyTorque {
+    fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
+        on_rotation(self, t, g, xi)
+    }
+    fn is_zero(&self) -> bool {
+        Forcing::<Rotations, 3>::is_zero(self)
+    }
+    fn jet(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> ForceJet<6> {
+        jet_on_rotation(self, t, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
+    }
+}
+
+impl Forcing<RigidMotions, 6> for AngularDamping {
+    fn force<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> SVector<T, 6> {
+        on_rotation(self, t, g, xi)
+    }
+    fn is_zero(&self) -> bool {
+        Forcing::<Rotations, 3>::is_zero(self)
+    }
+    fn jet(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> ForceJet<6> {
+        jet_on_rotation(self, t, g, xi)
+    }
+    fn depends_on_configuration(&self) -> bool {
+        false
+    }
+}
+
+impl Forcing<RigidMotions, 6> for SpaceForce {
+    fn force<T: RealField + Copy>(
+        &self,
+        _t: f64,
+        g: &SE3<T>,
+        _xi: &SVector<T, 6>,
+    ) -> SVector<T, 6> {
+        let body = g.rotation().inverse().act(&convert3::<T>(&self.0));
+        SVector::<T, 6>::new(T::zero(), T::zero(), T::zero(), body.x, body.y, body.z)
+    }
+    fn is_zero(&self) -> bool {
+        self.0 == Vector3::zeros()
+    }
+    /// `b = Rᵀf`; under `R ↦ R exp(ω̂)`, `b ↦ exp(−ω̂) b = b + b̂ ω + O(ω²)`: the
+    /// configuration derivative is `b̂` in the force rows and rotation columns.
+    fn jet(&self, _t: f64, g: &SE3, _xi: &SVector<f64, 6>) -> ForceJet<6> {
+        let body = g.rotation().matrix().transpose() * self.0;
+        let zero = Matrix3::zeros();
+        ForceJet {
+            value: join(&Vector3::zeros(), &body),
+            velocity: SMatrix::zeros(),
+            configuration: blocks(&zero, &zero, &lgsvi_lie::so3::hat(&body), &zero),
+        }
+    }
+}
