@@ -4,7 +4,7 @@
 use crate::error::BenchError;
 use lgsvi_baselines::{dop853, Dop853State, Lgvi2, Model, OneStep, Splitting, State, Yoshida4};
 use lgsvi_experiments::work_precision::{median, median_time, Point};
-use lgsvi_experiments::BuiltIn;
+use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
 use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
@@ -45,13 +45,13 @@ fn cases() -> Vec<Case> {
 }
 
 /// One timed lgsvi run, on the concrete system type as a library user writes it: through
-/// the [`BuiltIn`] enum every call of the Lagrangian's methods takes a
+/// the [`BuiltInSo3`] enum every call of the Lagrangian's methods takes a
 /// `match` (measured, case A at h = 1, n = 10: 114 µs per run against 108 µs).
 fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> {
     let settings = StepSettings::new(h, n)?.with_chart(ChartKind::Exp);
     match lgsvi_system(case)? {
-        BuiltIn::Free(body) => lgsvi_run_with(body, case, t_end, settings),
-        BuiltIn::Top(top) => lgsvi_run_with(top, case, t_end, settings),
+        BuiltInSo3::Free(body) => lgsvi_run_with(body, case, t_end, settings),
+        BuiltInSo3::Top(top) => lgsvi_run_with(top, case, t_end, settings),
     }
 }
 
@@ -60,8 +60,8 @@ fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> 
 /// tolerance), construction included.
 fn lgsvi_tolerance_run(case: &Case, t_end: f64, tol: f64) -> Result<Matrix3<f64>> {
     match lgsvi_system(case)? {
-        BuiltIn::Free(body) => lgsvi_tolerance_run_with(body, case, t_end, tol),
-        BuiltIn::Top(top) => lgsvi_tolerance_run_with(top, case, t_end, tol),
+        BuiltInSo3::Free(body) => lgsvi_tolerance_run_with(body, case, t_end, tol),
+        BuiltInSo3::Top(top) => lgsvi_tolerance_run_with(top, case, t_end, tol),
     }
 }
 
@@ -348,12 +348,12 @@ pub fn ensemble(members: usize, repeats: usize) -> Result<EnsembleResult> {
 }
 
 /// The case as lgsvi's system: the free body without weight, the heavy top with it.
-fn lgsvi_system(case: &Case) -> Result<BuiltIn> {
+fn lgsvi_system(case: &Case) -> Result<BuiltInSo3> {
     let inertia = Inertia::from_principal_moments(case.model.inertia)?;
     Ok(if case.model.mg == 0.0 {
-        BuiltIn::Free(RigidBody::new(inertia))
+        BuiltInSo3::Free(RigidBody::new(inertia))
     } else {
-        BuiltIn::Top(HeavyTop::new(
+        BuiltInSo3::Top(HeavyTop::new(
             inertia,
             1.0,
             case.model.mg,

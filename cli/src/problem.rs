@@ -5,7 +5,8 @@ use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
-use lgsvi_experiments::{BuiltIn, ExperimentError};
+use lgsvi_experiments::ExperimentError;
+use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
 use lgsvi_mechanics::lie::So3Chart;
 use lgsvi_mechanics::settings::{DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR};
@@ -393,7 +394,7 @@ impl Problem {
         let drive = (BodyTorque(torque), AngularDamping(damping));
         let scenario = Scenario::driven(model, inertia, options.attitude()?, omega0, drive)
             .map_err(scenario_error)?;
-        if let BuiltIn::Top(top) = &scenario.system.system {
+        if let BuiltInSo3::Top(top) = &scenario.system.system {
             description["gravity_direction"] = top.gravity_direction().as_slice().into();
         }
         let settings = step_settings(&options, t_end, scenario.rate()?)?;

@@ -65,7 +65,6 @@
 //! # }
 //! ```
 
-mod built_in;
 pub mod conserved;
 pub mod convergence;
 mod error;
@@ -77,7 +76,6 @@ mod subject;
 pub mod tolerance;
 pub mod work_precision;
 
-pub use built_in::{BuiltIn, BuiltInMotion};
 pub use conserved::{Drift, Symmetry, Tracker};
 pub use error::ExperimentError;
 pub use subject::{Body, Subject};

@@ -20,10 +20,10 @@
 //! # }
 //! ```
 
-use crate::built_in::{BuiltIn, BuiltInMotion};
 use crate::record::{record_checked, record_exact, Check, Recording};
 use crate::tolerance::{local_errors, tolerance_runs, LocalError, ToleranceStudy};
 use crate::{ExperimentError, Subject};
+use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
 use lgsvi_mechanics::exact::{FreeRigidBodyExact, Regime};
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
 use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart};
@@ -40,10 +40,10 @@ use nalgebra::{SVector, Vector3};
 pub type Drive = (BodyTorque, AngularDamping);
 
 /// A built-in SO(3) system under a torque and damping.
-pub type Driven = Forced<BuiltIn, Drive>;
+pub type Driven = Forced<BuiltInSo3, Drive>;
 
 /// A built-in SE(3) system under a torque and damping.
-pub type DrivenMotion = Forced<BuiltInMotion, Drive>;
+pub type DrivenMotion = Forced<BuiltInSe3, Drive>;
 
 /// The heavy top's parameters: mass `m`, gravity `g`, centre of mass `ρ` in the body
 /// frame and the world direction gravity pulls in.
@@ -342,7 +342,7 @@ impl Scenario {
     ) -> Result<Self, ExperimentError> {
         let parameter = |parameter| move |source| ExperimentError::Parameter { parameter, source };
         let mut scenario = Self {
-            system: Forced::new(BuiltIn::Free(RigidBody::new(inertia)), drive),
+            system: Forced::new(BuiltInSo3::Free(RigidBody::new(inertia)), drive),
             motion: None,
             wheels: None,
             inertia,
@@ -360,7 +360,7 @@ impl Scenario {
                     direction,
                 } = top;
                 let top = HeavyTop::new(inertia, mass, gravity, com, direction)?;
-                scenario.system = Forced::new(BuiltIn::Top(top), drive);
+                scenario.system = Forced::new(BuiltInSo3::Top(top), drive);
                 return Ok(scenario);
             }
             Model::Gyrostat(wheels) => {
@@ -395,13 +395,13 @@ impl Scenario {
             }
             Model::FreeInSpace(body) => {
                 let free = FreeBody::new(inertia, body.mass).map_err(parameter("mass"))?;
-                (BuiltInMotion::Free(free), body)
+                (BuiltInSe3::Free(free), body)
             }
             Model::Orbiting(Orbit { body, mu }) => {
                 checked_orbit_radius(&body, mu)?;
                 let orbiting =
                     OrbitingBody::new(inertia, body.mass, mu).map_err(parameter("mass/mu"))?;
-                (BuiltInMotion::Orbit(orbiting), body)
+                (BuiltInSe3::Orbit(orbiting), body)
             }
         };
         let v = attitude0.matrix().transpose() * body.velocity;

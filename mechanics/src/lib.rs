@@ -75,9 +75,11 @@
 //! | [`group`] | configuration groups and charts of the integrator, your own included |
 //! | [`control`], [`linearization`] | the exact linearisation of a step, discrete LQR, regulators |
 //! | [`gyrostat`], [`exact`], [`ensemble`] | reaction wheels, the exact free rigid body, parallel ensembles |
+//! | [`built_in`] | the built-in systems as one type per group, chosen at run time |
 #![deny(missing_docs)]
 
 mod builder;
+pub mod built_in;
 mod chart_flow;
 pub mod control;
 mod dual;

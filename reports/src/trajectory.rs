@@ -34,7 +34,7 @@
 
 use lgsvi_experiments::record::Recording;
 use lgsvi_experiments::scenario::{Motion, Scenario};
-use lgsvi_experiments::{BuiltIn, BuiltInMotion};
+use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
 use lgsvi_mechanics::settings::NewtonJacobian;
 use lgsvi_mechanics::StepSettings;
 use lgsvi_plot::{Figure, Series, Style};
@@ -326,10 +326,10 @@ impl Conserved {
     /// momentum about the attracting centre, the heavy top the component along its own
     /// gravity direction, the free bodies all of their spatial momentum.
     pub fn of(scenario: &Scenario) -> Self {
-        let orbit = |m: &Motion| matches!(m.system.system, BuiltInMotion::Orbit(_));
+        let orbit = |m: &Motion| matches!(m.system.system, BuiltInSe3::Orbit(_));
         match (&scenario.motion, &scenario.system.system) {
             (Some(motion), _) if orbit(motion) => Conserved::AngularAboutOrigin,
-            (None, BuiltIn::Top(top)) => Conserved::Along(*top.gravity_direction()),
+            (None, BuiltInSo3::Top(top)) => Conserved::Along(*top.gravity_direction()),
             _ => Conserved::Spatial,
         }
     }

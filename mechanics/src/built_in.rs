@@ -1,73 +1,74 @@
-//! The built-in systems as one type per group: [`BuiltIn`] on SO(3), [`BuiltInMotion`]
-//! on SE(3).
+//! The built-in systems as one type per group, for programs that choose the system at run
+//! time (a command line, a configuration file, a Python call): [`BuiltInSo3`] on SO(3),
+//! [`BuiltInSe3`] on SE(3); a gyrostat's wheel count is [`crate::gyrostat::AnyGyrostat`]'s.
+//! Each forwards every closed form of the system it holds, so a step is that system's own,
+//! bit for bit.
 
-use lgsvi_mechanics::forces::ForceJet;
-use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, RigidMotions};
-use lgsvi_mechanics::lie::SE3;
-use lgsvi_mechanics::system::{
-    FlowGuess, FlowStart, GaussPoint, LagrangianDerivatives, LocalDerivatives,
-};
-use lgsvi_mechanics::{FreeBody, GroupLagrangian, HeavyTop, Lagrangian, OrbitingBody, RigidBody};
+use crate::forces::ForceJet;
+use crate::group::{ConfigurationGroup, GroupChart, RigidMotions};
+use crate::system::{FlowGuess, FlowStart, GaussPoint, LagrangianDerivatives, LocalDerivatives};
+use crate::{FreeBody, GroupLagrangian, HeavyTop, Lagrangian, OrbitingBody, RigidBody};
+use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
 /// A built-in SO(3) system, the free rigid body or the heavy top: one type, so that
 /// studies and command lines need not be generic. The closed forms of both are forwarded
 /// (the default dual numbers would be ~10× slower).
 #[derive(Debug, Clone, Copy)]
-pub enum BuiltIn {
+pub enum BuiltInSo3 {
     /// The free rigid body.
     Free(RigidBody),
     /// The heavy top.
     Top(HeavyTop),
 }
 
-impl Lagrangian for BuiltIn {
+impl Lagrangian for BuiltInSo3 {
     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
         match self {
-            BuiltIn::Free(s) => Lagrangian::lagrangian(s, r, w),
-            BuiltIn::Top(s) => Lagrangian::lagrangian(s, r, w),
+            BuiltInSo3::Free(s) => Lagrangian::lagrangian(s, r, w),
+            BuiltInSo3::Top(s) => Lagrangian::lagrangian(s, r, w),
         }
     }
     fn is_left_invariant(&self) -> bool {
         match self {
-            BuiltIn::Free(s) => Lagrangian::is_left_invariant(s),
-            BuiltIn::Top(s) => Lagrangian::is_left_invariant(s),
+            BuiltInSo3::Free(s) => Lagrangian::is_left_invariant(s),
+            BuiltInSo3::Top(s) => Lagrangian::is_left_invariant(s),
         }
     }
     fn symmetry_axis(&self) -> Option<Vector3<f64>> {
         match self {
-            BuiltIn::Free(s) => s.symmetry_axis(),
-            BuiltIn::Top(s) => s.symmetry_axis(),
+            BuiltInSo3::Free(s) => s.symmetry_axis(),
+            BuiltInSo3::Top(s) => s.symmetry_axis(),
         }
     }
     fn linear_attitude_term(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
         match self {
-            BuiltIn::Free(s) => s.linear_attitude_term(),
-            BuiltIn::Top(s) => s.linear_attitude_term(),
+            BuiltInSo3::Free(s) => s.linear_attitude_term(),
+            BuiltInSo3::Top(s) => s.linear_attitude_term(),
         }
     }
     fn natural_frequency(&self) -> f64 {
         match self {
-            BuiltIn::Free(s) => s.natural_frequency(),
-            BuiltIn::Top(s) => s.natural_frequency(),
+            BuiltInSo3::Free(s) => s.natural_frequency(),
+            BuiltInSo3::Top(s) => s.natural_frequency(),
         }
     }
     fn velocity_from_momentum(&self, r: &Matrix3<f64>, mu: &Vector3<f64>) -> Option<Vector3<f64>> {
         match self {
-            BuiltIn::Free(s) => Lagrangian::velocity_from_momentum(s, r, mu),
-            BuiltIn::Top(s) => Lagrangian::velocity_from_momentum(s, r, mu),
+            BuiltInSo3::Free(s) => Lagrangian::velocity_from_momentum(s, r, mu),
+            BuiltInSo3::Top(s) => Lagrangian::velocity_from_momentum(s, r, mu),
         }
     }
     fn model_breakdown(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> Option<String> {
         match self {
-            BuiltIn::Free(s) => Lagrangian::model_breakdown(s, r, w),
-            BuiltIn::Top(s) => Lagrangian::model_breakdown(s, r, w),
+            BuiltInSo3::Free(s) => Lagrangian::model_breakdown(s, r, w),
+            BuiltInSo3::Top(s) => Lagrangian::model_breakdown(s, r, w),
         }
     }
     fn parameter_names(&self) -> Vec<String> {
         match self {
-            BuiltIn::Free(s) => Lagrangian::parameter_names(s),
-            BuiltIn::Top(s) => Lagrangian::parameter_names(s),
+            BuiltInSo3::Free(s) => Lagrangian::parameter_names(s),
+            BuiltInSo3::Top(s) => Lagrangian::parameter_names(s),
         }
     }
     fn parameter_lagrangian<T: RealField + Copy>(
@@ -77,25 +78,25 @@ impl Lagrangian for BuiltIn {
         w: &Vector3<T>,
     ) -> T {
         match self {
-            BuiltIn::Free(s) => Lagrangian::parameter_lagrangian(s, index, r, w),
-            BuiltIn::Top(s) => Lagrangian::parameter_lagrangian(s, index, r, w),
+            BuiltInSo3::Free(s) => Lagrangian::parameter_lagrangian(s, index, r, w),
+            BuiltInSo3::Top(s) => Lagrangian::parameter_lagrangian(s, index, r, w),
         }
     }
     // Forwarded: the built-ins' closed forms are ~10× faster than the default dual numbers.
     fn derivatives(&self, r: &Matrix3<f64>, w: &Vector3<f64>) -> LagrangianDerivatives {
         match self {
-            BuiltIn::Free(s) => s.derivatives(r, w),
-            BuiltIn::Top(s) => s.derivatives(r, w),
+            BuiltInSo3::Free(s) => s.derivatives(r, w),
+            BuiltInSo3::Top(s) => s.derivatives(r, w),
         }
     }
 }
 
 /// A built-in system on SE(3), the free body in space or the body orbiting a point mass:
-/// one type, so that studies and command lines need not be generic. Every method of
+/// one type, so that programs need not be generic. Every method of
 /// [`GroupLagrangian`] is forwarded, the closed forms above all (`local_derivatives`:
 /// without them a step takes ℓ's derivatives by dual numbers, about 20× slower).
 #[derive(Debug, Clone, Copy)]
-pub enum BuiltInMotion {
+pub enum BuiltInSe3 {
     /// The free rigid body in space.
     Free(FreeBody),
     /// The rigid body orbiting a point mass (MacCullagh's potential).
@@ -106,13 +107,13 @@ pub enum BuiltInMotion {
 macro_rules! each_motion {
     ($self:expr, $s:ident => $body:expr) => {
         match $self {
-            BuiltInMotion::Free($s) => $body,
-            BuiltInMotion::Orbit($s) => $body,
+            BuiltInSe3::Free($s) => $body,
+            BuiltInSe3::Orbit($s) => $body,
         }
     };
 }
 
-impl GroupLagrangian<6> for BuiltInMotion {
+impl GroupLagrangian<6> for BuiltInSe3 {
     type Group = RigidMotions;
     fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         each_motion!(self, s => s.lagrangian(t, g, xi))
@@ -191,8 +192,8 @@ impl GroupLagrangian<6> for BuiltInMotion {
     }
     fn motion_rate(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> f64 {
         match self {
-            BuiltInMotion::Free(s) => s.motion_rate(t, g, xi),
-            BuiltInMotion::Orbit(s) => s.motion_rate(t, g, xi),
+            BuiltInSe3::Free(s) => s.motion_rate(t, g, xi),
+            BuiltInSe3::Orbit(s) => s.motion_rate(t, g, xi),
         }
     }
     fn model_breakdown(&self, t: f64, g: &SE3, xi: &SVector<f64, 6>) -> Option<String> {
@@ -211,8 +212,8 @@ impl GroupLagrangian<6> for BuiltInMotion {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lgsvi_mechanics::lie::SO3;
-    use lgsvi_mechanics::{Inertia, Integrator, StepSettings};
+    use crate::lie::SO3;
+    use crate::{Inertia, Integrator, StepSettings};
     use nalgebra::Vector3;
 
     /// Runs `system` 40 steps from a start in orbit and returns the final state's
@@ -248,19 +249,16 @@ mod tests {
         // and takes other iterations.
         let inertia = Inertia::from_principal_moments([0.5, 0.9, 0.7]).unwrap();
         let orbit = OrbitingBody::new(inertia, 1.0, 1.0).unwrap();
-        assert_eq!(run(BuiltInMotion::Orbit(orbit)), run(orbit));
+        assert_eq!(run(BuiltInSe3::Orbit(orbit)), run(orbit));
         let free = FreeBody::new(inertia, 2.0).unwrap();
-        assert_eq!(run(BuiltInMotion::Free(free)), run(free));
+        assert_eq!(run(BuiltInSe3::Free(free)), run(free));
         // The diagnosis of a failed step too: the attracting point within the body's mass, and not.
         for x in [0.5, 3.0] {
             let g = SE3::new(SO3::identity(), Vector3::new(x, 0.0, 0.0));
             let v = SVector::<f64, 6>::zeros();
             let own = orbit.model_breakdown(0.0, &g, &v);
             assert_eq!(own.is_some(), x < 1.0);
-            assert_eq!(
-                BuiltInMotion::Orbit(orbit).model_breakdown(0.0, &g, &v),
-                own
-            );
+            assert_eq!(BuiltInSe3::Orbit(orbit).model_breakdown(0.0, &g, &v), own);
         }
     }
 }
