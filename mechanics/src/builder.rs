@@ -61,6 +61,7 @@ pub struct IntegratorBuilder<S: GroupLagrangian<D>, const D: usize> {
     matching: Option<Matching>,
     quadrature_points: Option<usize>,
     settings: Option<StepSettings>,
+    input: Option<SVector<f64, D>>,
 }
 
 impl<S: GroupLagrangian<D>, const D: usize> Integrator<S, ChartKind, D>
@@ -80,6 +81,7 @@ where
             matching: None,
             quadrature_points: None,
             settings: None,
+            input: None,
         }
     }
 }
@@ -158,6 +160,13 @@ where
         self
     }
 
+    /// The control input held from the start ([`Integrator::set_input`]): a checked run
+    /// that is taken again starts again with it.
+    pub fn input(mut self, input: SVector<f64, D>) -> Self {
+        self.input = Some(input);
+        self
+    }
+
     /// Every setting at once, for what the other methods do not reach (the Newton
     /// Jacobian, the iteration cap, factor reuse): the step, nodes, chart, matching and
     /// Gauss points given to this builder replace the settings' own; a tolerance makes the
@@ -187,9 +196,13 @@ where
             });
         };
         let settings = self.resolve(&configuration, &velocity)?;
+        let input = self.input;
         let mut integrator = Integrator::new(self.system, settings, configuration, velocity)?;
         if time != 0.0 {
             integrator.reset(time, configuration, velocity)?;
+        }
+        if let Some(input) = input {
+            integrator.set_input(input)?;
         }
         Ok(integrator)
     }

@@ -10,10 +10,12 @@ use crate::group::GroupChart;
 use crate::integrator::{Integrator, Statistics};
 use crate::settings::StepSettings;
 use crate::state::State;
+use crate::stepper::{each, Stepper};
 use crate::system::{ElementOf, GroupLagrangian};
 use lgsvi_lie::{ChartKind, SO3};
 use nalgebra::SVector;
 use rayon::prelude::*;
+use std::ops::ControlFlow;
 
 /// One member's initial condition: the configuration `g(0)` and the body velocity `ξ(0)`,
 /// on any group (SO(3) by default: attitude `R(0) = world_from_body` and `Ω(0)`).
@@ -82,6 +84,51 @@ where
             for _ in 0..steps {
                 integrator.step()?;
             }
+            Ok(EnsembleMember {
+                state: *integrator.state(),
+                statistics: *integrator.statistics(),
+            })
+        })
+        .collect()
+}
+
+/// As [`run_ensemble`], each member run to exactly `t_end` ([`crate::Stepper::run_until`]'s
+/// steps: steps of `h`, the last shortened to land on `t_end`).
+///
+/// ```
+/// use lgsvi_mechanics::ensemble::{run_ensemble_until, InitialCondition};
+/// use lgsvi_mechanics::prelude::*;
+///
+/// let body = RigidBody::new(Inertia::from_principal_moments([1.0, 2.0, 3.0])?);
+/// let initial = [InitialCondition { configuration: SO3::identity(), velocity: Vector3::new(1.0, 0.2, 0.5) }];
+/// let results = run_ensemble_until(&body, &StepSettings::new(0.5, 8)?, &initial, 1.2);
+/// assert_eq!(results[0].as_ref().unwrap().state.time, 1.2);
+/// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+/// ```
+pub fn run_ensemble_until<S, const D: usize>(
+    system: &S,
+    settings: &StepSettings,
+    initial: &[InitialCondition<ElementOf<S, D>, D>],
+    t_end: f64,
+) -> Vec<Result<EnsembleMember<ElementOf<S, D>, D>, MechanicsError>>
+where
+    S: GroupLagrangian<D> + Clone + Send + Sync,
+    ElementOf<S, D>: Send + Sync,
+    ChartKind: GroupChart<S::Group, D>,
+{
+    initial
+        .par_iter()
+        .map(|start| {
+            let mut integrator = Integrator::new(
+                system.clone(),
+                *settings,
+                start.configuration,
+                start.velocity,
+            )?;
+            let mut quiet = each(|_: &Integrator<S, ChartKind, D>, _| {
+                Ok::<_, MechanicsError>(ControlFlow::Continue(()))
+            });
+            integrator.drive_until(t_end, &mut quiet)?;
             Ok(EnsembleMember {
                 state: *integrator.state(),
                 statistics: *integrator.statistics(),

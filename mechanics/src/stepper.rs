@@ -135,13 +135,63 @@ pub trait Stepper<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: us
         Ok(recorder.into_trajectory())
     }
 
-    /// Steps until exactly `t_end`, recording as [`Stepper::run`]: steps of `h`, then one
-    /// shorter step (itself a variational step, of its own length, [`Stepper::step_by`])
-    /// where `t_end` is not a whole number of steps away.
+    /// Drives the run to exactly `t_end`, telling `observer` after every step: steps of
+    /// `h`, then one shorter step (itself a variational step, of its own length,
+    /// [`Stepper::step_by`]) where `t_end` is not a whole number of steps away; the last
+    /// step's [`StepInfo::last`] is set. Returns the steps taken (fewer when the observer
+    /// stopped the run).
     ///
     /// # Errors
-    /// As [`Stepper::run`]; [`MechanicsError::InvalidSetting`] for a `t_end` that is not
+    /// As [`Stepper::drive`]; [`MechanicsError::InvalidSetting`] for a `t_end` that is not
     /// finite, lies before the present time, or needs more than 2⁵³ steps.
+    fn drive_until<O: Observer<S, C, D>>(
+        &mut self,
+        t_end: f64,
+        observer: &mut O,
+    ) -> Result<usize, O::Error>
+    where
+        Self: Sized,
+    {
+        let integrator = self.integrator();
+        integrator.check_end(t_end)?;
+        let h = integrator.settings().h();
+        let start = integrator.state().time;
+        let whole = ((t_end - start).max(0.0) / h + 1e-9).floor();
+        Integrator::<S, C, D>::check_step_count(t_end, whole)?;
+        let whole = whole as usize;
+        // The step at which the run ends: the shortened one, if there is one.
+        let short = t_end - (start + whole as f64 * h) > 1e-9 * h;
+        for index in 1..=whole {
+            let iterations = self.step()?;
+            let info = StepInfo {
+                index,
+                iterations,
+                last: index == whole && !short,
+            };
+            if observer.after_step(self.integrator(), info)?.is_break() {
+                return Ok(index);
+            }
+        }
+        let left = t_end - self.integrator().state().time;
+        if short && left > 1e-9 * h {
+            let iterations = self.step_by(left)?;
+            let info = StepInfo {
+                index: whole + 1,
+                iterations,
+                last: true,
+            };
+            // The run ends here, whatever the observer answers.
+            let _ = observer.after_step(self.integrator(), info)?;
+            return Ok(whole + 1);
+        }
+        Ok(whole)
+    }
+
+    /// Steps until exactly `t_end` ([`Stepper::drive_until`]), recording as
+    /// [`Stepper::run`]: the initial state, every `every`-th state and the last.
+    ///
+    /// # Errors
+    /// As [`Stepper::drive_until`].
     fn run_until(
         &mut self,
         t_end: f64,
@@ -165,19 +215,9 @@ where
     S: GroupLagrangian<D>,
     C: GroupChart<S::Group, D>,
 {
-    let integrator = stepper.integrator();
-    integrator.check_end(t_end)?;
-    let h = integrator.settings().h();
-    let whole = ((t_end - integrator.state().time).max(0.0) / h + 1e-9).floor();
-    Integrator::<S, C, D>::check_step_count(t_end, whole)?;
-    let mut trajectory = stepper.run(whole as usize, every)?;
-    let left = t_end - stepper.integrator().state().time;
-    if left > 1e-9 * h {
-        let iterations = stepper.step_by(left)?;
-        trajectory.states.push(*stepper.integrator().state());
-        trajectory.newton_iterations.push(iterations);
-    }
-    Ok(trajectory)
+    let mut recorder = Recorder::new(stepper.integrator().state(), 0, every);
+    stepper.drive_until(t_end, &mut recorder)?;
+    Ok(recorder.into_trajectory())
 }
 
 /// Watches a driven run: told of every step with the integrator after it (state, last

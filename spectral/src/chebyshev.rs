@@ -66,19 +66,55 @@ impl Chebyshev {
         b: f64,
         tol: f64,
     ) -> Result<Self, SpectralError> {
+        Self::try_fit_batch(
+            |points: &[f64]| Ok::<_, SpectralError>(points.iter().map(|&x| f(x)).collect()),
+            a,
+            b,
+            tol,
+        )
+    }
+
+    /// As [`Chebyshev::fit_with_tolerance`], with `f` evaluated on all the points of a
+    /// sampling at once (`f(points)` returns the values at `points`, in order): for a
+    /// function that is cheaper on many points together (vectorised code, a call into
+    /// another language), or that can fail with an error of its own, which ends the fit.
+    /// The samples are those of [`Chebyshev::fit_with_tolerance`], so the series is the
+    /// same, bit for bit.
+    ///
+    /// ```
+    /// use lgsvi_spectral::{Chebyshev, SpectralError};
+    /// let exp = |points: &[f64]| Ok::<_, SpectralError>(points.iter().map(|x| x.exp()).collect());
+    /// let batch = Chebyshev::try_fit_batch(exp, 0.0, 1.0, 1e-12)?;
+    /// assert_eq!(batch, Chebyshev::fit_with_tolerance(f64::exp, 0.0, 1.0, 1e-12)?);
+    /// # Ok::<(), lgsvi_spectral::SpectralError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Chebyshev::fit_with_tolerance`]; `f`'s own errors; [`SpectralError::LengthMismatch`]
+    /// where `f` returns another number of values than it was given points.
+    pub fn try_fit_batch<E: From<SpectralError>>(
+        mut f: impl FnMut(&[f64]) -> Result<Vec<f64>, E>,
+        a: f64,
+        b: f64,
+        tol: f64,
+    ) -> Result<Self, E> {
         if !(f64::EPSILON..1.0).contains(&tol) {
-            return Err(SpectralError::InvalidTolerance { tol });
+            return Err(SpectralError::InvalidTolerance { tol }.into());
         }
         let mut n = 17;
         loop {
             let nodes = chebyshev_lobatto(n, a, b)?;
-            let mut values = Vec::with_capacity(n);
-            for &x in &nodes {
-                let y = f(x);
-                if !y.is_finite() {
-                    return Err(SpectralError::NonFiniteValue { x, value: y });
+            let values = f(&nodes)?;
+            if values.len() != n {
+                return Err(SpectralError::LengthMismatch {
+                    what: "values of the function at the fit's points",
+                    expected: n,
+                    got: values.len(),
                 }
-                values.push(y);
+                .into());
+            }
+            if let Some((&x, &value)) = nodes.iter().zip(&values).find(|(_, y)| !y.is_finite()) {
+                return Err(SpectralError::NonFiniteValue { x, value }.into());
             }
             let coefficients = chebyshev_coefficients(&values)?;
             let cutoff = standard_chop(&coefficients, tol);
@@ -95,7 +131,8 @@ impl Chebyshev {
                     a,
                     b,
                     tol,
-                });
+                }
+                .into());
             }
             n = 2 * n - 1;
         }

@@ -1,0 +1,13 @@
+"""Control design on a step's exact linearisation.
+
+``A, B = integrator.linearize()`` gives the step's exact Jacobians in the coordinates
+``x = (theta, omega)``: the attitude (and a body in space's position) perturbed in the
+body frame, ``R = Rbar expm(hat(theta))``, and the body velocity by ``xi = xibar + omega``.
+:func:`dlqr` designs the gain of ``u = -K x`` (Drake's order and sign), :func:`tvlqr` the
+gains along a trajectory, :func:`error_state` the ``x`` of a state against a reference, and
+:class:`Regulator` closes the loop: ``integrator.set_input(regulator.input(state))``.
+"""
+
+from ._lgsvi import Regulator, dare, dlqr, error_state, tvlqr
+
+__all__ = ["Regulator", "dare", "dlqr", "error_state", "tvlqr"]
