@@ -168,6 +168,7 @@ fn _run_ensemble<'py>(
         chart: chart_named(chart)?,
         matching: matching_named(matching)?,
         quadrature_points: None,
+        max_newton_iterations: None,
     };
     // An integrator of the system from the first member (or at rest): the settings and the
     // system checked once, up front.
@@ -227,8 +228,8 @@ fn result_dict<'py>(
                 e.push(s.energy);
                 x.extend_from_slice(s.position.unwrap_or_default().as_slice());
                 v.extend_from_slice(s.velocity.unwrap_or_default().as_slice());
-                speeds.extend(s.wheel_speeds.unwrap_or_default());
-                angles.extend(s.wheel_angles.unwrap_or_default());
+                speeds.extend_from_slice(&s.wheel_speeds.map_or_else(Vec::new, |w| w.to_vec()));
+                angles.extend_from_slice(&s.wheel_angles.map_or_else(Vec::new, |w| w.to_vec()));
             }
             Err(error) => {
                 ok.push(false);

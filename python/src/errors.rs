@@ -103,7 +103,11 @@ pub fn invalid(message: impl Into<String>) -> PyErr {
 /// library's own.
 pub fn mechanics(error: MechanicsError) -> PyErr {
     use MechanicsError as E;
-    let message = error.to_string();
+    // The library's advice names the command line's flag where one is the way out; here
+    // it is the Integrator's argument.
+    let message = error
+        .to_string()
+        .replace("(--chart exp)", "(chart=\"exp\")");
     match error {
         E::InvalidInertia { .. }
         | E::NonFinite { .. }
@@ -166,6 +170,13 @@ pub fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     }
 }
 
+/// Panics inside the guard: the test suite's way to check that a panic becomes an
+/// `InternalError` and leaves the interpreter running.
+#[pyfunction]
+pub fn _panic_for_tests() -> PyResult<()> {
+    guarded(|| -> PyResult<()> { panic!("a panic raised on purpose by the test suite") })
+}
+
 /// Registers the exceptions in the module.
 pub fn register(module: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = module.py();
@@ -176,5 +187,6 @@ pub fn register(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("ToleranceError", py.get_type::<ToleranceError>())?;
     module.add("ModelError", py.get_type::<ModelError>())?;
     module.add("InternalError", py.get_type::<InternalError>())?;
+    module.add_function(wrap_pyfunction!(_panic_for_tests, module)?)?;
     Ok(())
 }

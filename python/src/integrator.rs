@@ -8,7 +8,7 @@ use crate::run::{
     chart_name, chart_named, coordinates_named, each_run, matching_name, matching_named, on_curve,
     run_to_tolerance, run_until, Linear, Options, Record, Recording, Run,
 };
-use crate::state::{quaternion, Sample, Start, State};
+use crate::state::{quaternion, Sample, Small, Start, State};
 use crate::systems::{system_of, Spec};
 use lgsvi_lie::SO3;
 use lgsvi_mechanics::integrator::GalerkinCurve;
@@ -49,6 +49,9 @@ struct Inner {
 ///     The momentum matching (exact: the map is exactly variational and conserves momenta).
 /// quadrature_points : int, optional
 ///     Gauss points per step `m` (default `n`).
+/// max_newton_iterations : int, optional
+///     The cap on Newton iterations per step (default 40; a step that needs more raises
+///     ConvergenceError).
 ///
 /// The integrator is safe to use from several threads (a lock guards it; long calls
 /// release the GIL) and pickles: an unpickled integrator continues from the same state,
@@ -146,47 +149,67 @@ fn rest(spec: &Spec) -> Start {
     }
 }
 
-/// The trajectory's arrays as a dict (the Python layer makes it a `Trajectory`).
+/// The trajectory's arrays as a dict (the Python layer makes it a `Trajectory`): each
+/// column filled in one pass over the states.
 pub fn trajectory_dict<'py>(py: Python<'py>, recording: Recording) -> PyResult<Bound<'py, PyDict>> {
     let samples = &recording.samples;
     let n = samples.len();
-    let d = PyDict::new(py);
-    let column = |f: &dyn Fn(&Sample) -> f64| array1(py, samples.iter().map(f).collect());
-    let rows = |width: usize, f: &dyn Fn(&Sample) -> Vec<f64>| {
-        array2(py, n, width, samples.iter().flat_map(f).collect())
-    };
-    d.set_item("t", column(&|s| s.t))?;
-    d.set_item(
-        "attitude",
-        array3(
-            py,
-            (n, 3, 3),
-            samples.iter().flat_map(|s| rows3(&s.attitude)).collect(),
-        ),
-    )?;
-    d.set_item("quaternion", rows(4, &|s| quaternion(&s.attitude).to_vec()))?;
-    d.set_item("omega", rows(3, &|s| s.omega.as_slice().to_vec()))?;
-    let width = samples.first().map_or(3, |s| s.momentum.len());
-    d.set_item("momentum", rows(width, &|s| s.momentum.clone()))?;
-    d.set_item("energy", column(&|s| s.energy))?;
-    d.set_item(
-        "spatial_momentum",
-        rows(3, &|s| s.spatial_momentum.as_slice().to_vec()),
-    )?;
-    let space = samples.first().is_some_and(|s| s.position.is_some());
-    if space {
-        let v3 = |v: Option<nalgebra::Vector3<f64>>| v.unwrap_or_default().as_slice().to_vec();
-        d.set_item("position", rows(3, &|s| v3(s.position)))?;
-        d.set_item("velocity", rows(3, &|s| v3(s.velocity)))?;
-        d.set_item("linear_momentum", rows(3, &|s| v3(s.linear_momentum)))?;
+    let first = samples.first();
+    let width = first.map_or(3, |s| s.momentum.len());
+    let space = first.is_some_and(|s| s.position.is_some());
+    let k = first.and_then(|s| s.wheel_speeds.map(|w| w.len()));
+    let mut t = Vec::with_capacity(n);
+    let mut attitude = Vec::with_capacity(9 * n);
+    let mut quaternions = Vec::with_capacity(4 * n);
+    let mut omega = Vec::with_capacity(3 * n);
+    let mut momentum = Vec::with_capacity(width * n);
+    let mut energy = Vec::with_capacity(n);
+    let mut spatial = Vec::with_capacity(3 * n);
+    let columns = if space { 3 * n } else { 0 };
+    let (mut position, mut velocity, mut linear) = (
+        Vec::with_capacity(columns),
+        Vec::with_capacity(columns),
+        Vec::with_capacity(columns),
+    );
+    let wheel_columns = k.unwrap_or(0) * n;
+    let (mut angles, mut speeds) = (
+        Vec::with_capacity(wheel_columns),
+        Vec::with_capacity(wheel_columns),
+    );
+    for s in samples {
+        t.push(s.t);
+        attitude.extend_from_slice(&rows3(&s.attitude));
+        quaternions.extend_from_slice(&quaternion(&s.attitude));
+        omega.extend_from_slice(s.omega.as_slice());
+        momentum.extend_from_slice(&s.momentum);
+        energy.push(s.energy);
+        spatial.extend_from_slice(s.spatial_momentum.as_slice());
+        if space {
+            position.extend_from_slice(s.position.unwrap_or_default().as_slice());
+            velocity.extend_from_slice(s.velocity.unwrap_or_default().as_slice());
+            linear.extend_from_slice(s.linear_momentum.unwrap_or_default().as_slice());
+        }
+        if k.is_some() {
+            angles.extend_from_slice(&s.wheel_angles.unwrap_or(Small::new([])));
+            speeds.extend_from_slice(&s.wheel_speeds.unwrap_or(Small::new([])));
+        }
     }
-    if let Some(k) = samples
-        .first()
-        .and_then(|s| s.wheel_speeds.as_ref().map(Vec::len))
-    {
-        let get = |v: &Option<Vec<f64>>| v.clone().unwrap_or_default();
-        d.set_item("wheel_angles", rows(k, &|s| get(&s.wheel_angles)))?;
-        d.set_item("wheel_speeds", rows(k, &|s| get(&s.wheel_speeds)))?;
+    let d = PyDict::new(py);
+    d.set_item("t", array1(py, t))?;
+    d.set_item("attitude", array3(py, (n, 3, 3), attitude))?;
+    d.set_item("quaternion", array2(py, n, 4, quaternions))?;
+    d.set_item("omega", array2(py, n, 3, omega))?;
+    d.set_item("momentum", array2(py, n, width, momentum))?;
+    d.set_item("energy", array1(py, energy))?;
+    d.set_item("spatial_momentum", array2(py, n, 3, spatial))?;
+    if space {
+        d.set_item("position", array2(py, n, 3, position))?;
+        d.set_item("velocity", array2(py, n, 3, velocity))?;
+        d.set_item("linear_momentum", array2(py, n, 3, linear))?;
+    }
+    if let Some(k) = k {
+        d.set_item("wheel_angles", array2(py, n, k, angles))?;
+        d.set_item("wheel_speeds", array2(py, n, k, speeds))?;
     }
     d.set_item(
         "newton_iterations",
@@ -237,7 +260,7 @@ pub fn trajectory<'py>(py: Python<'py>, recording: Recording) -> PyResult<Bound<
 #[pymethods]
 impl Integrator {
     #[new]
-    #[pyo3(signature = (system, h, nodes=10, attitude=None, omega=None, position=None, velocity=None, wheel_speeds=None, wheel_angles=None, t0=0.0, chart="exp", matching="exact", quadrature_points=None))]
+    #[pyo3(signature = (system, h, nodes=10, attitude=None, omega=None, position=None, velocity=None, wheel_speeds=None, wheel_angles=None, t0=0.0, chart="exp", matching="exact", quadrature_points=None, max_newton_iterations=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         system: &Bound<'_, PyAny>,
@@ -253,6 +276,7 @@ impl Integrator {
         chart: &str,
         matching: &str,
         quadrature_points: Option<usize>,
+        max_newton_iterations: Option<usize>,
     ) -> PyResult<Self> {
         guarded(|| {
             let (spec, built) = system_of(system)?;
@@ -262,6 +286,7 @@ impl Integrator {
                 chart: chart_named(chart)?,
                 matching: matching_named(matching)?,
                 quadrature_points,
+                max_newton_iterations,
             };
             let start = start_from(
                 &spec,
@@ -304,7 +329,8 @@ impl Integrator {
         guarded(|| Ok(self.lock()?.run.sample().t))
     }
 
-    /// The settings: `h`, `nodes`, `quadrature_points`, `chart`, `matching`.
+    /// The settings: `h`, `nodes`, `quadrature_points`, `chart`, `matching`,
+    /// `max_newton_iterations`.
     #[getter]
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let o = self.lock()?.options;
@@ -314,6 +340,10 @@ impl Integrator {
         d.set_item("quadrature_points", o.quadrature_points.unwrap_or(o.nodes))?;
         d.set_item("chart", chart_name(o.chart))?;
         d.set_item("matching", matching_name(o.matching))?;
+        d.set_item(
+            "max_newton_iterations",
+            o.settings()?.max_newton_iterations(),
+        )?;
         Ok(d)
     }
 
@@ -475,6 +505,23 @@ impl Integrator {
         trajectory(py, recording)
     }
 
+    /// The Rust library's own `run_until` on this integrator, its trajectory of states kept
+    /// in Rust and dropped (returns the number of states): the benchmark's reference for
+    /// what `run_until` adds (python/benches/bench.py).
+    #[pyo3(signature = (t_end, every=1))]
+    fn _library_run_until(&self, py: Python<'_>, t_end: f64, every: usize) -> PyResult<usize> {
+        py.detach(|| {
+            guarded(|| {
+                let mut inner = self.lock()?;
+                each_run!(&mut inner.run, it => {
+                    lgsvi_mechanics::Stepper::run_until(it, t_end, every)
+                        .map(|trajectory| trajectory.states.len())
+                        .map_err(mechanics)
+                })
+            })
+        })
+    }
+
     /// Restarts from the given state (arguments as the constructor's; those not given keep
     /// their present values, `t0` the present time). The input and the statistics are
     /// kept; the predictor forgets the last step.
@@ -615,6 +662,7 @@ impl Integrator {
         kwargs.set_item("chart", chart_name(o.chart))?;
         kwargs.set_item("matching", matching_name(o.matching))?;
         kwargs.set_item("quadrature_points", o.quadrature_points)?;
+        kwargs.set_item("max_newton_iterations", o.max_newton_iterations)?;
         let input = array1(py, inner.run.input());
         let restore = py
             .import("lgsvi._lgsvi")?

@@ -35,6 +35,8 @@ pub struct Options {
     pub matching: Matching,
     /// The Gauss points `m` (default `n`).
     pub quadrature_points: Option<usize>,
+    /// The cap on Newton iterations per step (default the library's).
+    pub max_newton_iterations: Option<usize>,
 }
 
 impl Options {
@@ -43,6 +45,9 @@ impl Options {
         let mut s = StepSettings::new(self.h, self.nodes).map_err(mechanics)?;
         if let Some(m) = self.quadrature_points {
             s = s.with_quadrature_points(m).map_err(mechanics)?;
+        }
+        if let Some(cap) = self.max_newton_iterations {
+            s = s.with_max_newton_iterations(cap);
         }
         Ok(s.with_chart(self.chart).with_matching(self.matching))
     }
@@ -325,7 +330,7 @@ impl<'a> Collect<'a> {
                 while collect.next < times.len() && times[collect.next] <= start.t + slack {
                     collect.samples.push(Sample {
                         t: times[collect.next],
-                        ..start.clone()
+                        ..start
                     });
                     collect.iterations.push(0);
                     collect.next += 1;

@@ -12,8 +12,38 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+/// At most seven numbers, kept inline (a state's momentum has `D ≤ 7` entries, a
+/// gyrostat at most four wheels): a state's numbers are copied without allocating.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Small {
+    values: [f64; 7],
+    len: usize,
+}
+
+impl Small {
+    /// The first `values.len() ≤ 7` entries.
+    pub fn new(values: impl IntoIterator<Item = f64>) -> Self {
+        let mut small = Self {
+            values: [0.0; 7],
+            len: 0,
+        };
+        for v in values {
+            small.values[small.len] = v;
+            small.len += 1;
+        }
+        small
+    }
+}
+
+impl std::ops::Deref for Small {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.values[..self.len]
+    }
+}
+
 /// One state's numbers, on any group.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
     /// Time.
     pub t: f64,
@@ -26,16 +56,16 @@ pub struct Sample {
     /// Its velocity `ẋ`, world frame (SE(3)).
     pub velocity: Option<Vector3<f64>>,
     /// Body momentum `μ = ∂ℓ/∂ξ` (`D` entries).
-    pub momentum: Vec<f64>,
+    pub momentum: Small,
     /// Spatial angular momentum: `Rμ` on SO(3), `RJΩ + x × mẋ` about the origin on SE(3),
     /// `R h` (the total, wheels included) for a gyrostat.
     pub spatial_momentum: Vector3<f64>,
     /// Linear momentum `mẋ`, world frame (SE(3)).
     pub linear_momentum: Option<Vector3<f64>>,
     /// Wheel angles relative to the body (gyrostat).
-    pub wheel_angles: Option<Vec<f64>>,
+    pub wheel_angles: Option<Small>,
     /// Wheel rates relative to the body (gyrostat).
-    pub wheel_speeds: Option<Vec<f64>>,
+    pub wheel_speeds: Option<Small>,
     /// Energy `⟨μ, ξ⟩ − ℓ`.
     pub energy: f64,
 }
@@ -84,8 +114,8 @@ impl Start {
             omega: sample.omega,
             position: sample.position.unwrap_or_default(),
             velocity: sample.velocity.unwrap_or_default(),
-            wheel_speeds: sample.wheel_speeds.clone().unwrap_or_default(),
-            wheel_angles: sample.wheel_angles.clone().unwrap_or_default(),
+            wheel_speeds: sample.wheel_speeds.map_or_else(Vec::new, |v| v.to_vec()),
+            wheel_angles: sample.wheel_angles.map_or_else(Vec::new, |v| v.to_vec()),
         }
     }
 }
@@ -101,7 +131,7 @@ impl Element<3> for SO3 {
             omega: state.velocity,
             position: None,
             velocity: None,
-            momentum: state.momentum.iter().copied().collect(),
+            momentum: Small::new(state.momentum.iter().copied()),
             spatial_momentum: state.spatial_momentum(),
             linear_momentum: None,
             wheel_angles: None,
@@ -135,7 +165,7 @@ impl Element<6> for SE3 {
             omega: state.angular_velocity(),
             position: Some(state.position()),
             velocity: Some(state.linear_velocity()),
-            momentum: state.momentum.iter().copied().collect(),
+            momentum: Small::new(state.momentum.iter().copied()),
             spatial_momentum: spatial.fixed_rows::<3>(0).into_owned(),
             linear_momentum: Some(spatial.fixed_rows::<3>(3).into_owned()),
             wheel_angles: None,
@@ -180,11 +210,11 @@ macro_rules! wheels_element {
                     omega: state.velocity.fixed_rows::<3>(0).into_owned(),
                     position: None,
                     velocity: None,
-                    momentum: state.momentum.iter().copied().collect(),
+                    momentum: Small::new(state.momentum.iter().copied()),
                     spatial_momentum: r * h,
                     linear_momentum: None,
-                    wheel_angles: Some(state.configuration.wheels.iter().copied().collect()),
-                    wheel_speeds: Some(state.velocity.iter().skip(3).copied().collect()),
+                    wheel_angles: Some(Small::new(state.configuration.wheels.iter().copied())),
+                    wheel_speeds: Some(Small::new(state.velocity.iter().skip(3).copied())),
                     energy,
                 }
             }
@@ -289,7 +319,7 @@ impl State {
     /// Body momentum `μ = ∂ℓ/∂ξ`.
     #[getter]
     fn momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.sample.momentum.clone())
+        array1(py, self.sample.momentum.to_vec())
     }
     /// Angular momentum in the world frame.
     #[getter]
@@ -309,12 +339,12 @@ impl State {
     /// Wheel angles relative to the body (a gyrostat; else None).
     #[getter]
     fn wheel_angles<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
-        self.sample.wheel_angles.clone().map(|v| array1(py, v))
+        self.sample.wheel_angles.map(|v| array1(py, v.to_vec()))
     }
     /// Wheel rates relative to the body (a gyrostat; else None).
     #[getter]
     fn wheel_speeds<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
-        self.sample.wheel_speeds.clone().map(|v| array1(py, v))
+        self.sample.wheel_speeds.map(|v| array1(py, v.to_vec()))
     }
     /// The state's fields as a dict of floats and ndarrays.
     fn to_dict<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
@@ -342,7 +372,7 @@ impl State {
             text += &format!(", position={:?}", x.as_slice());
         }
         if let Some(w) = &s.wheel_speeds {
-            text += &format!(", wheel_speeds={w:?}");
+            text += &format!(", wheel_speeds={:?}", &w[..]);
         }
         text + ")"
     }
@@ -358,11 +388,11 @@ impl State {
             s.omega.as_slice().to_vec(),
             s.position.map(|v| v.as_slice().to_vec()),
             s.velocity.map(|v| v.as_slice().to_vec()),
-            s.momentum.clone(),
+            s.momentum.to_vec(),
             s.spatial_momentum.as_slice().to_vec(),
             s.linear_momentum.map(|v| v.as_slice().to_vec()),
-            s.wheel_angles.clone(),
-            s.wheel_speeds.clone(),
+            s.wheel_angles.map(|v| v.to_vec()),
+            s.wheel_speeds.map(|v| v.to_vec()),
             s.energy,
         );
         Ok((restore, PyTuple::new(py, [fields.into_pyobject(py)?])?))
@@ -411,11 +441,11 @@ pub fn _state_from_fields(fields: Fields) -> State {
             omega: v3(&w),
             position: x.as_ref().map(v3),
             velocity: v.as_ref().map(v3),
-            momentum: mu,
+            momentum: Small::new(mu),
             spatial_momentum: v3(&pi),
             linear_momentum: p.as_ref().map(v3),
-            wheel_angles: angles,
-            wheel_speeds: speeds,
+            wheel_angles: angles.map(Small::new),
+            wheel_speeds: speeds.map(Small::new),
             energy,
         },
     }
