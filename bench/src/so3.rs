@@ -7,7 +7,8 @@ use lgsvi_experiments::work_precision::{median, median_time, Point};
 use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::lie::{ChartKind, SO3};
 use lgsvi_mechanics::Stepper;
-use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, Lagrangian, RigidBody, StepSettings};
+use lgsvi_mechanics::group::Rotations;
+use lgsvi_mechanics::{HeavyTop, Inertia, Integrator, RigidBody, StepSettings, System};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -66,7 +67,7 @@ fn lgsvi_tolerance_run(case: &Case, t_end: f64, tol: f64) -> Result<Matrix3<f64>
 }
 
 /// [`lgsvi_tolerance_run`] of `system`.
-fn lgsvi_tolerance_run_with<L: Lagrangian>(
+fn lgsvi_tolerance_run_with<L: System<3, Group = Rotations>>(
     system: L,
     case: &Case,
     t_end: f64,
@@ -85,7 +86,7 @@ fn lgsvi_tolerance_run_with<L: Lagrangian>(
 }
 
 /// A run of `system` from the case's start to `t_end`: the final attitude.
-fn lgsvi_run_with<L: Lagrangian>(
+fn lgsvi_run_with<L: System<3, Group = Rotations>>(
     system: L,
     case: &Case,
     t_end: f64,

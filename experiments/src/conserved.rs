@@ -2,7 +2,7 @@
 //! initial state's: every study, figure and benchmark measures conservation through
 //! [`Tracker`].
 
-use lgsvi_mechanics::GroupLagrangian;
+use lgsvi_mechanics::System;
 use nalgebra::{Matrix3, Vector3};
 
 /// The initial values, and which invariants the system has.
@@ -56,9 +56,9 @@ fn nonzero(x: f64) -> f64 {
 
 impl Symmetry {
     /// What an SO(3) system conserves, as it says itself: all of `Rμ` when it is left
-    /// invariant and unforced, `d·Rμ` for its [`GroupLagrangian::symmetry_generator`] `d`
+    /// invariant and unforced, `d·Rμ` for its [`System::symmetry_generator`] `d`
     /// when unforced, nothing under a force.
-    pub fn of<S: GroupLagrangian<3>>(system: &S) -> Self {
+    pub fn of<S: System<3>>(system: &S) -> Self {
         if system.is_forced() {
             Symmetry::None
         } else if system.is_left_invariant() {

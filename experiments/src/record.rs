@@ -36,7 +36,7 @@ use lgsvi_mechanics::lie::{SE3, SO3};
 use lgsvi_mechanics::stepper::each;
 use lgsvi_mechanics::system::ElementOf;
 use lgsvi_mechanics::tolerance::{CheckReport, CheckedIntegrator};
-use lgsvi_mechanics::{GroupLagrangian, Integrator, State, StepSettings, Stepper};
+use lgsvi_mechanics::{Integrator, State, StepSettings, Stepper, System};
 use nalgebra::{SVector, Vector3};
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
@@ -251,7 +251,7 @@ pub fn record<S, C, const D: usize>(
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
-    S: GroupLagrangian<D> + Copy,
+    S: System<D> + Copy,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Columns<D>,
 {
@@ -370,7 +370,7 @@ pub fn record_to_tolerance<S, C, E, const D: usize>(
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, E>
 where
-    S: GroupLagrangian<D> + Copy,
+    S: System<D> + Copy,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
     E: From<ExperimentError> + From<lgsvi_mechanics::MechanicsError>,
@@ -403,7 +403,7 @@ pub fn record_checked<S, C, const D: usize>(
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
-    S: GroupLagrangian<D> + Copy,
+    S: System<D> + Copy,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
 {
@@ -426,7 +426,7 @@ where
 ///
 /// # Errors
 /// A time the solution cannot be evaluated at, or a state that overflows.
-pub fn record_exact<S: GroupLagrangian<3, Group = Rotations>>(
+pub fn record_exact<S: System<3, Group = Rotations>>(
     body: &FreeRigidBodyExact,
     system: &S,
     h: f64,

@@ -30,8 +30,8 @@ use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart};
 use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
-    Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody,
-    RigidBody, StepSettings,
+    Forced, FreeBody, HeavyTop, Inertia, Integrator, MechanicsError, OrbitingBody, RigidBody,
+    StepSettings, System,
 };
 use nalgebra::{SVector, Vector3};
 
@@ -206,7 +206,7 @@ impl WheelRun {
         omega: Vector3<f64>,
     ) -> Result<Integrator<Gyrostat<K>, ChartKind, D>, MechanicsError>
     where
-        Gyrostat<K>: GroupLagrangian<D, Group = BodyAndWheels<K>>,
+        Gyrostat<K>: System<D, Group = BodyAndWheels<K>>,
         BodyAndWheels<K>: ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
         ChartKind: GroupChart<BodyAndWheels<K>, D>,
     {
@@ -421,7 +421,7 @@ impl Scenario {
     }
 
     /// The initial motion's fastest rate, rad per unit time: the system's own
-    /// ([`GroupLagrangian::motion_rate`]: the spin, and the heavy top's pendulum
+    /// ([`System::motion_rate`]: the spin, and the heavy top's pendulum
     /// frequency, the orbiting body's gravity-gradient libration or the wheels' fastest
     /// spin). A tolerance-driven run's step turns a fixed angle at it.
     ///

@@ -4,7 +4,7 @@ use crate::conserved::{Symmetry, Tracker};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::group::Rotations;
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::{GroupLagrangian, Inertia, Integrator, MechanicsError, State, StepSettings};
+use lgsvi_mechanics::{Inertia, Integrator, MechanicsError, State, StepSettings, System};
 use nalgebra::Vector3;
 
 /// A problem on SO(3) that the studies of this crate run: the system, its initial state
@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 /// (the studies vary the step and the node count).
 pub trait Subject {
     /// The system: any SO(3) system, forced or not.
-    type System: GroupLagrangian<3, Group = Rotations>;
+    type System: System<3, Group = Rotations>;
 
     /// The system, for energies.
     fn system(&self) -> &Self::System;
@@ -66,7 +66,7 @@ pub struct Body<S> {
     axis: Option<Vector3<f64>>,
 }
 
-impl<S: GroupLagrangian<3, Group = Rotations> + Clone> Body<S> {
+impl<S: System<3, Group = Rotations> + Clone> Body<S> {
     /// `system` from `(attitude0, omega0)`, every run with `settings`' chart, matching and
     /// Newton Jacobian. Conservation is tracked for what the system says it conserves
     /// ([`Symmetry::of`]: all of `Rμ` for a free, unforced body, `d·Rμ` for a heavy top's
@@ -97,7 +97,7 @@ impl<S: GroupLagrangian<3, Group = Rotations> + Clone> Body<S> {
     }
 }
 
-impl<S: GroupLagrangian<3, Group = Rotations> + Clone> Subject for Body<S> {
+impl<S: System<3, Group = Rotations> + Clone> Subject for Body<S> {
     type System = S;
     fn system(&self) -> &S {
         &self.system

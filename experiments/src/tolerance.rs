@@ -24,7 +24,7 @@ use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::stepper::{each, StepInfo};
 use lgsvi_mechanics::system::ElementOf;
 use lgsvi_mechanics::Stepper;
-use lgsvi_mechanics::{GroupLagrangian, Integrator, MechanicsError, State, StepSettings};
+use lgsvi_mechanics::{Integrator, MechanicsError, State, StepSettings, System};
 use serde::Serialize;
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -186,7 +186,7 @@ pub fn local_errors<S, C, const D: usize>(
     tick: &mut dyn FnMut(),
 ) -> Result<Vec<LocalError>>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     State<ElementOf<S, D>, D>: Observe,
 {
@@ -237,7 +237,7 @@ fn fastest_run<S, C, const D: usize>(
     t_end: f64,
 ) -> Result<(Vec<f64>, f64, Integrator<S, C, D>)>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     State<ElementOf<S, D>, D>: Observe,
 {
@@ -273,7 +273,7 @@ pub fn tolerance_runs<S, C, const D: usize>(
     tick: &mut dyn FnMut(),
 ) -> Result<ToleranceStudy>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     State<ElementOf<S, D>, D>: Observe,
 {

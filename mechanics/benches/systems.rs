@@ -20,8 +20,8 @@ use lgsvi_mechanics::lie::ChartKind;
 use lgsvi_mechanics::lie::{SE3, SO3};
 use lgsvi_mechanics::system::LocalDerivatives;
 use lgsvi_mechanics::{
-    BodyInField, FieldPotential, Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator,
-    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, StepSettings,
+    BodyInField, FieldPotential, Forced, FreeBody, HeavyTop, Inertia, Integrator, OrbitingBody,
+    Potential, RigidBody, RigidBodyInPotential, StepSettings, System,
 };
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
@@ -61,7 +61,7 @@ impl FieldPotential for GravityAndDipole {
 /// discrete map as SE(3)'s rotation–translation chart, for comparing the two groups' cost.
 #[derive(Debug, Clone, Copy)]
 struct ProductFreeBody(Matrix3<f64>);
-impl GroupLagrangian<6> for ProductFreeBody {
+impl System<6> for ProductFreeBody {
     type Group = BodyAndWheels<3>;
     fn lagrangian<T: RealField + Copy>(
         &self,
@@ -103,11 +103,7 @@ impl GroupLagrangian<6> for ProductFreeBody {
     }
 }
 
-fn bench_steps<
-    S: GroupLagrangian<D>,
-    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
-    const D: usize,
->(
+fn bench_steps<S: System<D>, C: lgsvi_mechanics::group::GroupChart<S::Group, D>, const D: usize>(
     c: &mut Criterion,
     name: &str,
     integrator: Integrator<S, C, D>,
@@ -118,7 +114,7 @@ fn bench_steps<
 /// As [`bench_steps`], each step with its exact linearisation
 /// ([`Integrator::step_linearized`]): the cost of `A` and `B` beside a plain step.
 fn bench_linearized<
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
     const D: usize,
 >(
@@ -132,7 +128,7 @@ fn bench_linearized<
 /// As [`bench_steps`], each step with its exact linearisation and its derivatives in the
 /// system's parameters ([`Integrator::step_linearized_with_parameters`]).
 fn bench_with_parameters<
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
     const D: usize,
 >(
@@ -151,11 +147,7 @@ enum Linearized {
     WithParameters,
 }
 
-fn bench_with<
-    S: GroupLagrangian<D>,
-    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
-    const D: usize,
->(
+fn bench_with<S: System<D>, C: lgsvi_mechanics::group::GroupChart<S::Group, D>, const D: usize>(
     c: &mut Criterion,
     name: &str,
     mut integrator: Integrator<S, C, D>,
@@ -184,7 +176,7 @@ fn bench_with<
     });
 }
 
-fn so3<S: GroupLagrangian<3>>(system: S) -> Integrator<S, ChartKind, 3>
+fn so3<S: System<3>>(system: S) -> Integrator<S, ChartKind, 3>
 where
     ChartKind: lgsvi_mechanics::group::GroupChart<S::Group, 3>,
 {

@@ -5,7 +5,7 @@ use crate::control::GroupLog;
 use crate::error::MechanicsError;
 use crate::integrator::Integrator;
 use crate::settings::{Matching, StepSettings, DEFAULT_ADAPTIVE_NODES, DEFAULT_NODES};
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use crate::tolerance::{first_nodes, tolerance_step, CheckedIntegrator};
 use crate::GroupChart;
 use lgsvi_lie::ChartKind;
@@ -50,7 +50,7 @@ use nalgebra::SVector;
 /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct IntegratorBuilder<S: GroupLagrangian<D>, const D: usize> {
+pub struct IntegratorBuilder<S: System<D>, const D: usize> {
     system: S,
     start: Option<(f64, ElementOf<S, D>, SVector<f64, D>)>,
     h: Option<f64>,
@@ -64,7 +64,7 @@ pub struct IntegratorBuilder<S: GroupLagrangian<D>, const D: usize> {
     input: Option<SVector<f64, D>>,
 }
 
-impl<S: GroupLagrangian<D>, const D: usize> Integrator<S, ChartKind, D>
+impl<S: System<D>, const D: usize> Integrator<S, ChartKind, D>
 where
     ChartKind: GroupChart<S::Group, D>,
 {
@@ -86,7 +86,7 @@ where
     }
 }
 
-impl<S: GroupLagrangian<D>, const D: usize> IntegratorBuilder<S, D>
+impl<S: System<D>, const D: usize> IntegratorBuilder<S, D>
 where
     ChartKind: GroupChart<S::Group, D>,
 {

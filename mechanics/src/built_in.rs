@@ -6,8 +6,9 @@
 
 use crate::forces::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions};
-use crate::system::{FlowGuess, FlowStart, GaussPoint, LagrangianDerivatives, LocalDerivatives};
-use crate::{FreeBody, GroupLagrangian, HeavyTop, Lagrangian, OrbitingBody, RigidBody};
+use crate::lagrangian::{Lagrangian, LagrangianDerivatives};
+use crate::system::{FlowGuess, FlowStart, GaussPoint, LocalDerivatives};
+use crate::{FreeBody, HeavyTop, OrbitingBody, RigidBody, System};
 use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
@@ -93,7 +94,7 @@ impl Lagrangian for BuiltInSo3 {
 
 /// A built-in system on SE(3), the free body in space or the body orbiting a point mass:
 /// one type, so that programs need not be generic. Every method of
-/// [`GroupLagrangian`] is forwarded, the closed forms above all (`local_derivatives`:
+/// [`System`] is forwarded, the closed forms above all (`local_derivatives`:
 /// without them a step takes ℓ's derivatives by dual numbers, about 20× slower).
 #[derive(Debug, Clone, Copy)]
 pub enum BuiltInSe3 {
@@ -113,7 +114,7 @@ macro_rules! each_motion {
     };
 }
 
-impl GroupLagrangian<6> for BuiltInSe3 {
+impl System<6> for BuiltInSe3 {
     type Group = RigidMotions;
     fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         each_motion!(self, s => s.lagrangian(t, g, xi))
@@ -218,7 +219,7 @@ mod tests {
 
     /// Runs `system` 40 steps from a start in orbit and returns the final state's
     /// configuration entries and the Newton work.
-    fn run<S: GroupLagrangian<6, Group = RigidMotions>>(system: S) -> (Vec<f64>, usize, usize) {
+    fn run<S: System<6, Group = RigidMotions>>(system: S) -> (Vec<f64>, usize, usize) {
         let start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
         let mut velocity = SVector::<f64, 6>::zeros();
         velocity.copy_from_slice(&[0.6, 0.1, -0.4, 0.0, 0.55, 0.05]);

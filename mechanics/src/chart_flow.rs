@@ -3,13 +3,13 @@
 
 use crate::flow::{hermite, rk4_step, FlowGuess, FlowStart, MAX_SUBSTEPS, SUBSTEP_ANGLE};
 use crate::group::{ConfigurationGroup, GroupChart};
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use lgsvi_lie::LieGroup;
 use nalgebra::SVector;
 
-/// The predictor of a system without a flow of its own ([`crate::GroupLagrangian::flow_guess`]
-/// unavailable) that gives `ξ(μ)` in closed form ([`crate::GroupLagrangian::velocity_from_momentum`])
-/// and its configuration force ([`crate::GroupLagrangian::local_derivatives`]): the
+/// The predictor of a system without a flow of its own ([`crate::System::flow_guess`]
+/// unavailable) that gives `ξ(μ)` in closed form ([`crate::System::velocity_from_momentum`])
+/// and its configuration force ([`crate::System::local_derivatives`]): the
 /// Euler–Poincaré flow integrated in the step's chart itself, on `(y, μ)` with
 /// `ẏ = A(y)⁻¹ ξ` and `μ̇ = ad_ξᵀ μ + p + F` at `g = g_k Φ(y)` (classical RK4, substeps of at
 /// most [`crate::flow`]'s `SUBSTEP_ANGLE` of rotation and of `2√|ΔΩ|` of the forces' push, cubic Hermite
@@ -22,7 +22,7 @@ pub(crate) fn chart_flow<S, C, const D: usize>(
     out: &mut [SVector<f64, D>],
 ) -> FlowGuess<ElementOf<S, D>>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     use FlowGuess::Unavailable;

@@ -11,7 +11,7 @@ use crate::integrator::{Integrator, Statistics};
 use crate::settings::StepSettings;
 use crate::state::State;
 use crate::stepper::{each, Stepper};
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use lgsvi_lie::{ChartKind, SO3};
 use nalgebra::SVector;
 use rayon::prelude::*;
@@ -68,7 +68,7 @@ pub fn run_ensemble<S, const D: usize>(
     steps: usize,
 ) -> Vec<Result<EnsembleMember<ElementOf<S, D>, D>, MechanicsError>>
 where
-    S: GroupLagrangian<D> + Clone + Send + Sync,
+    S: System<D> + Clone + Send + Sync,
     ElementOf<S, D>: Send + Sync,
     ChartKind: GroupChart<S::Group, D>,
 {
@@ -112,7 +112,7 @@ pub fn run_ensemble_until<S, const D: usize>(
     t_end: f64,
 ) -> Vec<Result<EnsembleMember<ElementOf<S, D>, D>, MechanicsError>>
 where
-    S: GroupLagrangian<D> + Clone + Send + Sync,
+    S: System<D> + Clone + Send + Sync,
     ElementOf<S, D>: Send + Sync,
     ChartKind: GroupChart<S::Group, D>,
 {

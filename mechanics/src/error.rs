@@ -81,7 +81,7 @@ pub enum MechanicsError {
         most: f64,
     },
     /// A step failed where the state lies outside what the system models
-    /// ([`crate::GroupLagrangian::model_breakdown`]): an orbiting body whose mass surrounds
+    /// ([`crate::System::model_breakdown`]): an orbiting body whose mass surrounds
     /// the attracting point, for instance. A shorter step or more nodes do not make the
     /// model hold there; the step's own failure is the source.
     #[error("step {step} (t = {time}): the step failed outside what the system models: {reason}")]

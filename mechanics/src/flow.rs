@@ -183,7 +183,7 @@ where
         + d1 * ((u3 - u2) * dt)
 }
 
-/// What a flow predictor ([`crate::GroupLagrangian::flow_guess`]) found.
+/// What a flow predictor ([`crate::System::flow_guess`]) found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FlowGuess<E> {
     /// The guess is written; the flow's configuration at the step's end relative to its
@@ -319,7 +319,7 @@ pub type ForceValueAlongStep<'a, G, const D: usize> = &'a dyn Fn(
     &SVector<f64, D>,
 ) -> SVector<f64, D>;
 
-/// The start of a step, as [`crate::GroupLagrangian::flow_guess`] receives it.
+/// The start of a step, as [`crate::System::flow_guess`] receives it.
 pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
     /// The step's start time `t_k`.
     pub time: f64,

@@ -48,7 +48,7 @@ use crate::group::{
     dual_number_derivatives, ChartDerivatives, ConfigurationGroup, GroupChart, Rotations, Stacked,
 };
 use crate::matrix_jet::MatrixJet;
-use crate::system::{GroupLagrangian, LocalDerivatives};
+use crate::system::{LocalDerivatives, System};
 use lgsvi_lie::{Chart, LieError, LieGroup, So3Chart, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
@@ -531,7 +531,7 @@ macro_rules! wheels {
             }
         }
 
-        impl GroupLagrangian<$d> for Gyrostat<$k> {
+        impl System<$d> for Gyrostat<$k> {
             type Group = BodyAndWheels<$k>;
             /// `½ΩᵀJΩ + Σ I_i (a_iᵀΩ) φ̇_i + ½ Σ I_i φ̇_i²`.
             fn lagrangian<T: RealField + Copy>(

@@ -73,28 +73,12 @@ impl LagrangianDerivatives {
     }
 }
 
-/// A reduced Lagrangian `ℓ(R, Ω)` with `R = world_from_body` and body angular velocity
-/// `Ω` (`Ṙ = RΩ̂`).
-///
-/// Write `ℓ` once, generically over the scalar: the integrator differentiates it exactly
-/// (gradients and Hessians by dual numbers, [`Lagrangian::derivatives`]), so no derivative
-/// is ever derived by hand; override that method with a closed form only for speed.
-/// Body momentum is `μ = ∂ℓ/∂Ω`, energy `⟨μ, Ω⟩ − ℓ`.
-///
-/// ```
-/// use lgsvi_mechanics::Lagrangian;
-/// use nalgebra::{Matrix3, RealField, Vector3};
-///
-/// /// A spherical body in a potential that pulls its body z axis towards world x.
-/// struct Compass;
-/// impl Lagrangian for Compass {
-///     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
-///         let half: T = nalgebra::convert(0.5);
-///         half * w.dot(w) + r[(0, 2)] // ½|Ω|² − V(R), V = −(R e₃)·e₁
-///     }
-/// }
-/// ```
-pub trait Lagrangian {
+/// The built-in SO(3) systems' reduced Lagrangian `ℓ(R, Ω)` (`R = world_from_body`, body
+/// angular velocity `Ω`, `Ṙ = RΩ̂`) with the closed forms of its derivatives and the facts
+/// the SO(3) fast paths read ([`crate::System`] for them comes from `so3_system!`). Body
+/// momentum is `μ = ∂ℓ/∂Ω`, energy `⟨μ, Ω⟩ − ℓ`. A system of your own implements
+/// [`crate::GroupLagrangian`] instead.
+pub(crate) trait Lagrangian {
     /// `ℓ(R, Ω)`.
     fn lagrangian<T: RealField + Copy>(
         &self,
@@ -131,7 +115,7 @@ pub trait Lagrangian {
 
     /// The fastest natural motion besides the spin, rad per unit time (a heavy top's
     /// pendulum frequency): with `|Ω|`, the rate a tolerance-driven run's step is sized
-    /// for ([`crate::GroupLagrangian::motion_rate`]). The default: 0.
+    /// for ([`crate::System::motion_rate`]). The default: 0.
     fn natural_frequency(&self) -> f64 {
         0.0
     }
@@ -149,7 +133,7 @@ pub trait Lagrangian {
 
     /// Why the state `(R, Ω)` lies outside what `ℓ` models, if it does: a sentence saying
     /// what to change. Read only when a step has failed, as
-    /// [`crate::GroupLagrangian::model_breakdown`] (which the SO(3) systems take from
+    /// [`crate::System::model_breakdown`] (which the SO(3) systems take from
     /// here): the step's error is then [`crate::MechanicsError::OutsideModel`]. `None`
     /// (the default): `ℓ` models every state. A type that wraps other Lagrangians should
     /// forward it.
@@ -226,10 +210,11 @@ fn quadratic_kinetic_derivatives(
 /// The free rigid body, `ℓ = ½ΩᵀJΩ`.
 ///
 /// ```
-/// use lgsvi_mechanics::{Inertia, Lagrangian, RigidBody};
-/// use nalgebra::{Matrix3, Vector3};
+/// use lgsvi_mechanics::lie::SO3;
+/// use lgsvi_mechanics::{Inertia, RigidBody, System};
+/// use nalgebra::Vector3;
 /// let body = RigidBody::new(Inertia::from_principal_moments([3.3, 2.5, 3.4])?);
-/// let l = body.lagrangian(&Matrix3::identity(), &Vector3::new(1.0, 0.0, 0.0));
+/// let l = body.lagrangian(0.0, &SO3::identity(), &Vector3::new(1.0, 0.0, 0.0));
 /// assert_eq!(l, 1.65);
 /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 /// ```

@@ -23,9 +23,9 @@
 //! Newton uses the exact Jacobian: every Gauss point's gradient and Hessian of
 //! `ℓ(R_k Φ(x), A(x) v)` come by the chain rule from the chart's derivatives (closed
 //! forms from its Rodrigues coefficients) and `ℓ`'s own first and second derivatives in
-//! `(R, Ω)`, which [`Lagrangian::derivatives`] takes by dual numbers (num-dual) unless the
-//! system gives them in closed form (the built-in ones do). So a system is defined by
-//! writing `ℓ` once ([`Lagrangian`]), never its derivatives. The predictor integrates the
+//! `(R, Ω)`, which dual numbers (num-dual) take unless the system gives them in closed
+//! form (the built-in ones do). So a system is defined by writing `ℓ` once
+//! ([`GroupLagrangian`]), never its derivatives. The predictor integrates the
 //! system's own equations of motion over the step (a few classical Runge–Kutta substeps
 //! in the chart, when the system gives `Ω(μ)` in closed form; otherwise it continues the
 //! last step's Galerkin curve), so that one Newton matrix per step is the rule: once it
@@ -112,14 +112,14 @@ pub use builder::IntegratorBuilder;
 pub use error::MechanicsError;
 pub use inertia::Inertia;
 pub use integrator::{Integrator, Trajectory};
-pub use lagrangian::{HeavyTop, Lagrangian, Potential, RigidBody, RigidBodyInPotential};
+pub use lagrangian::{HeavyTop, Potential, RigidBody, RigidBodyInPotential};
 /// The geometry layer, re-exported so that users of this crate need no second import.
 pub use lgsvi_lie as lie;
 pub use rigid_motion::{BodyInField, FieldPotential, FreeBody, OrbitingBody};
 pub use settings::{Matching, StepSettings};
 pub use state::State;
 pub use stepper::Stepper;
-pub use system::{Forced, GroupLagrangian};
+pub use system::{Forced, GroupLagrangian, System};
 
 // A crate-internal shorthand.
 pub(crate) use group::GroupChart;

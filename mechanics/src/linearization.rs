@@ -21,7 +21,7 @@
 //! [`crate::Integrator::linearize_with_parameters`] and
 //! [`crate::Integrator::step_linearized_with_parameters`] add `P = ∂x₊/∂p`
 //! ([`StepLinearization::p`]) in the system's physical parameters
-//! ([`crate::GroupLagrangian::parameter_names`]: the inertia tensor's entries, the mass or
+//! ([`crate::System::parameter_names`]: the inertia tensor's entries, the mass or
 //! the wheels' inertias), so that `x₊ ≈ A x + B u + P δp`: for sensitivity studies and
 //! for estimating the parameters from measured motion (the `inertia_estimation` example).
 //!
@@ -38,7 +38,7 @@ use crate::error::MechanicsError;
 use crate::group::ConfigurationGroup;
 use crate::state::{body_momentum, legendre_blocks, State};
 use crate::step::linearize::{MomentumJacobians, ParameterDerivative, ParameterJacobians};
-use crate::system::GroupLagrangian;
+use crate::system::System;
 use lgsvi_lie::{LieGroup, SE3};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector};
 
@@ -153,7 +153,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
         parameters: Option<ParameterJacobians>,
     ) -> Result<Self, MechanicsError>
     where
-        S: GroupLagrangian<D>,
+        S: System<D>,
         S::Group: ConfigurationGroup<D, Element<f64> = E>,
     {
         let j = jacobians;
@@ -224,14 +224,14 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
 }
 
 /// `∂μ/∂p_k` at a state, one column a parameter: the Legendre transform of
-/// [`GroupLagrangian::parameter_lagrangian`] (dual numbers).
+/// [`System::parameter_lagrangian`] (dual numbers).
 fn parameter_momenta<S, E, const D: usize>(
     system: &S,
     state: &State<E, D>,
     count: usize,
 ) -> DMatrix<f64>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     S::Group: ConfigurationGroup<D, Element<f64> = E>,
 {
     let mut m = DMatrix::zeros(D, count);

@@ -6,7 +6,7 @@ use crate::forces::ForceJet;
 use crate::group::{ConfigurationGroup, PointJet};
 use nalgebra::{SMatrix, SVector};
 
-/// One Gauss point of a step, as [`crate::GroupLagrangian::point_derivatives`] receives it.
+/// One Gauss point of a step, as [`crate::System::point_derivatives`] receives it.
 pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
     /// The point's time `t_k + c_j h`.
     pub time: f64,
@@ -35,7 +35,7 @@ pub type ForceAtPoint<'a, G, const D: usize> = &'a dyn Fn(
     &SVector<f64, D>,
 ) -> (ForceJet<D>, f64);
 
-/// Every Gauss point of one assembly, as [`crate::GroupLagrangian::points_in_lanes`]
+/// Every Gauss point of one assembly, as [`crate::System::points_in_lanes`]
 /// receives them: point `j` at `x[j]`, `v[j]`, the flags and force as [`GaussPoint`]'s.
 #[doc(hidden)]
 pub struct GaussPoints<'a, G: ConfigurationGroup<D>, const D: usize> {
@@ -58,7 +58,7 @@ pub struct GaussPoints<'a, G: ConfigurationGroup<D>, const D: usize> {
 /// `Ad_{Φ(x)⁻¹}ᵀ` of the point's configuration force to the step's start, and the chart's
 /// left differential `A(x)` ([`crate::GroupChart::transport_and_differential`]'s pair). A
 /// closed-form point path that forms `Φ(x)` and `A(x)` on its way hands them back
-/// ([`crate::GroupLagrangian::point_derivatives_and_transport`]), so that the matching does
+/// ([`crate::System::point_derivatives_and_transport`]), so that the matching does
 /// not evaluate the chart at the point again.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointTransport<const D: usize> {

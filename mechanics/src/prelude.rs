@@ -12,6 +12,6 @@ pub use crate::lie::{ChartKind, SE3, SO3};
 pub use crate::tolerance::CheckedIntegrator;
 pub use crate::{
     Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator, Matching, MechanicsError,
-    OrbitingBody, RigidBody, State, StepSettings, Stepper, Trajectory,
+    OrbitingBody, RigidBody, State, StepSettings, Stepper, System, Trajectory,
 };
 pub use nalgebra::{Matrix3, SVector, Vector3};

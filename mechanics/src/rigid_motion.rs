@@ -18,7 +18,7 @@ use crate::group::{GroupChart, RigidMotions, Stacked};
 use crate::inertia::Inertia;
 use crate::lagrangian::{inertia_parameter_names, kinetic, kinetic_parameter};
 use crate::point::GaussPoint;
-use crate::system::{GroupLagrangian, LocalDerivatives};
+use crate::system::{LocalDerivatives, System};
 use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
@@ -126,9 +126,7 @@ fn kinetic6_parameter_local(
 /// A built-in SE(3) body's parameter Lagrangian's local derivatives
 /// ([`LocalDerivatives`]), for the rotation–translation chart's 3 × 3 blocks
 /// ([`ParameterLocal`]).
-pub(crate) trait ParameterLocalDerivatives:
-    GroupLagrangian<6, Group = RigidMotions>
-{
+pub(crate) trait ParameterLocalDerivatives: System<6, Group = RigidMotions> {
     /// The default: the kinetic energy's alone (a body whose potential, if any, does not
     /// depend on its parameters).
     fn parameter_local(
@@ -153,7 +151,7 @@ pub(crate) struct ParameterLocal<'a, S> {
     pub index: usize,
 }
 
-impl<S: ParameterLocalDerivatives> GroupLagrangian<6> for ParameterLocal<'_, S> {
+impl<S: ParameterLocalDerivatives> System<6> for ParameterLocal<'_, S> {
     type Group = RigidMotions;
     fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
         self.system.parameter_lagrangian(self.index, t, g, xi)
@@ -378,7 +376,7 @@ impl FreeBody {
     }
 }
 
-impl GroupLagrangian<6> for FreeBody {
+impl System<6> for FreeBody {
     type Group = RigidMotions;
     points_by_blocks!();
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, _g: &SE3<T>, xi: &SVector<T, 6>) -> T {
@@ -483,7 +481,7 @@ impl<V: FieldPotential> BodyInField<V> {
     }
 }
 
-impl<V: FieldPotential> GroupLagrangian<6> for BodyInField<V> {
+impl<V: FieldPotential> System<6> for BodyInField<V> {
     type Group = RigidMotions;
     points_by_blocks!();
     fn lagrangian<T: RealField + Copy>(&self, t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {
@@ -689,7 +687,7 @@ impl ParameterLocalDerivatives for FreeBody {}
 /// `V`'s own constants are held: the kinetic energy's derivatives alone.
 impl<V: FieldPotential> ParameterLocalDerivatives for BodyInField<V> {}
 
-impl GroupLagrangian<6> for OrbitingBody {
+impl System<6> for OrbitingBody {
     type Group = RigidMotions;
     points_by_blocks!();
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SE3<T>, xi: &SVector<T, 6>) -> T {

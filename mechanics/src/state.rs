@@ -3,13 +3,13 @@
 
 use crate::error::MechanicsError;
 use crate::group::ConfigurationGroup;
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};
 
 /// `μ = ∂ℓ/∂ξ(t, g, ξ)` (the Legendre transform), by dual numbers.
-pub fn body_momentum<S: GroupLagrangian<D>, const D: usize>(
+pub fn body_momentum<S: System<D>, const D: usize>(
     system: &S,
     time: f64,
     configuration: &ElementOf<S, D>,
@@ -31,7 +31,7 @@ pub fn body_momentum<S: GroupLagrangian<D>, const D: usize>(
 /// # Errors
 /// [`MechanicsError::InverseLegendre`] if Newton does not converge (a Lagrangian not
 /// strictly convex in `ξ`).
-pub fn body_velocity<S: GroupLagrangian<D>, const D: usize>(
+pub fn body_velocity<S: System<D>, const D: usize>(
     system: &S,
     time: f64,
     configuration: &ElementOf<S, D>,
@@ -134,7 +134,7 @@ where
     /// Energy `⟨μ, ξ⟩ − ℓ(t, g, ξ)`.
     pub fn energy<S>(&self, system: &S) -> f64
     where
-        S: GroupLagrangian<D>,
+        S: System<D>,
         S::Group: ConfigurationGroup<D, Element<f64> = E>,
     {
         self.momentum.dot(&self.velocity)
@@ -178,11 +178,11 @@ impl State<SE3, 6> {
 
 /// `(L_ξη, L_ξξ)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0`: how the body momentum
 /// moves with the configuration (body frame) and the velocity. From the system's closed
-/// form where it has one ([`GroupLagrangian::momentum_derivatives`], or
-/// [`GroupLagrangian::local_derivatives`], whose mixed block is zero by contract); a
+/// form where it has one ([`System::momentum_derivatives`], or
+/// [`System::local_derivatives`], whose mixed block is zero by contract); a
 /// left-invariant `ℓ` has no mixed block; otherwise one hyper-dual number through `ℓ`
 /// (with `exp` to second order: only first order in `η` is read).
-pub(crate) fn legendre_blocks<S: GroupLagrangian<D>, const D: usize>(
+pub(crate) fn legendre_blocks<S: System<D>, const D: usize>(
     system: &S,
     time: f64,
     configuration: &<S::Group as ConfigurationGroup<D>>::Element<f64>,

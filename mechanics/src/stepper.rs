@@ -36,7 +36,7 @@ use crate::error::MechanicsError;
 use crate::group::GroupChart;
 use crate::integrator::{Integrator, Trajectory};
 use crate::state::State;
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use crate::tolerance::CheckReport;
 use std::ops::ControlFlow;
 
@@ -57,7 +57,7 @@ pub struct StepInfo {
 ///
 /// Implement [`Stepper::step`], [`Stepper::step_by`] and [`Stepper::integrator`]; the
 /// runs come with them.
-pub trait Stepper<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     /// Advances one step of the settings' length; returns its Newton iterations.
     ///
     /// # Errors
@@ -212,7 +212,7 @@ pub(crate) fn run_until_by_steps<T, S, C, const D: usize>(
 ) -> Result<Trajectory<ElementOf<S, D>, D>, MechanicsError>
 where
     T: Stepper<S, C, D>,
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     let mut recorder = Recorder::new(stepper.integrator().state(), 0, every);
@@ -227,7 +227,7 @@ where
 /// A closure `FnMut(&Integrator, StepInfo) -> Result<ControlFlow<()>, E>` becomes one
 /// through [`each`]; `(A, B)` pairs and `&mut` references of observers are observers too
 /// (module documentation).
-pub trait Observer<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+pub trait Observer<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     /// The observer's error; a failed step becomes one through `From`.
     type Error: From<MechanicsError>;
 
@@ -253,7 +253,7 @@ pub fn each<F>(f: F) -> Each<F> {
 
 impl<S, C, const D: usize, F, E> Observer<S, C, D> for Each<F>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     F: FnMut(&Integrator<S, C, D>, StepInfo) -> Result<ControlFlow<()>, E>,
     E: From<MechanicsError>,
@@ -271,7 +271,7 @@ where
 /// Both observers, in order; the run stops if either says so.
 impl<S, C, const D: usize, A, B> Observer<S, C, D> for (A, B)
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     A: Observer<S, C, D>,
     B: Observer<S, C, D, Error = A::Error>,
@@ -294,7 +294,7 @@ where
 
 impl<S, C, const D: usize, O> Observer<S, C, D> for &mut O
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     O: Observer<S, C, D> + ?Sized,
 {
@@ -353,7 +353,7 @@ impl<E: Copy, const D: usize> Recorder<E, D> {
 
 impl<S, C, const D: usize> Observer<S, C, D> for Recorder<ElementOf<S, D>, D>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     type Error = MechanicsError;

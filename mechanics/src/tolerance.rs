@@ -63,7 +63,7 @@ use crate::integrator::{Integrator, Trajectory};
 use crate::settings::{StepSettings, DEFAULT_ADAPTIVE_NODES, MAX_NODES, ROUNDING_FLOOR};
 use crate::state::State;
 use crate::stepper::{run_until_by_steps, Stepper};
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use nalgebra::SVector;
 
 /// The companion's nodes beyond the primary's, per step: two nodes make it about a
@@ -107,7 +107,7 @@ pub fn first_nodes(tol: f64) -> usize {
 }
 
 /// The number of steps of a tolerance-driven run over `[0, t_end]` at the motion's rate
-/// `rate` (rad per unit time, [`GroupLagrangian::motion_rate`]) in a chart that reaches
+/// `rate` (rad per unit time, [`System::motion_rate`]) in a chart that reaches
 /// `max_rotation` rad per step: the fewest whole steps that each turn [`STEP_ROTATION`] or
 /// less (at least one); the step is `t_end` over it.
 ///
@@ -152,7 +152,7 @@ pub struct CheckReport {
 ///
 /// Build one with [`crate::IntegratorBuilder::build_checked`], or around an integrator
 /// with [`CheckedIntegrator::new`].
-pub struct CheckedIntegrator<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> {
+pub struct CheckedIntegrator<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     primary: Integrator<S, C, D>,
     companion: Integrator<S, C, D>,
     extra: usize,
@@ -167,7 +167,7 @@ pub struct CheckedIntegrator<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, 
 
 impl<S, C, const D: usize> CheckedIntegrator<S, C, D>
 where
-    S: GroupLagrangian<D> + Clone,
+    S: System<D> + Clone,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: GroupLog<D>,
 {
@@ -368,7 +368,7 @@ where
 
 impl<S, C, const D: usize> Stepper<S, C, D> for CheckedIntegrator<S, C, D>
 where
-    S: GroupLagrangian<D> + Clone,
+    S: System<D> + Clone,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: GroupLog<D>,
 {
@@ -442,8 +442,8 @@ fn difference<E: GroupLog<D>, const D: usize>(a: &State<E, D>, b: &State<E, D>) 
 
 /// The first step `h` of a tolerance-driven run over `[t₀, t₀ + t_end]` of `system` from
 /// `(g, ξ)` in `chart`: `t_end` over [`step_count`] at the motion's rate
-/// ([`GroupLagrangian::motion_rate`]); `None` for a horizon that is not positive.
-pub fn tolerance_step<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize>(
+/// ([`System::motion_rate`]); `None` for a horizon that is not positive.
+pub fn tolerance_step<S: System<D>, C: GroupChart<S::Group, D>, const D: usize>(
     system: &S,
     chart: &C,
     t_end: f64,

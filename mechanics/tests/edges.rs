@@ -4,9 +4,10 @@
 //! what was asked.
 
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
+use lgsvi_mechanics::group::Rotations;
 use lgsvi_mechanics::lie::{LieError, SE3, SO3};
-use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{FreeBody, Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
+use lgsvi_mechanics::{GroupLagrangian, Stepper};
 use nalgebra::{Matrix3, SVector, Vector3};
 
 fn inertia() -> Inertia {
@@ -283,8 +284,9 @@ fn a_non_finite_force_is_named_with_its_step() {
 struct Tunable {
     moments: [f64; 3],
 }
-impl lgsvi_mechanics::Lagrangian for Tunable {
-    fn lagrangian<T: nalgebra::RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
+impl GroupLagrangian<3> for Tunable {
+    type Group = Rotations;
+    fn lagrangian<T: nalgebra::RealField + Copy>(&self, _t: f64, _r: &SO3<T>, w: &Vector3<T>) -> T {
         let c = |x: f64| -> T { nalgebra::convert(x) };
         c(0.5)
             * (w.x * w.x * c(self.moments[0])
@@ -297,11 +299,12 @@ impl lgsvi_mechanics::Lagrangian for Tunable {
 /// describes only while it spins slowly, say).
 #[derive(Clone, Copy)]
 struct SlowSpinner(Tunable);
-impl lgsvi_mechanics::Lagrangian for SlowSpinner {
-    fn lagrangian<T: nalgebra::RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
-        self.0.lagrangian(r, w)
+impl GroupLagrangian<3> for SlowSpinner {
+    type Group = Rotations;
+    fn lagrangian<T: nalgebra::RealField + Copy>(&self, t: f64, r: &SO3<T>, w: &Vector3<T>) -> T {
+        GroupLagrangian::lagrangian(&self.0, t, r, w)
     }
-    fn model_breakdown(&self, _r: &Matrix3<f64>, w: &Vector3<f64>) -> Option<String> {
+    fn model_breakdown(&self, _t: f64, _r: &SO3, w: &Vector3<f64>) -> Option<String> {
         (w.norm() > 5.0).then(|| format!("|Ω| = {:.1} exceeds the model's 5 rad/s", w.norm()))
     }
 }

@@ -11,7 +11,7 @@ use lgsvi_mechanics::lie::{SE3, SO3};
 use lgsvi_mechanics::linearization::Coordinates;
 use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{
-    GroupLagrangian, HeavyTop, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings,
+    HeavyTop, Inertia, Integrator, OrbitingBody, RigidBody, StepSettings, System,
 };
 use nalgebra::{Matrix3, SVector, Vector3};
 
@@ -30,7 +30,7 @@ fn both<S, C, const D: usize>(
     steps: usize,
 ) -> (Integrator<S, C, D>, Integrator<S, C, D>)
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     let (mut reused, mut fresh) = (make(true), make(false));

@@ -91,10 +91,8 @@ fn a_wheel_spun_up_turns_the_body_back() {
 fn motor_torques_exchange_momentum_and_conserve_the_total() {
     fn check<const K: usize, const D: usize>(craft: Gyrostat<K>)
     where
-        Gyrostat<K>: lgsvi_mechanics::GroupLagrangian<
-            D,
-            Group = lgsvi_mechanics::gyrostat::BodyAndWheels<K>,
-        >,
+        Gyrostat<K>:
+            lgsvi_mechanics::System<D, Group = lgsvi_mechanics::gyrostat::BodyAndWheels<K>>,
         lgsvi_mechanics::gyrostat::BodyAndWheels<K>:
             lgsvi_mechanics::group::ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
         ChartKind:

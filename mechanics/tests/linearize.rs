@@ -11,8 +11,8 @@ use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, Rotations};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::linearization::{Coordinates, StepLinearization};
 use lgsvi_mechanics::{
-    Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator, Lagrangian, Matching,
-    MechanicsError, OrbitingBody, Potential, RigidBody, RigidBodyInPotential, State, StepSettings,
+    Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator, Matching, MechanicsError,
+    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, State, StepSettings, System,
 };
 use nalgebra::{DMatrix, Matrix3, RealField, SVector, Vector3};
 
@@ -50,7 +50,7 @@ fn differences<S, C, const D: usize>(
     integrator: &mut Integrator<S, C, D>,
 ) -> (DMatrix<f64>, DMatrix<f64>)
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     <S::Group as ConfigurationGroup<D>>::Element<f64>: Perturb<D>,
 {
@@ -114,7 +114,7 @@ fn compare<S, const D: usize>(
     make: impl Fn(StepSettings) -> Integrator<S, ChartKind, D>,
 ) -> f64
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     ChartKind: GroupChart<S::Group, D>,
     <S::Group as ConfigurationGroup<D>>::Element<f64>: Perturb<D>,
 {
@@ -173,9 +173,11 @@ impl Potential for Dipole {
 /// default dual-number derivatives): the Legendre transform's mixed block at work.
 #[derive(Clone, Copy)]
 struct Coupled;
-impl Lagrangian for Coupled {
-    fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
+impl GroupLagrangian<3> for Coupled {
+    type Group = Rotations;
+    fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
         let c = |x: f64| -> T { nalgebra::convert(x) };
+        let r = g.matrix();
         let up = r.transpose() * Vector3::new(c(0.2), c(-0.1), c(1.0));
         c(0.5) * (w.x * w.x * c(1.2) + w.y * w.y * c(2.1) + w.z * w.z * c(2.7))
             + up.dot(w) * c(0.3)
@@ -183,7 +185,7 @@ impl Lagrangian for Coupled {
     }
 }
 
-fn so3<S: GroupLagrangian<3, Group = Rotations> + Clone>(
+fn so3<S: System<3, Group = Rotations> + Clone>(
     system: S,
     input: Vector3<f64>,
 ) -> impl Fn(StepSettings) -> Integrator<S, ChartKind, 3> {

@@ -8,7 +8,7 @@
 //! comparison table.
 
 use lgsvi_mechanics::forces::{AngularDamping, SpaceForce};
-use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart};
+use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, Rotations};
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::inertia::INERTIA_PARAMETERS;
 use lgsvi_mechanics::lie::{ChartKind, LieGroup, SE3, SO3};
@@ -16,12 +16,11 @@ use lgsvi_mechanics::linearization::Coordinates;
 use lgsvi_mechanics::state::body_velocity;
 use lgsvi_mechanics::{
     BodyInField, FieldPotential, Forced, FreeBody, GroupLagrangian, HeavyTop, Inertia, Integrator,
-    Lagrangian, OrbitingBody, Potential, RigidBody, RigidBodyInPotential, StepSettings,
+    OrbitingBody, Potential, RigidBody, RigidBodyInPotential, StepSettings, System,
 };
 use nalgebra::{DMatrix, Matrix3, RealField, SVector, Vector3};
 
-type Element<S, const D: usize> =
-    <<S as GroupLagrangian<D>>::Group as ConfigurationGroup<D>>::Element<f64>;
+type Element<S, const D: usize> = <<S as System<D>>::Group as ConfigurationGroup<D>>::Element<f64>;
 
 /// `θ` with `g = from · exp(θ)`, by the groups' own logarithms.
 trait Difference<const D: usize>: Copy {
@@ -97,8 +96,9 @@ impl FieldPotential for Field {
 /// A Lagrangian without parameters (the trait's defaults).
 #[derive(Clone, Copy)]
 struct Plain;
-impl Lagrangian for Plain {
-    fn lagrangian<T: RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
+impl GroupLagrangian<3> for Plain {
+    type Group = Rotations;
+    fn lagrangian<T: RealField + Copy>(&self, _t: f64, _r: &SO3<T>, w: &Vector3<T>) -> T {
         w.dot(w) * nalgebra::convert::<f64, T>(0.5)
     }
 }
@@ -116,7 +116,7 @@ fn differences<S, const D: usize>(
     input: SVector<f64, D>,
 ) -> (DMatrix<f64>, DMatrix<f64>)
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     ChartKind: GroupChart<S::Group, D>,
     Element<S, D>: Difference<D>,
 {
@@ -180,7 +180,7 @@ fn compare<S, const D: usize>(
     input: SVector<f64, D>,
 ) -> f64
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     ChartKind: GroupChart<S::Group, D>,
     Element<S, D>: Difference<D>,
 {
@@ -329,7 +329,7 @@ fn parameter_derivatives_match_central_differences() {
 fn parameters_are_named_and_only_computed_when_asked() {
     let body = RigidBody::new(inertia(&[]));
     assert_eq!(
-        GroupLagrangian::<3>::parameter_names(&body),
+        System::<3>::parameter_names(&body),
         INERTIA_PARAMETERS.to_vec()
     );
     let orbit = OrbitingBody::new(inertia(&[]), 1.0, 1.0).unwrap();

@@ -10,7 +10,7 @@ use lgsvi_lie::ChartKind;
 use lgsvi_mechanics::ensemble::{run_ensemble_until, InitialCondition};
 use lgsvi_mechanics::group::GroupChart;
 use lgsvi_mechanics::system::ElementOf;
-use lgsvi_mechanics::{GroupLagrangian, Integrator, MechanicsError};
+use lgsvi_mechanics::{Integrator, MechanicsError, System};
 use nalgebra::Vector3;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -22,7 +22,7 @@ fn members<S, const D: usize>(
     t_end: f64,
 ) -> PyResult<Vec<Result<Sample, MechanicsError>>>
 where
-    S: GroupLagrangian<D> + Clone + Send + Sync,
+    S: System<D> + Clone + Send + Sync,
     ElementOf<S, D>: Element<D> + Send + Sync,
     ChartKind: GroupChart<S::Group, D>,
 {

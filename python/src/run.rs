@@ -14,9 +14,7 @@ use lgsvi_mechanics::state::body_momentum;
 use lgsvi_mechanics::stepper::{Observer, StepInfo};
 use lgsvi_mechanics::system::ElementOf;
 use lgsvi_mechanics::tolerance::CheckReport;
-use lgsvi_mechanics::{
-    GroupLagrangian, Integrator, Matching, MechanicsError, State, StepSettings, Stepper,
-};
+use lgsvi_mechanics::{Integrator, Matching, MechanicsError, State, StepSettings, Stepper, System};
 use nalgebra::DMatrix;
 use pyo3::prelude::*;
 use std::ops::ControlFlow;
@@ -142,7 +140,7 @@ pub fn make<S, const D: usize>(
     start: &Start,
 ) -> PyResult<Integrator<S, ChartKind, D>>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     ElementOf<S, D>: Element<D>,
     ChartKind: GroupChart<S::Group, D>,
 {
@@ -205,7 +203,7 @@ impl Run {
 /// Sets `it`'s input from the entries `u`.
 fn set_input_of<S, C, const D: usize>(it: &mut Integrator<S, C, D>, u: &[f64]) -> PyResult<()>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Element<D>,
 {
@@ -216,7 +214,7 @@ where
 /// The numbers of a state of `it`.
 pub fn sample_of<S, C, const D: usize>(it: &Integrator<S, C, D>) -> Sample
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Element<D>,
 {
@@ -225,7 +223,7 @@ where
 }
 
 /// `⟨μ, ξ⟩ − ℓ` of a state.
-fn energy<S: GroupLagrangian<D>, const D: usize>(system: &S, s: &State<ElementOf<S, D>, D>) -> f64 {
+fn energy<S: System<D>, const D: usize>(system: &S, s: &State<ElementOf<S, D>, D>) -> f64 {
     s.momentum.dot(&s.velocity) - system.lagrangian(s.time, &s.configuration, &s.velocity)
 }
 
@@ -250,7 +248,7 @@ pub struct Totals {
 
 fn totals<S, C, const D: usize>(it: &Integrator<S, C, D>) -> Totals
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     let s = it.statistics();
@@ -309,7 +307,7 @@ struct Collect<'a> {
 impl<'a> Collect<'a> {
     fn new<S, C, const D: usize>(record: &'a Record, it: &Integrator<S, C, D>) -> Self
     where
-        S: GroupLagrangian<D>,
+        S: System<D>,
         C: GroupChart<S::Group, D>,
         ElementOf<S, D>: Element<D>,
     {
@@ -343,7 +341,7 @@ impl<'a> Collect<'a> {
 
 impl<S, C, const D: usize> Observer<S, C, D> for Collect<'_>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Element<D>,
 {
@@ -386,7 +384,7 @@ pub fn on_curve<S, C, const D: usize>(
     t: f64,
 ) -> Result<Sample, MechanicsError>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Element<D>,
 {
@@ -407,7 +405,7 @@ pub fn run_until<S, const D: usize>(
     record: &Record,
 ) -> Result<Recording, MechanicsError>
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     ElementOf<S, D>: Element<D>,
     ChartKind: GroupChart<S::Group, D>,
 {
@@ -458,7 +456,7 @@ pub fn run_to_tolerance<S, const D: usize>(
     record: &Record,
 ) -> Result<Recording, MechanicsError>
 where
-    S: GroupLagrangian<D> + Clone,
+    S: System<D> + Clone,
     ElementOf<S, D>: Element<D> + lgsvi_mechanics::control::GroupLog<D>,
     ChartKind: GroupChart<S::Group, D>,
 {

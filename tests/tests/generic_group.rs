@@ -10,7 +10,7 @@
 use lgsvi_lie::{LieError, LieGroup};
 use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, Stacked};
 use lgsvi_mechanics::Stepper;
-use lgsvi_mechanics::{GroupLagrangian, Integrator, StepSettings};
+use lgsvi_mechanics::{Integrator, StepSettings, System};
 use nalgebra::{RealField, SMatrix, SVector, Vector2};
 
 /// A point of the torus, `(θ₁, θ₂)` (not reduced mod 2π: the chart is global).
@@ -133,7 +133,7 @@ const G: f64 = 9.81;
 /// The double pendulum: `ℓ = ω₁² + ½ω₂² + ω₁ω₂ cos(θ₁ − θ₂) + 2g cos θ₁ + g cos θ₂`.
 struct DoublePendulum;
 
-impl GroupLagrangian<2> for DoublePendulum {
+impl System<2> for DoublePendulum {
     type Group = Torus;
     fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &Angles<T>, w: &Vector2<T>) -> T {
         let c = |x: f64| -> T { nalgebra::convert(x) };

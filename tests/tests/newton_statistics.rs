@@ -16,8 +16,7 @@ use lgsvi_mechanics::group::{GroupChart, Screw};
 use lgsvi_mechanics::integrator::Statistics;
 use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{
-    FreeBody, GroupLagrangian, Inertia, Integrator, Matching, MechanicsError, OrbitingBody,
-    StepSettings,
+    FreeBody, Inertia, Integrator, Matching, MechanicsError, OrbitingBody, StepSettings, System,
 };
 use nalgebra::SVector;
 
@@ -106,7 +105,7 @@ fn measured() -> String {
 /// failed.
 fn line<S, C>(integrator: Result<Integrator<S, C, 6>, MechanicsError>, steps: usize) -> String
 where
-    S: GroupLagrangian<6>,
+    S: System<6>,
     C: GroupChart<S::Group, 6>,
 {
     let run = || -> Result<Statistics, MechanicsError> {

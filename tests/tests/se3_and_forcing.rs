@@ -53,7 +53,7 @@ fn full_tensor() -> Matrix3<f64> {
 /// Runs to each reference time (every 0.5) and returns the worst errors in `R` and `Ω`.
 fn so3_errors<S>(mut it: Integrator<S>, case: &str) -> (f64, f64)
 where
-    S: lgsvi_mechanics::GroupLagrangian<3, Group = lgsvi_mechanics::group::Rotations>,
+    S: lgsvi_mechanics::System<3, Group = lgsvi_mechanics::group::Rotations>,
 {
     let (mut er, mut ew) = (0.0f64, 0.0f64);
     for s in states(case) {

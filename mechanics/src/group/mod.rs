@@ -18,7 +18,7 @@
 //! [`ConfigurationGroup<D>`] whose `Element<T>` implements [`LieGroup`] over any scalar
 //! (dual numbers pass through it), with `Jet = Stacked<{3D}>` and
 //! `LocalJet = Stacked<{2D}>` written out (e.g. `Stacked<12>` and `Stacked<8>` for `D = 4`), and a chart implementing [`GroupChart`] for it. The
-//! integrator then runs any [`crate::GroupLagrangian`] on it unchanged; the test
+//! integrator then runs any [`crate::System`] on it unchanged; the test
 //! `tests/tests/generic_group.rs` does this for the torus `SO(2) × SO(2)`.
 
 use crate::matrix_jet::MatrixJet;

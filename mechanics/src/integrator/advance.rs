@@ -21,7 +21,7 @@ pub(super) const NODES_HOLD_MAX: usize = 1024;
 /// The most times one step is halved when step changes are allowed.
 pub(super) const MAX_HALVINGS: usize = 30;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// Advances one step; returns the Newton iterations it took.
     ///
     /// # Errors
@@ -43,7 +43,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
 
     /// The cause of a failed step, when it is the system's: `∂²ℓ/∂ξ²` at the state not
     /// positive definite, or a state outside what the system models
-    /// ([`GroupLagrangian::model_breakdown`]). Read only on this error path.
+    /// ([`System::model_breakdown`]). Read only on this error path.
     pub(super) fn diagnose(&self, error: MechanicsError) -> MechanicsError {
         if !matches!(
             error,

@@ -3,7 +3,7 @@
 
 use super::*;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// The exact linearisation of the step from the current state with the current input
     /// ([`StepLinearization`]: `A = ∂x₊/∂x`, `B = ∂x₊/∂u`), without taking the step: the
     /// state, the step count and the statistics are unchanged. An adaptive run
@@ -52,7 +52,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
 
     /// [`Integrator::linearize`] with the derivatives in the system's physical parameters
     /// as well ([`StepLinearization::p`]: the inertia tensor's entries and, where the
-    /// system has one, its mass; [`crate::GroupLagrangian::parameter_names`]), exact to
+    /// system has one, its mass; [`crate::System::parameter_names`]), exact to
     /// rounding by the same implicit function theorem: each parameter adds a gradient-only
     /// assembly of `ℓ`'s derivative in it and a back-substitution with the same fresh
     /// factors. Forces do not depend on the parameters. A scratch workspace is allocated

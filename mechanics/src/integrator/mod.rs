@@ -19,7 +19,7 @@ use crate::step::points::StepForce;
 use crate::step::tables::Discretisation;
 use crate::step::{StepOutcome, StepSolver};
 use crate::system::{
-    ElementOf, FlowStart, ForceAlongStep, ForceValueAlongStep, GroupLagrangian, PointForce,
+    ElementOf, FlowStart, ForceAlongStep, ForceValueAlongStep, PointForce, System,
 };
 use lgsvi_lie::{ChartKind, LieGroup, SO3};
 use nalgebra::{SMatrix, SVector};
@@ -80,7 +80,7 @@ fn with_length<const D: usize>(n: usize, capacity: usize) -> Vec<SVector<f64, D>
 /// assert!((end.casimir() - start.casimir()).abs() < 1e-11);
 /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
 /// ```
-pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> {
+pub struct Integrator<S: System<D>, C = ChartKind, const D: usize = 3> {
     system: S,
     chart: C,
     settings: StepSettings,
@@ -143,7 +143,7 @@ pub struct Integrator<S: GroupLagrangian<D>, C = ChartKind, const D: usize = 3> 
     basis_values: Vec<f64>,
 }
 
-impl<S: GroupLagrangian<D>, const D: usize> Integrator<S, ChartKind, D>
+impl<S: System<D>, const D: usize> Integrator<S, ChartKind, D>
 where
     ChartKind: GroupChart<S::Group, D>,
 {
@@ -165,7 +165,7 @@ where
     }
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// As [`Integrator::new`] in the chart `chart` (whatever `settings.chart()` says).
     ///
     /// ```

@@ -19,7 +19,7 @@ pub(super) const CONTINUED_BEATS_FLOW: f64 = 1e-6;
 /// steps (one assembly wasted when it loses: about 1.5% of the steps' work).
 pub(super) const PROBE_CONTINUED: usize = 16;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// Whether the next step is forced: the system has a force or the input is not zero.
     pub(super) fn forcing(&self) -> Option<SVector<f64, D>> {
         (self.system.is_forced() || self.input.iter().any(|&u| u != 0.0)).then_some(self.input)
@@ -28,7 +28,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     /// The predictor. When the system has a flow predictor (the SO(3) systems with `Ω(μ)`
     /// in closed form, under their forces and the control input): the system's own flow
     /// over the step
-    /// ([`GroupLagrangian::flow_guess`]; measured relative residual 3e-6 at `h = 0.5`
+    /// ([`System::flow_guess`]; measured relative residual 3e-6 at `h = 0.5`
     /// and 2e-5 at `h = 1` on the paper's rigid body, against 3e-4 and 0.1 for the
     /// continued curve). Otherwise, after the first step: the last step's Galerkin curve
     /// continued ([`Integrator::extrapolate`]); if its relative residual exceeds

@@ -17,7 +17,7 @@ fn check_horizon(t_end: f64) -> Result<(), MechanicsError> {
     Ok(())
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// The number of steps of length `h` from the current time to reach `t_end` or pass
     /// it by less than `h` ([`crate::Stepper::run_until`] shortens the last one to land on
     /// `t_end`).
@@ -75,7 +75,7 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Integrat
     }
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<S, C, D>
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<S, C, D>
     for Integrator<S, C, D>
 {
     fn step(&mut self) -> Result<usize, MechanicsError> {

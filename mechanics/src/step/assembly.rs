@@ -15,7 +15,7 @@ use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::point::{ForceAtPoint, GaussPoints, PointTransport};
 use crate::settings::{Matching, NewtonJacobian};
-use crate::system::{GroupLagrangian, PointForce};
+use crate::system::{PointForce, System};
 use faer::Mat;
 use nalgebra::{DMatrix, SMatrix, SVector};
 
@@ -27,7 +27,7 @@ pub(crate) struct Workspace<J, const D: usize> {
     pub(super) xi_accepted: Vec<SVector<f64, D>>,
     pub(super) points: Vec<J>,
     /// The chart's `Ad_{Φ(x_j)⁻¹}ᵀ` and `A(x_j)` where the last assembly's points handed
-    /// them back ([`crate::GroupLagrangian::point_derivatives_and_transport`]), for the
+    /// them back ([`crate::System::point_derivatives_and_transport`]), for the
     /// matching.
     pub(super) transports: Vec<Option<PointTransport<D>>>,
     /// The force's power `F·ξ` at each point in the last assembly (NaN unforced): the
@@ -221,9 +221,9 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
 
 /// The workspace of a system's group.
 pub(crate) type WorkspaceOf<S, const D: usize> =
-    Workspace<<<S as GroupLagrangian<D>>::Group as ConfigurationGroup<D>>::Jet, D>;
+    Workspace<<<S as System<D>>::Group as ConfigurationGroup<D>>::Jet, D>;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The residual at the unknowns in `work.xi` relative to the equations' largest terms
     /// (infinite outside the chart's domain or where not finite): how good a predictor is.
     /// The assembly (with Hessians, for the exact Jacobian) is kept for [`StepSolver::solve`]'s

@@ -32,7 +32,7 @@ use super::{Element, StepSolver};
 use crate::error::MechanicsError;
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
-use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce};
+use crate::system::{ElementOf, GaussPoint, PointForce, System};
 use lgsvi_lie::LieGroup;
 use nalgebra::{DMatrix, RealField, SMatrix, SVector};
 use std::marker::PhantomData;
@@ -89,7 +89,7 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> PointChart<E, D
 type Hyper<const D: usize> = num_dual::HyperDualSVec64<D, D>;
 
 /// A system's `ℓ` replaced by its derivative in one of its parameters,
-/// [`GroupLagrangian::parameter_lagrangian`], with no force: a step's residual is linear
+/// [`System::parameter_lagrangian`], with no force: a step's residual is linear
 /// in `ℓ`, so this system's residual at the converged unknowns, with `μ_k = 0`, is the
 /// step's residual's derivative in that parameter (and its `w` the explicit part of the
 /// matching's; `docs/linearization.md` §8). Its Gauss points go through the generic
@@ -99,7 +99,7 @@ pub(crate) struct ParameterDerivative<'a, S> {
     pub index: usize,
 }
 
-impl<S: GroupLagrangian<D>, const D: usize> GroupLagrangian<D> for ParameterDerivative<'_, S> {
+impl<S: System<D>, const D: usize> System<D> for ParameterDerivative<'_, S> {
     type Group = S::Group;
 
     fn lagrangian<T: RealField + Copy>(
@@ -147,7 +147,7 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
     /// From the converged unknowns and the matching's `w` in `work`.
     fn at<S, C>(stepper: &StepSolver<'_, S, C, D>, work: &WorkspaceOf<S, D>) -> Self
     where
-        S: GroupLagrangian<D>,
+        S: System<D>,
         S::Group: ConfigurationGroup<D, Element<f64> = E>,
         C: GroupChart<S::Group, D>,
     {
@@ -178,7 +178,7 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
         delta: impl Fn(usize) -> SVector<f64, D>,
     ) -> (SVector<f64, D>, SVector<f64, D>)
     where
-        S: GroupLagrangian<D>,
+        S: System<D>,
         C: GroupChart<S::Group, D>,
     {
         let n = stepper.d.n;
@@ -193,7 +193,7 @@ impl<E: LieGroup<Jacobian = SMatrix<f64, D, D>>, const D: usize> EndMap<E, D> {
     }
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The linearisation of the step from `(base, mu)` whose converged unknowns are in
     /// `work.xi` (module documentation). Overwrites the workspace's Newton matrix (and its
     /// assembly, when the Newton loop did not keep one with Hessians).

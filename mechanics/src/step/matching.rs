@@ -23,13 +23,13 @@ use super::product::fixed_product;
 use super::{Element, MatchingTerms, StepOutcome, StepSolver};
 use crate::group::{ConfigurationGroup, GroupChart, PointJet};
 use crate::settings::Matching;
-use crate::system::GroupLagrangian;
+use crate::system::System;
 use lgsvi_lie::LieGroup;
 use nalgebra::{SMatrix, SVector};
 #[cfg(test)]
 use num_dual::DualSVec64;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The matching residual at the last points and the scale of its terms; records `w`
     /// and the transport (and, with `with_jacobian`, `∂q/∂x`, `∂q/∂v`) for the Jacobian.
     pub(super) fn matching_residual(

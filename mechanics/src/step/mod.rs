@@ -37,7 +37,7 @@ pub(crate) mod rotation_translation;
 pub(crate) mod tables;
 
 use crate::settings::{Matching, StepSettings};
-use crate::system::{ElementOf, GroupLagrangian};
+use crate::system::{ElementOf, System};
 use nalgebra::{SMatrix, SVector};
 use tables::Discretisation;
 
@@ -81,7 +81,7 @@ pub(crate) struct StepSolver<'a, S, C, const D: usize> {
     pub forcing: Option<SVector<f64, D>>,
 }
 
-impl<S: GroupLagrangian<D>, C, const D: usize> StepSolver<'_, S, C, D> {
+impl<S: System<D>, C, const D: usize> StepSolver<'_, S, C, D> {
     /// Whether the points need their `ζ` derivatives: the exact matching of a system
     /// that is not left-invariant or is forced.
     fn needs_configuration(&self) -> bool {

@@ -10,7 +10,7 @@ use super::{Element, StepOutcome, StepSolver};
 use crate::error::MechanicsError;
 use crate::group::GroupChart;
 use crate::settings::NewtonJacobian;
-use crate::system::GroupLagrangian;
+use crate::system::System;
 use nalgebra::{DMatrix, SVector};
 
 pub(super) mod carry;
@@ -100,7 +100,7 @@ fn substitute_families<const D: usize, const FIRST: usize>(
 /// 64 ulps, so that the linearisation from them is the converged step's to ~1e-14.
 const KEPT_STEP: f64 = 64.0 * f64::EPSILON;
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// Newton on the step's equations from the guess in `work.xi`. A solve that fails
     /// leaves no factors for a later step to start from.
     pub(crate) fn solve(

@@ -3,7 +3,7 @@
 //!
 //! The `ζ` derivatives are needed by the exact momentum matching of a system that is not
 //! left-invariant: `p = ∂ℓ̃/∂ζ` is the left-trivialised configuration force. A system
-//! either writes the derivatives itself ([`GroupLagrangian::point_derivatives`]: the SO(3)
+//! either writes the derivatives itself ([`System::point_derivatives`]: the SO(3)
 //! systems' chain rule through the chart's Rodrigues form, `crate::jet`; the built-in SE(3)
 //! systems' by 3 × 3 blocks on the rotation–translation chart,
 //! [`super::rotation_translation`]) or they come from the generic chain rule below (any
@@ -41,20 +41,20 @@
 use crate::forces::ForceJet;
 use crate::group::{ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction};
 pub(crate) use crate::point::{add_force_terms, add_force_value};
-use crate::system::{ElementOf, GaussPoint, GroupLagrangian, PointForce, PointTransport};
+use crate::system::{ElementOf, GaussPoint, PointForce, PointTransport, System};
 use lgsvi_lie::LieGroup;
 use nalgebra::{RealField, SMatrix, SVector};
 use num_dual::{Dual2SVec64, DualSVec64};
 
 /// `ℓ̃` of the stacked variables `(x, v)` or `(x, v, ζ)`.
-pub(crate) struct EllTilde<'a, S: GroupLagrangian<D>, C, const D: usize> {
+pub(crate) struct EllTilde<'a, S: System<D>, C, const D: usize> {
     pub system: &'a S,
     pub chart: &'a C,
     pub base: &'a ElementOf<S, D>,
     pub time: f64,
 }
 
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StackedFunction
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StackedFunction
     for EllTilde<'_, S, C, D>
 {
     fn eval<T: RealField + Copy>(&self, y: &[T]) -> T {
@@ -75,13 +75,13 @@ impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> StackedF
 /// plus the constant control input: the tests' reference (dual numbers through the whole
 /// point, chart included).
 #[cfg(test)]
-pub(super) struct ForceTerms<'a, S: GroupLagrangian<D>, C, const D: usize> {
+pub(super) struct ForceTerms<'a, S: System<D>, C, const D: usize> {
     pub ell: &'a EllTilde<'a, S, C, D>,
     pub input: &'a SVector<f64, D>,
 }
 
 #[cfg(test)]
-impl<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize> crate::group::StackedMap
+impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> crate::group::StackedMap
     for ForceTerms<'_, S, C, D>
 {
     fn eval<T: RealField + Copy>(&self, y: &[T], out: &mut [T]) {
@@ -118,7 +118,7 @@ pub(crate) struct StepForce<'a, S, const D: usize> {
     reads_configuration: bool,
 }
 
-impl<'a, S: GroupLagrangian<D>, const D: usize> StepForce<'a, S, D> {
+impl<'a, S: System<D>, const D: usize> StepForce<'a, S, D> {
     /// The force of `system` and `input` at `time`.
     pub fn new(system: &'a S, time: f64, input: &'a SVector<f64, D>) -> Self {
         let forced = system.is_forced();
@@ -160,7 +160,7 @@ impl<'a, S: GroupLagrangian<D>, const D: usize> StepForce<'a, S, D> {
     }
 }
 
-impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForce<'_, S, D> {
+impl<S: System<D>, const D: usize> PointForce<S::Group, D> for StepForce<'_, S, D> {
     fn jet(&self, configuration: &ElementOf<S, D>, velocity: &SVector<f64, D>) -> ForceJet<D> {
         let mut jet = if self.forced {
             self.system.force_jet(self.time, configuration, velocity)
@@ -194,9 +194,9 @@ impl<S: GroupLagrangian<D>, const D: usize> PointForce<S::Group, D> for StepForc
 /// Writes one Gauss point's derivatives into `out` (the Hessian only if `with_hessian`),
 /// with the force terms when `forced` (the system's force and `input`); returns the
 /// force's power `F·ξ` at the point (NaN unforced, or where a system's own
-/// [`GroupLagrangian::point_derivatives`] did not ask for the force's jet). `transport`
+/// [`System::point_derivatives`] did not ask for the force's jet). `transport`
 /// gets the chart's terms at the point where the system's closed form handed them back
-/// ([`GroupLagrangian::point_derivatives_and_transport`]), else `None`.
+/// ([`System::point_derivatives_and_transport`]), else `None`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn point_derivatives<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
@@ -209,7 +209,7 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     transport: &mut Option<PointTransport<D>>,
 ) -> f64
 where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     let force = forced.map(|input| StepForce::new(ell.system, ell.time, input));
@@ -236,13 +236,13 @@ where
 
 /// `L(η, ξ) = ℓ(t, g₀ exp(η), ξ)` of the stacked `(η, ξ)` (the exponential to second
 /// order: only `L`'s first and second derivatives at `η = 0` are read).
-struct Local<'a, S: GroupLagrangian<D>, const D: usize> {
+struct Local<'a, S: System<D>, const D: usize> {
     system: &'a S,
     at: &'a ElementOf<S, D>,
     time: f64,
 }
 
-impl<S: GroupLagrangian<D>, const D: usize> StackedFunction for Local<'_, S, D> {
+impl<S: System<D>, const D: usize> StackedFunction for Local<'_, S, D> {
     fn eval<T: RealField + Copy>(&self, y: &[T]) -> T {
         let eta = SVector::<T, D>::from_column_slice(&y[..D]);
         let xi = SVector::<T, D>::from_column_slice(&y[D..2 * D]);
@@ -258,7 +258,7 @@ pub(super) fn chain_rule<S, C, const D: usize>(
     point: &GaussPoint<'_, S::Group, D>,
     out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
 ) where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     ell.chart
@@ -274,7 +274,7 @@ pub(crate) fn chain_rule_with<S, C, const D: usize>(
     derivatives: &dyn ChartDerivatives<D>,
     out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
 ) where
-    S: GroupLagrangian<D>,
+    S: System<D>,
     C: GroupChart<S::Group, D>,
 {
     let (x, v) = (point.x, point.v);

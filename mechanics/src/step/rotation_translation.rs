@@ -11,7 +11,7 @@
 //!   (likewise `M` with `μ`);
 //! - `H = [[⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²P⟩, 0], [0, 0]]`.
 //!
-//! With `L`'s derivatives from the system's closed form ([`GroupLagrangian::local_derivatives`]:
+//! With `L`'s derivatives from the system's closed form ([`System::local_derivatives`]:
 //! `p`, `μ`, `L_ηη = E`, `L_ξξ = X`, no mixed block) the formulas of `super::points` become
 //! (`T₂ = X J = [[T_ω, 0], [T_u, 0]]`, blocks of `E` and `X` by `ωω, ωu, uω, uu`):
 //!
@@ -38,16 +38,16 @@ use crate::group::{
     ChartDerivatives, GroupChart, PointJet, RigidMotions, RotationTranslationDerivatives, Stacked,
 };
 use crate::point::{add_force_terms, add_force_value, GaussPoint};
-use crate::system::GroupLagrangian;
+use crate::system::System;
 use lgsvi_lie::se3::{join, split};
 use lgsvi_lie::so3::hat;
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// One Gauss point's derivatives for an SE(3) system: by blocks on the rotation–translation
-/// chart when the system has [`GroupLagrangian::local_derivatives`], else by the generic
+/// chart when the system has [`System::local_derivatives`], else by the generic
 /// chain rule (the chart's derivatives are taken once either way). Always `true`: for
-/// [`GroupLagrangian::point_derivatives`].
+/// [`System::point_derivatives`].
 pub(crate) fn point_derivatives<S, C>(
     system: &S,
     chart: &C,
@@ -55,7 +55,7 @@ pub(crate) fn point_derivatives<S, C>(
     out: &mut Stacked<18>,
 ) -> bool
 where
-    S: GroupLagrangian<6, Group = RigidMotions>,
+    S: System<6, Group = RigidMotions>,
     C: GroupChart<RigidMotions, 6>,
 {
     chart.with_derivatives(point.x, point.with_hessian, |derivatives| {
@@ -112,7 +112,7 @@ fn isotropic_translation(x: &SMatrix<f64, 6, 6>, mu: &Vector3<f64>, xi: &Vector3
 
 /// The module's formulas; false (nothing written) where the system has no closed form of
 /// `L`'s derivatives.
-fn by_blocks<S: GroupLagrangian<6, Group = RigidMotions>>(
+fn by_blocks<S: System<6, Group = RigidMotions>>(
     system: &S,
     jets: &RotationTranslationDerivatives,
     point: &GaussPoint<'_, RigidMotions, 6>,

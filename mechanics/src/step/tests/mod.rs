@@ -16,7 +16,7 @@ mod whole_point;
 type PointDerivatives = Stacked<9>;
 
 /// `ℓ(g Φ(x) exp(ζ), A(x) v)` in f64, through the generic point function.
-fn ell_tilde<L: Lagrangian>(
+fn ell_tilde<L: Lagrangian + crate::System<3, Group = crate::group::Rotations>>(
     system: &L,
     chart: ChartKind,
     base: &Matrix3<f64>,
@@ -40,7 +40,9 @@ fn ell_tilde<L: Lagrangian>(
 }
 
 /// The dual-number path alone.
-fn point_derivatives_by_dual_numbers<L: Lagrangian>(
+fn point_derivatives_by_dual_numbers<
+    L: Lagrangian + crate::System<3, Group = crate::group::Rotations>,
+>(
     system: &L,
     chart: ChartKind,
     base: &Matrix3<f64>,
@@ -96,7 +98,7 @@ fn gauss_point<'a, G: crate::group::ConfigurationGroup<D>, const D: usize>(
 }
 
 /// The chain-rule path alone ([`jet::point_derivatives`]), as a value.
-fn chain_rule_at<L: Lagrangian>(
+fn chain_rule_at<L: Lagrangian + crate::System<3, Group = crate::group::Rotations>>(
     system: &L,
     chart: ChartKind,
     x: &Vector3<f64>,
@@ -172,6 +174,10 @@ fn point_derivatives_match_central_differences() {
 /// A Lagrangian that couples `R` and `Ω` and is not linear in `R` (exercises every block
 /// of the chain rule through the default, dual-number [`Lagrangian::derivatives`]).
 struct Coupled;
+crate::system::so3_system! {
+    impl[] for Coupled;
+}
+
 impl Lagrangian for Coupled {
     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
         let c = |x: f64| -> T { nalgebra::convert(x) };
@@ -196,7 +202,7 @@ impl crate::Potential for Quadratic {
 /// `got` against a second-order dual number through the whole of `ℓ̃` at the point: both
 /// exact up to rounding, a few hundred ulps of the largest entry at most (sums of tens of
 /// terms of size ~ the scale), so within 1e-13 of it.
-fn assert_near_dual_numbers<L: Lagrangian>(
+fn assert_near_dual_numbers<L: Lagrangian + crate::System<3, Group = crate::group::Rotations>>(
     system: &L,
     chart: ChartKind,
     x: &Vector3<f64>,
@@ -233,7 +239,12 @@ fn chain_rule_derivatives_match_dual_numbers() {
         (Vector3::new(-0.4, 0.2, 0.1), Vector3::new(0.5, -1.5, 2.0)),
         (Vector3::new(1.5, -2.2, 1.1), Vector3::new(2.0, 0.7, -1.0)),
     ];
-    fn compare<L: Lagrangian>(system: &L, name: &str, x: &Vector3<f64>, v: &Vector3<f64>) {
+    fn compare<L: Lagrangian + crate::System<3, Group = crate::group::Rotations>>(
+        system: &L,
+        name: &str,
+        x: &Vector3<f64>,
+        v: &Vector3<f64>,
+    ) {
         for chart in ChartKind::ALL {
             for with_configuration in [false, true] {
                 let fast = chain_rule_at(system, chart, x, v, with_configuration, true);
@@ -281,6 +292,10 @@ fn chain_rule_derivatives_match_dual_numbers() {
 fn points_in_lanes_match_dual_numbers() {
     /// `½ΩᵀJΩ + ¼ c |Ω|⁴`: left-invariant, not quadratic, derivatives by dual numbers.
     struct Quartic;
+    crate::system::so3_system! {
+        impl[] for Quartic;
+    }
+
     impl Lagrangian for Quartic {
         fn lagrangian<T: RealField + Copy>(&self, _r: &Matrix3<T>, w: &Vector3<T>) -> T {
             let c = |x: f64| -> T { nalgebra::convert(x) };
@@ -315,7 +330,12 @@ fn points_in_lanes_match_dual_numbers() {
         let h = p.hessian.iter().map(|e| e.to_bits());
         p.gradient.iter().map(|e| e.to_bits()).chain(h).collect()
     }
-    fn check<L: Lagrangian>(system: &L, name: &str, xs: &[Vector3<f64>], vs: &[Vector3<f64>]) {
+    fn check<L: Lagrangian + crate::System<3, Group = crate::group::Rotations>>(
+        system: &L,
+        name: &str,
+        xs: &[Vector3<f64>],
+        vs: &[Vector3<f64>],
+    ) {
         let b = SO3::from_matrix_unchecked(base());
         let sentinel = PointDerivatives {
             gradient: SVector::repeat(f64::NAN),
@@ -381,7 +401,7 @@ fn points_in_lanes_match_dual_numbers() {
     /// A forced step's points (the system's force and a control input) four at a time
     /// against the point-by-point path, bit for bit, the powers `F·ξ` included (that path
     /// is checked against dual numbers in `force_terms_match_dual_numbers_through_the_whole_point`).
-    fn check_forced<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+    fn check_forced<S: crate::System<3, Group = crate::group::Rotations>>(
         system: &S,
         name: &str,
         xs: &[Vector3<f64>],
@@ -677,7 +697,7 @@ fn the_gradient_kernel_is_the_point_by_point_sum_bit_for_bit() {
 
 /// A workspace holding a curve that is not a solution (constant velocity plus a wobble),
 /// assembled with its Newton matrix at the step's start `b` with momentum `μ`.
-fn assembled_off_the_solution<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+fn assembled_off_the_solution<S: crate::System<3, Group = crate::group::Rotations>>(
     stepper: &StepSolver<'_, S, ChartKind, 3>,
     d: &Discretisation,
 ) -> (Workspace<Stacked<9>, 3>, SO3, Vector3<f64>) {
@@ -703,7 +723,7 @@ fn assembled_along<S, C, const D: usize>(
     wobble: SVector<f64, D>,
 ) -> WorkspaceOf<S, D>
 where
-    S: crate::GroupLagrangian<D>,
+    S: crate::System<D>,
     C: crate::GroupChart<S::Group, D>,
 {
     let mut work = WorkspaceOf::<S, D>::new(d);
@@ -745,7 +765,7 @@ fn exact_newton_matrix_matches_differences_of_the_residual() {
 }
 
 /// [`exact_newton_matrix_matches_differences_of_the_residual`] for one system.
-fn check_newton_matrix<S: crate::GroupLagrangian<3, Group = crate::group::Rotations>>(
+fn check_newton_matrix<S: crate::System<3, Group = crate::group::Rotations>>(
     system: &S,
     forcing: Option<Vector3<f64>>,
     name: &str,
@@ -787,7 +807,7 @@ fn assert_newton_matrix_near_differences<S, C, const D: usize>(
     work: &mut WorkspaceOf<S, D>,
     what: &str,
 ) where
-    S: crate::GroupLagrangian<D>,
+    S: crate::System<D>,
     C: crate::GroupChart<S::Group, D>,
 {
     let exact = work.jacobian.clone();
@@ -864,7 +884,7 @@ fn carried_matching_momentum_agrees_with_a_new_assembly() {
 fn a_linearisation_from_the_kept_hessians_is_the_fresh_one() {
     use crate::group::GroupChart;
     use crate::system::ElementOf;
-    fn check<S: crate::GroupLagrangian<D>, const D: usize>(
+    fn check<S: crate::System<D>, const D: usize>(
         system: &S,
         forcing: Option<SVector<f64, D>>,
         start: (ElementOf<S, D>, SVector<f64, D>),
@@ -981,7 +1001,7 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
         forcing: Option<SVector<f64, 6>>,
         name: &str,
     ) where
-        S: crate::GroupLagrangian<6>,
+        S: crate::System<6>,
         C: crate::GroupChart<S::Group, 6> + std::fmt::Debug,
     {
         for matching in [Matching::Exact, Matching::Paper] {
@@ -1076,7 +1096,7 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
     use crate::group::Rotations;
     use crate::point::{GaussPoint, PointTransport};
     struct FromHessiansOnly(HeavyTop);
-    impl crate::GroupLagrangian<3> for FromHessiansOnly {
+    impl crate::System<3> for FromHessiansOnly {
         type Group = Rotations;
         fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
             Lagrangian::lagrangian(&self.0, g.matrix(), w)
@@ -1087,7 +1107,7 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
             point: &GaussPoint<'_, Rotations, 3>,
             out: &mut Stacked<9>,
         ) -> bool {
-            crate::GroupLagrangian::<3>::point_derivatives(&self.0, chart, point, out)
+            crate::System::<3>::point_derivatives(&self.0, chart, point, out)
         }
         fn point_derivatives_and_transport<C: crate::GroupChart<Rotations, 3>>(
             &self,
@@ -1097,11 +1117,11 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
             transport: &mut Option<PointTransport<3>>,
         ) -> bool {
             if point.with_hessian {
-                crate::GroupLagrangian::<3>::point_derivatives_and_transport(
+                crate::System::<3>::point_derivatives_and_transport(
                     &self.0, chart, point, out, transport,
                 )
             } else {
-                crate::GroupLagrangian::<3>::point_derivatives(&self.0, chart, point, out)
+                crate::System::<3>::point_derivatives(&self.0, chart, point, out)
             }
         }
     }

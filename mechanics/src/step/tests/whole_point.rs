@@ -7,7 +7,7 @@ use super::*;
 /// A Lagrangian on SE(3) that couples attitude, position and both velocities and depends
 /// on time (exercises every block of the generic chain rule).
 pub(super) struct CoupledSe3;
-impl crate::GroupLagrangian<6> for CoupledSe3 {
+impl crate::System<6> for CoupledSe3 {
     type Group = crate::group::RigidMotions;
     fn lagrangian<T: RealField + Copy>(
         &self,
@@ -40,7 +40,7 @@ struct OffsetBody;
 const OFFSET_MASS: f64 = 1.7;
 const OFFSET: [f64; 3] = [0.2, -0.1, 0.3];
 const OFFSET_INERTIA: [f64; 3] = [1.2, 2.1, 2.7];
-impl crate::GroupLagrangian<6> for OffsetBody {
+impl crate::System<6> for OffsetBody {
     type Group = crate::group::RigidMotions;
     fn lagrangian<T: RealField + Copy>(
         &self,
@@ -123,7 +123,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
         v: &SVector<f64, D>,
         name: &str,
     ) where
-        S: crate::GroupLagrangian<D>,
+        S: crate::System<D>,
         C: crate::GroupChart<S::Group, D>,
     {
         for with_configuration in [false, true] {
@@ -324,7 +324,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
     }
     // SO(3) through the generic path: a wrapper that hides the closed form.
     struct Generic<L>(L);
-    impl<L: Lagrangian> crate::GroupLagrangian<3> for Generic<L> {
+    impl<L: Lagrangian> crate::System<3> for Generic<L> {
         type Group = Rotations;
         fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
             Lagrangian::lagrangian(&self.0, g.matrix(), w)
@@ -391,7 +391,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
         input: &SVector<f64, D>,
         name: &str,
     ) where
-        S: crate::GroupLagrangian<D>,
+        S: crate::System<D>,
         C: crate::GroupChart<S::Group, D>,
     {
         let ell = EllTilde {
@@ -486,7 +486,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
     let b = SO3::from_matrix_unchecked(base());
     // SO(3) through the generic path: a wrapper that hides the closed form.
     struct Generic<L>(L);
-    impl<L: Lagrangian> crate::GroupLagrangian<3> for Generic<L> {
+    impl<L: Lagrangian> crate::System<3> for Generic<L> {
         type Group = Rotations;
         fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
             Lagrangian::lagrangian(&self.0, g.matrix(), w)
@@ -762,8 +762,8 @@ fn attitude_times_vector_chart_derivatives_match_dual_numbers() {
 #[test]
 fn matching_map_jacobian_matches_dual_numbers() {
     use crate::group::{GroupChart, Screw};
-    use crate::system::GroupLagrangian;
-    fn compare<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize>(
+    use crate::system::System;
+    fn compare<S: System<D>, C: GroupChart<S::Group, D>, const D: usize>(
         system: &S,
         chart: C,
         name: &str,
@@ -812,9 +812,9 @@ fn matching_map_jacobian_matches_dual_numbers() {
 #[test]
 fn point_mixed_derivatives_match_hyper_dual_numbers() {
     use crate::group::{GroupChart, Screw};
-    use crate::system::GroupLagrangian;
+    use crate::system::System;
     use lgsvi_lie::SE3;
-    fn compare<S: GroupLagrangian<D>, C: GroupChart<S::Group, D>, const D: usize>(
+    fn compare<S: System<D>, C: GroupChart<S::Group, D>, const D: usize>(
         system: &S,
         chart: C,
         base: &crate::system::ElementOf<S, D>,
@@ -932,7 +932,7 @@ fn points_hand_back_the_charts_transport() {
         hands_back: bool,
         name: &str,
     ) where
-        S: crate::GroupLagrangian<D>,
+        S: crate::System<D>,
         C: crate::GroupChart<S::Group, D>,
     {
         for with_configuration in [false, true] {
