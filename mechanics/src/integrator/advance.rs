@@ -67,7 +67,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             .model_breakdown(state.time, &state.configuration, &state.velocity)
         {
             Some(reason) => MechanicsError::OutsideModel {
-                step: self.step_index,
+                step: self.clock.step_index,
                 time: state.time,
                 reason,
                 failure: Box::new(error),
@@ -99,7 +99,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 (l.min(e), m.max(e.abs()))
             });
         (least <= f64::EPSILON * D as f64 * most).then_some(MechanicsError::DegenerateLagrangian {
-            step: self.step_index,
+            step: self.clock.step_index,
             time: state.time,
             least,
             most,
@@ -113,10 +113,10 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             let (estimate, _) = self.discretisation.error_estimate(&self.work.xi);
             return self.commit(&base, outcome, estimate.max(ROUNDING_FLOOR));
         };
-        if let Some(h) = self.next_step.take() {
+        if let Some(h) = self.control.next_step.take() {
             self.switch_step(h)?;
         }
-        if let Some(n) = self.next_nodes.take() {
+        if let Some(n) = self.control.next_nodes.take() {
             self.switch_nodes(n)?;
         }
         let base = self.state.configuration;
@@ -129,7 +129,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 // again at half the step when the step may change.
                 Err(_) if adaptive.step_changes && halvings < MAX_HALVINGS => {
                     halvings += 1;
-                    self.statistics.rejected_steps += 1;
+                    self.ledger.statistics.rejected_steps += 1;
                     self.switch_step(0.5 * self.settings.h())?;
                     continue;
                 }
@@ -145,13 +145,13 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 // A step that lowered its nodes and failed doubles the wait before the
                 // next try (where the error varies along the motion, a fall that fails
                 // once tends to fail again soon).
-                self.hold_length = if self.lowered {
-                    (2 * self.hold_length).min(NODES_HOLD_MAX)
+                self.control.hold_length = if self.control.lowered {
+                    (2 * self.control.hold_length).min(NODES_HOLD_MAX)
                 } else {
                     NODES_HOLD
                 };
-                self.hold_nodes = self.hold_length;
-                self.lowered = false;
+                self.control.hold_nodes = self.control.hold_length;
+                self.control.lowered = false;
                 // The estimate falls by about q² per node: add the nodes that bring it
                 // under the budget (at least one, at most four at a time).
                 let wanted = if decay < 1.0 && decay > 0.0 {
@@ -190,7 +190,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                     )
                 };
                 return Err(MechanicsError::ToleranceNotMet {
-                    step: self.step_index,
+                    step: self.clock.step_index,
                     time: self.state.time,
                     estimate: floored,
                     budget,
@@ -200,26 +200,27 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 });
             }
             let iterations = self.commit(&base, outcome, floored)?;
-            if std::mem::take(&mut self.lowered) {
+            if std::mem::take(&mut self.control.lowered) {
                 // The fall held: the next wait starts short again.
-                self.hold_length = NODES_HOLD;
+                self.control.hold_length = NODES_HOLD;
             }
             // The next step's estimate, extrapolated from this one and the one before when
             // the error grows along the motion: where it would exceed the budget, the next
             // step takes one node more now rather than being solved twice.
-            let growth = if self.previous_estimate > 0.0 && estimate > 1.5 * self.previous_estimate
+            let growth = if self.control.previous_estimate > 0.0
+                && estimate > 1.5 * self.control.previous_estimate
             {
-                (estimate / self.previous_estimate).min(1e3)
+                (estimate / self.control.previous_estimate).min(1e3)
             } else {
                 1.0
             };
-            self.previous_estimate = estimate;
+            self.control.previous_estimate = estimate;
             let expected = estimate * growth;
-            self.hold_nodes = self.hold_nodes.saturating_sub(1);
+            self.control.hold_nodes = self.control.hold_nodes.saturating_sub(1);
             if expected > budget && n < adaptive.max_nodes {
-                self.next_nodes = Some(n + 1);
+                self.control.next_nodes = Some(n + 1);
             } else if adaptive.falling_nodes
-                && self.hold_nodes == 0
+                && self.control.hold_nodes == 0
                 && n > adaptive.min_nodes
                 && decay > 0.0
                 && decay < 1.0
@@ -233,8 +234,8 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                     .max(0.0) as usize;
                 let next = n.saturating_sub(fewer.min(4)).max(adaptive.min_nodes);
                 if next < n {
-                    self.next_nodes = Some(next);
-                    self.lowered = true;
+                    self.control.next_nodes = Some(next);
+                    self.control.lowered = true;
                 }
             }
             // With room below the budget, the step may grow back: doubling it multiplies
@@ -242,11 +243,11 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             // doubles where that stays under half the new budget.
             let h = self.settings.h();
             if adaptive.step_changes
-                && self.next_nodes.is_none_or(|next| next <= n)
-                && h < self.largest_step
+                && self.control.next_nodes.is_none_or(|next| next <= n)
+                && h < self.control.largest_step
                 && expected * 2f64.powi(2 * n as i32 - 1) < budget
             {
-                self.next_step = Some((2.0 * h).min(self.largest_step));
+                self.control.next_step = Some((2.0 * h).min(self.control.largest_step));
             }
             return Ok(iterations);
         }
@@ -255,7 +256,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// Counts a solve that is thrown away and redone: its Newton work stays in the
     /// statistics.
     pub(super) fn count_redone(&mut self, outcome: &StepOutcome<ElementOf<S, D>, D>) {
-        let stats = &mut self.statistics;
+        let stats = &mut self.ledger.statistics;
         stats.rejected_steps += 1;
         stats.newton_iterations += outcome.iterations;
         stats.factorizations += outcome.factorizations;
@@ -280,10 +281,10 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         // The Newton matrix scales with the step: factors of another step say nothing.
         self.work.forget_factors();
         self.settings = settings;
-        self.origin = self.state.time;
-        self.origin_steps = self.step_index;
-        self.previous_velocity = None;
-        self.previous_estimate = 0.0;
+        self.clock.origin = self.state.time;
+        self.clock.origin_steps = self.clock.step_index;
+        self.predictor.previous_velocity = None;
+        self.control.previous_estimate = 0.0;
         Ok(())
     }
 
@@ -307,21 +308,27 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         // The last curve on the new nodes: exact when n grows (a polynomial of lower
         // degree), its interpolant when n shrinks (used only as the predictor's start).
         // The buffers hold `max_nodes` from the integrator's construction: no allocation.
-        self.resampled.clear();
-        self.basis_values.resize(self.discretisation.n, 0.0);
+        self.predictor.resampled.clear();
+        self.predictor
+            .basis_values
+            .resize(self.discretisation.n, 0.0);
         for &t in tables.node_times() {
             self.discretisation
                 .basis
-                .basis_into(t, &mut self.basis_values)?;
+                .basis_into(t, &mut self.predictor.basis_values)?;
             let value = self
+                .predictor
                 .basis_values
                 .iter()
-                .zip(&self.last_nodes)
+                .zip(&self.predictor.last_nodes)
                 .fold(SVector::zeros(), |acc, (c, x)| acc + x * *c);
-            self.resampled.push(value);
+            self.predictor.resampled.push(value);
         }
-        std::mem::swap(&mut self.last_nodes, &mut self.resampled);
-        self.extrapolated.resize(n, SVector::zeros());
+        std::mem::swap(
+            &mut self.predictor.last_nodes,
+            &mut self.predictor.resampled,
+        );
+        self.predictor.extrapolated.resize(n, SVector::zeros());
         self.discretisation = tables;
         self.settings = settings;
         Ok(())
@@ -344,7 +351,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             }
             Err(error) => return Err(error),
         };
-        if let Some(end) = self.flow_end {
+        if let Some(end) = self.predictor.flow_end {
             let difference = end
                 .inverse()
                 .compose(&base.inverse())
@@ -372,8 +379,8 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         // one polar Newton step R(I + ½(I − RᵀR)) squares that deviation away.
         let configuration =
             <S::Group as ConfigurationGroup<D>>::renormalise(&outcome.configuration);
-        let since = self.step_index + 1 - self.origin_steps;
-        let time = self.origin + since as f64 * self.settings.h();
+        let since = self.clock.step_index + 1 - self.clock.origin_steps;
+        let time = self.clock.origin + since as f64 * self.settings.h();
         let velocity = body_velocity(
             &self.system,
             time,
@@ -383,7 +390,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         )?;
         if !outcome.momentum.iter().all(|x| x.is_finite()) {
             return Err(MechanicsError::NonFiniteStep {
-                step: self.step_index,
+                step: self.clock.step_index,
                 time: self.state.time,
                 what: "the momentum after the step",
                 hint: if self.forcing().is_some() {
@@ -414,21 +421,21 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         let end = self.end_state(&outcome)?;
         if let Some(input) = self.forcing() {
             let work = self.step_work(base, self.state.time, &input);
-            compensated_add(&mut self.work_done, &mut self.work_carry, work);
+            self.ledger.work.add(work);
         }
-        self.last_base = self.state.configuration;
-        self.last_nodes.copy_from_slice(&self.work.xi);
-        self.previous_velocity = Some(self.state.velocity);
-        self.step_index += 1;
+        self.predictor.last_base = self.state.configuration;
+        self.predictor.last_nodes.copy_from_slice(&self.work.xi);
+        self.predictor.previous_velocity = Some(self.state.velocity);
+        self.clock.step_index += 1;
         self.state = end;
-        let stats = &mut self.statistics;
+        let stats = &mut self.ledger.statistics;
         stats.steps += 1;
         stats.newton_iterations += outcome.iterations;
         stats.factorizations += outcome.factorizations;
         stats.max_newton_iterations = stats.max_newton_iterations.max(outcome.iterations);
-        self.nodes_used[self.discretisation.n] += 1;
-        self.estimate = estimate;
-        compensated_add(&mut self.estimate_sum, &mut self.estimate_carry, estimate);
+        self.ledger.nodes_used[self.discretisation.n] += 1;
+        self.ledger.estimate = estimate;
+        self.ledger.estimates.add(estimate);
         Ok(outcome.iterations)
     }
 
@@ -436,7 +443,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         &mut self,
         base: &ElementOf<S, D>,
     ) -> Result<StepOutcome<ElementOf<S, D>, D>, MechanicsError> {
-        let (mu, step, time) = (self.state.momentum, self.step_index, self.state.time);
+        let (mu, step, time) = (self.state.momentum, self.clock.step_index, self.state.time);
         // Only the exact matching's step has a linearisation (the Newton loop itself keeps
         // Hessians only where its matrix is the exact one).
         let linearizing =

@@ -144,7 +144,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             time: start.time,
             forcing: self.forcing(),
         };
-        let index = self.step_index;
+        let index = self.clock.step_index;
         let jacobians =
             stepper.linearize(&start.configuration, &start.momentum, &mut self.work, index)?;
         let parameter_jacobians = if parameters {

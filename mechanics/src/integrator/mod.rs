@@ -1,8 +1,10 @@
 //! The integrator: initial state, stepping, control inputs, trajectories, invariants,
 //! dense output — for any configuration group and chart.
 //!
-//! By concern: this file holds the integrator's state, construction, accessors, inputs
-//! and reset; `predictor` the first guess of each step and the checks that a converged
+//! By concern: this file holds the integrator's fields, construction, accessors, inputs
+//! and reset; `parts` the state beside the motion's, by concern (the clock that counts
+//! steps, the predictor's memory of the last step, the node and step controller, the
+//! ledger of statistics and compensated sums); `predictor` the first guess of each step and the checks that a converged
 //! step is the motion's; `advance` a step's attempt, node and step control and commit;
 //! `linearize` the exact linearisation of a step; `run` the step count to a horizon
 //! and the integrator's [`crate::stepper::Stepper`] implementation;
@@ -29,20 +31,12 @@ use std::sync::Arc;
 mod advance;
 mod curve;
 mod linearize;
+mod parts;
 mod predictor;
 mod run;
 
-use advance::NODES_HOLD;
 pub use curve::{GalerkinCurve, Statistics, Trajectory};
-
-/// Adds `term` to `sum` with Kahan's compensation, `carry` holding what the last additions
-/// lost: long runs add millions of terms (the work of the forces, the error estimates).
-fn compensated_add(sum: &mut f64, carry: &mut f64, term: f64) {
-    let term = term - *carry;
-    let total = *sum + term;
-    *carry = (total - *sum) - term;
-    *sum = total;
-}
+use parts::{Clock, Controller, Ledger, Predictor};
 
 /// `n` zeros in a vector that can hold `capacity`.
 fn with_length<const D: usize>(n: usize, capacity: usize) -> Vec<SVector<f64, D>> {
@@ -86,61 +80,19 @@ pub struct Integrator<S: System<D>, C = ChartKind, const D: usize = 3> {
     settings: StepSettings,
     discretisation: Arc<Discretisation>,
     work: WorkspaceOf<S, D>,
-    state: State<ElementOf<S, D>, D>,
-    /// Steps since the start (or the last reset).
-    step_index: usize,
-    /// The time of the start (or the last reset).
-    origin: f64,
-    /// The piecewise-constant generalised force added to the system's own.
-    input: SVector<f64, D>,
-    /// The velocity at the start of the last step taken; `None` before the first step
-    /// (then there is no previous Galerkin curve either).
-    previous_velocity: Option<SVector<f64, D>>,
-    last_nodes: Vec<SVector<f64, D>>,
-    /// Scratch for the predictor's comparison.
-    extrapolated: Vec<SVector<f64, D>>,
-    last_base: ElementOf<S, D>,
-    /// The flow predictor's configuration at the end of the step being taken, relative to
-    /// its start, when the flow could be integrated: the check against aliased roots.
-    flow_end: Option<ElementOf<S, D>>,
-    /// Whether the continued curve beat the flow in the chart at its last try.
-    continued_wins: bool,
-    statistics: Statistics,
-    /// The work of the forces since the start (or the last reset), summed with Kahan's
-    /// compensation (`work_carry`): a long forced run adds millions of terms.
-    work_done: f64,
-    work_carry: f64,
-    /// The last step's estimated local error ([`Integrator::error_estimate`]).
-    estimate: f64,
-    /// The sum of the local estimates since the start (or the last reset), compensated.
-    estimate_sum: f64,
-    estimate_carry: f64,
-    /// Steps taken with `n` nodes, at index `n` (length `MAX_NODES + 1`).
-    nodes_used: Vec<usize>,
-    /// Adaptive runs: the nodes the next step starts with, when they change.
-    next_nodes: Option<usize>,
-    /// Adaptive runs: steps left before the nodes may fall again after a step needed more,
-    /// the current length of that wait, and whether the step being taken lowered them.
-    hold_nodes: usize,
-    hold_length: usize,
-    lowered: bool,
-    /// Adaptive runs: the last step's estimate, for the trend.
-    previous_estimate: f64,
-    /// Step changes: the step index at which `origin` was last set (times are counted
-    /// from there in steps of the present `h`), the step the run started with (the
-    /// largest it returns to), and the step the next step takes when it changes.
-    origin_steps: usize,
-    largest_step: f64,
-    next_step: Option<f64>,
     /// Adaptive runs: the workspaces of the node counts not in use, kept for reuse.
     spare_work: Vec<WorkspaceOf<S, D>>,
+    state: State<ElementOf<S, D>, D>,
+    /// The piecewise-constant generalised force added to the system's own.
+    input: SVector<f64, D>,
     /// Whether the step being solved is to be linearised ([`Integrator::step_linearized`],
     /// [`Integrator::linearize`]): its Newton loop then asks its last assembly for
     /// Hessians, which the linearisation reuses when it got them.
     linearizing: bool,
-    /// Adaptive runs: scratch for moving the last curve to other nodes.
-    resampled: Vec<SVector<f64, D>>,
-    basis_values: Vec<f64>,
+    clock: Clock,
+    predictor: Predictor<ElementOf<S, D>, D>,
+    control: Controller,
+    ledger: Ledger,
 }
 
 impl<S: System<D>, const D: usize> Integrator<S, ChartKind, D>
@@ -222,40 +174,28 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             settings,
             discretisation,
             work,
+            spare_work: Vec::with_capacity(capacity),
             state: State {
                 time: 0.0,
                 configuration,
                 momentum,
                 velocity,
             },
-            step_index: 0,
-            origin: 0.0,
             input: SVector::zeros(),
-            previous_velocity: None,
-            last_nodes: with_length(n, capacity),
-            extrapolated: with_length(n, capacity),
-            last_base: configuration,
-            flow_end: None,
-            continued_wins: false,
-            statistics: Statistics::default(),
-            work_done: 0.0,
-            work_carry: 0.0,
-            estimate: 0.0,
-            estimate_sum: 0.0,
-            estimate_carry: 0.0,
-            nodes_used: vec![0; MAX_NODES + 1],
-            next_nodes: None,
-            hold_nodes: 0,
-            hold_length: NODES_HOLD,
-            lowered: false,
-            previous_estimate: 0.0,
-            origin_steps: 0,
-            largest_step: settings.h(),
-            next_step: None,
-            spare_work: Vec::with_capacity(capacity),
             linearizing: false,
-            resampled: Vec::with_capacity(capacity),
-            basis_values: Vec::with_capacity(capacity),
+            clock: Clock::default(),
+            predictor: Predictor {
+                previous_velocity: None,
+                last_nodes: with_length(n, capacity),
+                last_base: configuration,
+                flow_end: None,
+                continued_wins: false,
+                extrapolated: with_length(n, capacity),
+                resampled: Vec::with_capacity(capacity),
+                basis_values: Vec::with_capacity(capacity),
+            },
+            control: Controller::new(settings.h()),
+            ledger: Ledger::new(MAX_NODES),
         })
     }
 
@@ -279,7 +219,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                          node range",
             });
         }
-        self.next_nodes = None;
+        self.control.next_nodes = None;
         self.switch_nodes(n)
     }
 
@@ -314,7 +254,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
 
     /// Newton statistics so far.
     pub fn statistics(&self) -> &Statistics {
-        &self.statistics
+        &self.ledger.statistics
     }
 
     /// The work `W = ∫ ⟨F, ξ⟩ dt` done by the forces (the system's and the control
@@ -323,7 +263,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// the Lagrange–d'Alembert step, so that `E(t) − E(0) = W(t)` holds to the method's
     /// accuracy (the energy balance). Zero for an unforced run.
     pub fn work_done(&self) -> f64 {
-        self.work_done
+        self.ledger.work.value()
     }
 
     /// The work of the forces over the step just solved (nodes in `work.xi`, from `base`
@@ -432,32 +372,33 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             momentum,
             velocity,
         };
-        self.origin = time;
-        self.step_index = 0;
-        self.origin_steps = 0;
-        self.work_done = 0.0;
-        self.work_carry = 0.0;
-        self.estimate = 0.0;
-        self.estimate_sum = 0.0;
-        self.estimate_carry = 0.0;
-        self.previous_velocity = None;
-        self.last_base = configuration;
-        self.flow_end = None;
+        self.clock = Clock {
+            step_index: 0,
+            origin: time,
+            origin_steps: 0,
+        };
+        self.ledger.restart();
+        self.predictor.previous_velocity = None;
+        self.predictor.last_base = configuration;
+        self.predictor.flow_end = None;
         self.work.forget_factors();
-        self.continued_wins = false;
+        self.predictor.continued_wins = false;
         Ok(())
     }
 
     /// The Galerkin curve of the last step taken (dense output), if any.
     pub fn last_curve(&self) -> Option<GalerkinCurve<S::Group, C, D>> {
-        self.previous_velocity.is_some().then(|| GalerkinCurve {
-            base: self.last_base,
-            nodes: self.last_nodes.clone(),
-            basis: self.discretisation.basis.clone(),
-            chart: self.chart,
-            start: self.state.time - self.settings.h(),
-            group: PhantomData,
-        })
+        self.predictor
+            .previous_velocity
+            .is_some()
+            .then(|| GalerkinCurve {
+                base: self.predictor.last_base,
+                nodes: self.predictor.last_nodes.clone(),
+                basis: self.discretisation.basis.clone(),
+                chart: self.chart,
+                start: self.state.time - self.settings.h(),
+                group: PhantomData,
+            })
     }
 
     /// The last step's estimated local error, from the decay of the Chebyshev coefficients
@@ -469,26 +410,27 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// below the rounding of one step, [`crate::settings::ROUNDING_FLOOR`] (`4ε`). Costs `4nD`
     /// multiplications per step.
     pub fn error_estimate(&self) -> f64 {
-        self.estimate
+        self.ledger.estimate
     }
 
     /// The sum of the steps' local error estimates since the start (or the last reset):
     /// an estimate of the global error where local errors accumulate linearly (the
     /// reference cases: `docs/tolerance.md` says how well it predicted).
     pub fn estimated_global_error(&self) -> f64 {
-        self.estimate_sum
+        self.ledger.estimates.value()
     }
 
     /// How many steps took `n` nodes, at index `n` (adaptive runs change `n` per step;
     /// a fixed run has all its steps at one index).
     pub fn nodes_histogram(&self) -> &[usize] {
-        &self.nodes_used
+        &self.ledger.nodes_used
     }
 
     /// The node counts used so far with their steps, `(n, steps)` by increasing `n`: the
     /// non-zero entries of [`Integrator::nodes_histogram`].
     pub fn nodes_used(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.nodes_used
+        self.ledger
+            .nodes_used
             .iter()
             .enumerate()
             .filter(|(_, &count)| count > 0)

@@ -46,7 +46,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     pub(super) fn predict(&mut self, constant_velocity: bool) -> Result<bool, MechanicsError> {
         self.work.guess_changed();
         if !constant_velocity {
-            self.flow_end = None;
+            self.predictor.flow_end = None;
             let mut guess = self.predict_by_flow(false);
             if guess == FlowGuess::Unavailable {
                 // Without a flow of its own: the flow in the chart (measured on the
@@ -56,21 +56,22 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 // unless the continued curve is already as good (a uniformly accelerated
                 // body, where it is exact): it is tried first while it wins, and every
                 // PROBE_CONTINUED steps while it does not.
-                if self.previous_velocity.is_some()
-                    && (self.continued_wins || self.step_index.is_multiple_of(PROBE_CONTINUED))
+                if self.predictor.previous_velocity.is_some()
+                    && (self.predictor.continued_wins
+                        || self.clock.step_index.is_multiple_of(PROBE_CONTINUED))
                     && self.extrapolate()
                 {
                     if self.predictor_residual() <= CONTINUED_BEATS_FLOW {
-                        self.continued_wins = true;
+                        self.predictor.continued_wins = true;
                         return Ok(false);
                     }
-                    self.continued_wins = false;
+                    self.predictor.continued_wins = false;
                 }
                 guess = self.predict_by_flow(true);
             }
             match guess {
                 FlowGuess::Written(end) => {
-                    self.flow_end = Some(end);
+                    self.predictor.flow_end = Some(end);
                     return Ok(false);
                 }
                 FlowGuess::LeavesChart { time, angle } => {
@@ -90,31 +91,31 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 }
             }
         }
-        if !constant_velocity && self.previous_velocity.is_some() && self.extrapolate() {
+        if !constant_velocity && self.predictor.previous_velocity.is_some() && self.extrapolate() {
             // On long steps the continuation can be worse than the velocity correction
             // below: when its residual is not small, keep the better of the two.
             let continued = self.predictor_residual();
             if continued <= PREDICTOR_GOOD_ENOUGH {
                 return Ok(false);
             }
-            self.extrapolated.copy_from_slice(&self.work.xi);
+            self.predictor.extrapolated.copy_from_slice(&self.work.xi);
             self.predict_from_velocity(false);
             let corrected = self.predictor_residual();
             if continued <= corrected {
-                self.work.xi.copy_from_slice(&self.extrapolated);
+                self.work.xi.copy_from_slice(&self.predictor.extrapolated);
                 self.work.guess_changed();
             }
             return Ok(false);
         }
         self.predict_from_velocity(constant_velocity);
-        Ok(constant_velocity || self.previous_velocity.is_none())
+        Ok(constant_velocity || self.predictor.previous_velocity.is_none())
     }
 
     /// The error for a step that turns the body `rotation` rad, reaching the chart's
     /// limit `suggested` seconds into the step.
     pub(super) fn step_too_long(&self, rotation: f64, suggested: f64) -> MechanicsError {
         MechanicsError::StepTooLong {
-            step: self.step_index,
+            step: self.clock.step_index,
             time: self.state.time,
             chart: self.chart.name(),
             rotation,
@@ -127,7 +128,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// The error for a converged step `distance` rad away from the flow's end attitude.
     pub(super) fn aliased_root(&self, distance: f64) -> MechanicsError {
         MechanicsError::AliasedRoot {
-            step: self.step_index,
+            step: self.clock.step_index,
             time: self.state.time,
             chart: self.chart.name(),
             distance,
@@ -181,11 +182,11 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             .unwrap_or_else(|_| SMatrix::identity());
         let omega = self.state.velocity;
         let times = self.discretisation.node_times();
-        match self.previous_velocity {
+        match self.predictor.previous_velocity {
             Some(previous) if !constant_velocity => {
                 let change = a0_inv * (omega - previous);
                 for (i, t) in times.iter().enumerate() {
-                    self.work.xi[i] = self.last_nodes[i] + change * *t;
+                    self.work.xi[i] = self.predictor.last_nodes[i] + change * *t;
                 }
             }
             _ => {
@@ -208,12 +209,12 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         let chart = self.chart;
         let n = self.discretisation.n;
         self.work.xi[0] = SVector::zeros();
-        let end = chart.to_group(&self.last_nodes[n - 1]).inverse();
+        let end = chart.to_group(&self.predictor.last_nodes[n - 1]).inverse();
         for i in 1..n {
             let row = &self.discretisation.extrapolation[i * n..(i + 1) * n];
             let continued = row
                 .iter()
-                .zip(&self.last_nodes)
+                .zip(&self.predictor.last_nodes)
                 .fold(SVector::<f64, D>::zeros(), |acc, (e, xi)| acc + xi * *e);
             // Each node on the branch of the one before (ξ¹ = 0): the continued curve may
             // rotate past a half turn relative to the step's start.

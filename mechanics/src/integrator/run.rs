@@ -94,7 +94,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<S, C, D>
             });
         }
         if self.settings.adaptive().is_some_and(|a| a.step_changes) {
-            self.next_step = Some(h);
+            self.control.next_step = Some(h);
             return Integrator::step(self);
         }
         let step = self.settings.h();
@@ -126,9 +126,9 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<S, C, D>
         // Within a billionth of a step of the end counts as there (rounding of the sums).
         while t_end - self.state.time > 1e-9 * self.settings.h() {
             let left = t_end - self.state.time;
-            let h = self.next_step.unwrap_or(self.settings.h());
+            let h = self.control.next_step.unwrap_or(self.settings.h());
             if h > left {
-                self.next_step = Some(left);
+                self.control.next_step = Some(left);
             }
             let iterations = Integrator::step(self)?;
             k += 1;
