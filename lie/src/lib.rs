@@ -6,6 +6,8 @@
 //!   behind the `glam` feature, serde behind `serde`; `approx` comparisons), under one
 //!   [`LieGroup`] trait: composition, inverse, action on points, `hat`/`vee`, `Ad`, `ad`,
 //!   the coadjoint action.
+//! - The group and chart laws ([`laws`]), written once, for any group and chart of your
+//!   own to run with its own examples.
 //! - Charts `Φ: 𝔤 → G` ([`Chart`]): [`ExpChart`], [`CayleyChart`] and the
 //!   [`UnscaledCayleyChart`] of Hall and Leok, each with `Φ`, `Φ⁻¹`, the left- and
 //!   right-trivialised differentials and their inverses in closed form, on SO(3) and on
@@ -52,6 +54,7 @@
 mod chart;
 mod error;
 mod group;
+pub mod laws;
 mod scalar;
 pub mod se3;
 mod series;

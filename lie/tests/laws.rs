@@ -299,3 +299,63 @@ fn zzz_print_coverage() {
         println!("{line}");
     }
 }
+
+/// The exported law suite (`lgsvi_lie::laws`), the one a user's group runs, on the built-in
+/// groups and every chart: the same laws as above on `f64`, from outside the crate. The
+/// exact laws hold to a few ε of the examples' scale (64ε leaves the products' rounding
+/// room); the differentiating ones to the central difference's ~1e-10 (held to 1e-6).
+#[test]
+fn the_exported_law_suite_passes_on_so3_and_se3() {
+    use lgsvi_lie::laws::{chart_laws, group_laws};
+    let mut rng = Rng::new(31);
+    let so3: Vec<SO3> = (0..4).map(|_| SO3::exp(&rng.vector::<3>(1.2))).collect();
+    let w: Vec<SVector<f64, 3>> = (0..4).map(|_| rng.vector::<3>(1.0)).collect();
+    let report = group_laws(&so3, &w, 64.0 * EPS).unwrap();
+    assert_eq!(report.len(), 12);
+    let se3: Vec<SE3> = (0..4).map(|_| SE3::exp(&rng.vector::<6>(1.0))).collect();
+    let xi: Vec<SVector<f64, 6>> = (0..4).map(|_| rng.vector::<6>(1.0)).collect();
+    group_laws(&se3, &xi, 64.0 * EPS).unwrap();
+    for kind in ChartKind::ALL {
+        chart_laws::<SO3, _, 3>(&kind, &w, 64.0 * EPS).unwrap();
+        chart_laws::<SE3, _, 6>(&kind, &xi, 64.0 * EPS).unwrap();
+    }
+    // A law that does not hold is reported with its size: a "chart" whose differential is
+    // off by a factor.
+    #[derive(Clone, Copy)]
+    struct Wrong;
+    impl Chart<SO3> for Wrong {
+        fn name(&self) -> &'static str {
+            "wrong"
+        }
+        fn to_group(&self, xi: &Vector3<f64>) -> SO3 {
+            ExpChart.to_group(xi)
+        }
+        fn to_algebra(&self, g: &SO3) -> Result<Vector3<f64>, lgsvi_lie::LieError> {
+            ExpChart.to_algebra(g)
+        }
+        fn check_domain(&self, xi: &Vector3<f64>) -> Result<(), lgsvi_lie::LieError> {
+            Chart::<SO3>::check_domain(&ExpChart, xi)
+        }
+        fn left_differential(&self, xi: &Vector3<f64>) -> SMatrix<f64, 3, 3> {
+            Chart::<SO3>::left_differential(&ExpChart, xi) * 1.001
+        }
+        fn left_differential_inverse(
+            &self,
+            xi: &Vector3<f64>,
+        ) -> Result<SMatrix<f64, 3, 3>, lgsvi_lie::LieError> {
+            Chart::<SO3>::left_differential_inverse(&ExpChart, xi)
+        }
+        fn right_differential(&self, xi: &Vector3<f64>) -> SMatrix<f64, 3, 3> {
+            Chart::<SO3>::right_differential(&ExpChart, xi)
+        }
+        fn right_differential_inverse(
+            &self,
+            xi: &Vector3<f64>,
+        ) -> Result<SMatrix<f64, 3, 3>, lgsvi_lie::LieError> {
+            Chart::<SO3>::right_differential_inverse(&ExpChart, xi)
+        }
+    }
+    let violation = chart_laws::<SO3, _, 3>(&Wrong, &w, 64.0 * EPS).unwrap_err();
+    assert_eq!(violation.law, "left differential");
+    assert!(violation.error > 1e-4, "{violation}");
+}

@@ -302,6 +302,23 @@ macro_rules! wheels {
             }
         }
 
+        /// `exp(ω, φ) = (exp(ω̂), φ)`, its inverse near the identity: what the law suite
+        /// ([`lgsvi_lie::laws`]) reads.
+        impl<T: RealField + Copy> lgsvi_lie::laws::ExponentialMap for BodyWheels<T, $k> {
+            fn exp(xi: &SVector<T, $d>) -> Self {
+                BodyWheels {
+                    attitude: SO3::exp(&xi.fixed_rows::<3>(0).into_owned()),
+                    wheels: xi.fixed_rows::<$k>(3).into_owned(),
+                }
+            }
+            fn log(&self) -> SVector<T, $d> {
+                let mut xi = SVector::<T, $d>::zeros();
+                xi.fixed_rows_mut::<3>(0).copy_from(&self.attitude.log());
+                xi.fixed_rows_mut::<$k>(3).copy_from(&self.wheels);
+                xi
+            }
+        }
+
         impl ConfigurationGroup<$d> for BodyAndWheels<$k> {
             type Element<T: RealField + Copy> = BodyWheels<T, $k>;
             type Jet = Stacked<$jet>;

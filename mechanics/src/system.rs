@@ -13,13 +13,15 @@
 //! the integrator's control input ([`crate::Integrator::set_input`]); [`crate::forces`]
 //! says how they enter a step.
 
-pub use crate::flow::FlowGuess;
-pub use crate::flow::{FlowStart, ForceAlongStep, ForceValueAlongStep};
+// The fast paths' types, public for System's hidden methods.
+#[doc(hidden)]
+pub use crate::flow::{FlowGuess, FlowStart, ForceAlongStep, ForceValueAlongStep};
 use crate::forces::{ForceJet, Forcing};
 use crate::group::{ConfigurationGroup, GroupChart};
 
 #[doc(hidden)]
 pub use crate::point::{ForceAtPoint, GaussPoints};
+#[doc(hidden)]
 pub use crate::point::{GaussPoint, PointForce, PointTransport};
 use nalgebra::{RealField, SMatrix, SVector};
 
@@ -516,6 +518,7 @@ impl<L: GroupLagrangian<D>, const D: usize> System<D> for L {
 
 /// The derivatives of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0` for a Lagrangian whose
 /// kinetic energy does not depend on the configuration (`∂²L/∂η∂ξ = 0`).
+#[doc(hidden)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocalDerivatives<const D: usize> {
     /// `p = ∂L/∂η`, the left-trivialised configuration force.

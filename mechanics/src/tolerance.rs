@@ -443,7 +443,7 @@ fn difference<E: GroupLog<D>, const D: usize>(a: &State<E, D>, b: &State<E, D>) 
 /// The first step `h` of a tolerance-driven run over `[t₀, t₀ + t_end]` of `system` from
 /// `(g, ξ)` in `chart`: `t_end` over [`step_count`] at the motion's rate
 /// ([`System::motion_rate`]); `None` for a horizon that is not positive.
-pub fn tolerance_step<S: System<D>, C: GroupChart<S::Group, D>, const D: usize>(
+pub(crate) fn tolerance_step<S: System<D>, C: GroupChart<S::Group, D>, const D: usize>(
     system: &S,
     chart: &C,
     t_end: f64,

@@ -277,3 +277,32 @@ fn a_gyrostat_that_cannot_exist_is_refused() {
         Err(MechanicsError::NonFinite { .. })
     ));
 }
+
+/// The gyrostat's group SO(3) × ℝᴷ passes the law suite every group runs
+/// (`lgsvi_lie::laws`), for each wheel count: 64ε of the examples' scale for the exact laws.
+#[test]
+fn the_product_group_passes_the_law_suite() {
+    use lgsvi_lie::laws::{group_laws, ExponentialMap};
+    use lgsvi_mechanics::gyrostat::BodyWheels;
+    fn check<const K: usize, const D: usize>()
+    where
+        BodyWheels<f64, K>: ExponentialMap<
+            Scalar = f64,
+            Tangent = nalgebra::SVector<f64, D>,
+            Jacobian = nalgebra::SMatrix<f64, D, D>,
+        >,
+    {
+        let tangents: Vec<nalgebra::SVector<f64, D>> = (0..4)
+            .map(|k| nalgebra::SVector::from_fn(|i, _| ((i + 3 * k) as f64 * 0.77).sin()))
+            .collect();
+        let elements: Vec<BodyWheels<f64, K>> = tangents
+            .iter()
+            .map(|xi| BodyWheels::exp(&(xi * 0.9)))
+            .collect();
+        group_laws(&elements, &tangents, 64.0 * f64::EPSILON).unwrap();
+    }
+    check::<1, 4>();
+    check::<2, 5>();
+    check::<3, 6>();
+    check::<4, 7>();
+}

@@ -7,6 +7,7 @@
 //! a step of 1e-4 (an independent route: it shares no code with lgsvi; its error at
 //! T = 2 is ~(1e-4)⁴·T·|f⁽⁵⁾| ≈ 1e-14).
 
+use lgsvi_lie::laws::{group_laws, ExponentialMap};
 use lgsvi_lie::{LieError, LieGroup};
 use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart, Stacked};
 use lgsvi_mechanics::Stepper;
@@ -54,6 +55,16 @@ impl<T: RealField + Copy> LieGroup for Angles<T> {
     }
     fn coadjoint_action(&self, mu: &Vector2<T>) -> Vector2<T> {
         *mu
+    }
+}
+
+/// The torus's exponential map is the identity on the angles.
+impl<T: RealField + Copy> ExponentialMap for Angles<T> {
+    fn exp(xi: &Vector2<T>) -> Self {
+        Angles(*xi)
+    }
+    fn log(&self) -> Vector2<T> {
+        self.0
     }
 }
 
@@ -194,4 +205,19 @@ fn a_users_own_group_and_chart_reach_the_integrator() {
     // reference's; 1e-10 leaves room for the reference's and the rounding's.
     assert!(error < 1e-10, "error {error:e}");
     assert!((s.energy(&DoublePendulum) - e0).abs() < 1e-12 * e0.abs().max(1.0));
+}
+
+/// A user's group runs the law suite every group runs, with its own examples.
+#[test]
+fn the_torus_passes_the_law_suite() {
+    let tangents = [
+        Vector2::new(0.3, -1.2),
+        Vector2::new(2.0, 0.5),
+        Vector2::new(-0.7, 0.1),
+    ];
+    let elements: Vec<Angles<f64>> = tangents.iter().map(Angles::exp).collect();
+    let report = group_laws(&elements, &tangents, 16.0 * f64::EPSILON).unwrap();
+    assert!(report
+        .iter()
+        .all(|(_, error)| *error <= 16.0 * f64::EPSILON * 2.0));
 }
