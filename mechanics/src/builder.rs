@@ -3,11 +3,11 @@
 
 use crate::control::GroupLog;
 use crate::error::MechanicsError;
+use crate::group::GroupChart;
 use crate::integrator::Integrator;
 use crate::settings::{Matching, StepSettings, DEFAULT_ADAPTIVE_NODES, DEFAULT_NODES};
 use crate::system::{ElementOf, System};
 use crate::tolerance::{first_nodes, tolerance_step, CheckedIntegrator};
-use crate::GroupChart;
 use lgsvi_lie::ChartKind;
 use nalgebra::SVector;
 

@@ -6,9 +6,11 @@
 
 use crate::forces::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, RigidMotions};
+use crate::lagrangian::{HeavyTop, RigidBody};
 use crate::lagrangian::{Lagrangian, LagrangianDerivatives};
+use crate::rigid_motion::{FreeBody, OrbitingBody};
+use crate::system::System;
 use crate::system::{FlowGuess, FlowStart, GaussPoint, LocalDerivatives};
-use crate::{FreeBody, HeavyTop, OrbitingBody, RigidBody, System};
 use lgsvi_lie::SE3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 
@@ -21,6 +23,10 @@ pub enum BuiltInSo3 {
     Free(RigidBody),
     /// The heavy top.
     Top(HeavyTop),
+}
+
+crate::system::so3_system! {
+    impl[] for BuiltInSo3;
 }
 
 impl Lagrangian for BuiltInSo3 {

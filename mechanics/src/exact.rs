@@ -43,7 +43,8 @@
 //! the `tests` crate for the measured errors against 40-digit references).
 
 use crate::error::{check_finite, MechanicsError};
-use crate::{Inertia, State};
+use crate::inertia::Inertia;
+use crate::state::State;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, Vector3};
 

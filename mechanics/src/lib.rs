@@ -120,6 +120,3 @@ pub use settings::{Matching, StepSettings};
 pub use state::State;
 pub use stepper::Stepper;
 pub use system::{Forced, GroupLagrangian, System};
-
-// A crate-internal shorthand.
-pub(crate) use group::GroupChart;

@@ -37,7 +37,6 @@ use crate::group::GroupChart;
 use crate::integrator::{Integrator, Trajectory};
 use crate::state::State;
 use crate::system::{ElementOf, System};
-use crate::tolerance::CheckReport;
 use std::ops::ControlFlow;
 
 /// A step of a driven run, as its observers see it.
@@ -218,6 +217,34 @@ where
     let mut recorder = Recorder::new(stepper.integrator().state(), 0, every);
     stepper.drive_until(t_end, &mut recorder)?;
     Ok(recorder.into_trajectory())
+}
+
+/// The largest difference of a checked run and where it was measured.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Difference {
+    /// The largest entry of `(θ, δξ)`: the configurations' difference in the algebra and
+    /// the body velocities' ([`crate::tolerance`]).
+    pub value: f64,
+    /// The step after which it was measured (1-based: the state after step `step`).
+    pub step: usize,
+    /// The time of that state.
+    pub time: f64,
+}
+
+/// What a checked run's companion measured ([`Stepper::check_report`],
+/// [`crate::tolerance::CheckedIntegrator`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckReport {
+    /// The difference of the two runs after the last step: the run's measured error now.
+    pub difference: f64,
+    /// The largest difference along the run, its time and step.
+    pub largest: Difference,
+    /// The sum of the run's local error estimates (the unchecked model), for comparison.
+    pub local_sum: f64,
+    /// Runs taken: the first, and each with a tightened share per step.
+    pub attempts: usize,
+    /// The present run's share per step against the first's (1 for the first).
+    pub tightened: f64,
 }
 
 /// Watches a driven run: told of every step with the integrator after it (state, last

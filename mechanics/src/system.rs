@@ -647,7 +647,6 @@ macro_rules! so3_system {
         }
     )*};
 }
-#[cfg(test)]
 pub(crate) use so3_system;
 
 #[cfg(test)]
@@ -748,10 +747,9 @@ mod tests {
 }
 
 so3_system! {
-    impl[] for crate::RigidBody;
-    impl[] for crate::HeavyTop;
-    impl[V: crate::Potential] for crate::RigidBodyInPotential<V>;
-    impl[] for crate::built_in::BuiltInSo3;
+    impl[] for crate::lagrangian::RigidBody;
+    impl[] for crate::lagrangian::HeavyTop;
+    impl[V: crate::lagrangian::Potential] for crate::lagrangian::RigidBodyInPotential<V>;
 }
 
 /// A system with a generalised force added ([`Forcing`]): `Forced::new(body, BodyTorque(τ))`.

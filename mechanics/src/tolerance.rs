@@ -62,7 +62,7 @@ use crate::group::GroupChart;
 use crate::integrator::{Integrator, Trajectory};
 use crate::settings::{StepSettings, DEFAULT_ADAPTIVE_NODES, MAX_NODES, ROUNDING_FLOOR};
 use crate::state::State;
-use crate::stepper::{run_until_by_steps, Stepper};
+use crate::stepper::{run_until_by_steps, CheckReport, Difference, Stepper};
 use crate::system::{ElementOf, System};
 use nalgebra::SVector;
 
@@ -119,32 +119,6 @@ pub fn first_nodes(tol: f64) -> usize {
 pub fn step_count(t_end: f64, rate: f64, max_rotation: f64) -> f64 {
     let rotation = (STEP_ROTATION.0 * max_rotation).min(STEP_ROTATION.1);
     (t_end * rate / rotation).ceil().max(1.0)
-}
-
-/// The largest difference of a checked run and where it was measured.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Difference {
-    /// The largest entry of `(θ, δξ)` (module docs).
-    pub value: f64,
-    /// The step after which it was measured (1-based: the state after step `step`).
-    pub step: usize,
-    /// The time of that state.
-    pub time: f64,
-}
-
-/// What a checked run's companion measured ([`Stepper::check_report`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CheckReport {
-    /// The difference of the two runs after the last step: the run's measured error now.
-    pub difference: f64,
-    /// The largest difference along the run, its time and step.
-    pub largest: Difference,
-    /// The sum of the run's local error estimates (the unchecked model), for comparison.
-    pub local_sum: f64,
-    /// Runs taken: the first, and each with a tightened share per step.
-    pub attempts: usize,
-    /// The present run's share per step against the first's (1 for the first).
-    pub tightened: f64,
 }
 
 /// A run and its companion, stepped together (module docs); with a tolerance, also the

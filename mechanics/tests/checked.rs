@@ -114,7 +114,8 @@ fn a_checked_run_refuses_what_it_cannot_check() {
 #[test]
 fn the_tolerance_policy_accepts_tightens_and_refuses() {
     use lgsvi_mechanics::settings::ROUNDING_FLOOR;
-    use lgsvi_mechanics::tolerance::{Difference, ToleranceCheck};
+    use lgsvi_mechanics::stepper::Difference;
+    use lgsvi_mechanics::tolerance::ToleranceCheck;
     let at = |value| Difference {
         value,
         step: 3,

@@ -724,7 +724,7 @@ fn assembled_along<S, C, const D: usize>(
 ) -> WorkspaceOf<S, D>
 where
     S: crate::System<D>,
-    C: crate::GroupChart<S::Group, D>,
+    C: crate::group::GroupChart<S::Group, D>,
 {
     let mut work = WorkspaceOf::<S, D>::new(d);
     for (i, t) in d.node_times().iter().enumerate() {
@@ -808,7 +808,7 @@ fn assert_newton_matrix_near_differences<S, C, const D: usize>(
     what: &str,
 ) where
     S: crate::System<D>,
-    C: crate::GroupChart<S::Group, D>,
+    C: crate::group::GroupChart<S::Group, D>,
 {
     let exact = work.jacobian.clone();
     stepper.fill_jacobian_by_differences(base, mu, work);
@@ -1002,7 +1002,7 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
         name: &str,
     ) where
         S: crate::System<6>,
-        C: crate::GroupChart<S::Group, 6> + std::fmt::Debug,
+        C: crate::group::GroupChart<S::Group, 6> + std::fmt::Debug,
     {
         for matching in [Matching::Exact, Matching::Paper] {
             let settings = StepSettings::new(0.4, 5).unwrap().with_matching(matching);
@@ -1101,7 +1101,7 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
         fn lagrangian<T: RealField + Copy>(&self, _t: f64, g: &SO3<T>, w: &Vector3<T>) -> T {
             Lagrangian::lagrangian(&self.0, g.matrix(), w)
         }
-        fn point_derivatives<C: crate::GroupChart<Rotations, 3>>(
+        fn point_derivatives<C: crate::group::GroupChart<Rotations, 3>>(
             &self,
             chart: &C,
             point: &GaussPoint<'_, Rotations, 3>,
@@ -1109,7 +1109,7 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
         ) -> bool {
             crate::System::<3>::point_derivatives(&self.0, chart, point, out)
         }
-        fn point_derivatives_and_transport<C: crate::GroupChart<Rotations, 3>>(
+        fn point_derivatives_and_transport<C: crate::group::GroupChart<Rotations, 3>>(
             &self,
             chart: &C,
             point: &GaussPoint<'_, Rotations, 3>,

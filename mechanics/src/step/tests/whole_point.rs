@@ -96,7 +96,7 @@ impl crate::System<6> for OffsetBody {
             velocity_hessian,
         })
     }
-    fn point_derivatives<C: crate::GroupChart<crate::group::RigidMotions, 6>>(
+    fn point_derivatives<C: crate::group::GroupChart<crate::group::RigidMotions, 6>>(
         &self,
         chart: &C,
         point: &crate::point::GaussPoint<'_, crate::group::RigidMotions, 6>,
@@ -124,7 +124,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
         name: &str,
     ) where
         S: crate::System<D>,
-        C: crate::GroupChart<S::Group, D>,
+        C: crate::group::GroupChart<S::Group, D>,
     {
         for with_configuration in [false, true] {
             let ell = EllTilde {
@@ -392,7 +392,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
         name: &str,
     ) where
         S: crate::System<D>,
-        C: crate::GroupChart<S::Group, D>,
+        C: crate::group::GroupChart<S::Group, D>,
     {
         let ell = EllTilde {
             system,
@@ -933,7 +933,7 @@ fn points_hand_back_the_charts_transport() {
         name: &str,
     ) where
         S: crate::System<D>,
-        C: crate::GroupChart<S::Group, D>,
+        C: crate::group::GroupChart<S::Group, D>,
     {
         for with_configuration in [false, true] {
             for with_hessian in [false, true] {
