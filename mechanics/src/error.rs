@@ -48,7 +48,7 @@ pub enum MechanicsError {
         iterations: usize,
         /// The last residual norm.
         residual: f64,
-        /// The chart's own advice ([`crate::GroupChart::advice`]): another chart that
+        /// The chart's own advice ([`crate::group::GroupChart::advice`]): another chart that
         /// follows longer steps, where there is one; empty for the exp chart, which
         /// already does.
         advice: &'static str,

@@ -56,7 +56,7 @@ pub struct GaussPoints<'a, G: ConfigurationGroup<D>, const D: usize> {
 /// The chart's terms at a Gauss point that the exact momentum matching reads at every
 /// point of a system whose `ℓ` or force depends on the configuration: the transport
 /// `Ad_{Φ(x)⁻¹}ᵀ` of the point's configuration force to the step's start, and the chart's
-/// left differential `A(x)` ([`crate::GroupChart::transport_and_differential`]'s pair). A
+/// left differential `A(x)` ([`crate::group::GroupChart::transport_and_differential`]'s pair). A
 /// closed-form point path that forms `Φ(x)` and `A(x)` on its way hands them back
 /// ([`crate::System::point_derivatives_and_transport`]), so that the matching does
 /// not evaluate the chart at the point again.
