@@ -72,24 +72,12 @@ where
     ElementOf<S, D>: Send + Sync,
     ChartKind: GroupChart<S::Group, D>,
 {
-    initial
-        .par_iter()
-        .map(|start| {
-            let mut integrator = Integrator::new(
-                system.clone(),
-                *settings,
-                start.configuration,
-                start.velocity,
-            )?;
-            for _ in 0..steps {
-                integrator.step()?;
-            }
-            Ok(EnsembleMember {
-                state: *integrator.state(),
-                statistics: *integrator.statistics(),
-            })
-        })
-        .collect()
+    each_member(system, settings, initial, |integrator| {
+        for _ in 0..steps {
+            integrator.step()?;
+        }
+        Ok(())
+    })
 }
 
 /// As [`run_ensemble`], each member run to exactly `t_end` ([`crate::Stepper::run_until`]'s
@@ -116,6 +104,27 @@ where
     ElementOf<S, D>: Send + Sync,
     ChartKind: GroupChart<S::Group, D>,
 {
+    each_member(system, settings, initial, |integrator| {
+        let mut quiet = each(|_: &Integrator<S, ChartKind, D>, _| {
+            Ok::<_, MechanicsError>(ControlFlow::Continue(()))
+        });
+        integrator.drive_until(t_end, &mut quiet).map(|_| ())
+    })
+}
+
+/// Every member's integrator from its start, advanced by `advance`, in parallel; each
+/// member's final state and statistics or the error that stopped it.
+fn each_member<S, const D: usize>(
+    system: &S,
+    settings: &StepSettings,
+    initial: &[InitialCondition<ElementOf<S, D>, D>],
+    advance: impl Fn(&mut Integrator<S, ChartKind, D>) -> Result<(), MechanicsError> + Sync,
+) -> Vec<Result<EnsembleMember<ElementOf<S, D>, D>, MechanicsError>>
+where
+    S: System<D> + Clone + Send + Sync,
+    ElementOf<S, D>: Send + Sync,
+    ChartKind: GroupChart<S::Group, D>,
+{
     initial
         .par_iter()
         .map(|start| {
@@ -125,10 +134,7 @@ where
                 start.configuration,
                 start.velocity,
             )?;
-            let mut quiet = each(|_: &Integrator<S, ChartKind, D>, _| {
-                Ok::<_, MechanicsError>(ControlFlow::Continue(()))
-            });
-            integrator.drive_until(t_end, &mut quiet)?;
+            advance(&mut integrator)?;
             Ok(EnsembleMember {
                 state: *integrator.state(),
                 statistics: *integrator.statistics(),

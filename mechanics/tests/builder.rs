@@ -4,17 +4,12 @@
 //! or bad input refused with the setting named.
 
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::lie::LieGroup;
 use lgsvi_mechanics::prelude::*;
 use lgsvi_mechanics::settings::DEFAULT_ADAPTIVE_NODES;
 use lgsvi_mechanics::tolerance::{first_nodes, step_count, CHECK_ACCEPTS};
 
-/// The largest entry of `(log(R_exactᵀ R), Ω − Ω_exact)`: the check's own measure.
-fn truth(exact: &FreeRigidBodyExact, state: &State) -> f64 {
-    let e = exact.state(state.time).unwrap();
-    let theta = e.attitude().inverse().compose(state.attitude()).log();
-    theta.amax().max((state.velocity - e.velocity).amax())
-}
+mod common;
+use common::truth;
 
 /// A checked tolerance run ends within the acceptance (3 · tol) of the exact motion, and its
 /// estimate is the companion's measured difference, within a factor 3 of the true error

@@ -3,19 +3,15 @@
 //! elliptic functions: `lgsvi_mechanics::exact`, not the integrator).
 
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
-use lgsvi_mechanics::lie::{LieGroup, SO3};
+use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::settings::MAX_NODES;
 use lgsvi_mechanics::tolerance::CheckedIntegrator;
 use lgsvi_mechanics::Stepper;
 use lgsvi_mechanics::{Inertia, Integrator, MechanicsError, RigidBody, StepSettings};
 use nalgebra::Vector3;
 
-/// The largest entry of `(log(R_exactᵀ R), Ω − Ω_exact)`: the check's own measure.
-fn truth(exact: &FreeRigidBodyExact, state: &lgsvi_mechanics::State<SO3, 3>) -> f64 {
-    let e = exact.state(state.time).unwrap();
-    let theta = e.attitude().inverse().compose(state.attitude()).log();
-    theta.amax().max((state.velocity - e.velocity).amax())
-}
+mod common;
+use common::truth;
 
 /// On every step of runs where the errors of each step grow along the motion (a fast spin
 /// near the intermediate axis, a slow one near the separatrix) and of the paper's body,
