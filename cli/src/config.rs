@@ -243,7 +243,9 @@ pub struct SimulateOptions {
     pub tol: Option<f64>,
     /// A fixed-(h, n) run: run the companion check too (the same steps with 2 more nodes,
     /// about twice the time), so that `estimated_error` is the measured difference at the
-    /// end instead of the sum of the steps' local estimates. --tol runs are checked anyway.
+    /// end instead of the sum of the steps' local estimates. --tol runs are checked anyway,
+    /// and so are fixed runs on SE(3) and of an inertia whose principal moments span 100 or
+    /// more, where the steps' own estimates miss rounding the motion amplifies.
     #[arg(long)]
     #[serde(default)]
     pub check: bool,

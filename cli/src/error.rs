@@ -8,9 +8,10 @@ use std::path::PathBuf;
 /// Why a command failed.
 #[derive(Debug, thiserror::Error)]
 pub enum CliError {
-    /// From the integrator, a system or a setting.
+    /// From the integrator, a system or a setting (a setting the command line has a flag
+    /// for arrives as [`CliError::Input`], naming the flag: see the `From` impl).
     #[error(transparent)]
-    Mechanics(#[from] MechanicsError),
+    Mechanics(MechanicsError),
     /// From a study of `lgsvi-experiments`.
     #[error(transparent)]
     Experiment(#[from] lgsvi_experiments::ExperimentError),
@@ -273,6 +274,44 @@ impl CliError {
                 CliError::Mechanics(error)
             }
             other => other,
+        }
+    }
+}
+
+/// The command-line flag of a mechanics setting or input, by the name the library's
+/// [`MechanicsError::InvalidSetting`] and [`MechanicsError::NonFinite`] give it.
+fn flag_of(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "h" => "--h",
+        "nodes" => "--nodes",
+        "quad" => "--quad",
+        "tol" | "tolerance" => "--tol",
+        "t-end" | "horizon" => "--t-end",
+        "mass" => "--mass",
+        "mu" => "--mu",
+        "gravity" => "--gravity",
+        "gravity direction" => "--gravity-direction",
+        "centre of mass" => "--com",
+        "initial angular velocity" => "--omega0",
+        "inertia J_d" => "--inertia-d",
+        "wheel inertia" => "--wheel-inertia",
+        "wheel axis" => "--wheel-axes",
+        _ => return None,
+    })
+}
+
+impl From<MechanicsError> for CliError {
+    /// A refused setting or input that has a flag names it ([`CliError::Input`]); any other
+    /// mechanics error passes through as it is.
+    fn from(source: MechanicsError) -> Self {
+        let name = match &source {
+            MechanicsError::InvalidSetting { name, .. } => Some(*name),
+            MechanicsError::NonFinite { what, .. } => Some(*what),
+            _ => None,
+        };
+        match name.and_then(flag_of) {
+            Some(flag) => CliError::Input { flag, source },
+            None => CliError::Mechanics(source),
         }
     }
 }

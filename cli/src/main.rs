@@ -115,6 +115,29 @@ fn estimate_warning(estimated: f64) -> Option<String> {
     })
 }
 
+/// The condition number of the inertia from which a run warns that its accuracy is
+/// limited by it: the velocity is recovered from the momentum to `ε` times it (`2e-10`),
+/// and the steps' errors along the thin axis grow by up to that factor.
+const CONDITIONING_WARNING: f64 = 1e6;
+
+/// The one-line warning of a body whose principal moments span more than
+/// [`CONDITIONING_WARNING`] (a thin rod).
+fn conditioning_warning(moments: &[f64; 3]) -> Option<String> {
+    let least = moments.iter().copied().fold(f64::INFINITY, f64::min);
+    let most = moments.iter().copied().fold(0.0, f64::max);
+    let condition = most / least;
+    (condition > CONDITIONING_WARNING).then(|| {
+        format!(
+            "warning: the principal moments of inertia span {least:e} to {most:e} (condition \
+             {condition:.1e}): the velocity follows from the momentum only to about {:.0e} of \
+             its size, and the steps' errors grow by up to that factor (the estimated error is \
+             measured by the run's companion); give the smallest moment a size within \
+             {CONDITIONING_WARNING:e} of the largest",
+            f64::EPSILON * condition
+        )
+    })
+}
+
 /// `lgsvi simulate`: resolves the options (config, flags, defaults), runs (or evaluates
 /// the exact solution), warns of a large estimated error, draws and writes.
 fn run_simulate(options: SimulateOptions) -> Result<()> {
@@ -136,6 +159,9 @@ fn run_simulate(options: SimulateOptions) -> Result<()> {
     };
     let estimate = recording.estimates.as_ref().map(|e| e.global);
     if let Some(warning) = estimate.and_then(estimate_warning) {
+        eprintln!("{warning}");
+    }
+    if let Some(warning) = conditioning_warning(&problem.scenario.inertia.principal_moments()) {
         eprintln!("{warning}");
     }
     if let Some(base) = &options.plot {

@@ -75,7 +75,7 @@ impl Reference {
             integrator
                 .drive(steps, &mut each(record))
                 .map_err(|source| ExperimentError::Run {
-                    context: "reference run".into(),
+                    context: reference_context(REFERENCE_STEP, nodes),
                     source,
                 })?;
             Ok((states, curves))
@@ -387,4 +387,14 @@ pub fn study<P: Subject>(
         geometric_factors,
         orders,
     })
+}
+
+/// The context of a failed reference run: its step and nodes are the study's own (not the
+/// run's `h` and `n`), so a motion that needs a shorter step is beyond the study.
+pub(crate) fn reference_context(h: f64, nodes: usize) -> String {
+    format!(
+        "the study's reference run (its own h = {h}, {nodes} nodes, not the run's: a motion \
+         that needs a shorter step than that is beyond this study; run it with a tolerance \
+         instead)"
+    )
 }

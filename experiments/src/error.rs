@@ -19,8 +19,10 @@ pub enum ExperimentError {
     },
     /// A recorded state or invariant overflowed ([`crate::record`]).
     #[error(
-        "step {step} (t = {time}): the {quantity} is not finite ({values}); the inputs overflow \
-         double precision: scale them (other units), or lower the inertia, mass, gravity or velocity"
+        "step {step} (t = {time}): the {quantity} is not finite ({values}): a quantity of the run \
+         left double precision's range, from inputs of very different sizes (an inertia, mass, \
+         gravity, distance or velocity far above or below the others): express them in units \
+         that make them comparable"
     )]
     Overflow {
         /// The step.

@@ -398,9 +398,17 @@ impl Scenario {
                 (BuiltInSe3::Free(free), body)
             }
             Model::Orbiting(Orbit { body, mu }) => {
-                checked_orbit_radius(&body, mu)?;
-                let orbiting =
-                    OrbitingBody::new(inertia, body.mass, mu).map_err(parameter("mass/mu"))?;
+                // Each physical parameter on its own first, naming itself (an infinite μ
+                // is a bad μ, not a start at the centre); then the start against them.
+                let orbiting = OrbitingBody::new(inertia, body.mass, mu).map_err(|source| {
+                    let named = match &source {
+                        MechanicsError::NonFinite { what, .. } => *what,
+                        MechanicsError::InvalidSetting { name, .. } => *name,
+                        _ => "mass/mu",
+                    };
+                    parameter(if named == "mu" { "mu" } else { "mass" })(source)
+                })?;
+                checked_orbit_radius(&body, &inertia, mu)?;
                 (BuiltInSe3::Orbit(orbiting), body)
             }
         };
@@ -516,8 +524,9 @@ impl Scenario {
 }
 
 /// `|x|` of the orbiting body's start, refused where the potential `−μm/r` and its
-/// gravity gradient are singular or overflow.
-fn checked_orbit_radius(body: &Space, mu: f64) -> Result<f64, ExperimentError> {
+/// gravity gradient are singular or overflow, or where the attracting point lies inside the
+/// body's mass (within twice its radius of gyration).
+fn checked_orbit_radius(body: &Space, inertia: &Inertia, mu: f64) -> Result<f64, ExperimentError> {
     let position = body.position;
     // |x| without underflow (1e-300 squared is zero).
     let scale = position.amax();
@@ -537,6 +546,19 @@ fn checked_orbit_radius(body: &Space, mu: f64) -> Result<f64, ExperimentError> {
             "the orbiting body starts at the attracting centre (r = {r:e}), where the \
              potential −μm/r and its gravity gradient are singular: start it away from the \
              origin"
+        )));
+    }
+    // Within twice the radius of gyration the attracting point lies inside the body's mass,
+    // where MacCullagh's far-field potential does not hold: a step there fails (or, for a
+    // radius of gyration far beyond r, runs into overflow), so the start is refused here,
+    // naming the parameters that set the radius.
+    let k = (inertia.matrix().trace() / (2.0 * body.mass)).sqrt();
+    if mu != 0.0 && r < 2.0 * k {
+        return Err(invalid(format!(
+            "the orbiting body starts {r:e} from the attracting point mass, within twice its \
+             radius of gyration √(tr J / 2m) = {k:.4e} (from its inertia and mass): the \
+             attracting point lies inside the body's mass, where the far-field (MacCullagh) \
+             potential does not hold; raise the mass, lower the inertia or start further out"
         )));
     }
     // The gravity gradient's Hessian forms x xᵀ (xᵀJx) ~ r⁴ |J|, which overflows from
@@ -721,6 +743,12 @@ mod tests {
                 }
             ),
             "{error}"
+        );
+        // The message names the parameters and the wheel's value.
+        let text = error.to_string();
+        assert!(
+            text.starts_with("axes/inertia: ") && text.contains("wheel inertia"),
+            "{text}"
         );
         // A start speed or a motor torque missing for a wheel, or a body torque the
         // wheels would not see: refused, never a panic or a silent drop.

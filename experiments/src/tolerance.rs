@@ -284,7 +284,7 @@ where
         integrator
             .run(steps, steps.max(1))
             .map_err(|source| ExperimentError::Run {
-                context: "reference run".into(),
+                context: crate::convergence::reference_context(reference_step, n),
                 source,
             })?;
         Ok(integrator.state().observe())

@@ -5,7 +5,7 @@
 #[non_exhaustive]
 pub enum LieError {
     /// An input holds NaN or infinity.
-    #[error("{what} holds a non-finite number")]
+    #[error("{what} holds a non-finite number; give finite entries")]
     NonFinite {
         /// What was given ("rotation matrix", "quaternion", ...).
         what: &'static str,
@@ -31,14 +31,18 @@ pub enum LieError {
     },
     /// A matrix too degenerate to have a nearest rotation (rank below 2).
     #[error(
-        "the matrix is too degenerate to orthonormalise (singular values {singular_values:?})"
+        "the matrix is too degenerate to orthonormalise (singular values {singular_values:?}); \
+         give a matrix near a rotation, whose singular values are all near 1"
     )]
     Degenerate {
         /// Its singular values, descending.
         singular_values: [f64; 3],
     },
     /// A quaternion of zero (or non-finite) norm.
-    #[error("a quaternion of norm {norm} cannot be normalised to a rotation")]
+    #[error(
+        "a quaternion of norm {norm} cannot be normalised to a rotation; give a non-zero one \
+         (w, x, y, z)"
+    )]
     ZeroQuaternion {
         /// Its norm.
         norm: f64,

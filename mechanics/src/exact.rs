@@ -196,7 +196,8 @@ pub enum Regime {
 struct Elliptic {
     /// Body indices of the axes `a`, `b`, `c`.
     axes: [usize; 3],
-    /// Signed amplitudes: `μ_a = amp[0] cn u`, `μ_b = amp[1] sn u`, `μ_c = amp[2] dn u`.
+    /// Signed amplitudes: `μ_a = amp[0] cn u`, `μ_b = amp[1] sn u`, `μ_c = amp[2] dn u`
+    /// (momentum divided by `scale`).
     amp: [f64; 3],
     m: f64,
     m1: f64,
@@ -226,8 +227,11 @@ struct Elliptic {
     precession_rate: f64,
     /// `M (1/J_a − 1/J_c) / λ`.
     precession_coefficient: f64,
-    /// `|μ|`.
+    /// `|μ|` of the momentum divided by `scale`.
     norm: f64,
+    /// The even power of two the inertia and momentum are divided by in the constants
+    /// (`amp` and `norm` are in these units; `at` multiplies the momentum back).
+    scale: f64,
     /// `S = R₀ P(μ₀)ᵀ`.
     frame: Matrix3<f64>,
 }
@@ -311,6 +315,16 @@ impl FreeRigidBodyExact {
         if mu.cross(&omega0) == Vector3::zeros() {
             return Ok(uniform(Regime::SteadyRotation));
         }
+        // The motion depends on the inertia only through its ratios (Ω̇ = J⁻¹(JΩ × Ω)), so
+        // the elliptic constants are formed from J and μ divided by `scale`, an even power
+        // of two near the largest moment: exact (the results are the same bits wherever
+        // no product over- or underflows), and a body of moments 1e-300 or 1e300 gets
+        // its motion instead of overflowing constants. `at` scales the momentum back.
+        let largest = j[0].max(j[1]).max(j[2]);
+        let scale = 2f64.powi(2 * (largest.log2() / 2.0).round() as i32);
+        let j = j.map(|x| x / scale);
+        let momentum0 = mu;
+        let mu = mu / scale;
         // Axes by increasing moment (stable for ties), and the signed distance
         // N_mid = M² − 2E J_mid = Σ μᵢ² (Jᵢ − J_mid)/Jᵢ to the separatrix, in the very
         // expression (and rounding) that gives N_b below, so that the regime and `k` agree.
@@ -424,6 +438,7 @@ impl FreeRigidBodyExact {
             precession_rate: norm / jc,
             precession_coefficient: norm * (1.0 / ja - 1.0 / jc) / lambda,
             norm,
+            scale,
             frame: Matrix3::identity(),
         };
         // Π at u₀ by the very evaluation `at(0)` makes, so that ψ(0) = 0 exactly.
@@ -432,7 +447,7 @@ impl FreeRigidBodyExact {
         let body = Self {
             inertia,
             attitude0,
-            momentum0: mu,
+            momentum0,
             omega0,
             regime,
             motion: Motion::Elliptic(elliptic),
@@ -577,7 +592,7 @@ impl Elliptic {
         let (s, co) = psi.sin_cos();
         let rz = Matrix3::new(co, -s, 0.0, s, co, 0.0, 0.0, 0.0, 1.0);
         let r = self.frame * rz * self.polhode_frame(&mu);
-        (SO3::from_matrix_unchecked(r), mu)
+        (SO3::from_matrix_unchecked(r), mu * self.scale)
     }
 
     /// `P(μ)`: the rotation taking `μ/M` to `e_z`, through the Euler angles (θ, φ) of `μ`

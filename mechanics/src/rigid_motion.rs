@@ -746,9 +746,18 @@ impl System<6> for OrbitingBody {
         let r = g.translation().norm();
         let k = (self.inertia.matrix().trace() / (2.0 * self.mass)).sqrt();
         (self.gravitational_parameter > 0.0 && r < 2.0 * k).then(|| {
+            // Fixed decimals where they read well, else scientific (a radius of 1e40).
+            let length = |x: f64| {
+                if (1e-3..1e6).contains(&x) {
+                    format!("{x:.3}")
+                } else {
+                    format!("{x:.3e}")
+                }
+            };
+            let (r, k) = (length(r), length(k));
             format!(
-                "the centre of mass is {r:.3} from the attracting point mass, within twice \
-                 the body's radius of gyration √(tr J / 2m) = {k:.3}: the attracting point \
+                "the centre of mass is {r} from the attracting point mass, within twice \
+                 the body's radius of gyration √(tr J / 2m) = {k}: the attracting point \
                  lies within the body's mass, where MacCullagh's far-field potential does not \
                  hold (its point-mass term is singular at r = 0); start on a wider orbit, or \
                  give the body an inertia small against m r²"

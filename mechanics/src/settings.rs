@@ -255,16 +255,22 @@ impl StepSettings {
         Ok(self)
     }
 
-    /// Sets the number of Gauss points `m ≥ 1`.
+    /// Sets the number of Gauss points, `m ≥ n − 1` for the `n` nodes set so far: the
+    /// velocity is a polynomial of degree `n − 2`, and with fewer points a nonzero one
+    /// vanishes at all of them, so the quadrature gives it no action and the step's
+    /// equations are singular (Newton wanders off; measured: `m ≤ 5` fails at `n = 10`).
     ///
     /// # Errors
-    /// [`MechanicsError::InvalidSetting`] for `m = 0` or `m >` [`MAX_QUADRATURE_POINTS`].
+    /// [`MechanicsError::InvalidSetting`] for `m < n − 1` (or `m = 0`) or
+    /// `m >` [`MAX_QUADRATURE_POINTS`].
     pub fn with_quadrature_points(mut self, m: usize) -> Result<Self, MechanicsError> {
-        if m == 0 {
+        if m == 0 || m.saturating_add(1) < self.nodes {
             return Err(MechanicsError::InvalidSetting {
                 name: "quad",
-                value: "0".into(),
-                reason: "at least one Gauss point is needed",
+                value: format!("{m} (with {} nodes)", self.nodes),
+                reason: "at least one Gauss point fewer than the nodes: with fewer, a nonzero \
+                         velocity polynomial vanishes at every Gauss point, has no action, and \
+                         the step's equations are singular",
             });
         }
         if m > MAX_QUADRATURE_POINTS {

@@ -18,6 +18,20 @@ fn omega0() -> Vector3<f64> {
     Vector3::new(0.6, 0.1, -0.4)
 }
 
+/// Steps until the first failure, which must come before `horizon`.
+fn first_failure<S, C, const D: usize>(it: &mut Integrator<S, C, D>, horizon: f64) -> MechanicsError
+where
+    S: lgsvi_mechanics::System<D>,
+    C: lgsvi_mechanics::group::GroupChart<S::Group, D>,
+{
+    loop {
+        match it.step() {
+            Ok(_) => assert!(it.state().time < horizon, "no failure before t = {horizon}"),
+            Err(error) => return error,
+        }
+    }
+}
+
 fn integrator(h: f64, n: usize) -> Integrator<RigidBody> {
     Integrator::new(
         RigidBody::new(inertia()),
@@ -448,12 +462,7 @@ fn an_orbit_falling_onto_the_centre_is_named_as_the_cause() {
     let velocity = SVector::<f64, 6>::new(0.6, 0.1, -0.4, 0.0, 0.55, 0.05);
     let mut it =
         Integrator::new(body, StepSettings::new(0.5, 8).unwrap(), start, velocity).unwrap();
-    let error = loop {
-        match it.step() {
-            Ok(_) => assert!(it.state().time < 60.0, "the orbit did not fall in"),
-            Err(error) => break error,
-        }
-    };
+    let error = first_failure(&mut it, 60.0);
     let r = it.state().configuration.translation().norm();
     // √(tr J / 2m) = √1.05 ≈ 1.025: the diagnosis reads r < 2.05.
     assert!(r < 2.05, "failed at r = {r}");
@@ -486,5 +495,109 @@ fn an_orbit_falling_onto_the_centre_is_named_as_the_cause() {
     assert!(
         !matches!(error, MechanicsError::OutsideModel { .. }),
         "{error}"
+    );
+}
+
+/// A thin rod, `J = (δ, 1, 1)`: where its step fails, the cause is the inertia's
+/// conditioning (the velocity follows from the momentum only to `ε/δ`), named with its
+/// eigenvalues, not "take a smaller step h or more nodes"; the step's own failure is kept.
+/// A rod of `δ = 1e-5` is an ordinary body whose steps converge.
+#[test]
+fn a_step_that_fails_on_an_ill_conditioned_inertia_names_the_conditioning() {
+    use std::error::Error;
+    let start = Vector3::new(-2.0, 1.9, -1.0);
+    for delta in [3e-9, 1e-10] {
+        let rod = RigidBody::new(Inertia::from_principal_moments([delta, 1.0, 1.0]).unwrap());
+        let mut it = Integrator::new(
+            rod,
+            StepSettings::new(0.5, 10).unwrap(),
+            SO3::identity(),
+            start,
+        )
+        .unwrap();
+        let error = first_failure(&mut it, 10.0);
+        match &error {
+            MechanicsError::IllConditioned { least, most, .. } => {
+                assert_eq!((*least, *most), (delta, 1.0), "δ = {delta:e}");
+            }
+            other => panic!("δ = {delta:e}: {other}"),
+        }
+        let text = error.to_string();
+        assert!(
+            text.contains("ill-conditioned") && text.contains("condition"),
+            "{text}"
+        );
+        assert!(!text.contains("take a smaller step"), "{text}");
+        assert!(error.source().is_some(), "the step's own failure is kept");
+    }
+    let rod = RigidBody::new(Inertia::from_principal_moments([1e-5, 1.0, 1.0]).unwrap());
+    let mut it = Integrator::new(
+        rod,
+        StepSettings::new(0.5, 10).unwrap(),
+        SO3::identity(),
+        start,
+    )
+    .unwrap();
+    for _ in 0..20 {
+        it.step().unwrap();
+    }
+}
+
+/// Convexity does not depend on units: an orbiting body of mass 1e-30 beside an inertia
+/// of order 1 has a convex Lagrangian (its Hessian's eigenvalues 1e-30 … 1), and its failed
+/// step is put down to what is wrong, the attracting point inside its radius of gyration,
+/// not to "a zero or negative inertia or mass".
+#[test]
+fn a_badly_scaled_but_convex_lagrangian_is_not_called_degenerate() {
+    use lgsvi_mechanics::OrbitingBody;
+    let body = OrbitingBody::new(inertia(), 1e-30, 1.0).unwrap();
+    let start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
+    let velocity = SVector::<f64, 6>::new(0.6, 0.1, -0.4, 0.0, 0.55, 0.05);
+    let mut it =
+        Integrator::new(body, StepSettings::new(0.5, 10).unwrap(), start, velocity).unwrap();
+    let error = first_failure(&mut it, 10.0);
+    match &error {
+        MechanicsError::OutsideModel { reason, .. } => {
+            assert!(reason.contains("radius of gyration"), "{reason}");
+        }
+        other => panic!("{other}"),
+    }
+}
+
+/// A Lagrangian whose momentum is bounded in one direction, `ℓ = sin Ω₁ + ½(Ω₂² + Ω₃²)`
+/// (`∂ℓ/∂Ω₁ = cos Ω₁ ∈ [−1, 1]`): a momentum `μ₁ = 2` has no velocity, and the inverse
+/// Legendre transform says so, naming the kinetic energy as what to check.
+#[test]
+fn a_momentum_without_a_velocity_names_the_kinetic_energy() {
+    #[derive(Clone, Copy)]
+    struct Bounded;
+    impl GroupLagrangian<3> for Bounded {
+        type Group = Rotations;
+        fn lagrangian<T: nalgebra::RealField + Copy>(
+            &self,
+            _: f64,
+            _: &SO3<T>,
+            w: &Vector3<T>,
+        ) -> T {
+            let half: T = nalgebra::convert(0.5);
+            w.x.sin() + half * (w.y * w.y + w.z * w.z)
+        }
+    }
+    let error = lgsvi_mechanics::state::body_velocity(
+        &Bounded,
+        0.0,
+        &SO3::identity(),
+        &Vector3::new(2.0, 0.1, 0.0),
+        &Vector3::zeros(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(error, MechanicsError::InverseLegendre { .. }),
+        "{error:?}"
+    );
+    let text = error.to_string();
+    assert!(
+        text.contains("strictly convex in the velocity") && text.contains("kinetic energy"),
+        "{text}"
     );
 }

@@ -122,7 +122,9 @@ pub fn mechanics(error: MechanicsError) -> PyErr {
         E::ToleranceNotMet { .. } | E::ToleranceNotChecked { .. } | E::CheckFailed { .. } => {
             ToleranceError::new_err(message)
         }
-        E::DegenerateLagrangian { .. } | E::OutsideModel { .. } => ModelError::new_err(message),
+        E::DegenerateLagrangian { .. } | E::OutsideModel { .. } | E::IllConditioned { .. } => {
+            ModelError::new_err(message)
+        }
         E::Lie(_) => invalid(message),
         E::Quadrature(inner) => quadrature(inner),
         E::Spectral(inner) => spectral(inner),

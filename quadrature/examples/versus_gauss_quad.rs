@@ -11,8 +11,11 @@
 //! Errors as the crate's reference tests measure them: the largest absolute node error and
 //! the largest relative weight error, both in units of ε (every node is in [−1, 1]).
 //!
-//! Run: `cargo run --release -p lgsvi-quadrature --example versus_gauss_quad`
-//! (not run by CI: its output is a measurement of times, reported in the README).
+//! Asserts that every error of this crate's rules is at most [`WITHIN`] ε (the bound the
+//! crate's reference tests hold); the times are a measurement and are only printed.
+//!
+//! Run: `cargo run --release -p lgsvi-quadrature --example versus_gauss_quad [MAX_M]`: the
+//! rules are timed up to `MAX_M` points (default 10⁶, about a minute; CI passes 1000).
 
 use gauss_quad::legendre::GaussLegendre;
 use lgsvi_quadrature::{gauss_hermite, gauss_jacobi, gauss_laguerre, gauss_legendre};
@@ -21,6 +24,19 @@ use std::num::NonZeroUsize;
 use std::time::Instant;
 
 type Rule = Vec<(f64, f64)>;
+
+/// The largest node or relative weight error of this crate's rules, in ε, that the example
+/// accepts: the crate's reference tests hold every rule to this bound (a few roundings of
+/// the recurrences and the Newton polish, whatever m).
+const WITHIN: f64 = 4.0;
+
+/// Panics when one of this crate's errors (in ε) exceeds [`WITHIN`].
+fn check(what: &str, m: usize, (node, weight): (f64, f64)) {
+    assert!(
+        node <= WITHIN && weight <= WITHIN,
+        "{what}, m = {m}: node error {node} ε, weight error {weight} ε (more than {WITHIN} ε)"
+    );
+}
 
 /// `(node, weight)` pairs, ascending nodes.
 fn ours(m: usize) -> Rule {
@@ -78,6 +94,13 @@ fn best_of_5(build: impl Fn() -> Rule) -> f64 {
 }
 
 fn main() {
+    let max_m: usize = match std::env::args().nth(1) {
+        Some(text) => text.parse().unwrap_or_else(|_| {
+            eprintln!("usage: versus_gauss_quad [MAX_M] (the largest rule timed; got {text:?})");
+            std::process::exit(2)
+        }),
+        None => 1_000_000,
+    };
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
     println!("errors against 34-digit references [ε]: largest absolute node error, largest relative weight error");
     println!(
@@ -90,6 +113,7 @@ fn main() {
             errors(&ours(m), reference, false),
             errors(&theirs(m), reference, false),
         );
+        check("Gauss–Legendre", m, a);
         println!(
             "{m:>8}  {:>9.2} {:>12.2}  {:>9.2} {:>12.2}",
             a.0, a.1, b.0, b.1
@@ -101,6 +125,7 @@ fn main() {
             errors(&ours(m), reference, true),
             errors(&theirs(m), reference, true),
         );
+        check("Gauss–Legendre, the largest nodes", m, a);
         println!(
             "{m:>8}  {:>9.2} {:>12.2}  {:>9.2} {:>12.2}   (the {} largest nodes)",
             a.0,
@@ -115,7 +140,10 @@ fn main() {
         "{:>8}  {:>16}  {:>16}  {:>8}",
         "m", "lgsvi-quadrature", "gauss-quad", "ratio"
     );
-    for m in [100usize, 1_000, 10_000, 100_000, 1_000_000] {
+    for m in [100usize, 1_000, 10_000, 100_000, 1_000_000]
+        .into_iter()
+        .filter(|&m| m <= max_m)
+    {
         let (a, b) = (best_of_5(|| ours(m)), best_of_5(|| theirs(m)));
         println!(
             "{m:>8}  {:>13.3} ms  {:>13.3} ms  {:>8.2}",
@@ -124,7 +152,7 @@ fn main() {
             a / b
         );
     }
-    classical(dir);
+    classical(dir, max_m);
 }
 
 /// A classical family by name, ours and gauss-quad's, as ascending `(node, weight)` pairs.
@@ -193,7 +221,7 @@ fn classical_errors(rule: &Rule, reference: &[(usize, f64, f64)]) -> (f64, f64) 
     (node / f64::EPSILON, weight / f64::EPSILON)
 }
 
-fn classical(dir: &str) {
+fn classical(dir: &str, max_m: usize) {
     println!(
         "\nHermite, Laguerre (α = 0), Jacobi (½, −½): errors against 34/30-digit references [ε]"
     );
@@ -208,6 +236,7 @@ fn classical(dir: &str) {
             continue;
         }
         let a = classical_errors(&classical_rule(family, *m, true), reference);
+        check(family, *m, a);
         let theirs = if *m <= 1000 {
             let b = classical_errors(&classical_rule(family, *m, false), reference);
             format!("{:>9.2} {:>12.2e}", b.0, b.1)
@@ -222,7 +251,10 @@ fn classical(dir: &str) {
         "family", "m", "lgsvi-quadrature", "gauss-quad"
     );
     for family in ["hermite", "laguerre", "jacobi"] {
-        for m in [100usize, 1_000, 10_000, 100_000, 1_000_000] {
+        for m in [100usize, 1_000, 10_000, 100_000, 1_000_000]
+            .into_iter()
+            .filter(|&m| m <= max_m)
+        {
             let best = |ours: bool| {
                 (0..3)
                     .map(|_| {

@@ -64,10 +64,20 @@ fn an_aliased_root_is_detected_against_the_flow() {
     // solution: the run used to end 1.3 rad off at T = 10 without a word).
     let mut it = case_a(1.0, 4, ChartKind::Cayley, omega_a());
     match it.step() {
-        Err(MechanicsError::AliasedRoot {
-            step: 0, distance, ..
-        }) => {
-            assert!(distance > 1.0, "{distance}")
+        Err(
+            error @ MechanicsError::AliasedRoot {
+                step: 0, distance, ..
+            },
+        ) => {
+            assert!(distance > 1.0, "{distance}");
+            // The message names the step, the chart and the remedies (h, another chart).
+            let text = error.to_string();
+            assert!(
+                text.contains("step 0")
+                    && text.contains("aliased root of the cayley chart")
+                    && text.contains("take a smaller step h"),
+                "{text}"
+            );
         }
         other => panic!("expected AliasedRoot, got {other:?}"),
     }

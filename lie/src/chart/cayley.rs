@@ -19,7 +19,8 @@ fn quaternion_below_pi<T: RealField + Copy>(
             chart,
             angle: PI,
             limit: PI,
-            hint: "the Cayley transform is singular at a rotation by π",
+            hint: "the Cayley transform is singular at a rotation by π: keep each step's rotation \
+                   below π (a shorter step) or take the exp chart, which reaches 2π",
         });
     }
     Ok((w, v))

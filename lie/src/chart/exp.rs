@@ -40,7 +40,8 @@ impl So3Chart for ExpChart {
                 chart: "exponential",
                 angle: PI,
                 limit: PI,
-                hint: "a rotation by exactly π has two logarithms; the chart is centred elsewhere",
+                hint: "a rotation by exactly π has two logarithms: keep the rotation below π (a \
+                       shorter step) or centre the chart elsewhere",
             });
         }
         Ok(w)

@@ -21,6 +21,20 @@ pub(super) const NODES_HOLD_MAX: usize = 1024;
 /// The most times one step is halved when step changes are allowed.
 pub(super) const MAX_HALVINGS: usize = 30;
 
+/// A failure of the step's solve (Newton, the chart, the inverse Legendre transform), which
+/// the system's state may explain ([`Integrator::diagnose`]).
+fn is_solve_failure(error: &MechanicsError) -> bool {
+    matches!(
+        error,
+        MechanicsError::NewtonDiverged { .. }
+            | MechanicsError::SingularJacobian { .. }
+            | MechanicsError::InverseLegendre { .. }
+            | MechanicsError::OutsideChart { .. }
+            | MechanicsError::StepTooLong { .. }
+            | MechanicsError::AliasedRoot { .. }
+    )
+}
+
 impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// Advances one step; returns the Newton iterations it took.
     ///
@@ -45,40 +59,55 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// positive definite, or a state outside what the system models
     /// ([`System::model_breakdown`]). Read only on this error path.
     pub(super) fn diagnose(&self, error: MechanicsError) -> MechanicsError {
-        if !matches!(
-            error,
-            MechanicsError::NewtonDiverged { .. }
-                | MechanicsError::SingularJacobian { .. }
-                | MechanicsError::InverseLegendre { .. }
-                | MechanicsError::OutsideChart { .. }
-                | MechanicsError::StepTooLong { .. }
-                | MechanicsError::AliasedRoot { .. }
-                | MechanicsError::NonFiniteStep { .. }
-                | MechanicsError::ToleranceNotMet { .. }
-        ) {
+        let solve = is_solve_failure(&error);
+        if !(solve
+            || matches!(
+                error,
+                MechanicsError::NonFiniteStep { .. } | MechanicsError::ToleranceNotMet { .. }
+            ))
+        {
             return error;
         }
         let state = &self.state;
-        if let Some(degenerate) = self.degenerate_lagrangian() {
+        let (degenerate, least, most) = self.hessian_spectrum();
+        if let Some(degenerate) = degenerate {
             return degenerate;
         }
-        match self
-            .system
-            .model_breakdown(state.time, &state.configuration, &state.velocity)
+        if let Some(reason) =
+            self.system
+                .model_breakdown(state.time, &state.configuration, &state.velocity)
         {
-            Some(reason) => MechanicsError::OutsideModel {
+            return MechanicsError::OutsideModel {
                 step: self.clock.step_index,
                 time: state.time,
                 reason,
                 failure: Box::new(error),
-            },
-            None => error,
+            };
         }
+        // A step that fails where the velocity is barely determined by the momentum: the
+        // conditioning is the cause (shorter steps may converge, to that accuracy only).
+        if solve && least > 0.0 && most >= crate::error::ILL_CONDITIONED * least {
+            return MechanicsError::IllConditioned {
+                step: self.clock.step_index,
+                time: state.time,
+                least,
+                most,
+                failure: Box::new(error),
+            };
+        }
+        error
     }
 
     /// [`MechanicsError::DegenerateLagrangian`] where `∂²ℓ/∂ξ²` at the state is not
-    /// positive definite.
-    fn degenerate_lagrangian(&self) -> Option<MechanicsError> {
+    /// positive definite, and that matrix's least and largest eigenvalues (`NaN` where it
+    /// is not finite).
+    ///
+    /// Convexity does not depend on units, so the test reads the Hessian scaled to a unit
+    /// diagonal, `D^{-1/2} H D^{-1/2}`: a mass of 1e-30 beside an inertia of 1 is a badly
+    /// scaled but convex Lagrangian (its failure is the model's or the step's), while a
+    /// zero or negative diagonal, or a scaled eigenvalue at rounding, is degenerate. The
+    /// message gives `H`'s own eigenvalues.
+    fn hessian_spectrum(&self) -> (Option<MechanicsError>, f64, f64) {
         let state = &self.state;
         let (_, hessian) = crate::state::legendre_blocks(
             &self.system,
@@ -88,22 +117,35 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         );
         let symmetric = (hessian + hessian.transpose()) * 0.5;
         if symmetric.iter().any(|x| !x.is_finite()) {
-            return None;
+            return (None, f64::NAN, f64::NAN);
         }
         // Dynamic storage: the fixed-size eigen decomposition needs bounds a const `D` lacks.
-        let eigenvalues = nalgebra::DMatrix::from_iterator(D, D, symmetric.iter().copied())
-            .symmetric_eigenvalues();
-        let (least, most) = eigenvalues
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(l, m), &e| {
-                (l.min(e), m.max(e.abs()))
-            });
-        (least <= f64::EPSILON * D as f64 * most).then_some(MechanicsError::DegenerateLagrangian {
+        let range = |matrix: nalgebra::DMatrix<f64>| {
+            matrix
+                .symmetric_eigenvalues()
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(l, m), &e| {
+                    (l.min(e), m.max(e.abs()))
+                })
+        };
+        let unscaled = nalgebra::DMatrix::from_iterator(D, D, symmetric.iter().copied());
+        let diagonal = unscaled.diagonal();
+        let degenerate = if diagonal.iter().all(|&d| d > 0.0) {
+            let scale = diagonal.map(|d| d.sqrt().recip());
+            let scaled = unscaled.component_mul(&(&scale * scale.transpose()));
+            let (least, most) = range(scaled);
+            least <= f64::EPSILON * D as f64 * most
+        } else {
+            true
+        };
+        let (least, most) = range(unscaled);
+        let error = degenerate.then_some(MechanicsError::DegenerateLagrangian {
             step: self.clock.step_index,
             time: state.time,
             least,
             most,
-        })
+        });
+        (error, least, most)
     }
 
     pub(super) fn advance(&mut self) -> Result<usize, MechanicsError> {
