@@ -304,6 +304,7 @@ impl SimulateOptions {
         };
         let (mut table, _) = read_config_table(&path)?;
         table.remove("converge");
+        table.remove("montecarlo");
         let mut merged: Self = overlaid(table, &self, &path, "")?;
         merged.config = Some(path);
         Ok(merged)

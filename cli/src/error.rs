@@ -197,6 +197,23 @@ pub enum CliError {
         /// The renderer's message.
         message: String,
     },
+    /// A Monte Carlo dispersion spec refused (its message names the dispersion's key).
+    #[error(transparent)]
+    Dispersion(#[from] lgsvi_montecarlo::DispersionError),
+    /// Members of a Monte Carlo run that failed (each listed with its seed and cause in
+    /// the summary); everything else was written.
+    #[error(
+        "{failed} of {members} members failed; each is listed with its seed and cause in {}",
+        summary.display()
+    )]
+    MembersFailed {
+        /// How many failed.
+        failed: usize,
+        /// How many ran.
+        members: usize,
+        /// The summary that lists them.
+        summary: PathBuf,
+    },
     /// JSON that could not be produced.
     #[error("JSON: {0}")]
     Json(#[from] serde_json::Error),

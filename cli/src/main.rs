@@ -9,6 +9,7 @@ mod config;
 mod error;
 mod files;
 mod linearize;
+mod montecarlo;
 mod plot;
 mod problem;
 mod progress;
@@ -61,6 +62,11 @@ enum Command {
     Linearize(linearize::LinearizeOptions),
     /// Regenerate the paper's nine figures, their data and a report (the default command).
     Reproduce(reproduce::ReproduceOptions),
+    /// Monte Carlo dispersion analysis: many runs of simulate's system with dispersed
+    /// inertia, start and torque, in parallel; members.csv (one row per member) and
+    /// summary.json (final-state statistics, every failure with its seed and cause).
+    /// Exit status 3 when members failed.
+    Montecarlo(montecarlo::MontecarloOptions),
 }
 
 /// The run the problem describes, recorded; a `--tol` run that failed says what to change.
@@ -140,7 +146,7 @@ fn conditioning_warning(moments: &[f64; 3]) -> Option<String> {
 
 /// `lgsvi simulate`: resolves the options (config, flags, defaults), runs (or evaluates
 /// the exact solution), warns of a large estimated error, draws and writes.
-fn run_simulate(options: SimulateOptions) -> Result<()> {
+pub(crate) fn run_simulate(options: SimulateOptions) -> Result<()> {
     check_outputs(&options)?;
     let (problem, options) = Problem::resolve(options)?;
     let mut description = problem.description.clone();
@@ -221,10 +227,16 @@ fn main() -> ExitCode {
         Some(Command::Reproduce(options)) => reproduce::run(options),
         Some(Command::Bench(options)) => bench::run(options),
         Some(Command::Linearize(options)) => linearize::run(options),
+        Some(Command::Montecarlo(options)) => montecarlo::run(options),
         None => reproduce::run(cli.reproduce),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // A Monte Carlo run whose outputs were written, some members failing.
+        Err(error @ CliError::MembersFailed { .. }) => {
+            eprintln!("error: {error}");
+            ExitCode::from(3)
+        }
         Err(error) => {
             eprintln!("error: {}", error.to_string().replace('\n', " "));
             ExitCode::FAILURE

@@ -1,0 +1,256 @@
+//! `lgsvi montecarlo`: members that depend on (seed, member) alone, whatever the thread
+//! count; a row that `lgsvi simulate` given the row's parameters reproduces bit for bit,
+//! and `--replay`; failures listed with seed and cause, never dropped; bad input refused
+//! naming the flag or key.
+
+use std::process::Command;
+
+fn lgsvi(args: &[&str], threads: Option<&str>) -> (i32, String, String) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_lgsvi"));
+    command.args(args);
+    if let Some(threads) = threads {
+        command.env("RAYON_NUM_THREADS", threads);
+    }
+    let out = command.output().expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("lgsvi-mc-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const RUN: [&str; 12] = [
+    "montecarlo",
+    "--members",
+    "40",
+    "--seed",
+    "9",
+    "--disperse-omega",
+    "0.02",
+    "--disperse-inertia",
+    "0.01",
+    "--disperse-attitude",
+    "2",
+    "--quiet",
+];
+
+/// `(header, rows)` of a members.csv.
+fn table(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn members_are_the_same_on_one_thread_or_two_and_simulate_reproduces_a_row() {
+    let dir = temp_dir("determinism");
+    let mut outputs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = dir.join(format!("threads-{threads}"));
+        let mut args = RUN.to_vec();
+        args.extend([
+            "--t-end",
+            "5",
+            "--tol",
+            "1e-10",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let (code, _, err) = lgsvi(&args, Some(threads));
+        assert_eq!(code, 0, "{err}");
+        outputs.push(std::fs::read(out.join("members.csv")).unwrap());
+    }
+    assert_eq!(
+        outputs[0], outputs[1],
+        "members.csv differs between 1 and 2 threads"
+    );
+    let (header, rows) = table(&dir.join("threads-2").join("members.csv"));
+    assert_eq!(rows.len(), 40);
+    assert_eq!(&header[..3], ["member", "status", "J_11"]);
+    assert_eq!(header.len(), 2 + 9 + 9 + 3 + 1 + 9 + 3);
+    let row = &rows[13];
+    assert_eq!((row[0].as_str(), row[1].as_str()), ("13", "ok"));
+    // simulate with the row's drawn J, R₀, Ω₀ (and the nominal's flags) ends on the row's
+    // final state, bit for bit (every float printed to round-trip).
+    let j = row[2..11].join(",");
+    let r0 = row[11..20].join(",");
+    let w0 = row[20..23].join(",");
+    let (code, out, err) = lgsvi(
+        &[
+            "simulate",
+            "--inertia-tensor",
+            &j,
+            "--attitude0",
+            &r0,
+            "--omega0",
+            &w0,
+            "--t-end",
+            "5",
+            "--tol",
+            "1e-10",
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let last = |key: &str| -> Vec<f64> {
+        json[key]
+            .as_array()
+            .unwrap()
+            .last()
+            .unwrap()
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let parse =
+        |cells: &[String]| -> Vec<f64> { cells.iter().map(|c| c.parse().unwrap()).collect() };
+    assert_eq!(last("R"), parse(&row[24..33]));
+    assert_eq!(last("omega"), parse(&row[33..36]));
+    // --replay 13 writes that member's whole trajectory, the same last state.
+    let mut args = RUN.to_vec();
+    args.extend(["--t-end", "5", "--tol", "1e-10", "--replay", "13"]);
+    let (code, out, err) = lgsvi(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let replay: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(replay["R"], json["R"]);
+    assert_eq!(replay["omega"], json["omega"]);
+    // The summary: every member finished, the rates' statistics over them.
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("threads-2").join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(summary["finished"], 40);
+    assert_eq!(summary["failed"], 0);
+    assert_eq!(
+        summary["final_omega"]["covariance"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    assert_eq!(
+        summary["dispersions"]["inertia"]["distribution"],
+        "truncated_normal"
+    );
+}
+
+/// Members whose steps fail (spins the Cayley chart cannot follow at h = 1) are listed
+/// with their seed and cause, their rows marked, the rest written; exit status 3.
+#[test]
+fn failed_members_are_listed_not_dropped() {
+    let dir = temp_dir("failures");
+    let out = dir.join("run");
+    let (code, _, err) = lgsvi(
+        &[
+            "montecarlo",
+            "--members",
+            "20",
+            "--disperse-omega",
+            "2",
+            "--h",
+            "1",
+            "--chart",
+            "cayley",
+            "--t-end",
+            "4",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("members failed") && err.contains("summary.json"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let failed = summary["failed"].as_u64().unwrap();
+    assert!(failed > 0 && failed < 20, "{failed}");
+    let (_, rows) = table(&out.join("members.csv"));
+    assert_eq!(rows.len(), 20);
+    let marked = rows.iter().filter(|r| r[1] == "failed").count() as u64;
+    assert_eq!(marked, failed);
+    for failure in summary["failures"].as_array().unwrap() {
+        assert_eq!(failure["seed"], 0);
+        assert!(
+            failure["error"]
+                .as_str()
+                .unwrap()
+                .contains("cayley chart's reach"),
+            "{failure}"
+        );
+        let member = failure["member"].as_u64().unwrap() as usize;
+        assert_eq!(rows[member][1], "failed");
+    }
+}
+
+#[test]
+fn bad_input_is_refused_naming_the_flag_or_key() {
+    let dir = temp_dir("bad");
+    let taken = dir.join("taken");
+    std::fs::create_dir_all(&taken).unwrap();
+    std::fs::write(taken.join("members.csv"), "member\n").unwrap();
+    let config = dir.join("bad.toml");
+    std::fs::write(
+        &config,
+        "[montecarlo.dispersions]\nomegas = { distribution = \"normal\", sigma = 0.1 }\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    for (args, needles) in [
+        (vec!["--members", "0"], vec!["--members 0", "from 1"]),
+        (
+            vec!["--disperse-omega", "-1"],
+            vec!["--disperse-omega -1", "≥ 0"],
+        ),
+        (
+            vec!["--disperse-inertia", "0.2"],
+            vec![
+                "--disperse-inertia 0.2",
+                "triangle inequality",
+                "below 0.260870",
+            ],
+        ),
+        (
+            vec!["--system", "se3-body"],
+            vec!["--system se3-body", "rigid-body, heavy-top"],
+        ),
+        (vec!["--plot", "p"], vec!["--plot"]),
+        (
+            vec!["--config", config.to_str().unwrap()],
+            vec!["[montecarlo.dispersions]", "omegas"],
+        ),
+    ] {
+        let mut full = vec!["montecarlo", "--quiet", "--out", out.to_str().unwrap()];
+        full.extend(args.iter().copied());
+        let (code, _, err) = lgsvi(&full, None);
+        assert_ne!(code, 0, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{args:?}: {err}");
+        }
+    }
+    // An output folder that holds another run.
+    let (code, _, err) = lgsvi(
+        &["montecarlo", "--quiet", "--out", taken.to_str().unwrap()],
+        None,
+    );
+    assert_ne!(code, 0);
+    assert!(err.contains("holds another run"), "{err}");
+}
