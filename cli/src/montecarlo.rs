@@ -12,7 +12,8 @@ use crate::config::{config_error, SimulateOptions};
 use crate::error::{CliError, Result};
 use crate::problem::Problem;
 use clap::Args;
-use lgsvi_mechanics::lie::{LieGroup, SO3};
+use lgsvi_mechanics::lie::SO3;
+use lgsvi_montecarlo::statistics::Envelope;
 use lgsvi_montecarlo::{Dispersion, DispersionError, Dispersions, Member, Nominal, Plan};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -64,6 +65,10 @@ pub struct MontecarloOptions {
     /// Run member K alone and write its whole trajectory as simulate does (JSON).
     #[arg(long, value_name = "K")]
     pub replay: Option<u64>,
+    /// Sample times of the percentile envelopes, evenly spaced in steps over the run,
+    /// 2 to 10000 [default: 100].
+    #[arg(long, value_name = "K")]
+    pub samples: Option<usize>,
 }
 
 /// One member's outcome: its draws, and its final state or why it failed.
@@ -78,6 +83,50 @@ struct Final {
     time: f64,
     attitude: Matrix3<f64>,
     omega: Vector3<f64>,
+}
+
+/// A run's states at the sample times (every `every`-th step, and the last).
+struct Sampled {
+    times: Vec<f64>,
+    attitudes: Vec<Matrix3<f64>>,
+    omegas: Vec<Vector3<f64>>,
+    energies: Vec<f64>,
+}
+
+impl Sampled {
+    /// The last state.
+    fn last(&self) -> Option<Final> {
+        Some(Final {
+            time: *self.times.last()?,
+            attitude: *self.attitudes.last()?,
+            omega: *self.omegas.last()?,
+        })
+    }
+}
+
+/// The envelopes' channels: the attitude's departure from the nominal run's at the same
+/// time (degrees), the body rates, and the energy's relative change since the start (the
+/// integrator's error, for a body that conserves it).
+const CHANNELS: [&str; 5] = [
+    "attitude_departure_deg",
+    "omega_1",
+    "omega_2",
+    "omega_3",
+    "energy_change",
+];
+
+/// The percentiles of the envelopes.
+const PERCENTILES: [f64; 7] = [1.0, 5.0, 25.0, 50.0, 75.0, 95.0, 99.0];
+
+/// The memory a chunk of members' sampled states may take (14 numbers a sample): the
+/// members run between two additions to the envelopes, whose sampled states are held only
+/// that long, so a run's memory does not grow with its members' trajectories.
+const CHUNK_BYTES: usize = 16 << 20;
+
+/// Members a chunk holds at `samples` sample times: within [`CHUNK_BYTES`], at least 16
+/// (a few per thread) and at most 1024.
+fn chunk_members(samples: usize) -> u64 {
+    (CHUNK_BYTES / (samples * 14 * 8)).clamp(16, 1024) as u64
 }
 
 /// Runs `lgsvi montecarlo`; `Ok(())` when every member finished, else
@@ -137,8 +186,12 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
             None => error.into(),
         }
     })?;
+    // Every member takes the nominal's step, so that all share one time grid (a --tol
+    // run's first step would otherwise follow each member's own rate).
+    let h = nominal_problem.settings().h();
     let member_options = |member: &Member| {
         let mut o = resolved.clone();
+        o.h = Some(h);
         o.config = None;
         o.quiet = true;
         o.out = None;
@@ -176,37 +229,89 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         path: out.clone(),
         source,
     })?;
+    let samples = options.samples.unwrap_or(DEFAULT_SAMPLES);
+    if !(2..=MAX_SAMPLES).contains(&samples) {
+        return Err(CliError::invalid(
+            "--samples",
+            samples,
+            format!("from 2 to {MAX_SAMPLES}"),
+        ));
+    }
+    let steps = crate::problem::whole_steps(nominal_problem.t_end, h)?;
+    let every = (steps / (samples - 1)).max(1);
+    let nominal_run = run_sampled(&nominal_problem, every)
+        .map_err(|e| CliError::invalid("--omega0", "(the nominal run)", e))?;
+    let nominal_final = nominal_run.last().ok_or(CliError::invalid(
+        "--t-end",
+        nominal_problem.t_end,
+        "the nominal run recorded no state",
+    ))?;
+    let mut stats = Statistics::new(nominal_run.times.len(), nominal_final);
     let bar = crate::progress::bar(members, "members", "members", base.quiet);
     let started = std::time::Instant::now();
-    let outcomes: Vec<Outcome> = (0..members)
-        .into_par_iter()
-        .map(|index| {
-            let outcome = run_member(&plan, index, &member_options);
-            bar.inc(1);
-            outcome
-        })
-        .collect::<Result<_>>()?;
+    let chunk_size = chunk_members(nominal_run.times.len());
+    // Rows are written as their chunk finishes, in member order, and the statistics
+    // updated: nothing of a member is held past its chunk.
+    let mut failed_draw: Option<CliError> = None;
+    crate::files::write_with(&table, |file| {
+        use std::io::Write;
+        writeln!(file, "{}", csv_header())?;
+        let mut first = 0;
+        while first < members {
+            let last = (first + chunk_size).min(members);
+            let chunk: Result<Vec<(Outcome, Option<Sampled>)>> = (first..last)
+                .into_par_iter()
+                .map(|index| {
+                    let outcome = run_member(&plan, index, every, &member_options);
+                    bar.inc(1);
+                    outcome
+                })
+                .collect();
+            let chunk = match chunk {
+                Ok(chunk) => chunk,
+                Err(error) => {
+                    failed_draw = Some(error);
+                    return Err(std::io::Error::other("a member could not be drawn"));
+                }
+            };
+            for (outcome, sampled) in chunk {
+                writeln!(file, "{}", csv_row(&outcome))?;
+                stats.add(&outcome, sampled.as_ref(), &nominal_run);
+            }
+            first = last;
+        }
+        Ok(())
+    })
+    .map_err(|error| failed_draw.take().unwrap_or(error))?;
     bar.finish_and_clear();
     let wall_time = started.elapsed().as_secs_f64();
-    let nominal_final =
-        run_to_end(&nominal_problem).map_err(|e| CliError::invalid("the nominal run", "", e))?;
-    crate::files::write(&table, members_csv(&outcomes).as_bytes())?;
-    let summary = summary(
-        &options,
-        &plan,
-        &nominal_problem,
-        &outcomes,
-        nominal_final,
-        wall_time,
-    );
+    let mut summary = summary(&options, &plan, &nominal_problem, &stats, wall_time);
+    summary["envelopes"] = envelopes_json(&stats.envelope, &nominal_run.times);
+    crate::plot::save(
+        &envelope_figure(
+            &stats.envelope,
+            &nominal_run.times,
+            0,
+            "attitude departure (deg)",
+        ),
+        &out.join("envelope_attitude"),
+    )?;
+    crate::plot::save(
+        &envelope_figure(
+            &stats.envelope,
+            &nominal_run.times,
+            4,
+            "relative energy change",
+        ),
+        &out.join("envelope_energy"),
+    )?;
     let text = serde_json::to_string_pretty(&summary)? + "\n";
     let summary_path = out.join("summary.json");
     crate::files::write(&summary_path, text.as_bytes())?;
-    let failed = outcomes.iter().filter(|o| o.result.is_err()).count();
-    if failed > 0 {
+    if !stats.failures.is_empty() {
         return Err(CliError::MembersFailed {
-            failed,
-            members: outcomes.len(),
+            failed: stats.failures.len(),
+            members: members as usize,
             summary: summary_path,
         });
     }
@@ -215,6 +320,10 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
 
 /// The members run without `--members` (a quick look; thousands for a sign-off).
 const DEFAULT_MEMBERS: u64 = 100;
+/// The envelopes' sample times without `--samples`.
+const DEFAULT_SAMPLES: usize = 100;
+/// The most sample times (the envelopes hold a sketch per channel and time).
+const MAX_SAMPLES: usize = 10_000;
 /// The most members one run takes (its table is held in memory).
 const MAX_MEMBERS: u64 = 10_000_000;
 /// The output folder without `--out`.
@@ -290,40 +399,115 @@ fn dispersions(options: &MontecarloOptions) -> Result<Dispersions> {
     Ok(spec)
 }
 
-/// Member `index` drawn and run as simulate runs it with its parameters as flags.
+/// Member `index` drawn and run as simulate runs it with its parameters as flags, its
+/// states kept every `every` steps (for the envelopes) until they are added.
 fn run_member(
     plan: &Plan,
     index: u64,
+    every: usize,
     options: &dyn Fn(&Member) -> SimulateOptions,
-) -> Result<Outcome> {
+) -> Result<(Outcome, Option<Sampled>)> {
     let member = plan.member(index)?;
-    let result = Problem::resolve(options(&member))
+    let run = Problem::resolve(options(&member))
         .map_err(|e| e.to_string())
-        .and_then(|(problem, _)| run_to_end(&problem));
-    Ok(Outcome { member, result })
+        .and_then(|(problem, _)| run_sampled(&problem, every));
+    let (result, sampled) = match run {
+        Ok(sampled) => match sampled.last() {
+            Some(last) => (Ok(last), Some(sampled)),
+            None => (Err("no state recorded".to_string()), None),
+        },
+        Err(error) => (Err(error), None),
+    };
+    Ok((Outcome { member, result }, sampled))
 }
 
-/// The problem's run to its end (its last state), or why it failed, on one line.
-fn run_to_end(problem: &Problem) -> std::result::Result<Final, String> {
+/// The problem's run, its states every `every` steps and the last, or why it failed, on
+/// one line.
+fn run_sampled(problem: &Problem, every: usize) -> std::result::Result<Sampled, String> {
     let settings = problem.settings();
-    let steps =
-        crate::problem::whole_steps(problem.t_end, settings.h()).map_err(|e| e.to_string())?;
     let recording = problem
         .scenario
-        .record(
-            settings,
-            problem.check,
-            problem.t_end,
-            steps.max(1),
-            &mut |_| {},
-        )
+        .record(settings, problem.check, problem.t_end, every, &mut |_| {})
         .map_err(|e| e.to_string().replace('\n', " "))?;
-    let last = recording.states.last().ok_or("no state recorded")?;
-    Ok(Final {
-        time: last.time,
-        attitude: *last.attitude().matrix(),
-        omega: last.velocity,
+    Ok(Sampled {
+        times: recording.states.iter().map(|s| s.time).collect(),
+        attitudes: recording
+            .states
+            .iter()
+            .map(|s| *s.attitude().matrix())
+            .collect(),
+        omegas: recording.states.iter().map(|s| s.velocity).collect(),
+        energies: recording.energies,
     })
+}
+
+/// A member's sampled states into the envelopes, channel by channel ([`CHANNELS`]).
+fn add_to_envelope(envelope: &mut Envelope, nominal: &Sampled, member: &Sampled) {
+    let e0 = member.energies.first().copied().unwrap_or(f64::NAN);
+    for k in 0..envelope.samples().min(member.times.len()) {
+        let relative = nominal.attitudes[k].transpose() * member.attitudes[k];
+        let departure = SO3::from_matrix_unchecked(relative)
+            .log()
+            .norm()
+            .to_degrees();
+        envelope.add(0, k, departure);
+        for axis in 0..3 {
+            envelope.add(1 + axis, k, member.omegas[k][axis]);
+        }
+        envelope.add(4, k, (member.energies[k] - e0) / e0.abs());
+    }
+}
+
+/// The envelopes as JSON: the sample times, and per channel each percentile's series
+/// (`p1` … `p99`), each value within 0.55% of the exact sample percentile.
+fn envelopes_json(envelope: &Envelope, times: &[f64]) -> serde_json::Value {
+    let mut channels = serde_json::Map::new();
+    for (c, name) in envelope.channels().iter().enumerate() {
+        let mut series = serde_json::Map::new();
+        for p in PERCENTILES {
+            let values: Vec<Option<f64>> = (0..envelope.samples())
+                .map(|k| envelope.at(c, k).quantile(p / 100.0))
+                .collect();
+            series.insert(format!("p{p}"), json!(values));
+        }
+        channels.insert(name.clone(), serde_json::Value::Object(series));
+    }
+    json!({
+        "t": times,
+        "relative_accuracy": lgsvi_montecarlo::statistics::RELATIVE_ERROR,
+        "percentile": "the ceil(q N)-th smallest of the N members that finished, to relative_accuracy",
+        "channels": channels,
+    })
+}
+
+/// A channel's median and its 1% and 99% percentiles over time.
+fn envelope_figure(
+    envelope: &Envelope,
+    times: &[f64],
+    channel: usize,
+    label: &str,
+) -> lgsvi_plot::Figure {
+    let series = |p: f64, color: usize, name: &str| lgsvi_plot::Series {
+        label: name.into(),
+        points: (0..envelope.samples())
+            .filter_map(|k| Some((times[k], envelope.at(channel, k).quantile(p / 100.0)?)))
+            .collect(),
+        style: lgsvi_plot::Style::Line,
+        color,
+    };
+    lgsvi_plot::Figure {
+        title: format!("{label}: median, 1% and 99% of the members"),
+        x_label: "t".into(),
+        y_label: label.into(),
+        x_log: false,
+        y_log: false,
+        series: vec![
+            series(99.0, 1, "99th percentile"),
+            series(50.0, 0, "median"),
+            series(1.0, 2, "1st percentile"),
+        ],
+        hlines: vec![],
+    }
 }
 
 /// A 3×3 matrix's entries, row by row.
@@ -333,9 +517,8 @@ fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
     ]
 }
 
-/// `members.csv`: one row per member in member order; every float in Rust's shortest form
-/// that reads back to the same bits.
-fn members_csv(outcomes: &[Outcome]) -> String {
+/// The header of `members.csv`.
+fn csv_header() -> String {
     let names = |prefix: &str| -> Vec<String> {
         (1..=3)
             .flat_map(|i| (1..=3).map(move |j| format!("{prefix}_{i}{j}")))
@@ -348,33 +531,113 @@ fn members_csv(outcomes: &[Outcome]) -> String {
     header.push("t".into());
     header.extend(names("R"));
     header.extend((1..=3).map(|i| format!("omega_{i}")));
-    let mut text = header.join(",") + "\n";
-    for outcome in outcomes {
-        let m = &outcome.member;
-        let mut cells = vec![
-            m.index.to_string(),
-            if outcome.result.is_ok() {
-                "ok"
-            } else {
-                "failed"
-            }
-            .to_string(),
-        ];
-        let floats = |values: &[f64]| values.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>();
-        cells.extend(floats(&row_major(&m.inertia.matrix())));
-        cells.extend(floats(&row_major(m.attitude.matrix())));
-        cells.extend(floats(m.omega.as_slice()));
-        match &outcome.result {
-            Ok(f) => {
-                cells.extend(floats(&[f.time]));
-                cells.extend(floats(&row_major(&f.attitude)));
-                cells.extend(floats(f.omega.as_slice()));
-            }
-            Err(_) => cells.extend(std::iter::repeat_n(String::new(), 13)),
+    header.join(",")
+}
+
+/// A member's row of `members.csv`: every float in Rust's shortest form that reads back
+/// to the same bits; a failed member's final state left empty.
+fn csv_row(outcome: &Outcome) -> String {
+    let m = &outcome.member;
+    let mut cells = vec![
+        m.index.to_string(),
+        if outcome.result.is_ok() {
+            "ok"
+        } else {
+            "failed"
         }
-        text += &(cells.join(",") + "\n");
+        .to_string(),
+    ];
+    let floats = |values: &[f64]| values.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>();
+    cells.extend(floats(&row_major(&m.inertia.matrix())));
+    cells.extend(floats(&row_major(m.attitude.matrix())));
+    cells.extend(floats(m.omega.as_slice()));
+    match &outcome.result {
+        Ok(f) => {
+            cells.extend(floats(&[f.time]));
+            cells.extend(floats(&row_major(&f.attitude)));
+            cells.extend(floats(f.omega.as_slice()));
+        }
+        Err(_) => cells.extend(std::iter::repeat_n(String::new(), 13)),
     }
-    text
+    cells.join(",")
+}
+
+/// What the summary reports, gathered member by member in member order: the envelopes,
+/// the final rates' and attitude departures' running mean and covariance (Welford), the
+/// largest departure angle, and every failure.
+struct Statistics {
+    envelope: Envelope,
+    nominal_final: Final,
+    rates: Running,
+    departures: Running,
+    largest_angle: f64,
+    failures: Vec<serde_json::Value>,
+}
+
+impl Statistics {
+    fn new(samples: usize, nominal_final: Final) -> Self {
+        Self {
+            envelope: Envelope::new(&CHANNELS, samples),
+            nominal_final,
+            rates: Running::default(),
+            departures: Running::default(),
+            largest_angle: 0.0,
+            failures: Vec::new(),
+        }
+    }
+
+    fn add(&mut self, outcome: &Outcome, sampled: Option<&Sampled>, nominal: &Sampled) {
+        match &outcome.result {
+            Ok(last) => {
+                let relative = self.nominal_final.attitude.transpose() * last.attitude;
+                let departure = SO3::from_matrix_unchecked(relative).log();
+                self.largest_angle = self.largest_angle.max(departure.norm());
+                self.departures.add(&departure);
+                self.rates.add(&last.omega);
+            }
+            Err(error) => self.failures.push(json!({
+                "member": outcome.member.index,
+                "seed": outcome.member.seed,
+                "error": error,
+            })),
+        }
+        if let Some(sampled) = sampled {
+            add_to_envelope(&mut self.envelope, nominal, sampled);
+        }
+    }
+}
+
+/// Running mean and covariance of 3-vectors (Welford's update, in the order added).
+#[derive(Default)]
+struct Running {
+    count: u64,
+    mean: Vector3<f64>,
+    scatter: Matrix3<f64>,
+}
+
+impl Running {
+    fn add(&mut self, x: &Vector3<f64>) {
+        self.count += 1;
+        let before = x - self.mean;
+        self.mean += before / self.count as f64;
+        self.scatter += before * (x - self.mean).transpose();
+    }
+
+    /// Mean and covariance (unbiased; zero for one value; null for none), as JSON.
+    fn json(&self) -> serde_json::Value {
+        if self.count == 0 {
+            return json!({"mean": null, "covariance": null});
+        }
+        let covariance = if self.count > 1 {
+            self.scatter / (self.count - 1) as f64
+        } else {
+            Matrix3::zeros()
+        };
+        let rows: Vec<[f64; 3]> = (0..3)
+            .map(|i| [covariance[(i, 0)], covariance[(i, 1)], covariance[(i, 2)]])
+            .collect();
+        json!({"mean": self.mean.as_slice(), "covariance": rows})
+    }
 }
 
 /// `summary.json`: the run's description, the final state's statistics over the members
@@ -385,81 +648,35 @@ fn summary(
     options: &MontecarloOptions,
     plan: &Plan,
     nominal: &Problem,
-    outcomes: &[Outcome],
-    nominal_final: Final,
+    stats: &Statistics,
     wall_time: f64,
 ) -> serde_json::Value {
-    let finished: Vec<&Final> = outcomes
-        .iter()
-        .filter_map(|o| o.result.as_ref().ok())
-        .collect();
-    let reference = SO3::from_matrix_unchecked(nominal_final.attitude);
-    let departures: Vec<Vector3<f64>> = finished
-        .iter()
-        .map(|f| {
-            reference
-                .inverse()
-                .compose(&SO3::from_matrix_unchecked(f.attitude))
-                .log()
-        })
-        .collect();
-    let rates: Vec<Vector3<f64>> = finished.iter().map(|f| f.omega).collect();
-    let failures: Vec<serde_json::Value> = outcomes
-        .iter()
-        .filter_map(|o| {
-            o.result.as_ref().err().map(
-                |error| json!({"member": o.member.index, "seed": o.member.seed, "error": error}),
-            )
-        })
-        .collect();
-    let largest_angle = departures.iter().map(|d| d.norm()).fold(0.0, f64::max);
     let mut settings =
         lgsvi_reports::trajectory::settings_json(&nominal.settings(), nominal.t_end, nominal.every);
     settings["check"] = format!("{:?}", nominal.check).into();
+    let members = options.members.unwrap_or(DEFAULT_MEMBERS);
+    let last = stats.nominal_final;
     json!({
         "command": "montecarlo",
-        "members": outcomes.len(),
-        "finished": finished.len(),
-        "failed": failures.len(),
+        "members": members,
+        "finished": stats.rates.count,
+        "failed": stats.failures.len(),
         "seed": plan.seed(),
         "dispersions": plan.dispersions(),
         "nominal": nominal.description,
         "settings": settings,
         "nominal_final": {
-            "t": nominal_final.time,
-            "R": row_major(&nominal_final.attitude),
-            "omega": nominal_final.omega.as_slice(),
+            "t": last.time,
+            "R": row_major(&last.attitude),
+            "omega": last.omega.as_slice(),
         },
-        "final_omega": moments(&rates),
+        "final_omega": stats.rates.json(),
         "final_attitude_departure": {
-            "rotation_vector": moments(&departures),
-            "largest_angle_rad": largest_angle,
+            "rotation_vector": stats.departures.json(),
+            "largest_angle_rad": stats.largest_angle,
         },
-        "failures": failures,
+        "failures": stats.failures,
         "wall_time_s": wall_time,
         "threads": rayon::current_num_threads(),
-        "members_requested": options.members.unwrap_or(DEFAULT_MEMBERS),
     })
-}
-
-/// Mean and covariance (unbiased; zero for fewer than two) of 3-vectors, as JSON.
-fn moments(values: &[Vector3<f64>]) -> serde_json::Value {
-    let n = values.len() as f64;
-    if values.is_empty() {
-        return json!({"mean": null, "covariance": null});
-    }
-    let mean = values.iter().sum::<Vector3<f64>>() / n;
-    let covariance = if values.len() > 1 {
-        values
-            .iter()
-            .map(|v| (v - mean) * (v - mean).transpose())
-            .sum::<Matrix3<f64>>()
-            / (n - 1.0)
-    } else {
-        Matrix3::zeros()
-    };
-    let rows: Vec<[f64; 3]> = (0..3)
-        .map(|i| [covariance[(i, 0)], covariance[(i, 1)], covariance[(i, 2)]])
-        .collect();
-    json!({"mean": mean.as_slice(), "covariance": rows})
 }

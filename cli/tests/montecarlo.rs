@@ -75,6 +75,12 @@ fn members_are_the_same_on_one_thread_or_two_and_simulate_reproduces_a_row() {
         outputs[0], outputs[1],
         "members.csv differs between 1 and 2 threads"
     );
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("threads-2").join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    // Every member takes the nominal's step (one time grid for the envelopes).
+    let h = summary["settings"]["h"].as_f64().unwrap().to_string();
     let (header, rows) = table(&dir.join("threads-2").join("members.csv"));
     assert_eq!(rows.len(), 40);
     assert_eq!(&header[..3], ["member", "status", "J_11"]);
@@ -99,6 +105,8 @@ fn members_are_the_same_on_one_thread_or_two_and_simulate_reproduces_a_row() {
             "5",
             "--tol",
             "1e-10",
+            "--h",
+            &h,
         ],
         None,
     );
@@ -128,11 +136,25 @@ fn members_are_the_same_on_one_thread_or_two_and_simulate_reproduces_a_row() {
     let replay: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(replay["R"], json["R"]);
     assert_eq!(replay["omega"], json["omega"]);
-    // The summary: every member finished, the rates' statistics over them.
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("threads-2").join("summary.json")).unwrap(),
+    // The summary: every member finished, the rates' statistics over them, and the
+    // envelopes: at t = 0 the attitude departure's percentiles are those of the drawn
+    // starts (2° per axis), ordered, and the same on one thread or two.
+    let envelope = &summary["envelopes"]["channels"]["attitude_departure_deg"];
+    let at = |p: &str, k: usize| envelope[p][k].as_f64().unwrap();
+    let t = summary["envelopes"]["t"].as_array().unwrap();
+    assert!(t.len() >= 2 && t[0] == 0.0);
+    for k in 0..t.len() {
+        assert!(at("p1", k) <= at("p50", k) && at("p50", k) <= at("p99", k));
+    }
+    assert!((1.0..8.0).contains(&at("p50", 0)), "{}", at("p50", 0));
+    let other: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("threads-1").join("summary.json")).unwrap(),
     )
     .unwrap();
+    assert_eq!(other["envelopes"], summary["envelopes"]);
+    for figure in ["envelope_attitude.png", "envelope_energy.svg"] {
+        assert!(dir.join("threads-2").join(figure).exists(), "{figure}");
+    }
     assert_eq!(summary["finished"], 40);
     assert_eq!(summary["failed"], 0);
     assert_eq!(

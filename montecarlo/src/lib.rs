@@ -2,9 +2,12 @@
 //! spacecraft whose parameters and start are dispersed about a nominal, each member
 //! reproducible from `(seed, member)` alone.
 //!
-//! This first part draws the members ([`dispersion`]): a [`Plan`] checks the dispersions
-//! against the nominal body up front (no member can be non-physical) and gives member
-//! `i` the same draws on any machine, thread count or order.
+//! - [`dispersion`] draws the members: a [`Plan`] checks the dispersions against the
+//!   nominal body up front (no member can be non-physical) and gives member `i` the same
+//!   draws on any machine, thread count or order.
+//! - [`statistics`] summarises them with bounded memory: percentiles over the members
+//!   ([`statistics::Quantiles`], within 0.55% of the exact sample percentiles, merged
+//!   exactly in any order) per output and sample time ([`statistics::Envelope`]).
 //!
 //! ```
 //! use lgsvi_mechanics::lie::SO3;
@@ -29,6 +32,7 @@
 #![warn(missing_docs)]
 
 pub mod dispersion;
+pub mod statistics;
 
 pub use dispersion::{Dispersion, DispersionError, Dispersions, Member, Nominal, Plan};
 

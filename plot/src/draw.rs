@@ -68,6 +68,13 @@ pub(crate) fn linear_tick(v: f64, span: f64) -> String {
     if v.abs() < 1e-9 * span.abs().max(f64::MIN_POSITIVE) {
         return "0".into();
     }
+    // Ticks far below a ten-thousandth apart (an energy error of 1e-15) or a million and
+    // more: in scientific notation with the digits that tell them apart (fixed decimals
+    // would print every one as 0, or fifteen digits).
+    if step > 0.0 && step.is_finite() && !(1e-4..1e6).contains(&step) {
+        let precision = (v.abs().log10().floor() - step.log10().floor()).clamp(0.0, 6.0) as usize;
+        return format!("{v:.precision$e}");
+    }
     let text = format!("{v:.decimals$}");
     if text
         .trim_start_matches('-')

@@ -103,6 +103,13 @@ fn linear_ticks_have_no_negative_zero_and_fit_the_spacing() {
     assert_eq!(linear_tick(-0.2, 2.0), "-0.2");
     assert_eq!(linear_tick(1500.0, 1500.0), "1500");
     assert_eq!(linear_tick(0.0004, 0.001), "0.0004");
+    // Tiny and huge spans in scientific notation, each tick told apart from its
+    // neighbours (ticks 2e-16 apart), never all "0".
+    assert_eq!(linear_tick(-4e-15, 1e-14), "-4e-15");
+    assert_eq!(linear_tick(1.2e-15, 2e-15), "1.2e-15");
+    assert_ne!(linear_tick(1.2e-15, 2e-15), linear_tick(1.4e-15, 2e-15));
+    assert_eq!(linear_tick(3.5e7, 1e7), "3.5e7");
+    assert_eq!(linear_tick(4e7, 1e8), "4e7");
 }
 
 #[test]
