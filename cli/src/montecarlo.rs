@@ -14,7 +14,7 @@ use crate::problem::Problem;
 use clap::Args;
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_montecarlo::statistics::Envelope;
-use lgsvi_montecarlo::{Dispersion, DispersionError, Dispersions, Member, Nominal, Plan};
+use lgsvi_montecarlo::{Body, Dispersion, DispersionError, Dispersions, Member, Plan};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -170,7 +170,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
             "montecarlo runs bodies on SO(3) (rigid-body, heavy-top) so far",
         ));
     }
-    let mut nominal = Nominal::body(scenario.inertia, scenario.attitude0, scenario.omega0);
+    let mut nominal = Body::new(scenario.inertia, scenario.attitude0, scenario.omega0);
     nominal.torque = resolved.torque.map_or(Vector3::zeros(), Vector3::from);
     let dispersions = dispersions(&options)?;
     let plan = Plan::new(nominal, dispersions, seed).map_err(|error| {
@@ -197,12 +197,12 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         o.out = None;
         o.inertia = None;
         o.inertia_d = None;
-        o.inertia_tensor = Some(row_major(&member.inertia.matrix()));
+        o.inertia_tensor = Some(row_major(&member.body.inertia.matrix()));
         o.quaternion0 = None;
-        o.attitude0 = Some(row_major(member.attitude.matrix()));
-        o.omega0 = Some(member.omega.into());
-        if member.torque != Vector3::zeros() || o.torque.is_some() {
-            o.torque = Some(member.torque.into());
+        o.attitude0 = Some(row_major(member.body.attitude.matrix()));
+        o.omega0 = Some(member.body.omega.into());
+        if member.body.torque != Vector3::zeros() || o.torque.is_some() {
+            o.torque = Some(member.body.torque.into());
         }
         o
     };
@@ -548,9 +548,9 @@ fn csv_row(outcome: &Outcome) -> String {
         .to_string(),
     ];
     let floats = |values: &[f64]| values.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>();
-    cells.extend(floats(&row_major(&m.inertia.matrix())));
-    cells.extend(floats(&row_major(m.attitude.matrix())));
-    cells.extend(floats(m.omega.as_slice()));
+    cells.extend(floats(&row_major(&m.body.inertia.matrix())));
+    cells.extend(floats(&row_major(m.body.attitude.matrix())));
+    cells.extend(floats(m.body.omega.as_slice()));
     match &outcome.result {
         Ok(f) => {
             cells.extend(floats(&[f.time]));

@@ -506,15 +506,18 @@ fn an_orbit_falling_onto_the_centre_is_named_as_the_cause() {
 fn a_step_that_fails_on_an_ill_conditioned_inertia_names_the_conditioning() {
     use std::error::Error;
     let start = Vector3::new(-2.0, 1.9, -1.0);
-    for delta in [3e-9, 1e-10] {
-        let rod = RigidBody::new(Inertia::from_principal_moments([delta, 1.0, 1.0]).unwrap());
-        let mut it = Integrator::new(
-            rod,
+    let rod = |delta: f64| {
+        let body = RigidBody::new(Inertia::from_principal_moments([delta, 1.0, 1.0]).unwrap());
+        Integrator::new(
+            body,
             StepSettings::new(0.5, 10).unwrap(),
             SO3::identity(),
             start,
         )
-        .unwrap();
+        .unwrap()
+    };
+    for delta in [3e-9, 1e-10] {
+        let mut it = rod(delta);
         let error = first_failure(&mut it, 10.0);
         match &error {
             MechanicsError::IllConditioned { least, most, .. } => {
@@ -530,14 +533,7 @@ fn a_step_that_fails_on_an_ill_conditioned_inertia_names_the_conditioning() {
         assert!(!text.contains("take a smaller step"), "{text}");
         assert!(error.source().is_some(), "the step's own failure is kept");
     }
-    let rod = RigidBody::new(Inertia::from_principal_moments([1e-5, 1.0, 1.0]).unwrap());
-    let mut it = Integrator::new(
-        rod,
-        StepSettings::new(0.5, 10).unwrap(),
-        SO3::identity(),
-        start,
-    )
-    .unwrap();
+    let mut it = rod(1e-5);
     for _ in 0..20 {
         it.step().unwrap();
     }

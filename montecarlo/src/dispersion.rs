@@ -159,9 +159,9 @@ pub struct Dispersions {
     pub wheel_axis: Option<Dispersion>,
 }
 
-/// The nominal body and start every member departs from.
+/// A body and its start: the nominal every member departs from, or a member's draw.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Nominal {
+pub struct Body {
     /// The inertia (diagonal or full).
     pub inertia: Inertia,
     /// `R₀`, world from body.
@@ -178,9 +178,9 @@ pub struct Nominal {
     pub wheel_axes: Vec<Vector3<f64>>,
 }
 
-impl Nominal {
+impl Body {
     /// A body of `inertia` from `(attitude, omega)`: no mass, torque or wheels.
-    pub fn body(inertia: Inertia, attitude: SO3, omega: Vector3<f64>) -> Self {
+    pub fn new(inertia: Inertia, attitude: SO3, omega: Vector3<f64>) -> Self {
         Self {
             inertia,
             attitude,
@@ -193,28 +193,16 @@ impl Nominal {
     }
 }
 
-/// One member: its index, the plan's seed, and everything drawn for it.
+/// One member: its index, the plan's seed, and the body drawn for it (its inertia is
+/// diagonal unless the principal axes are dispersed or the nominal's is full).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Member {
     /// The member's index `i`.
     pub index: u64,
     /// The plan's seed: `(seed, index)` reproduce the member.
     pub seed: u64,
-    /// Its inertia (diagonal unless the principal axes are dispersed or the nominal is
-    /// full).
-    pub inertia: Inertia,
-    /// `R₀`.
-    pub attitude: SO3,
-    /// `Ω₀`.
-    pub omega: Vector3<f64>,
-    /// Its mass, where the nominal has one.
-    pub mass: Option<f64>,
-    /// Its constant body torque.
-    pub torque: Vector3<f64>,
-    /// Its wheels' axial inertias.
-    pub wheel_inertias: Vec<f64>,
-    /// Its wheels' unit axes.
-    pub wheel_axes: Vec<Vector3<f64>>,
+    /// What was drawn.
+    pub body: Body,
 }
 
 /// Why a plan was refused, or a member could not be drawn.
@@ -289,7 +277,7 @@ fn stream(seed: u64, quantity: Quantity, index: u64) -> ChaCha12Rng {
 /// The nominal body, the dispersions and the seed: member `i` is [`Plan::member`]`(i)`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
-    nominal: Nominal,
+    nominal: Body,
     dispersions: Dispersions,
     seed: u64,
 }
@@ -306,7 +294,7 @@ impl Plan {
     /// [`DispersionError::Nominal`] for wheel axes and inertias of different counts or a
     /// mass that is not positive.
     pub fn new(
-        nominal: Nominal,
+        nominal: Body,
         dispersions: Dispersions,
         seed: u64,
     ) -> Result<Self, DispersionError> {
@@ -376,7 +364,7 @@ impl Plan {
     }
 
     /// The nominal body.
-    pub fn nominal(&self) -> &Nominal {
+    pub fn nominal(&self) -> &Body {
         &self.nominal
     }
 
@@ -455,13 +443,15 @@ impl Plan {
         Ok(Member {
             index,
             seed,
-            inertia,
-            attitude,
-            omega,
-            mass,
-            torque,
-            wheel_inertias,
-            wheel_axes,
+            body: Body {
+                inertia,
+                attitude,
+                omega,
+                mass,
+                torque,
+                wheel_inertias,
+                wheel_axes,
+            },
         })
     }
 }

@@ -12,11 +12,11 @@
 //! ```
 //! use lgsvi_mechanics::lie::SO3;
 //! use lgsvi_mechanics::Inertia;
-//! use lgsvi_montecarlo::{Dispersion, Dispersions, Nominal, Plan};
+//! use lgsvi_montecarlo::{Body, Dispersion, Dispersions, Plan};
 //! use nalgebra::Vector3;
 //!
 //! let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4])?;
-//! let nominal = Nominal::body(inertia, SO3::identity(), Vector3::new(0.1, 0.0, 0.0));
+//! let nominal = Body::new(inertia, SO3::identity(), Vector3::new(0.1, 0.0, 0.0));
 //! let dispersions = Dispersions {
 //!     omega: Some(Dispersion::Normal { sigma: 0.01 }),
 //!     inertia: Some(Dispersion::TruncatedNormal { sigma: 0.02, bound: 0.06 }),
@@ -26,7 +26,7 @@
 //! let plan = Plan::new(nominal, dispersions, 42)?;
 //! let member = plan.member(7)?;
 //! assert_eq!(member, plan.member(7)?); // (seed, index) alone
-//! assert!((member.omega.x - 0.1).abs() < 0.1);
+//! assert!((member.body.omega.x - 0.1).abs() < 0.1);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![warn(missing_docs)]
@@ -34,7 +34,7 @@
 pub mod dispersion;
 pub mod statistics;
 
-pub use dispersion::{Dispersion, DispersionError, Dispersions, Member, Nominal, Plan};
+pub use dispersion::{Body, Dispersion, DispersionError, Dispersions, Member, Plan};
 
 /// The user guide's page (`docs/guide/montecarlo.md`), whose Rust example is compiled and
 /// run as a doctest.

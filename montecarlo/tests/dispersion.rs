@@ -5,14 +5,14 @@
 
 use lgsvi_mechanics::lie::{LieGroup, SO3};
 use lgsvi_mechanics::Inertia;
-use lgsvi_montecarlo::{Dispersion, DispersionError, Dispersions, Member, Nominal, Plan};
+use lgsvi_montecarlo::{Body, Dispersion, DispersionError, Dispersions, Member, Plan};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-fn nominal() -> Nominal {
+fn nominal() -> Body {
     let inertia = Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap();
     let attitude = SO3::exp(&Vector3::new(0.3, -0.2, 0.1));
-    let mut n = Nominal::body(inertia, attitude, Vector3::new(0.1, -0.05, 0.2));
+    let mut n = Body::new(inertia, attitude, Vector3::new(0.1, -0.05, 0.2));
     n.mass = Some(100.0);
     n.wheel_inertias = vec![0.1, 0.1, 0.1];
     n.wheel_axes = vec![Vector3::x(), Vector3::y(), Vector3::z()];
@@ -72,11 +72,11 @@ fn a_member_depends_on_seed_and_index_alone() {
     let plan_rates = Plan::new(nominal(), rates_only, 2026).unwrap();
     for member in &forward[..50] {
         let alone = plan_rates.member(member.index).unwrap();
-        assert_eq!(alone.omega, member.omega);
-        assert_eq!(alone.attitude, nominal().attitude);
+        assert_eq!(alone.body.omega, member.body.omega);
+        assert_eq!(alone.body.attitude, nominal().attitude);
     }
     let other = Plan::new(nominal(), everything(), 2027).unwrap();
-    assert_ne!(other.member(0).unwrap().omega, forward[0].omega);
+    assert_ne!(other.member(0).unwrap().body.omega, forward[0].body.omega);
 }
 
 /// Sample mean and standard deviation over 30 000 members (90 000 draws a quantity):
@@ -107,13 +107,13 @@ fn the_draws_follow_their_distributions() {
     // Normal: the rates.
     let omega: Vec<f64> = all
         .iter()
-        .flat_map(|m| (m.omega - n.omega).data.0[0])
+        .flat_map(|m| (m.body.omega - n.omega).data.0[0])
         .collect();
     check("omega", omega, 0.01);
     // Uniform on [−w, w]: σ = w/√3, every draw within w.
     let attitude: Vec<f64> = all
         .iter()
-        .flat_map(|m| n.attitude.inverse().compose(&m.attitude).log().data.0[0])
+        .flat_map(|m| n.attitude.inverse().compose(&m.body.attitude).log().data.0[0])
         .collect();
     assert!(attitude.iter().all(|x| x.abs() <= 0.05 + 1e-15));
     check("attitude", attitude, 0.05 / 3f64.sqrt());
@@ -133,7 +133,7 @@ fn the_draws_follow_their_distributions() {
     let relative: Vec<f64> = members(&aligned, 0..30_000)
         .iter()
         .flat_map(|m| {
-            let drawn = m.inertia.principal_moments();
+            let drawn = m.body.inertia.principal_moments();
             (0..3).map(move |k| drawn[k] / moments[k] - 1.0)
         })
         .collect();
@@ -162,9 +162,9 @@ fn misalignment_rotates_the_principal_axes_only() {
     .unwrap();
     for i in 0..200 {
         let (a, b) = (with.member(i).unwrap(), without.member(i).unwrap());
-        assert!(!a.inertia.is_diagonal() && b.inertia.is_diagonal());
-        let mut ea = a.inertia.matrix().symmetric_eigenvalues().data.0[0];
-        let mut eb = b.inertia.principal_moments();
+        assert!(!a.body.inertia.is_diagonal() && b.body.inertia.is_diagonal());
+        let mut ea = a.body.inertia.matrix().symmetric_eigenvalues().data.0[0];
+        let mut eb = b.body.inertia.principal_moments();
         ea.sort_by(f64::total_cmp);
         eb.sort_by(f64::total_cmp);
         for k in 0..3 {
@@ -175,7 +175,7 @@ fn misalignment_rotates_the_principal_axes_only() {
             );
         }
         // The wheels' axes stay unit vectors near the nominal.
-        for (axis, nominal) in a.wheel_axes.iter().zip(&nominal().wheel_axes) {
+        for (axis, nominal) in a.body.wheel_axes.iter().zip(&nominal().wheel_axes) {
             assert!((axis.norm() - 1.0).abs() < 4.0 * f64::EPSILON);
             assert!((axis - nominal).norm() < 0.1);
         }
@@ -186,7 +186,7 @@ fn misalignment_rotates_the_principal_axes_only() {
 /// before any member is drawn, naming its key and what to give.
 #[test]
 fn specs_that_could_break_a_member_are_refused_naming_the_key() {
-    let refused = |d: Dispersions, nominal: Nominal, needles: &[&str]| {
+    let refused = |d: Dispersions, nominal: Body, needles: &[&str]| {
         let error = Plan::new(nominal, d, 1).unwrap_err();
         let text = error.to_string();
         for needle in needles {
@@ -277,7 +277,7 @@ fn specs_that_could_break_a_member_are_refused_naming_the_key() {
         );
     }
     // A quantity the nominal body does not have.
-    let body = Nominal::body(nominal().inertia, SO3::identity(), Vector3::zeros());
+    let body = Body::new(nominal().inertia, SO3::identity(), Vector3::zeros());
     refused(
         Dispersions {
             mass: Some(Dispersion::Uniform { half_width: 0.1 }),
