@@ -597,3 +597,44 @@ fn a_momentum_without_a_velocity_names_the_kinetic_energy() {
         "{text}"
     );
 }
+
+/// A checked run whose companion (two more nodes) fails where the run itself does not:
+/// `CheckFailed`, naming the step and what to change, with the companion's own failure in
+/// its message. The force is NaN only near the Gauss points of the companion's first
+/// step (8 points on [0, 0.5]), which the run's 6 points miss.
+#[test]
+fn a_companion_that_fails_is_named_as_the_check() {
+    use lgsvi_mechanics::forces::ForceOfTime;
+    use lgsvi_mechanics::Forced;
+    let rule = lgsvi_quadrature::gauss_legendre(8).unwrap();
+    let mut companion_times = [0.0; 8];
+    for (t, x) in companion_times.iter_mut().zip(rule.nodes()) {
+        *t = 0.25 * (1.0 + x);
+    }
+    let force = ForceOfTime(move |t: f64| {
+        if companion_times.iter().any(|s| (t - s).abs() < 1e-9) {
+            Vector3::new(f64::NAN, 0.0, 0.0)
+        } else {
+            Vector3::zeros()
+        }
+    });
+    let body = Forced::new(RigidBody::new(inertia()), force);
+    let mut run = Integrator::builder(body)
+        .start(SO3::identity(), omega0())
+        .step(0.5)
+        .nodes(6)
+        .build_checked()
+        .unwrap();
+    let error = run.step().unwrap_err();
+    let text = error.to_string();
+    assert!(
+        matches!(error, MechanicsError::CheckFailed { step: 0, .. }),
+        "{text}"
+    );
+    assert!(
+        text.contains("the check of the run (the same step with more nodes) failed")
+            && text.contains("the force")
+            && text.contains("shorten the step h"),
+        "{text}"
+    );
+}
