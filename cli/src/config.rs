@@ -302,7 +302,7 @@ impl SimulateOptions {
         let Some(path) = self.config.clone() else {
             return Ok(self);
         };
-        let (mut table, _) = read_config_table(&path)?;
+        let (mut table, _) = read_config_table(&path, "converge")?;
         table.remove("converge");
         table.remove("montecarlo");
         let mut merged: Self = overlaid(table, &self, &path, "")?;
@@ -396,19 +396,23 @@ pub fn config_error(path: &Path, message: &str) -> CliError {
     }
 }
 
-/// The config file as a table, and its `[converge]` table (read by `lgsvi converge`).
-pub fn read_config_table(path: &Path) -> Result<(toml::Table, Option<toml::Table>), CliError> {
+/// The config file as a table, and its table `[section]` (a command's own keys:
+/// `converge`, `montecarlo`).
+pub fn read_config_table(
+    path: &Path,
+    section: &str,
+) -> Result<(toml::Table, Option<toml::Table>), CliError> {
     let text = std::fs::read_to_string(path).map_err(|source| CliError::ReadConfig {
         path: path.to_path_buf(),
         source,
     })?;
     let table: toml::Table = toml::from_str(&text).map_err(|e| config_error(path, e.message()))?;
-    let converge = match table.get("converge") {
+    let own = match table.get(section) {
         None => None,
         Some(toml::Value::Table(t)) => Some(t.clone()),
-        Some(_) => return Err(config_error(path, "`converge` must be a table")),
+        Some(_) => return Err(config_error(path, &format!("`{section}` must be a table"))),
     };
-    Ok((table, converge))
+    Ok((table, own))
 }
 
 /// Which refinements `lgsvi converge` runs.

@@ -128,9 +128,8 @@ const CONDITIONING_WARNING: f64 = 1e6;
 
 /// The one-line warning of a body whose principal moments span more than
 /// [`CONDITIONING_WARNING`] (a thin rod).
-fn conditioning_warning(moments: &[f64; 3]) -> Option<String> {
-    let least = moments.iter().copied().fold(f64::INFINITY, f64::min);
-    let most = moments.iter().copied().fold(0.0, f64::max);
+fn conditioning_warning(inertia: &lgsvi_mechanics::Inertia) -> Option<String> {
+    let (least, most) = problem::moment_range(inertia);
     let condition = most / least;
     (condition > CONDITIONING_WARNING).then(|| {
         format!(
@@ -167,7 +166,7 @@ pub(crate) fn run_simulate(options: SimulateOptions) -> Result<()> {
     if let Some(warning) = estimate.and_then(estimate_warning) {
         eprintln!("{warning}");
     }
-    if let Some(warning) = conditioning_warning(&problem.scenario.inertia.principal_moments()) {
+    if let Some(warning) = conditioning_warning(&problem.scenario.inertia) {
         eprintln!("{warning}");
     }
     if let Some(base) = &options.plot {

@@ -172,20 +172,8 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     }
     let mut nominal = Body::new(scenario.inertia, scenario.attitude0, scenario.omega0);
     nominal.torque = resolved.torque.map_or(Vector3::zeros(), Vector3::from);
-    let dispersions = dispersions(&options)?;
-    let plan = Plan::new(nominal, dispersions, seed).map_err(|error| {
-        // A dispersion set by a flag is refused naming the flag.
-        let flag = match &error {
-            DispersionError::NotPhysical { key: "inertia", .. } => options
-                .disperse_inertia
-                .map(|f| ("--disperse-inertia", f, " (truncated at 3 FRACTION)")),
-            _ => None,
-        };
-        match flag {
-            Some((flag, value, how)) => CliError::invalid(flag, value, format!("{error}{how}")),
-            None => error.into(),
-        }
-    })?;
+    let dispersions = dispersions(&options);
+    let plan = Plan::new(nominal, dispersions, seed).map_err(|e| named_by_flag(e, &options))?;
     // Every member takes the nominal's step, so that all share one time grid (a --tol
     // run's first step would otherwise follow each member's own rate).
     let h = nominal_problem.settings().h();
@@ -239,8 +227,8 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     }
     let steps = crate::problem::whole_steps(nominal_problem.t_end, h)?;
     let every = (steps / (samples - 1)).max(1);
-    let nominal_run = run_sampled(&nominal_problem, every)
-        .map_err(|e| CliError::invalid("--omega0", "(the nominal run)", e))?;
+    // The nominal run fails as simulate's would, with its own error.
+    let nominal_run = run_sampled(&nominal_problem, every)?;
     let nominal_final = nominal_run.last().ok_or(CliError::invalid(
         "--t-end",
         nominal_problem.t_end,
@@ -334,18 +322,9 @@ fn with_config(options: MontecarloOptions) -> Result<MontecarloOptions> {
     let Some(path) = options.base.config.clone() else {
         return Ok(options);
     };
-    let text = std::fs::read_to_string(&path).map_err(|source| CliError::ReadConfig {
-        path: path.clone(),
-        source,
-    })?;
-    let table: toml::Table = toml::from_str(&text).map_err(|e| config_error(&path, e.message()))?;
-    let Some(section) = table.get("montecarlo") else {
+    let (_, Some(mut section)) = crate::config::read_config_table(&path, "montecarlo")? else {
         return Ok(options);
     };
-    let toml::Value::Table(section) = section else {
-        return Err(config_error(&path, "`montecarlo` must be a table"));
-    };
-    let mut section = section.clone();
     let spec = match section.remove("dispersions") {
         None => None,
         Some(value) => Some(Dispersions::deserialize(value).map_err(|e| {
@@ -362,26 +341,12 @@ fn with_config(options: MontecarloOptions) -> Result<MontecarloOptions> {
 }
 
 /// The config's spec with the flags' dispersions over it.
-fn dispersions(options: &MontecarloOptions) -> Result<Dispersions> {
+fn dispersions(options: &MontecarloOptions) -> Dispersions {
     let mut spec = options.dispersions.unwrap_or_default();
-    let checked = |flag: &'static str, value: f64| -> Result<f64> {
-        if value >= 0.0 && value.is_finite() {
-            Ok(value)
-        } else {
-            Err(CliError::invalid(
-                flag,
-                value,
-                "a standard deviation is finite and ≥ 0",
-            ))
-        }
-    };
     if let Some(sigma) = options.disperse_omega {
-        spec.omega = Some(Dispersion::Normal {
-            sigma: checked("--disperse-omega", sigma)?,
-        });
+        spec.omega = Some(Dispersion::Normal { sigma });
     }
     if let Some(sigma) = options.disperse_inertia {
-        let sigma = checked("--disperse-inertia", sigma)?;
         spec.inertia = Some(if sigma == 0.0 {
             Dispersion::Uniform { half_width: 0.0 }
         } else {
@@ -393,10 +358,33 @@ fn dispersions(options: &MontecarloOptions) -> Result<Dispersions> {
     }
     if let Some(degrees) = options.disperse_attitude {
         spec.attitude = Some(Dispersion::Normal {
-            sigma: checked("--disperse-attitude", degrees)?.to_radians(),
+            sigma: degrees.to_radians(),
         });
     }
-    Ok(spec)
+    spec
+}
+
+/// A refused dispersion that a flag set, as an error naming the flag and its value as
+/// given; any other refusal as it is (its message names the config's key).
+fn named_by_flag(error: DispersionError, options: &MontecarloOptions) -> CliError {
+    let key = match &error {
+        DispersionError::Invalid { key, .. } | DispersionError::NotPhysical { key, .. } => *key,
+        _ => return error.into(),
+    };
+    let given = match key {
+        "omega" => options.disperse_omega.map(|v| ("--disperse-omega", v, "")),
+        "inertia" => options
+            .disperse_inertia
+            .map(|v| ("--disperse-inertia", v, " (truncated at 3 FRACTION)")),
+        "attitude" => options
+            .disperse_attitude
+            .map(|v| ("--disperse-attitude", v, " (the flag's degrees in radians)")),
+        _ => None,
+    };
+    match given {
+        Some((flag, value, how)) => CliError::invalid(flag, value, format!("{error}{how}")),
+        None => error.into(),
+    }
 }
 
 /// Member `index` drawn and run as simulate runs it with its parameters as flags, its
@@ -409,8 +397,8 @@ fn run_member(
 ) -> Result<(Outcome, Option<Sampled>)> {
     let member = plan.member(index)?;
     let run = Problem::resolve(options(&member))
-        .map_err(|e| e.to_string())
-        .and_then(|(problem, _)| run_sampled(&problem, every));
+        .and_then(|(problem, _)| run_sampled(&problem, every))
+        .map_err(|e| e.to_string().replace('\n', " "));
     let (result, sampled) = match run {
         Ok(sampled) => match sampled.last() {
             Some(last) => (Ok(last), Some(sampled)),
@@ -421,14 +409,13 @@ fn run_member(
     Ok((Outcome { member, result }, sampled))
 }
 
-/// The problem's run, its states every `every` steps and the last, or why it failed, on
-/// one line.
-fn run_sampled(problem: &Problem, every: usize) -> std::result::Result<Sampled, String> {
+/// The problem's run, its states every `every` steps and the last.
+fn run_sampled(problem: &Problem, every: usize) -> Result<Sampled> {
     let settings = problem.settings();
-    let recording = problem
-        .scenario
-        .record(settings, problem.check, problem.t_end, every, &mut |_| {})
-        .map_err(|e| e.to_string().replace('\n', " "))?;
+    let recording =
+        problem
+            .scenario
+            .record(settings, problem.check, problem.t_end, every, &mut |_| {})?;
     Ok(Sampled {
         times: recording.states.iter().map(|s| s.time).collect(),
         attitudes: recording

@@ -149,13 +149,17 @@ const BLIND_CONDITION: f64 = 100.0;
 /// momentum's rounding (`ε h m|v|²` a step) into the angular momentum (measured: the
 /// free body at `|v| = 10` 40× below, an orbiting body of mass 100 17× below, a satellite
 /// in low Earth orbit 10⁹× below its companion, which the closed forms confirm).
-fn estimates_are_blind(scenario: &Scenario, j_min: f64) -> bool {
-    let j_max = scenario
-        .inertia
-        .principal_moments()
-        .into_iter()
-        .fold(0.0, f64::max);
+fn estimates_are_blind(scenario: &Scenario) -> bool {
+    let (j_min, j_max) = moment_range(&scenario.inertia);
     scenario.motion.is_some() || j_max >= BLIND_CONDITION * j_min
+}
+
+/// The least and the largest principal moment.
+pub fn moment_range(inertia: &Inertia) -> (f64, f64) {
+    let moments = inertia.principal_moments();
+    let least = moments.into_iter().fold(f64::INFINITY, f64::min);
+    let most = moments.into_iter().fold(0.0, f64::max);
+    (least, most)
 }
 
 /// Refuses a fixed run whose damping is too stiff for its steps: where `c·h/J_min` exceeds
@@ -453,10 +457,7 @@ impl Problem {
         }
         // A damping torque −cΩ makes the rates decay at up to c/J_min: a motion rate of its
         // own, which a --tol run's first step follows as it follows the spin.
-        let j_min = inertia
-            .principal_moments()
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
+        let (j_min, _) = moment_range(&inertia);
         let decay = damping / j_min;
         let settings = step_settings(&options, t_end, scenario.rate()?.max(decay))?;
         if options.tol.is_none() {
@@ -464,7 +465,7 @@ impl Problem {
         }
         // Where the steps' own estimates are known to miss the error, a fixed run is
         // measured by its companion (see `estimates_are_blind`).
-        let estimates_are_blind = estimates_are_blind(&scenario, j_min);
+        let estimates_are_blind = estimates_are_blind(&scenario);
         let problem = Problem {
             scenario: scenario.with_settings(settings),
             name: kind.name(),

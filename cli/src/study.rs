@@ -11,7 +11,7 @@ use lgsvi_reports::convergence::{csv, table};
 pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     let mut options = options;
     if let Some(path) = options.base.config.clone() {
-        if let (_, Some(table)) = crate::config::read_config_table(&path)? {
+        if let (_, Some(table)) = crate::config::read_config_table(&path, "converge")? {
             let base = std::mem::take(&mut options.base);
             options = crate::config::overlaid(table, &options, &path, "[converge] ")?;
             options.base = base;

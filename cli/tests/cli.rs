@@ -1,5 +1,8 @@
 //! The `lgsvi` binary: output contract, configs, and one-line errors on bad input.
 
+mod common;
+
+use common::temp_dir;
 use std::process::Command;
 
 fn lgsvi(args: &[&str]) -> (i32, String, String) {
@@ -7,23 +10,7 @@ fn lgsvi(args: &[&str]) -> (i32, String, String) {
 }
 
 fn lgsvi_in(dir: &std::path::Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lgsvi"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("lgsvi-cli-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::run_in(dir, args, &[])
 }
 
 /// `lgsvi` alone is the main job: `lgsvi reproduce` into `./lgsvi-reproduce`.

@@ -3,27 +3,17 @@
 //! and `--replay`; failures listed with seed and cause, never dropped; bad input refused
 //! naming the flag or key.
 
-use std::process::Command;
+mod common;
 
+use common::temp_dir;
+
+/// `lgsvi args`, on `threads` threads where given.
 fn lgsvi(args: &[&str], threads: Option<&str>) -> (i32, String, String) {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_lgsvi"));
-    command.args(args);
-    if let Some(threads) = threads {
-        command.env("RAYON_NUM_THREADS", threads);
+    let dir = std::env::current_dir().expect("a working directory");
+    match threads {
+        Some(threads) => common::run_in(&dir, args, &[("RAYON_NUM_THREADS", threads)]),
+        None => common::run_in(&dir, args, &[]),
     }
-    let out = command.output().expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("lgsvi-mc-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 const RUN: [&str; 12] = [

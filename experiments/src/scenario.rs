@@ -408,7 +408,7 @@ impl Scenario {
                     };
                     parameter(if named == "mu" { "mu" } else { "mass" })(source)
                 })?;
-                checked_orbit_radius(&body, &inertia, mu)?;
+                checked_orbit_radius(&body, &orbiting)?;
                 (BuiltInSe3::Orbit(orbiting), body)
             }
         };
@@ -526,7 +526,8 @@ impl Scenario {
 /// `|x|` of the orbiting body's start, refused where the potential `−μm/r` and its
 /// gravity gradient are singular or overflow, or where the attracting point lies inside the
 /// body's mass (within twice its radius of gyration).
-fn checked_orbit_radius(body: &Space, inertia: &Inertia, mu: f64) -> Result<f64, ExperimentError> {
+fn checked_orbit_radius(body: &Space, orbiting: &OrbitingBody) -> Result<f64, ExperimentError> {
+    let mu = orbiting.gravitational_parameter();
     let position = body.position;
     // |x| without underflow (1e-300 squared is zero).
     let scale = position.amax();
@@ -552,7 +553,7 @@ fn checked_orbit_radius(body: &Space, inertia: &Inertia, mu: f64) -> Result<f64,
     // where MacCullagh's far-field potential does not hold: a step there fails (or, for a
     // radius of gyration far beyond r, runs into overflow), so the start is refused here,
     // naming the parameters that set the radius.
-    let k = (inertia.matrix().trace() / (2.0 * body.mass)).sqrt();
+    let k = orbiting.radius_of_gyration();
     if mu != 0.0 && r < 2.0 * k {
         return Err(invalid(format!(
             "the orbiting body starts {r:e} from the attracting point mass, within twice its \

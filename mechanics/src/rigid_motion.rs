@@ -606,6 +606,13 @@ impl OrbitingBody {
         self.gravitational_parameter
     }
 
+    /// The radius of gyration `√(tr J / 2m)`: within twice it of the attracting point, the
+    /// point lies inside the body's mass, where MacCullagh's far-field potential does not
+    /// hold ([`System::model_breakdown`]).
+    pub fn radius_of_gyration(&self) -> f64 {
+        (self.inertia.matrix().trace() / (2.0 * self.mass)).sqrt()
+    }
+
     /// MacCullagh's potential at attitude `R`, position `x`.
     pub fn potential<T: RealField + Copy>(&self, r: &Matrix3<T>, x: &Vector3<T>) -> T {
         maccullagh(
@@ -744,7 +751,7 @@ impl System<6> for OrbitingBody {
     /// the body must change.
     fn model_breakdown(&self, _time: f64, g: &SE3, _xi: &SVector<f64, 6>) -> Option<String> {
         let r = g.translation().norm();
-        let k = (self.inertia.matrix().trace() / (2.0 * self.mass)).sqrt();
+        let k = self.radius_of_gyration();
         (self.gravitational_parameter > 0.0 && r < 2.0 * k).then(|| {
             // Fixed decimals where they read well, else scientific (a radius of 1e40).
             let length = |x: f64| {
