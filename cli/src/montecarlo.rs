@@ -13,7 +13,7 @@ use crate::error::{CliError, Result};
 use crate::problem::Problem;
 use clap::Args;
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_montecarlo::statistics::Envelope;
+use lgsvi_montecarlo::statistics::{Envelope, Samples as Sampled};
 use lgsvi_montecarlo::{Body, Dispersion, DispersionError, Dispersions, Member, Plan};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -85,35 +85,14 @@ struct Final {
     omega: Vector3<f64>,
 }
 
-/// A run's states at the sample times (every `every`-th step, and the last).
-struct Sampled {
-    times: Vec<f64>,
-    attitudes: Vec<Matrix3<f64>>,
-    omegas: Vec<Vector3<f64>>,
-    energies: Vec<f64>,
+/// A run's last sampled state.
+fn final_of(sampled: &Sampled) -> Option<Final> {
+    sampled.last().map(|(time, attitude, omega)| Final {
+        time,
+        attitude,
+        omega,
+    })
 }
-
-impl Sampled {
-    /// The last state.
-    fn last(&self) -> Option<Final> {
-        Some(Final {
-            time: *self.times.last()?,
-            attitude: *self.attitudes.last()?,
-            omega: *self.omegas.last()?,
-        })
-    }
-}
-
-/// The envelopes' channels: the attitude's departure from the nominal run's at the same
-/// time (degrees), the body rates, and the energy's relative change since the start (the
-/// integrator's error, for a body that conserves it).
-const CHANNELS: [&str; 5] = [
-    "attitude_departure_deg",
-    "omega_1",
-    "omega_2",
-    "omega_3",
-    "energy_change",
-];
 
 /// The percentiles of the envelopes.
 const PERCENTILES: [f64; 7] = [1.0, 5.0, 25.0, 50.0, 75.0, 95.0, 99.0];
@@ -229,7 +208,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     let every = (steps / (samples - 1)).max(1);
     // The nominal run fails as simulate's would, with its own error.
     let nominal_run = run_sampled(&nominal_problem, every)?;
-    let nominal_final = nominal_run.last().ok_or(CliError::invalid(
+    let nominal_final = final_of(&nominal_run).ok_or(CliError::invalid(
         "--t-end",
         nominal_problem.t_end,
         "the nominal run recorded no state",
@@ -400,7 +379,7 @@ fn run_member(
         .and_then(|(problem, _)| run_sampled(&problem, every))
         .map_err(|e| e.to_string().replace('\n', " "));
     let (result, sampled) = match run {
-        Ok(sampled) => match sampled.last() {
+        Ok(sampled) => match final_of(&sampled) {
             Some(last) => (Ok(last), Some(sampled)),
             None => (Err("no state recorded".to_string()), None),
         },
@@ -426,23 +405,6 @@ fn run_sampled(problem: &Problem, every: usize) -> Result<Sampled> {
         omegas: recording.states.iter().map(|s| s.velocity).collect(),
         energies: recording.energies,
     })
-}
-
-/// A member's sampled states into the envelopes, channel by channel ([`CHANNELS`]).
-fn add_to_envelope(envelope: &mut Envelope, nominal: &Sampled, member: &Sampled) {
-    let e0 = member.energies.first().copied().unwrap_or(f64::NAN);
-    for k in 0..envelope.samples().min(member.times.len()) {
-        let relative = nominal.attitudes[k].transpose() * member.attitudes[k];
-        let departure = SO3::from_matrix_unchecked(relative)
-            .log()
-            .norm()
-            .to_degrees();
-        envelope.add(0, k, departure);
-        for axis in 0..3 {
-            envelope.add(1 + axis, k, member.omegas[k][axis]);
-        }
-        envelope.add(4, k, (member.energies[k] - e0) / e0.abs());
-    }
 }
 
 /// The envelopes as JSON: the sample times, and per channel each percentile's series
@@ -564,7 +526,7 @@ struct Statistics {
 impl Statistics {
     fn new(samples: usize, nominal_final: Final) -> Self {
         Self {
-            envelope: Envelope::new(&CHANNELS, samples),
+            envelope: Envelope::of_attitude(samples),
             nominal_final,
             rates: Running::default(),
             departures: Running::default(),
@@ -589,7 +551,7 @@ impl Statistics {
             })),
         }
         if let Some(sampled) = sampled {
-            add_to_envelope(&mut self.envelope, nominal, sampled);
+            self.envelope.add_attitude_samples(nominal, sampled);
         }
     }
 }

@@ -15,6 +15,9 @@
 //! [`Envelope`] holds one [`Quantiles`] per output channel and sample time: the percentile
 //! envelopes of a Monte Carlo run without holding its members.
 
+use lgsvi_mechanics::lie::SO3;
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Bins per factor of two in [`Quantiles`]: each spans `2^(1/64)`, a relative width of
@@ -26,8 +29,9 @@ pub const BINS_PER_OCTAVE: f64 = 64.0;
 pub const RELATIVE_ERROR: f64 = 0.005_429_901_112_802_726;
 
 /// A streaming quantile sketch of `f64` values (module documentation): counts per log bin,
-/// merged exactly.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// merged exactly. It serializes (serde) as its counts, so a sketch made on one machine
+/// merges into one made on another.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Quantiles {
     /// Counts of the positive values per bin index.
     positive: BTreeMap<i32, u64>,
@@ -125,8 +129,10 @@ impl Quantiles {
     }
 }
 
-/// Percentile envelopes: one [`Quantiles`] per channel and sample time.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Percentile envelopes: one [`Quantiles`] per channel and sample time; serializable as
+/// its sketches, for envelopes made apart (a cluster's workers) and merged.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "EnvelopeData")]
 pub struct Envelope {
     channels: Vec<String>,
     samples: usize,
@@ -134,7 +140,41 @@ pub struct Envelope {
     sketches: Vec<Quantiles>,
 }
 
+/// An envelope as read, before its shape is checked.
+#[derive(Deserialize)]
+struct EnvelopeData {
+    channels: Vec<String>,
+    samples: usize,
+    sketches: Vec<Quantiles>,
+}
+
+impl TryFrom<EnvelopeData> for Envelope {
+    type Error = String;
+
+    fn try_from(data: EnvelopeData) -> Result<Self, String> {
+        if data.channels.len().checked_mul(data.samples) != Some(data.sketches.len()) {
+            return Err(format!(
+                "an envelope of {} channels at {} samples holds {} sketches, not their product",
+                data.channels.len(),
+                data.samples,
+                data.sketches.len()
+            ));
+        }
+        Ok(Self {
+            channels: data.channels,
+            samples: data.samples,
+            sketches: data.sketches,
+        })
+    }
+}
+
 impl Envelope {
+    /// Whether `other` has the same channels and sample count ([`Envelope::merge`]'s
+    /// condition).
+    pub fn same_shape(&self, other: &Envelope) -> bool {
+        self.channels == other.channels && self.samples == other.samples
+    }
+
     /// An empty envelope of `channels` at `samples` sample times.
     pub fn new(channels: &[&str], samples: usize) -> Self {
         Self {
@@ -186,5 +226,71 @@ impl Envelope {
     /// Bins held over all sketches (the envelope's memory is about 40 bytes a bin).
     pub fn bins(&self) -> usize {
         self.sketches.iter().map(Quantiles::bins).sum()
+    }
+}
+
+/// A run's states at its sample times: what a member adds to the attitude envelope.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Samples {
+    /// The sample times.
+    pub times: Vec<f64>,
+    /// `R = world_from_body` at each.
+    pub attitudes: Vec<Matrix3<f64>>,
+    /// The body rates `Ω` at each.
+    pub omegas: Vec<Vector3<f64>>,
+    /// The energy at each.
+    pub energies: Vec<f64>,
+}
+
+impl Samples {
+    /// The last sample's time, attitude and rates.
+    pub fn last(&self) -> Option<(f64, Matrix3<f64>, Vector3<f64>)> {
+        Some((
+            *self.times.last()?,
+            *self.attitudes.last()?,
+            *self.omegas.last()?,
+        ))
+    }
+}
+
+/// The channels of a rigid body's envelope ([`Envelope::of_attitude`]): the attitude's
+/// departure from the nominal run's at the same time (degrees, the angle of `R̄ᵀR`), the
+/// body rates, and the energy's relative change since the start (the integrator's error,
+/// for a body that conserves it).
+pub const ATTITUDE_CHANNELS: [&str; 5] = [
+    "attitude_departure_deg",
+    "omega_1",
+    "omega_2",
+    "omega_3",
+    "energy_change",
+];
+
+impl Envelope {
+    /// An empty envelope of [`ATTITUDE_CHANNELS`] at `samples` sample times.
+    pub fn of_attitude(samples: usize) -> Self {
+        Self::new(&ATTITUDE_CHANNELS, samples)
+    }
+
+    /// Adds a member's samples to an envelope of [`ATTITUDE_CHANNELS`], its attitude
+    /// measured from the nominal run's at the same sample; samples past the shorter run's
+    /// or the envelope's are left out.
+    pub fn add_attitude_samples(&mut self, nominal: &Samples, member: &Samples) {
+        let e0 = member.energies.first().copied().unwrap_or(f64::NAN);
+        let samples = self
+            .samples
+            .min(member.times.len())
+            .min(nominal.times.len());
+        for k in 0..samples {
+            let relative = nominal.attitudes[k].transpose() * member.attitudes[k];
+            let departure = SO3::from_matrix_unchecked(relative)
+                .log()
+                .norm()
+                .to_degrees();
+            self.add(0, k, departure);
+            for axis in 0..3 {
+                self.add(1 + axis, k, member.omegas[k][axis]);
+            }
+            self.add(4, k, (member.energies[k] - e0) / e0.abs());
+        }
     }
 }

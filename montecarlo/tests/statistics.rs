@@ -118,3 +118,21 @@ fn an_envelope_merges_channel_by_channel() {
     assert!((a.at(0, 1).quantile(1.0).unwrap() - 11.0).abs() <= 11.0 * RELATIVE_ERROR);
     assert_eq!(a.channels(), ["x", "y"]);
 }
+
+#[test]
+fn an_envelope_serializes_to_the_same_counts_and_refuses_a_broken_shape() {
+    let mut envelope = Envelope::new(&["a", "b"], 3);
+    for (i, x) in sample("normal", 500, 9).into_iter().enumerate() {
+        envelope.add(i % 2, i % 3, x);
+    }
+    let text = serde_json::to_string(&envelope).unwrap();
+    let back: Envelope = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, envelope);
+    let mut other = Envelope::new(&["a", "b"], 2);
+    assert!(!envelope.same_shape(&other));
+    other = Envelope::new(&["a", "b"], 3);
+    assert!(envelope.same_shape(&other));
+    let broken = r#"{"channels": ["a", "b"], "samples": 3, "sketches": []}"#;
+    let error = serde_json::from_str::<Envelope>(broken).unwrap_err();
+    assert!(error.to_string().contains("not their product"), "{error}");
+}

@@ -3,7 +3,7 @@
 
 use crate::convert::{array1, array2, array3, rotations, rows3, vectors3};
 use crate::errors::{guarded, invalid, mechanics};
-use crate::run::{chart_named, each_run, matching_named, Options, Run};
+use crate::run::{chart_named, each_run, in_pool, matching_named, Options, Run};
 use crate::state::{Element, Sample, Start};
 use crate::systems::system_of;
 use lgsvi_lie::ChartKind;
@@ -185,14 +185,7 @@ fn _run_ensemble<'py>(
     let results = py.detach(|| {
         guarded(|| {
             let work = || each_run!(&probe, it => members(it, &starts, t_end));
-            match threads {
-                Some(n) => rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| invalid(format!("threads: {e}")))?
-                    .install(work),
-                None => work(),
-            }
+            in_pool(threads, work)
         })
     })?;
     result_dict(py, results, space, k)

@@ -9,6 +9,7 @@
 //! | `state`, `run` | states as plain numbers on every group; the runs and what they record |
 //! | `control` | discrete LQR, finite-horizon LQR, the regulator |
 //! | `ensemble` | many initial conditions in parallel |
+//! | `montecarlo` | a chunk of a Monte Carlo dispersion run and its percentile envelope |
 //! | `foundations` | the quadrature rules, Chebyshev series, SO(3)/SE(3) and the charts on arrays |
 
 use pyo3::prelude::*;
@@ -19,6 +20,7 @@ mod ensemble;
 mod errors;
 mod foundations;
 mod integrator;
+mod montecarlo;
 mod run;
 mod state;
 mod systems;
@@ -40,6 +42,7 @@ fn lgsvi_module(module: &Bound<'_, PyModule>) -> PyResult<()> {
     )?)?;
     control::register(module)?;
     ensemble::register(module)?;
+    montecarlo::register(module)?;
     foundations::register(module)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

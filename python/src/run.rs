@@ -51,6 +51,22 @@ impl Options {
     }
 }
 
+/// `work` on a pool of `threads` threads, or on rayon's global pool (one thread per core)
+/// for `None`.
+pub fn in_pool<T: Send>(
+    threads: Option<usize>,
+    work: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
+    match threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| invalid(format!("threads: {e}")))?
+            .install(work),
+        None => work(),
+    }
+}
+
 /// The chart named `name`.
 pub fn chart_named(name: &str) -> PyResult<ChartKind> {
     match name {

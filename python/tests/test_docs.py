@@ -1,4 +1,4 @@
-"""The Python code of the README and of the guide's Python page runs: each page's blocks in
+"""The Python code of the README and of the guide's Python and Monte Carlo pages runs: each page's blocks in
 order, in one namespace, as a reader would paste them."""
 
 import pathlib
@@ -7,7 +7,11 @@ import re
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-PAGES = [ROOT / "README.md", ROOT / "docs" / "guide" / "python.md"]
+PAGES = [
+    ROOT / "README.md",
+    ROOT / "docs" / "guide" / "python.md",
+    ROOT / "docs" / "guide" / "montecarlo.md",
+]
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)

@@ -9,7 +9,8 @@ at a fixed, large step.
 Systems: :class:`RigidBody`, :class:`HeavyTop` (SO(3)), :class:`FreeBody`,
 :class:`OrbitingBody` (SE(3)), :class:`Gyrostat` (reaction wheels). Integration:
 :class:`Integrator` (``step``, ``run_until`` to a horizon or a tolerance, ``linearize``,
-dense output), :func:`run_ensemble`. Control: :mod:`lgsvi.control`. Foundations:
+dense output), :func:`run_ensemble`, :mod:`lgsvi.montecarlo` (dispersion analysis, locally or on a
+Dask cluster). Control: :mod:`lgsvi.control`. Foundations:
 :mod:`lgsvi.quadrature`, :mod:`lgsvi.chebyshev`, :mod:`lgsvi.lie`. Errors:
 :class:`LgsviError` and its subclasses.
 
@@ -39,7 +40,7 @@ from ._lgsvi import (
 )
 from ._trajectory import EnsembleResult, Trajectory
 from ._ensemble import run_ensemble
-from . import chebyshev, control, lie, quadrature
+from . import chebyshev, control, lie, montecarlo, quadrature
 
 __all__ = [
     "ChartError",
@@ -63,6 +64,7 @@ __all__ = [
     "chebyshev",
     "control",
     "lie",
+    "montecarlo",
     "quadrature",
     "run_ensemble",
     "__version__",

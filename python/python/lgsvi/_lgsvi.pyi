@@ -1,7 +1,7 @@
 """Type stubs of lgsvi's compiled core (``lgsvi._lgsvi``); the docstrings are the
 compiled module's own (``help()`` shows them)."""
 
-from typing import Any, Callable, Dict, Optional, Sequence, Tuple, overload
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -234,3 +234,31 @@ def _run_ensemble(
     matching: str = "exact",
     threads: Optional[int] = None,
 ) -> Dict[str, Any]: ...
+
+class MonteCarloEnvelope:
+    @property
+    def channels(self) -> List[str]: ...
+    @property
+    def samples(self) -> int: ...
+    @property
+    def members(self) -> int: ...
+    def merge(self, other: MonteCarloEnvelope) -> None: ...
+    def percentile(self, q: float) -> Array: ...
+
+def _montecarlo_chunk(
+    system: System,
+    attitude: ArrayLike,
+    omega: ArrayLike,
+    dispersions: str,
+    seed: int,
+    first: int,
+    last: int,
+    t_end: float,
+    h: float,
+    nodes: int,
+    samples: int,
+    chart: str = "exp",
+    matching: str = "exact",
+    threads: Optional[int] = None,
+) -> Dict[str, Any]: ...
+def _montecarlo_envelope_from_bytes(data: bytes) -> MonteCarloEnvelope: ...

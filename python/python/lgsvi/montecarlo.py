@@ -1,0 +1,303 @@
+"""Monte Carlo dispersion analysis: thousands of runs of a rigid body or heavy top whose
+inertia, start and torque are dispersed about a nominal, on one machine or a Dask cluster.
+
+Member ``i``'s draws depend on ``(seed, i)`` alone (a ChaCha stream per quantity), so a
+member is the same whatever the thread count, the chunking, or the machine that runs it: a
+run split over a Dask cluster (``client=``) gives, bit for bit, the arrays and percentiles a
+local run gives.
+
+A dispersion spec is a dict from a quantity's key to its distribution, the keys and
+fields of ``lgsvi montecarlo``'s ``[montecarlo.dispersions]`` table:
+
+======================== ============================================================
+key                      perturbation ``d`` of each member
+======================== ============================================================
+``attitude``             each component of a body-frame rotation vector, rad:
+                         ``R0 = R0_nominal exp(hat(d))``
+``omega``                added to each start rate, rad/s
+``inertia``              each principal moment, relative: ``J_i (1 + d_i)``
+``inertia_misalignment`` each component of a rotation vector of the principal axes, rad
+``torque``               added to each component of the constant body torque, N m
+======================== ============================================================
+
+Each value is :func:`normal`, :func:`truncated_normal` or :func:`uniform` (or the same
+dict written out, e.g. ``{"distribution": "normal", "sigma": 0.01}``). A spec that could
+make a member non-physical (a relative perturbation reaching -1, principal moments that
+could break the triangle inequality) is refused up front: disperse the inertia by a
+truncated normal or a uniform.
+
+Example::
+
+    import numpy as np
+    import lgsvi
+    from lgsvi import montecarlo
+
+    body = lgsvi.RigidBody([3.3, 2.5, 3.4])
+    result = montecarlo.run(
+        body, np.eye(3), [0.1, 0.0, 0.2],
+        {"omega": montecarlo.normal(0.01), "inertia": montecarlo.truncated_normal(0.02, 0.06)},
+        members=1000, seed=42, t_end=20.0, h=0.5, nodes=10,
+    )
+    result.percentile("attitude_departure_deg", 99)   # (samples,) over result.times
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Dict, Iterable, List, Optional
+
+import numpy as np
+
+from . import _lgsvi
+
+__all__ = [
+    "MonteCarloEnvelope",
+    "MonteCarloResult",
+    "normal",
+    "run",
+    "truncated_normal",
+    "uniform",
+]
+
+MonteCarloEnvelope = _lgsvi.MonteCarloEnvelope
+
+#: The envelope's channels: the attitude's departure from the nominal run at the same
+#: time (degrees), the body rates (rad/s) and the energy's relative change since the start.
+CHANNELS = ("attitude_departure_deg", "omega_1", "omega_2", "omega_3", "energy_change")
+
+#: Members one chunk of a Dask run holds without ``chunk_size``.
+DEFAULT_CHUNK = 500
+
+
+def normal(sigma: float) -> Dict[str, Any]:
+    """A normal perturbation, mean 0, standard deviation ``sigma >= 0``."""
+    return {"distribution": "normal", "sigma": float(sigma)}
+
+
+def truncated_normal(sigma: float, bound: float) -> Dict[str, Any]:
+    """A normal perturbation of standard deviation ``sigma > 0`` conditioned on
+    ``|d| <= bound`` (``bound >= sigma / 10``)."""
+    return {"distribution": "truncated_normal", "sigma": float(sigma), "bound": float(bound)}
+
+
+def uniform(half_width: float) -> Dict[str, Any]:
+    """A uniform perturbation on ``[-half_width, half_width]``."""
+    return {"distribution": "uniform", "half_width": float(half_width)}
+
+
+_FIELDS = (
+    "member",
+    "ok",
+    "inertia",
+    "attitude0",
+    "omega0",
+    "torque",
+    "t",
+    "attitude",
+    "omega",
+    "energy",
+)
+
+
+class MonteCarloResult:
+    """A Monte Carlo run: every member's draws and final state, the failures, and the
+    percentile envelopes over the members at the sample times.
+
+    Attributes
+    ----------
+    member : ndarray (M,) of uint64
+        The members' indices.
+    ok : ndarray (M,) of bool
+        Which members reached ``t_end``.
+    inertia, attitude0 : ndarray (M, 3, 3)
+        Each member's drawn inertia tensor (body frame) and start attitude.
+    omega0, torque : ndarray (M, 3)
+        Its start rates and constant body torque.
+    t, energy : ndarray (M,)
+        Its final time and energy (NaN for a failed member).
+    attitude : ndarray (M, 3, 3)
+        Its final attitude; ``omega`` (M, 3) its final rates (NaN for a failed member).
+    errors : dict
+        Each failed member's index and its exception (an :class:`lgsvi.LgsviError`).
+    seed : int
+        The run's seed: ``(seed, member)`` reproduces a member.
+    times : ndarray (S,)
+        The envelopes' sample times (every few steps, and ``t_end``).
+    envelope : MonteCarloEnvelope
+        The percentile sketches per channel and sample time.
+    nominal_attitude, nominal_omega : ndarray
+        The nominal run's final state.
+    """
+
+    def __init__(self, fields: Dict[str, Any], seed: int) -> None:
+        for name in _FIELDS:
+            setattr(self, name, fields[name])
+        self.errors: Dict[int, Exception] = dict(fields["errors"])
+        self.envelope: MonteCarloEnvelope = fields["envelope"]
+        self.times: np.ndarray = fields["times"]
+        self.nominal_attitude: np.ndarray = fields["nominal_attitude"]
+        self.nominal_omega: np.ndarray = fields["nominal_omega"]
+        self.seed = seed
+
+    def __len__(self) -> int:
+        return len(self.member)
+
+    def percentile(self, channel: str, q: float) -> np.ndarray:
+        """The ``q``-th percentile (0 to 100) of ``channel`` (one of :data:`CHANNELS`)
+        over the members that finished, at each of :attr:`times`: within 0.55% of the
+        exact sample percentile."""
+        if channel not in CHANNELS:
+            raise _lgsvi.InvalidInputError(
+                f"channel must be one of {', '.join(CHANNELS)}, got {channel!r}"
+            )
+        return self.envelope.percentile(q)[CHANNELS.index(channel)]
+
+    def final_statistics(self) -> Dict[str, np.ndarray]:
+        """The final rates' and attitude departures' mean and covariance over the members
+        that finished: ``omega_mean`` (3,), ``omega_covariance`` (3, 3), and the same of
+        the departure from the nominal's final attitude as a rotation vector
+        (``departure_mean``, ``departure_covariance``, radians)."""
+        from .lie import so3_log
+
+        ok = self.ok
+        rel = np.einsum("ji,mjk->mik", self.nominal_attitude, self.attitude[ok])
+        departure = so3_log(rel).reshape(-1, 3) if len(rel) else np.zeros((0, 3))
+        omega = self.omega[ok]
+
+        def cov(x: np.ndarray) -> np.ndarray:
+            return np.cov(x, rowvar=False).reshape(3, 3) if len(x) > 1 else np.zeros((3, 3))
+
+        return {
+            "omega_mean": omega.mean(axis=0) if len(omega) else np.full(3, np.nan),
+            "omega_covariance": cov(omega),
+            "departure_mean": departure.mean(axis=0) if len(omega) else np.full(3, np.nan),
+            "departure_covariance": cov(departure),
+        }
+
+    def __repr__(self) -> str:
+        return (
+            f"MonteCarloResult(members={len(self)}, failed={len(self.errors)}, "
+            f"seed={self.seed}, samples={len(self.times)})"
+        )
+
+
+def _spec_json(dispersions: Optional[Dict[str, Any]]) -> str:
+    if dispersions is None:
+        return "{}"
+    if not isinstance(dispersions, dict):
+        raise _lgsvi.InvalidInputError(
+            "dispersions must be a dict from a quantity (attitude, omega, inertia, "
+            f"inertia_misalignment, torque) to its distribution, got {type(dispersions).__name__}"
+        )
+    try:
+        return json.dumps(dispersions, allow_nan=False)
+    except (TypeError, ValueError) as error:
+        raise _lgsvi.InvalidInputError(f"dispersions: {error}") from None
+
+
+def _combine(chunks: List[Dict[str, Any]], seed: int) -> MonteCarloResult:
+    fields: Dict[str, Any] = {
+        name: np.concatenate([c[name] for c in chunks]) for name in _FIELDS
+    }
+    errors: Dict[int, Exception] = {}
+    envelope = chunks[0]["envelope"]
+    for k, chunk in enumerate(chunks):
+        errors.update(chunk["errors"])
+        if k > 0:
+            envelope.merge(chunk["envelope"])
+    fields.update(
+        errors=errors,
+        envelope=envelope,
+        times=chunks[0]["times"],
+        nominal_attitude=chunks[0]["nominal_attitude"],
+        nominal_omega=chunks[0]["nominal_omega"],
+    )
+    return MonteCarloResult(fields, seed)
+
+
+def _ranges(members: int, size: int) -> Iterable[tuple]:
+    return ((a, min(a + size, members)) for a in range(0, members, size))
+
+
+def run(
+    system: Any,
+    attitude: Any,
+    omega: Any,
+    dispersions: Optional[Dict[str, Any]] = None,
+    *,
+    members: int,
+    seed: int = 0,
+    t_end: float,
+    h: float,
+    nodes: int,
+    samples: int = 100,
+    chart: str = "exp",
+    matching: str = "exact",
+    threads: Optional[int] = None,
+    client: Any = None,
+    chunk_size: Optional[int] = None,
+) -> MonteCarloResult:
+    """Runs ``members`` members of ``system`` (a :class:`lgsvi.RigidBody` or
+    :class:`lgsvi.HeavyTop`) from the nominal start ``(attitude, omega)``, each with its
+    own draws of ``dispersions`` (module documentation), to ``t_end`` with steps ``h`` of
+    ``nodes`` nodes (every member the same steps, so that all share the sample times).
+
+    Parameters
+    ----------
+    samples : int
+        Sample times of the percentile envelopes, 2 to 10000, evenly spaced in steps.
+    threads : int, optional
+        Threads per process (default: one per core locally, one per task on a cluster,
+        whose workers run tasks side by side).
+    client : dask.distributed.Client, optional
+        Runs the members in chunks of ``chunk_size`` (default 500) as tasks on the client's
+        cluster; the result is the local run's, bit for bit. Each worker needs ``lgsvi``
+        installed.
+
+    A member that fails (Newton, a chart's reach) is listed in ``errors`` with its
+    exception, never dropped; the others stand.
+
+    Raises
+    ------
+    InvalidInputError
+        For a system other than a rigid body or heavy top, members < 1, a bad spec (its
+        message names the key), a non-physical dispersion, bad settings.
+    """
+    if isinstance(members, bool) or not isinstance(members, (int, np.integer)) or members < 1:
+        raise _lgsvi.InvalidInputError(f"members must be an int >= 1, got {members!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**64:
+        raise _lgsvi.InvalidInputError(f"seed must be an int in [0, 2**64), got {seed!r}")
+    members, seed = int(members), int(seed)
+    spec = _spec_json(dispersions)
+    attitude = np.asarray(attitude, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    common = dict(chart=chart, matching=matching)
+    args = (system, attitude, omega, spec, seed)
+    settings = (float(t_end), float(h), int(nodes), int(samples))
+    if client is None:
+        fields = _lgsvi._montecarlo_chunk(
+            *args, 0, members, *settings, threads=threads, **common
+        )
+        return _combine([fields], seed)
+    size = DEFAULT_CHUNK if chunk_size is None else int(chunk_size)
+    if size < 1:
+        raise _lgsvi.InvalidInputError(f"chunk_size must be >= 1, got {chunk_size!r}")
+    # One thread per task by default: a worker runs as many tasks at once as it has
+    # threads, each releasing the GIL.
+    per_task = 1 if threads is None else threads
+    # Check the spec and settings here, on a single member, before a cluster runs them.
+    _lgsvi._montecarlo_chunk(*args, 0, 0, *settings, threads=1, **common)
+    futures = [
+        client.submit(
+            _lgsvi._montecarlo_chunk,
+            *args,
+            a,
+            b,
+            *settings,
+            threads=per_task,
+            pure=False,
+            **common,
+        )
+        for a, b in _ranges(members, size)
+    ]
+    return _combine(client.gather(futures), seed)
