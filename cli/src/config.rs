@@ -271,6 +271,13 @@ pub struct SimulateOptions {
     /// Keep every K-th step (and always the first and last) [default: 1].
     #[arg(long)]
     pub every: Option<usize>,
+    /// Stop after the step in which a quantity falls below (`<`) or rises above (`>`) a
+    /// value, e.g. `omega_3<0.1` or `angle>90` (degrees turned from the start); the
+    /// crossing's time and state are reported (`stopped` in the JSON). Quantities:
+    /// omega_1..3, omega, angle, x_1..3, r, speed (bodies in space), wheel_1..4
+    /// (gyrostats).
+    #[arg(long, value_name = "CONDITION")]
+    pub stop_when: Option<String>,
     /// Output format [default: json].
     #[arg(long, value_enum)]
     pub format: Option<Format>,

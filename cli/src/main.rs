@@ -76,11 +76,19 @@ fn integrate(problem: &Problem) -> Result<Recording> {
     let bar = progress::bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut progress = |k: usize| bar.set_position(k as u64);
     let (t_end, every, check) = (problem.t_end, problem.every, problem.check);
-    let recorded = problem
-        .scenario
-        .record(settings, check, t_end, every, &mut progress);
+    let recorded = problem.scenario.record(
+        settings,
+        check,
+        t_end,
+        every,
+        problem.stop.as_ref(),
+        &mut progress,
+    );
     bar.finish_and_clear();
     recorded.map_err(|error| match CliError::from(error).into_mechanics() {
+        CliError::Experiment(lgsvi_experiments::ExperimentError::Stop { condition, reason }) => {
+            CliError::invalid("--stop-when", condition, reason)
+        }
         CliError::Mechanics(
             source @ (MechanicsError::ToleranceNotMet { .. }
             | MechanicsError::ToleranceNotChecked { .. }),
@@ -90,6 +98,26 @@ fn integrate(problem: &Problem) -> Result<Recording> {
         },
         other => other,
     })
+}
+
+/// Where a stop condition ended the run, as JSON: the condition, the crossing's time and
+/// the state there (the attitude row-major, the rates; the translation or wheels).
+fn stopped_json(stopped: &lgsvi_experiments::record::Stopped) -> serde_json::Value {
+    let r = stopped.state.attitude().to_row_major();
+    let mut json = serde_json::json!({
+        "condition": stopped.condition,
+        "t": stopped.time,
+        "R": r,
+        "omega": stopped.state.velocity.as_slice(),
+    });
+    if let Some(motion) = &stopped.motion {
+        json["position"] = motion.position.as_slice().into();
+        json["velocity"] = motion.velocity.as_slice().into();
+    }
+    if let Some(wheels) = &stopped.wheels {
+        json["wheel_speeds"] = wheels.speeds.clone().into();
+    }
+    json
 }
 
 /// Refuses outputs of one run that land on one file (`--out p.svg --plot p`).
@@ -151,6 +179,14 @@ pub(crate) fn run_simulate(options: SimulateOptions) -> Result<()> {
     let mut description = problem.description.clone();
     description["settings"] = settings_json(&problem.settings(), problem.t_end, problem.every);
     description["solution"] = "integrator".into();
+    if options.exact && problem.stop.is_some() {
+        return Err(CliError::invalid(
+            "--stop-when",
+            options.stop_when.as_deref().unwrap_or_default(),
+            "--exact prints the closed form at the recorded times and watches no condition: \
+             drop one of the two",
+        ));
+    }
     let recording = if options.exact {
         let exact = problem
             .scenario
@@ -162,6 +198,17 @@ pub(crate) fn run_simulate(options: SimulateOptions) -> Result<()> {
     } else {
         integrate(&problem)?
     };
+    if let Some(stopped) = &recording.stopped {
+        description["stopped"] = stopped_json(stopped);
+        if !problem.quiet {
+            eprintln!(
+                "stopped: {} at t = {} (the run ends at t = {}, the end of that step)",
+                stopped.condition,
+                stopped.time,
+                recording.states.last().map_or(stopped.time, |s| s.time)
+            );
+        }
+    }
     let estimate = recording.estimates.as_ref().map(|e| e.global);
     if let Some(warning) = estimate.and_then(estimate_warning) {
         eprintln!("{warning}");

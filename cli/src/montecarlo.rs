@@ -12,6 +12,7 @@ use crate::config::{config_error, SimulateOptions};
 use crate::error::{CliError, Result};
 use crate::problem::Problem;
 use clap::Args;
+use lgsvi_experiments::stop::StopWhen;
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_montecarlo::statistics::{Envelope, Samples as Sampled};
 use lgsvi_montecarlo::{Body, Dispersion, DispersionError, Dispersions, Member, Plan};
@@ -77,22 +78,27 @@ struct Outcome {
     result: std::result::Result<Final, String>,
 }
 
-/// A member's last recorded state.
+/// A member's last recorded state, and where `--stop-when` stopped it.
 #[derive(Clone, Copy)]
 struct Final {
     time: f64,
     attitude: Matrix3<f64>,
     omega: Vector3<f64>,
+    stop: Option<f64>,
 }
 
-/// A run's last sampled state.
-fn final_of(sampled: &Sampled) -> Option<Final> {
+/// A run's last sampled state and its stop time.
+fn final_of(sampled: &Sampled, stop: Option<f64>) -> Option<Final> {
     sampled.last().map(|(time, attitude, omega)| Final {
         time,
         attitude,
         omega,
+        stop,
     })
 }
+
+/// Bins of the stop times' histogram, over their own range.
+const STOP_BINS: usize = 40;
 
 /// The percentiles of the envelopes.
 const PERCENTILES: [f64; 7] = [1.0, 5.0, 25.0, 50.0, 75.0, 95.0, 99.0];
@@ -207,12 +213,14 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     let steps = crate::problem::whole_steps(nominal_problem.t_end, h)?;
     let every = (steps / (samples - 1)).max(1);
     // The nominal run fails as simulate's would, with its own error.
-    let nominal_run = run_sampled(&nominal_problem, every)?;
-    let nominal_final = final_of(&nominal_run).ok_or(CliError::invalid(
+    // The nominal runs to the end (the envelopes' times), whatever --stop-when says.
+    let (nominal_run, _) = run_sampled(&nominal_problem, every, None)?;
+    let nominal_final = final_of(&nominal_run, None).ok_or(CliError::invalid(
         "--t-end",
         nominal_problem.t_end,
         "the nominal run recorded no state",
     ))?;
+    let stopping = nominal_problem.stop.is_some();
     let mut stats = Statistics::new(nominal_run.times.len(), nominal_final);
     let bar = crate::progress::bar(members, "members", "members", base.quiet);
     let started = std::time::Instant::now();
@@ -222,7 +230,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     let mut failed_draw: Option<CliError> = None;
     crate::files::write_with(&table, |file| {
         use std::io::Write;
-        writeln!(file, "{}", csv_header())?;
+        writeln!(file, "{}", csv_header(stopping))?;
         let mut first = 0;
         while first < members {
             let last = (first + chunk_size).min(members);
@@ -242,7 +250,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
                 }
             };
             for (outcome, sampled) in chunk {
-                writeln!(file, "{}", csv_row(&outcome))?;
+                writeln!(file, "{}", csv_row(&outcome, stopping))?;
                 stats.add(&outcome, sampled.as_ref(), &nominal_run);
             }
             first = last;
@@ -272,6 +280,10 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         ),
         &out.join("envelope_energy"),
     )?;
+    if let Some(stop) = &nominal_problem.stop {
+        summary["stop"] = stop_json(stop, &stats);
+        crate::plot::save(&stop_figure(stop, &stats), &out.join("stop_times"))?;
+    }
     let text = serde_json::to_string_pretty(&summary)? + "\n";
     let summary_path = out.join("summary.json");
     crate::files::write(&summary_path, text.as_bytes())?;
@@ -376,10 +388,10 @@ fn run_member(
 ) -> Result<(Outcome, Option<Sampled>)> {
     let member = plan.member(index)?;
     let run = Problem::resolve(options(&member))
-        .and_then(|(problem, _)| run_sampled(&problem, every))
+        .and_then(|(problem, _)| run_sampled(&problem, every, problem.stop.as_ref()))
         .map_err(|e| e.to_string().replace('\n', " "));
     let (result, sampled) = match run {
-        Ok(sampled) => match final_of(&sampled) {
+        Ok((sampled, stop)) => match final_of(&sampled, stop) {
             Some(last) => (Ok(last), Some(sampled)),
             None => (Err("no state recorded".to_string()), None),
         },
@@ -388,14 +400,24 @@ fn run_member(
     Ok((Outcome { member, result }, sampled))
 }
 
-/// The problem's run, its states every `every` steps and the last.
-fn run_sampled(problem: &Problem, every: usize) -> Result<Sampled> {
+/// The problem's run, its states every `every` steps and the last, ended where `stop` is
+/// met (the crossing's time beside them).
+fn run_sampled(
+    problem: &Problem,
+    every: usize,
+    stop: Option<&StopWhen>,
+) -> Result<(Sampled, Option<f64>)> {
     let settings = problem.settings();
-    let recording =
-        problem
-            .scenario
-            .record(settings, problem.check, problem.t_end, every, &mut |_| {})?;
-    Ok(Sampled {
+    let recording = problem.scenario.record(
+        settings,
+        problem.check,
+        problem.t_end,
+        every,
+        stop,
+        &mut |_| {},
+    )?;
+    let stopped = recording.stopped.as_ref().map(|s| s.time);
+    let sampled = Sampled {
         times: recording.states.iter().map(|s| s.time).collect(),
         attitudes: recording
             .states
@@ -404,7 +426,84 @@ fn run_sampled(problem: &Problem, every: usize) -> Result<Sampled> {
             .collect(),
         omegas: recording.states.iter().map(|s| s.velocity).collect(),
         energies: recording.energies,
+    };
+    Ok((sampled, stopped))
+}
+
+/// The stop times' histogram: [`STOP_BINS`] bins from the least to the largest (one bin
+/// of width zero where all are equal); its edges and counts.
+fn stop_histogram(times: &[f64]) -> (Vec<f64>, Vec<u64>) {
+    let Some((least, largest)) = times.iter().fold(None, |r: Option<(f64, f64)>, &t| {
+        Some(r.map_or((t, t), |(a, b)| (a.min(t), b.max(t))))
+    }) else {
+        return (Vec::new(), Vec::new());
+    };
+    if largest == least {
+        return (vec![least, largest], vec![times.len() as u64]);
+    }
+    let width = (largest - least) / STOP_BINS as f64;
+    let edges = (0..=STOP_BINS).map(|i| least + width * i as f64).collect();
+    let mut counts = vec![0u64; STOP_BINS];
+    for &t in times {
+        let bin = ((t - least) / width).floor() as usize;
+        counts[bin.min(STOP_BINS - 1)] += 1;
+    }
+    (edges, counts)
+}
+
+/// The stop times over the members that met `--stop-when` (`members_stopped` of the
+/// finished ones): their exact sample percentiles (the `⌈qN⌉`-th smallest), least and
+/// largest, and their histogram.
+fn stop_json(stop: &StopWhen, stats: &Statistics) -> serde_json::Value {
+    let mut sorted = stats.stop_times.clone();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    let mut percentiles = serde_json::Map::new();
+    for p in PERCENTILES {
+        let rank = ((p / 100.0 * n as f64).ceil() as usize).clamp(1, n.max(1));
+        percentiles.insert(format!("p{p}"), json!(sorted.get(rank - 1)));
+    }
+    let (edges, counts) = stop_histogram(&sorted);
+    json!({
+        "condition": stop.to_string(),
+        "members_stopped": n,
+        "members_not_stopped": stats.rates.count as usize - n,
+        "time_percentiles": percentiles,
+        "time_min": sorted.first(),
+        "time_max": sorted.last(),
+        "histogram": {"edges": edges, "counts": counts},
     })
+}
+
+/// The stop times' histogram as a staircase.
+fn stop_figure(stop: &StopWhen, stats: &Statistics) -> lgsvi_plot::Figure {
+    let (edges, counts) = stop_histogram(&stats.stop_times);
+    let mut points = Vec::new();
+    if let (Some(&first), Some(&last)) = (edges.first(), edges.last()) {
+        points.push((first, 0.0));
+        for (i, &count) in counts.iter().enumerate() {
+            points.extend([(edges[i], count as f64), (edges[i + 1], count as f64)]);
+        }
+        points.push((last, 0.0));
+    }
+    lgsvi_plot::Figure {
+        title: format!(
+            "when {stop}: {} of {} members",
+            stats.stop_times.len(),
+            stats.rates.count
+        ),
+        x_label: "t".into(),
+        y_label: "members per bin".into(),
+        x_log: false,
+        y_log: false,
+        series: vec![lgsvi_plot::Series {
+            label: format!("stop times ({} bins)", counts.len()),
+            points,
+            style: lgsvi_plot::Style::Line,
+            color: 0,
+        }],
+        hlines: vec![],
+    }
 }
 
 /// The envelopes as JSON: the sample times, and per channel each percentile's series
@@ -467,7 +566,7 @@ fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
 }
 
 /// The header of `members.csv`.
-fn csv_header() -> String {
+fn csv_header(stop: bool) -> String {
     let names = |prefix: &str| -> Vec<String> {
         (1..=3)
             .flat_map(|i| (1..=3).map(move |j| format!("{prefix}_{i}{j}")))
@@ -480,12 +579,15 @@ fn csv_header() -> String {
     header.push("t".into());
     header.extend(names("R"));
     header.extend((1..=3).map(|i| format!("omega_{i}")));
+    if stop {
+        header.push("t_stop".into());
+    }
     header.join(",")
 }
 
 /// A member's row of `members.csv`: every float in Rust's shortest form that reads back
 /// to the same bits; a failed member's final state left empty.
-fn csv_row(outcome: &Outcome) -> String {
+fn csv_row(outcome: &Outcome, stop: bool) -> String {
     let m = &outcome.member;
     let mut cells = vec![
         m.index.to_string(),
@@ -508,6 +610,10 @@ fn csv_row(outcome: &Outcome) -> String {
         }
         Err(_) => cells.extend(std::iter::repeat_n(String::new(), 13)),
     }
+    if stop {
+        let t = outcome.result.as_ref().ok().and_then(|f| f.stop);
+        cells.push(t.map_or(String::new(), |t| format!("{t:?}")));
+    }
     cells.join(",")
 }
 
@@ -516,6 +622,9 @@ fn csv_row(outcome: &Outcome) -> String {
 /// largest departure angle, and every failure.
 struct Statistics {
     envelope: Envelope,
+    /// The stop times of the members `--stop-when` stopped (8 bytes a member: held, so
+    /// that their percentiles are exact and their histogram spans their own range).
+    stop_times: Vec<f64>,
     nominal_final: Final,
     rates: Running,
     departures: Running,
@@ -527,6 +636,7 @@ impl Statistics {
     fn new(samples: usize, nominal_final: Final) -> Self {
         Self {
             envelope: Envelope::of_attitude(samples),
+            stop_times: Vec::new(),
             nominal_final,
             rates: Running::default(),
             departures: Running::default(),
@@ -543,6 +653,7 @@ impl Statistics {
                 self.largest_angle = self.largest_angle.max(departure.norm());
                 self.departures.add(&departure);
                 self.rates.add(&last.omega);
+                self.stop_times.extend(last.stop);
             }
             Err(error) => self.failures.push(json!({
                 "member": outcome.member.index,

@@ -5,6 +5,7 @@ use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
+use lgsvi_experiments::stop::StopWhen;
 use lgsvi_experiments::ExperimentError;
 use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
@@ -205,6 +206,8 @@ pub struct Problem {
     /// Whether a companion checks the run: a `--tol` run unless `--no-check`, a fixed run
     /// with `--check`.
     pub check: Check,
+    /// Where the run stops early (`--stop-when`).
+    pub stop: Option<StopWhen>,
     /// The inputs as given, for the output's `description`.
     pub description: serde_json::Value,
 }
@@ -479,6 +482,14 @@ impl Problem {
                 _ => Check::None,
             },
             description,
+            stop: options
+                .stop_when
+                .as_deref()
+                .map(|text| {
+                    text.parse::<StopWhen>()
+                        .map_err(|reason| CliError::invalid("--stop-when", text, reason))
+                })
+                .transpose()?,
         };
         Ok((problem, options))
     }

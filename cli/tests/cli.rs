@@ -1676,3 +1676,102 @@ fn the_remaining_cli_errors_name_what_to_change() {
         );
     }
 }
+
+// `lgsvi simulate --stop-when`: the crossing's time against a closed form, the run ending
+// at the end of the step that holds it, and one-line errors naming the flag.
+
+/// An axisymmetric body, `J = diag(1, 1, 2)`, `Ω₀ = (0.3, 0, 1.5)`: `Ω₁ = 0.3 cos(1.5 t)`
+/// falls through 0 at `π/3`, `Ω₂ = 0.3 sin(1.5 t)` first rises through 0.15 at `π/9`.
+const AXISYMMETRIC: [&str; 12] = [
+    "simulate",
+    "--inertia",
+    "1,1,2",
+    "--omega0",
+    "0.3,0,1.5",
+    "--h",
+    "0.25",
+    "--nodes",
+    "12",
+    "--t-end",
+    "10",
+    "--quiet",
+];
+
+fn stopped(condition: &str) -> (serde_json::Value, serde_json::Value) {
+    let mut args = AXISYMMETRIC.to_vec();
+    args.extend(["--stop-when", condition]);
+    let (code, out, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    (json["description"]["stopped"].clone(), json)
+}
+
+#[test]
+fn a_falling_rate_stops_the_run_at_its_crossing() {
+    let (stop, json) = stopped("omega_1<0");
+    let exact = std::f64::consts::PI / 3.0;
+    let t = stop["t"].as_f64().expect("t");
+    // The located time to the 1e-12 relative (the run resolves the motion to
+    // ~1e-14 at h = 0.25, n = 12).
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+    assert_eq!(stop["condition"], "omega_1<0");
+    assert!(stop["omega"][0].as_f64().unwrap().abs() < 1e-14);
+    // The run ends at the end of the step holding the crossing: 1.25.
+    let times: Vec<f64> = json["times"]
+        .as_array()
+        .expect("times")
+        .iter()
+        .filter_map(serde_json::Value::as_f64)
+        .collect();
+    assert_eq!(times.len(), 6, "{times:?}");
+    assert_eq!(times.last(), Some(&1.25));
+}
+
+#[test]
+fn a_rising_rate_and_an_angle() {
+    let (stop, _) = stopped("omega_2>0.15");
+    let exact = std::f64::consts::PI / 9.0;
+    let t = stop["t"].as_f64().unwrap();
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+    // The angle turned grows from 0: the first crossing of 30° is located too.
+    let (stop, _) = stopped("angle>30");
+    assert!(stop["t"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn a_run_that_never_meets_its_condition_runs_to_its_end() {
+    let mut args = AXISYMMETRIC.to_vec();
+    args.extend(["--stop-when", "omega>5"]);
+    let (code, out, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(json["description"].get("stopped").is_none());
+}
+
+#[test]
+fn bad_conditions_name_the_flag() {
+    for (condition, words) in [
+        ("x_1<0", "body in space"),
+        ("wheel_2>1", "gyrostat"),
+        ("omega_9<0", "unknown quantity"),
+        ("omega_1=0", "QUANTITY<VALUE"),
+        ("omega_1<fast", "not a number"),
+        ("omega_1<inf", "not finite"),
+    ] {
+        let mut args = AXISYMMETRIC.to_vec();
+        args.extend(["--stop-when", condition]);
+        let (code, _, err) = lgsvi(&args);
+        assert_ne!(code, 0, "{condition}");
+        assert!(
+            err.contains("--stop-when") && err.contains(words),
+            "{condition}: {err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    let (code, _, err) = lgsvi(&["simulate", "--exact", "--stop-when", "omega_1<0"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--stop-when") && err.contains("--exact"),
+        "{err}"
+    );
+}

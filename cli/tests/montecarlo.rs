@@ -266,3 +266,89 @@ fn bad_input_is_refused_naming_the_flag_or_key() {
     assert_ne!(code, 0);
     assert!(err.contains("holds another run"), "{err}");
 }
+
+#[test]
+fn stop_times_per_member_match_simulate_and_are_summarised() {
+    let dir = temp_dir("stop");
+    let out = dir.join("run");
+    // An axisymmetric nominal (J = diag(1, 1, 1.8)), rates dispersed: Ω₁ falls through 0
+    // near π/(2 · 0.8 · 1.5) ≈ 1.31 for each member.
+    let args = [
+        "montecarlo",
+        "--inertia",
+        "1,1,1.8",
+        "--omega0",
+        "0.3,0,1.5",
+        "--h",
+        "0.25",
+        "--nodes",
+        "12",
+        "--t-end",
+        "10",
+        "--members",
+        "30",
+        "--seed",
+        "4",
+        "--disperse-omega",
+        "0.05",
+        "--stop-when",
+        "omega_1<0",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let (code, _, err) = lgsvi(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let (header, rows) = table(&out.join("members.csv"));
+    assert_eq!(header.last().map(String::as_str), Some("t_stop"));
+    let row = &rows[7];
+    let t_stop: f64 = row.last().unwrap().parse().unwrap();
+    let (code, json, err) = lgsvi(
+        &[
+            "simulate",
+            "--inertia-tensor",
+            &row[2..11].join(","),
+            "--attitude0",
+            &row[11..20].join(","),
+            "--omega0",
+            &row[20..23].join(","),
+            "--h",
+            "0.25",
+            "--nodes",
+            "12",
+            "--t-end",
+            "10",
+            "--stop-when",
+            "omega_1<0",
+            "--quiet",
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(json["description"]["stopped"]["t"].as_f64(), Some(t_stop));
+    // The member's row ends at the end of the step holding its stop.
+    let t_end: f64 = row[23].parse().unwrap();
+    assert!(t_end >= t_stop && t_end - t_stop < 0.25);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let stop = &summary["stop"];
+    assert_eq!(stop["members_stopped"], 30);
+    let mut times: Vec<f64> = rows
+        .iter()
+        .map(|r| r.last().unwrap().parse().unwrap())
+        .collect();
+    times.sort_by(f64::total_cmp);
+    // The exact sample median: the ⌈0.5 · 30⌉ = 15th smallest.
+    assert_eq!(stop["time_percentiles"]["p50"].as_f64(), Some(times[14]));
+    let counts: u64 = stop["histogram"]["counts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_u64().unwrap())
+        .sum();
+    assert_eq!(counts, 30);
+    for ext in ["png", "svg"] {
+        assert!(out.join(format!("stop_times.{ext}")).exists());
+    }
+}

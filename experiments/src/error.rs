@@ -51,6 +51,14 @@ pub enum ExperimentError {
         /// Why, and what to change.
         reason: String,
     },
+    /// A stop condition the run cannot watch.
+    #[error("stop condition {condition}: {reason}")]
+    Stop {
+        /// The condition, as given.
+        condition: String,
+        /// Why, and what to give.
+        reason: String,
+    },
     /// The reference run has no Galerkin curve at this time (it ended before it).
     #[error("reference has no curve at t = {0}")]
     NoReferenceCurve(f64),

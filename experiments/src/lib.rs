@@ -72,6 +72,7 @@ pub mod fit;
 pub mod paper;
 pub mod record;
 pub mod scenario;
+pub mod stop;
 mod subject;
 pub mod tolerance;
 pub mod work_precision;

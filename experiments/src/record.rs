@@ -28,11 +28,14 @@
 //! ```
 
 use crate::error::ExperimentError;
+use crate::stop::StopWhen;
 use lgsvi_mechanics::control::GroupLog;
+use lgsvi_mechanics::events::{Event, Events};
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::group::{GroupChart, Rotations};
 use lgsvi_mechanics::gyrostat::BodyWheels;
 use lgsvi_mechanics::lie::{SE3, SO3};
+use lgsvi_mechanics::state::body_momentum;
 use lgsvi_mechanics::stepper::each;
 use lgsvi_mechanics::stepper::CheckReport;
 use lgsvi_mechanics::system::ElementOf;
@@ -73,6 +76,26 @@ pub struct Recording {
     pub factorizations: usize,
     /// The integrator's error accounting (`None` for an exact solution).
     pub estimates: Option<Estimates>,
+    /// Where a stop condition ended the run ([`record_until`]), `None` for a run to its
+    /// horizon.
+    pub stopped: Option<Stopped>,
+}
+
+/// Where a stop condition ([`crate::stop::StopWhen`]) ended a run: the crossing's time and
+/// state (on the step's curve, refined by the method's own steps). The recording's last
+/// state is the end of the step that holds it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stopped {
+    /// The condition, as given (`omega_3<0.1`).
+    pub condition: String,
+    /// The crossing's time.
+    pub time: f64,
+    /// The state's SO(3) columns there.
+    pub state: State,
+    /// Its translation, for a body in space.
+    pub motion: Option<MotionRecord>,
+    /// Its wheels, for a gyrostat.
+    pub wheels: Option<WheelRecord>,
 }
 
 impl Recording {
@@ -256,6 +279,29 @@ where
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Columns<D>,
 {
+    record_until(runner, t_end, every, None, progress)
+}
+
+/// As [`record`], ending the run after the step in which `stop` is met (the crossing
+/// located on the step's curve and refined by the method's steps,
+/// [`lgsvi_mechanics::events`]): its time and state in [`Recording::stopped`], the step's
+/// end recorded as the last state.
+///
+/// # Errors
+/// As [`record`]; [`ExperimentError::Stop`] for a condition on a quantity the system
+/// lacks.
+pub fn record_until<S, C, const D: usize>(
+    runner: &mut impl Stepper<S, C, D>,
+    t_end: f64,
+    every: usize,
+    stop: Option<&StopWhen>,
+    progress: &mut dyn FnMut(usize),
+) -> Result<Recording, ExperimentError>
+where
+    S: System<D> + Copy,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: Columns<D>,
+{
     let every = every.max(1);
     let steps = runner.integrator().steps_until(t_end)?;
     let system = *runner.integrator().system();
@@ -275,7 +321,50 @@ where
         max_newton_iterations: 0,
         factorizations: 0,
         estimates: None,
+        stopped: None,
     };
+    let (start, start_motion, start_wheels) =
+        ElementOf::<S, D>::columns(runner.integrator().state());
+    let r0 = start.configuration;
+    if let Some(stop) = stop {
+        if stop
+            .quantity
+            .value(&start, start_motion.as_ref(), start_wheels.as_ref(), &r0)
+            .is_none()
+        {
+            return Err(ExperimentError::Stop {
+                condition: stop.to_string(),
+                reason: format!(
+                    "{} applies to {}",
+                    stop.quantity,
+                    stop.quantity.applies_to()
+                ),
+            });
+        }
+    }
+    let columns_at = move |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| {
+        ElementOf::<S, D>::columns(&State {
+            time: t,
+            configuration: *g,
+            momentum: body_momentum(&system, t, g, xi),
+            velocity: *xi,
+        })
+    };
+    let mut events = Events::new(
+        stop.map(|stop| {
+            let stop = *stop;
+            Event::new(stop.to_string(), move |t, g, xi| {
+                let (rotation, motion, wheels) = columns_at(t, g, xi);
+                stop.quantity
+                    .value(&rotation, motion.as_ref(), wheels.as_ref(), &r0)
+                    .map_or(f64::NAN, |v| v - stop.threshold)
+            })
+            .direction(stop.direction())
+            .terminal()
+        })
+        .into_iter()
+        .collect(),
+    );
     let mut visit = |k: usize,
                      state: &State<ElementOf<S, D>, D>,
                      iterations: Option<usize>,
@@ -316,11 +405,13 @@ where
     // The time between one observer call's end and the next call is a step's.
     let mut wall_time = Duration::ZERO;
     let mut since = Instant::now();
+    let mut last = (0, 0, false);
     let mut observer = each(
         |integrator: &Integrator<S, C, D>, step: lgsvi_mechanics::stepper::StepInfo| {
             wall_time += since.elapsed();
             let k = step.index;
             let recorded = k.is_multiple_of(every) || step.last;
+            last = (k, step.iterations, recorded);
             visit(
                 k,
                 integrator.state(),
@@ -334,7 +425,30 @@ where
             Ok::<_, ExperimentError>(ControlFlow::Continue(()))
         },
     );
-    runner.drive(steps, &mut observer)?;
+    runner.drive(steps, &mut (&mut observer, &mut events))?;
+    if events.stopped() {
+        // The step that holds the crossing ends the recording.
+        let (k, iterations, recorded) = last;
+        if !recorded {
+            let integrator = runner.integrator();
+            visit(
+                k,
+                integrator.state(),
+                Some(iterations),
+                integrator.work_done(),
+            )?;
+        }
+    }
+    run.stopped = events.into_hits().into_iter().next().map(|hit| {
+        let (state, motion, wheels) = columns_at(hit.time, &hit.configuration, &hit.velocity);
+        Stopped {
+            condition: stop.map(ToString::to_string).unwrap_or_default(),
+            time: hit.time,
+            state,
+            motion,
+            wheels,
+        }
+    });
     let integrator = runner.integrator();
     let stats = integrator.statistics();
     let local_sum = integrator.estimated_global_error();
@@ -362,12 +476,14 @@ where
 /// # Errors
 /// As [`record`]; [`lgsvi_mechanics::MechanicsError::ToleranceNotChecked`] (as
 /// [`ExperimentError::Mechanics`]) when no run met the tolerance.
+#[allow(clippy::too_many_arguments)]
 pub fn record_to_tolerance<S, C, E, const D: usize>(
     make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>, E>,
     settings: StepSettings,
     tolerance: f64,
     t_end: f64,
     every: usize,
+    stop: Option<&StopWhen>,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, E>
 where
@@ -379,7 +495,7 @@ where
     let mut runner = CheckedIntegrator::new(make(settings)?)?.with_tolerance(tolerance)?;
     let mut wall_time = 0.0;
     loop {
-        let mut run = record(&mut runner, t_end, every, progress).map_err(E::from)?;
+        let mut run = record_until(&mut runner, t_end, every, stop, progress).map_err(E::from)?;
         wall_time += run.wall_time_s;
         run.wall_time_s = wall_time;
         if runner.judge()? {
@@ -388,7 +504,8 @@ where
     }
 }
 
-/// Runs to `t_end` with the integrators `make` builds from `settings`, as `check` says:
+/// Runs to `t_end` (or to where `stop` is met) with the integrators `make` builds from
+/// `settings`, as `check` says:
 /// unchecked, one run ([`record`]); beside its companion ([`Check::Measure`]); or until
 /// [`lgsvi_mechanics::tolerance::ToleranceCheck`] accepts a run or refuses ([`Check::Tolerance`],
 /// [`record_to_tolerance`]).
@@ -401,6 +518,7 @@ pub fn record_checked<S, C, const D: usize>(
     check: Check,
     t_end: f64,
     every: usize,
+    stop: Option<&StopWhen>,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
@@ -409,14 +527,14 @@ where
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
 {
     match check {
-        Check::None => record(&mut make(settings)?, t_end, every, progress),
+        Check::None => record_until(&mut make(settings)?, t_end, every, stop, progress),
         Check::Measure => {
             let mut runner = CheckedIntegrator::new(make(settings)?)?;
-            record(&mut runner, t_end, every, progress)
+            record_until(&mut runner, t_end, every, stop, progress)
         }
         Check::Tolerance(tol) => {
             let make = |s| make(s).map_err(ExperimentError::from);
-            record_to_tolerance(make, settings, tol, t_end, every, progress)
+            record_to_tolerance(make, settings, tol, t_end, every, stop, progress)
         }
     }
 }
@@ -459,6 +577,7 @@ pub fn record_exact<S: System<3, Group = Rotations>>(
         max_newton_iterations: 0,
         factorizations: 0,
         estimates: None,
+        stopped: None,
     })
 }
 

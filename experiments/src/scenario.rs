@@ -14,13 +14,14 @@
 //! let orbit = Model::Orbiting(Orbit::default()); // μ = m = 1 from (3, 0, 0)
 //! let scenario = Scenario::new(orbit, inertia, SO3::identity(), Vector3::new(0.2, -0.3, 0.5))?;
 //! let settings = StepSettings::new(1.0, 8)?;
-//! let run = scenario.record(settings, Check::None, 10.0, 1, &mut |_| {})?;
+//! let run = scenario.record(settings, Check::None, 10.0, 1, None, &mut |_| {})?;
 //! assert_eq!(run.steps, 10);
 //! # Ok(())
 //! # }
 //! ```
 
 use crate::record::{record_checked, record_exact, Check, Recording};
+use crate::stop::StopWhen;
 use crate::tolerance::{local_errors, tolerance_runs, LocalError, ToleranceStudy};
 use crate::{ExperimentError, Subject};
 use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
@@ -444,7 +445,8 @@ impl Scenario {
     }
 
     /// Runs to `t_end` with `settings`, checked as `check` says, recording every
-    /// `every`-th state ([`record_checked`]).
+    /// `every`-th state ([`record_checked`]); ended early where `stop` is met
+    /// ([`crate::record::record_until`]).
     ///
     /// # Errors
     /// [`record_checked`]'s.
@@ -454,10 +456,11 @@ impl Scenario {
         check: Check,
         t_end: f64,
         every: usize,
+        stop: Option<&StopWhen>,
         progress: &mut dyn FnMut(usize),
     ) -> Result<Recording, ExperimentError> {
         with_system!(self, (make, K, D) => {
-            record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, progress)
+            record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, stop, progress)
         })
     }
 
@@ -623,7 +626,7 @@ mod tests {
         let scenario = Scenario::new(Model::Orbiting(orbit), inertia(), attitude, omega).unwrap();
         let settings = StepSettings::new(1.0, 8).unwrap();
         let run = scenario
-            .record(settings, Check::None, 5.0, 1, &mut |_| {})
+            .record(settings, Check::None, 5.0, 1, None, &mut |_| {})
             .unwrap();
         let body = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
         let v = attitude.matrix().transpose() * orbit.body.velocity;

@@ -67,6 +67,7 @@
 //! |---|---|
 //! | the crate root, [`prelude`] | the integrator and its builder, the built-in systems, settings, states, errors |
 //! | [`stepper`] | the driving loop and its observers ([`Stepper`], [`stepper::Observer`], [`stepper::Recorder`]) |
+//! | [`events`] | zero crossings of functions of the state, located on the steps and recorded or ending a run |
 //! | [`tolerance`] | tolerance-driven and checked runs ([`tolerance::CheckedIntegrator`]) and their policy |
 //! | [`forces`] | forces and control inputs by the Lagrange–d'Alembert principle |
 //! | [`settings`] | step settings and their limits |
@@ -85,6 +86,7 @@ pub mod control;
 mod dual;
 pub mod ensemble;
 mod error;
+pub mod events;
 pub mod exact;
 mod flow;
 

@@ -102,6 +102,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         Self: Sized,
     {
         for index in 1..=steps {
+            observer.before_step(self.integrator());
             let iterations = self.step()?;
             let info = StepInfo {
                 index,
@@ -161,6 +162,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         // The step at which the run ends: the shortened one, if there is one.
         let short = t_end - (start + whole as f64 * h) > 1e-9 * h;
         for index in 1..=whole {
+            observer.before_step(self.integrator());
             let iterations = self.step()?;
             let info = StepInfo {
                 index,
@@ -173,6 +175,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         }
         let left = t_end - self.integrator().state().time;
         if short && left > 1e-9 * h {
+            observer.before_step(self.integrator());
             let iterations = self.step_by(left)?;
             let info = StepInfo {
                 index: whole + 1,
@@ -267,6 +270,12 @@ pub trait Observer<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         integrator: &Integrator<S, C, D>,
         step: StepInfo,
     ) -> Result<ControlFlow<()>, Self::Error>;
+
+    /// Before a step, with the integrator at the step's start (nothing by default; the
+    /// events observer keeps the start to take shorter steps from it).
+    fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
+        let _ = integrator;
+    }
 }
 
 /// A closure as an observer ([`each`]).
@@ -295,15 +304,21 @@ where
     }
 }
 
-/// Both observers, in order; the run stops if either says so.
+/// Both observers, in order; the run stops if either says so. The second's errors become
+/// the first's (a library error into an application's, for instance).
 impl<S, C, const D: usize, A, B> Observer<S, C, D> for (A, B)
 where
     S: System<D>,
     C: GroupChart<S::Group, D>,
     A: Observer<S, C, D>,
-    B: Observer<S, C, D, Error = A::Error>,
+    B: Observer<S, C, D>,
+    A::Error: From<B::Error>,
 {
     type Error = A::Error;
+    fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
+        self.0.before_step(integrator);
+        self.1.before_step(integrator);
+    }
     fn after_step(
         &mut self,
         integrator: &Integrator<S, C, D>,
@@ -332,6 +347,9 @@ where
         step: StepInfo,
     ) -> Result<ControlFlow<()>, O::Error> {
         (**self).after_step(integrator, step)
+    }
+    fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
+        (**self).before_step(integrator);
     }
 }
 

@@ -5,15 +5,16 @@
 use crate::convert::{array1, array2, array3, from_matrix, rotation, rows3, vector, vector3};
 use crate::errors::{guarded, invalid, mechanics, InternalError};
 use crate::run::{
-    chart_name, chart_named, coordinates_named, each_run, matching_name, matching_named, on_curve,
-    run_to_tolerance, run_until, Linear, Options, Record, Recording, Run,
+    chart_name, chart_named, coordinates_named, each_run, events_of, matching_name, matching_named,
+    on_curve, run_to_tolerance, run_until, Linear, Options, Record, Recording, Run,
 };
 use crate::state::{quaternion, Sample, Small, Start, State};
 use crate::systems::{system_of, Spec};
 use lgsvi_lie::SO3;
+use lgsvi_mechanics::events::Direction;
 use lgsvi_mechanics::integrator::GalerkinCurve;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use std::sync::{Mutex, MutexGuard};
 
 /// What an integrator holds behind its lock.
@@ -216,6 +217,22 @@ pub fn trajectory_dict<'py>(py: Python<'py>, recording: Recording) -> PyResult<B
         numpy::PyArray1::from_vec(py, recording.iterations.iter().map(|&i| i as i64).collect()),
     )?;
     d.set_item("stats", stats_dict(py, &recording)?)?;
+    let hits = PyList::empty(py);
+    for hit in &recording.hits {
+        let direction = match hit.direction {
+            Direction::Rising => "rising",
+            Direction::Falling => "falling",
+            Direction::Either => "either",
+        };
+        hits.append((
+            hit.event,
+            hit.name.clone(),
+            hit.sample.t,
+            direction,
+            State { sample: hit.sample },
+        ))?;
+    }
+    d.set_item("events", hits)?;
     Ok(d)
 }
 
@@ -230,6 +247,7 @@ fn stats_dict<'py>(py: Python<'py>, recording: &Recording) -> PyResult<Bound<'py
     d.set_item("estimated_error", s.totals.estimated_error)?;
     d.set_item("work", s.totals.work)?;
     d.set_item("wall_time_s", s.wall_time_s)?;
+    d.set_item("stopped_by_event", recording.stopped)?;
     let nodes = PyDict::new(py);
     for (n, steps) in &s.nodes {
         nodes.set_item(n, steps)?;
@@ -413,7 +431,7 @@ impl Integrator {
             let (t, h) = (inner.run.sample().t, inner.options.h);
             t + steps as f64 * h
         };
-        self.run_until(py, end, every, None, None, None)
+        self.run_until(py, end, every, None, None, None, None)
     }
 
     /// Runs to exactly `t_end` and returns the `Trajectory`.
@@ -439,9 +457,15 @@ impl Integrator {
     ///     Record the states at these times instead (ascending, within the run), each on
     ///     its step's Galerkin curve (the polynomial dense output, of the method's
     ///     accuracy between the nodes).
+    /// events : list of Event, optional
+    ///     Zero crossings of functions of the state to locate on each step's curve (to a
+    ///     few ulps of the curve's own crossing): the trajectory's `events` lists them, and
+    ///     a terminal event stops the run after the step holding it (its last recorded
+    ///     state is that step's end).
     ///
-    /// Releases the GIL while it runs.
-    #[pyo3(signature = (t_end, every=1, tol=None, step=None, dense=None))]
+    /// Releases the GIL while it runs (an event's function takes it back for each call).
+    #[pyo3(signature = (t_end, every=1, tol=None, step=None, dense=None, events=None))]
+    #[allow(clippy::too_many_arguments)]
     fn run_until<'py>(
         &self,
         py: Python<'py>,
@@ -450,7 +474,9 @@ impl Integrator {
         tol: Option<f64>,
         step: Option<f64>,
         dense: Option<&Bound<'py, PyAny>>,
+        events: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let events = events_of(events)?;
         let record = match dense {
             Some(times) => {
                 let times = vector(times, "dense")?;
@@ -495,11 +521,11 @@ impl Integrator {
                 }
                 let recording = match tol {
                     Some(tol) if t_end > now => each_run!(&mut inner.run, it => {
-                        run_to_tolerance(it, t_end, tol, step, &record)
+                        run_to_tolerance(it, t_end, tol, step, &record, &events)
                     }),
-                    _ => each_run!(&mut inner.run, it => run_until(it, t_end, &record)),
+                    _ => each_run!(&mut inner.run, it => run_until(it, t_end, &record, &events)),
                 };
-                recording.map_err(mechanics)
+                recording.map_err(PyErr::from)
             })
         })?;
         trajectory(py, recording)
@@ -826,6 +852,8 @@ impl Curve {
                 samples,
                 iterations: vec![0; n],
                 stats: Default::default(),
+                hits: Vec::new(),
+                stopped: false,
             },
         )
     }

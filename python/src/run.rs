@@ -6,6 +6,7 @@ use crate::errors::{invalid, mechanics};
 use crate::state::{Element, Sample, Start};
 use crate::systems::{Built, Se3System, So3System};
 use lgsvi_lie::ChartKind;
+use lgsvi_mechanics::events::{Direction, Event, Events};
 use lgsvi_mechanics::group::GroupChart;
 use lgsvi_mechanics::gyrostat::{AnyGyrostat, Gyrostat};
 use lgsvi_mechanics::integrator::GalerkinCurve;
@@ -16,8 +17,10 @@ use lgsvi_mechanics::stepper::{Observer, StepInfo};
 use lgsvi_mechanics::system::ElementOf;
 use lgsvi_mechanics::{Integrator, Matching, MechanicsError, State, StepSettings, Stepper, System};
 use nalgebra::DMatrix;
+use nalgebra::SVector;
 use pyo3::prelude::*;
 use std::ops::ControlFlow;
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// The integrator's settings as given.
@@ -288,6 +291,189 @@ pub struct Recording {
     pub iterations: Vec<usize>,
     /// The run's statistics.
     pub stats: RunStats,
+    /// The events located, in time order.
+    pub hits: Vec<Hit>,
+    /// Whether a terminal event stopped the run.
+    pub stopped: bool,
+}
+
+/// An event as Python gave it (`lgsvi.Event`): a function of a `State`.
+pub struct PyEvent {
+    /// Its name.
+    pub name: String,
+    /// `function(state) -> float`.
+    pub function: Py<PyAny>,
+    /// Which crossings count.
+    pub direction: Direction,
+    /// Whether the first crossing stops the run.
+    pub terminal: bool,
+}
+
+/// The events of a `run_until(events=...)` list: `lgsvi.Event` objects (anything with
+/// `function`, `direction`, `terminal` and `name`).
+pub fn events_of(events: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<PyEvent>> {
+    let Some(events) = events else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for (k, event) in events.try_iter()?.enumerate() {
+        let event = event?;
+        let field = |name: &str| {
+            event.getattr(name).map_err(|_| {
+                invalid(format!(
+                    "events[{k}] is not an lgsvi.Event (it has no {name}): make each with \
+                     lgsvi.Event(function, direction=..., terminal=...)"
+                ))
+            })
+        };
+        let function = field("function")?;
+        if !function.is_callable() {
+            return Err(invalid(format!(
+                "events[{k}].function is not callable: give a function of a State"
+            )));
+        }
+        let direction = match field("direction")?.extract::<String>()?.as_str() {
+            "rising" => Direction::Rising,
+            "falling" => Direction::Falling,
+            "either" => Direction::Either,
+            other => {
+                return Err(invalid(format!(
+                    "events[{k}].direction must be \"rising\", \"falling\" or \"either\", got {other:?}"
+                )))
+            }
+        };
+        out.push(PyEvent {
+            name: field("name")?.extract()?,
+            function: function.unbind(),
+            direction,
+            terminal: field("terminal")?.is_truthy()?,
+        });
+    }
+    Ok(out)
+}
+
+/// A located event: which, its direction and the state on the curve there.
+#[derive(Debug, Clone)]
+pub struct Hit {
+    /// The event's index in the list given.
+    pub event: usize,
+    /// Its name.
+    pub name: String,
+    /// The crossing's direction.
+    pub direction: Direction,
+    /// The state at the crossing.
+    pub sample: Sample,
+}
+
+/// The library's events observer for `events`, each calling its Python function with the
+/// `State` on the step's curve; a Python exception is kept in `failure` (the first one)
+/// and ends the run through a NaN.
+fn observer_of<'a, S, const D: usize>(
+    system: &'a S,
+    events: &'a [PyEvent],
+    failure: &'a Mutex<Option<PyErr>>,
+) -> Events<'a, ElementOf<S, D>, D>
+where
+    S: System<D> + Sync,
+    ElementOf<S, D>: Element<D>,
+{
+    Events::new(
+        events
+            .iter()
+            .map(|e| {
+                let function = move |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| {
+                    let state = State {
+                        time: t,
+                        configuration: *g,
+                        momentum: body_momentum(system, t, g, xi),
+                        velocity: *xi,
+                    };
+                    let sample = Element::sample(&state, energy(system, &state));
+                    Python::attach(|py| {
+                        let value = e
+                            .function
+                            .call1(py, (crate::state::State { sample },))
+                            .and_then(|v| v.extract::<f64>(py));
+                        value.unwrap_or_else(|error| {
+                            let mut slot = failure.lock().unwrap_or_else(|p| p.into_inner());
+                            slot.get_or_insert(error);
+                            f64::NAN
+                        })
+                    })
+                };
+                let event = Event::new(e.name.clone(), function).direction(e.direction);
+                if e.terminal {
+                    event.terminal()
+                } else {
+                    event
+                }
+            })
+            .collect(),
+    )
+}
+
+/// The hits of an events observer as plain numbers.
+fn hits_of<S, const D: usize>(
+    system: &S,
+    events: &[PyEvent],
+    observer: Events<'_, ElementOf<S, D>, D>,
+) -> (Vec<Hit>, bool)
+where
+    S: System<D>,
+    ElementOf<S, D>: Element<D>,
+{
+    let stopped = observer.stopped();
+    let hits = observer
+        .into_hits()
+        .into_iter()
+        .map(|hit| {
+            let state = State {
+                time: hit.time,
+                configuration: hit.configuration,
+                momentum: body_momentum(system, hit.time, &hit.configuration, &hit.velocity),
+                velocity: hit.velocity,
+            };
+            Hit {
+                event: hit.event,
+                name: events[hit.event].name.clone(),
+                direction: hit.direction,
+                sample: Element::sample(&state, energy(system, &state)),
+            }
+        })
+        .collect();
+    (hits, stopped)
+}
+
+/// A failed run's error: the Python event function's own exception where one raised,
+/// else the library's error.
+pub enum RunError {
+    /// The library's.
+    Mechanics(MechanicsError),
+    /// An event function's.
+    Python(PyErr),
+}
+
+impl From<MechanicsError> for RunError {
+    fn from(error: MechanicsError) -> Self {
+        RunError::Mechanics(error)
+    }
+}
+
+impl From<RunError> for PyErr {
+    fn from(error: RunError) -> Self {
+        match error {
+            RunError::Mechanics(error) => mechanics(error),
+            RunError::Python(error) => error,
+        }
+    }
+}
+
+/// `error`, or the Python exception an event function raised first.
+fn run_error(error: MechanicsError, failure: &Mutex<Option<PyErr>>) -> RunError {
+    match failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        Some(python) => RunError::Python(python),
+        None => RunError::Mechanics(error),
+    }
 }
 
 /// A run's statistics.
@@ -318,6 +504,8 @@ struct Collect<'a> {
     next: usize,
     samples: Vec<Sample>,
     iterations: Vec<usize>,
+    /// The Newton iterations of the last step taken.
+    last_iterations: usize,
 }
 
 impl<'a> Collect<'a> {
@@ -332,6 +520,7 @@ impl<'a> Collect<'a> {
             next: 0,
             samples: Vec::new(),
             iterations: Vec::new(),
+            last_iterations: 0,
         };
         let start = sample_of(it);
         match record {
@@ -355,6 +544,25 @@ impl<'a> Collect<'a> {
     }
 }
 
+impl Collect<'_> {
+    /// After a run a terminal event stopped: its last state, where the recording did not
+    /// take it (a run of `every` steps records its planned last step only).
+    fn finish<S, C, const D: usize>(&mut self, it: &Integrator<S, C, D>, stopped: bool)
+    where
+        S: System<D>,
+        C: GroupChart<S::Group, D>,
+        ElementOf<S, D>: Element<D>,
+    {
+        if stopped
+            && matches!(self.record, Record::Every(_))
+            && self.samples.last().is_none_or(|s| s.t != it.state().time)
+        {
+            self.samples.push(sample_of(it));
+            self.iterations.push(self.last_iterations);
+        }
+    }
+}
+
 impl<S, C, const D: usize> Observer<S, C, D> for Collect<'_>
 where
     S: System<D>,
@@ -367,6 +575,7 @@ where
         it: &Integrator<S, C, D>,
         step: StepInfo,
     ) -> Result<ControlFlow<()>, MechanicsError> {
+        self.last_iterations = step.iterations;
         match self.record {
             Record::Every(every) => {
                 if step.index.is_multiple_of(*every) || step.last {
@@ -419,18 +628,25 @@ pub fn run_until<S, const D: usize>(
     it: &mut Integrator<S, ChartKind, D>,
     t_end: f64,
     record: &Record,
-) -> Result<Recording, MechanicsError>
+    events: &[PyEvent],
+) -> Result<Recording, RunError>
 where
-    S: System<D>,
+    S: System<D> + Clone + Sync,
     ElementOf<S, D>: Element<D>,
     ChartKind: GroupChart<S::Group, D>,
 {
     let before = totals(it);
     let nodes_before: Vec<usize> = it.nodes_histogram().to_vec();
     let mut collect = Collect::new(record, it);
+    let system = it.system().clone();
+    let failure = Mutex::new(None);
+    let mut observer = observer_of(&system, events, &failure);
     let clock = Instant::now();
-    it.drive_until(t_end, &mut collect)?;
+    it.drive_until(t_end, &mut (&mut collect, &mut observer))
+        .map_err(|e| run_error(e, &failure))?;
     let wall_time_s = clock.elapsed().as_secs_f64();
+    let (hits, stopped) = hits_of(&system, events, observer);
+    collect.finish(it, stopped);
     let after = totals(it);
     let nodes = it
         .nodes_histogram()
@@ -457,6 +673,8 @@ where
             nodes,
             check: None,
         },
+        hits,
+        stopped,
     })
 }
 
@@ -470,9 +688,10 @@ pub fn run_to_tolerance<S, const D: usize>(
     tolerance: f64,
     step: Option<f64>,
     record: &Record,
-) -> Result<Recording, MechanicsError>
+    events: &[PyEvent],
+) -> Result<Recording, RunError>
 where
-    S: System<D> + Clone,
+    S: System<D> + Clone + Sync,
     ElementOf<S, D>: Element<D> + lgsvi_mechanics::control::GroupLog<D>,
     ChartKind: GroupChart<S::Group, D>,
 {
@@ -489,13 +708,21 @@ where
     }
     let mut checked = builder.build_checked()?;
     let mut wall_time_s = 0.0;
-    let collect = loop {
+    let system = it.system().clone();
+    let failure = Mutex::new(None);
+    // Each run (a missed one is taken again, tightened) records and locates afresh.
+    let (collect, hits, stopped) = loop {
         let mut collect = Collect::new(record, checked.integrator());
+        let mut observer = observer_of(&system, events, &failure);
         let clock = Instant::now();
-        checked.drive_until(t_end, &mut collect)?;
+        checked
+            .drive_until(t_end, &mut (&mut collect, &mut observer))
+            .map_err(|e| run_error(e, &failure))?;
         wall_time_s += clock.elapsed().as_secs_f64();
         if checked.judge()? {
-            break collect;
+            let (hits, stopped) = hits_of(&system, events, observer);
+            collect.finish(checked.integrator(), stopped);
+            break (collect, hits, stopped);
         }
     };
     let primary = checked.integrator();
@@ -515,6 +742,8 @@ where
         samples: collect.samples,
         iterations: collect.iterations,
         stats,
+        hits,
+        stopped,
     })
 }
 

@@ -1,4 +1,4 @@
-"""The Python code of the README and of the guide's Python and Monte Carlo pages runs: each page's blocks in
+"""The Python code of the README and of the guide's Python, Monte Carlo and events pages runs: each page's blocks in
 order, in one namespace, as a reader would paste them."""
 
 import pathlib
@@ -11,6 +11,7 @@ PAGES = [
     ROOT / "README.md",
     ROOT / "docs" / "guide" / "python.md",
     ROOT / "docs" / "guide" / "montecarlo.md",
+    ROOT / "docs" / "guide" / "events.md",
 ]
 
 

@@ -93,6 +93,9 @@ pub struct Integrator<S: System<D>, C = ChartKind, const D: usize = 3> {
     predictor: Predictor<ElementOf<S, D>, D>,
     control: Controller,
     ledger: Ledger,
+    /// The curve of a step of another length ([`Stepper::step_by`]) taken last: kept
+    /// because returning to the settings' step forgets the predictor's curve.
+    other_length_curve: Option<GalerkinCurve<S::Group, C, D>>,
 }
 
 impl<S: System<D>, const D: usize> Integrator<S, ChartKind, D>
@@ -196,6 +199,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             },
             control: Controller::new(settings.h()),
             ledger: Ledger::new(MAX_NODES),
+            other_length_curve: None,
         })
     }
 
@@ -378,6 +382,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             origin_steps: 0,
         };
         self.ledger.restart();
+        self.other_length_curve = None;
         self.predictor.previous_velocity = None;
         self.predictor.last_base = configuration;
         self.predictor.flow_end = None;
@@ -386,8 +391,18 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         Ok(())
     }
 
-    /// The Galerkin curve of the last step taken (dense output), if any.
+    /// The Galerkin curve of the last step taken (dense output), if any: a step of the
+    /// settings' length or one of another length ([`crate::Stepper::step_by`], the shortened last
+    /// step of [`crate::Stepper::drive_until`]).
     pub fn last_curve(&self) -> Option<GalerkinCurve<S::Group, C, D>> {
+        if self.predictor.previous_velocity.is_none() {
+            // Only while that step is still the last one taken: it ends where the state is.
+            return self
+                .other_length_curve
+                .as_ref()
+                .filter(|c| (c.start() + c.step() - self.state.time).abs() <= 1e-9 * c.step())
+                .cloned();
+        }
         self.predictor
             .previous_velocity
             .is_some()

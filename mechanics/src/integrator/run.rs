@@ -100,7 +100,13 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<S, C, D>
         let step = self.settings.h();
         self.switch_step(h)?;
         let last = Integrator::step(self);
+        let curve = if last.is_ok() && h != step {
+            self.last_curve()
+        } else {
+            None
+        };
         self.switch_step(step)?;
+        self.other_length_curve = curve;
         last
     }
 

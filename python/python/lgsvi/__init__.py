@@ -8,8 +8,8 @@ at a fixed, large step.
 
 Systems: :class:`RigidBody`, :class:`HeavyTop` (SO(3)), :class:`FreeBody`,
 :class:`OrbitingBody` (SE(3)), :class:`Gyrostat` (reaction wheels). Integration:
-:class:`Integrator` (``step``, ``run_until`` to a horizon or a tolerance, ``linearize``,
-dense output), :func:`run_ensemble`, :mod:`lgsvi.montecarlo` (dispersion analysis, locally or on a
+:class:`Integrator` (``step``, ``run_until`` to a horizon or a tolerance, with
+:class:`Event` zero crossings located on the steps' curves, ``linearize``, dense output), :func:`run_ensemble`, :mod:`lgsvi.montecarlo` (dispersion analysis, locally or on a
 Dask cluster). Control: :mod:`lgsvi.control`. Foundations:
 :mod:`lgsvi.quadrature`, :mod:`lgsvi.chebyshev`, :mod:`lgsvi.lie`. Errors:
 :class:`LgsviError` and its subclasses.
@@ -38,6 +38,7 @@ from ._lgsvi import (
     ToleranceError,
     __version__,
 )
+from ._events import Event, EventHit
 from ._trajectory import EnsembleResult, Trajectory
 from ._ensemble import run_ensemble
 from . import chebyshev, control, lie, montecarlo, quadrature
@@ -47,6 +48,8 @@ __all__ = [
     "ConvergenceError",
     "Curve",
     "EnsembleResult",
+    "Event",
+    "EventHit",
     "FreeBody",
     "Gyrostat",
     "HeavyTop",

@@ -152,6 +152,7 @@ class Integrator:
         tol: Optional[float] = None,
         step: Optional[float] = None,
         dense: Optional[ArrayLike] = None,
+        events: Optional[Sequence[Any]] = None,
     ) -> Any: ...
     def reset(
         self,

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Dict
+from typing import Any, Dict, List
 
 import numpy as np
 
@@ -48,6 +48,9 @@ class Trajectory:
         A gyrostat's wheels, relative to the body.
     newton_iterations : ndarray (N,)
         Newton iterations of the step that reached each state (0 for the start).
+    events : list of EventHit
+        The crossings of ``run_until(events=...)``, in time order (``stats
+        ["stopped_by_event"]`` says whether a terminal one ended the run).
     stats : dict
         The run's ``steps``, ``newton_iterations``, ``max_newton_iterations``,
         ``factorizations``, ``rejected_steps``, ``wall_time_s`` (the integration alone),
@@ -57,12 +60,17 @@ class Trajectory:
         for a tolerance run, ``check`` (what the companion measured).
     """
 
-    __slots__ = _ARRAYS + ("stats",)
+    __slots__ = _ARRAYS + ("stats", "events")
 
     def __init__(self, **fields: Any) -> None:
+        from ._events import EventHit
+
         for name in _ARRAYS:
             setattr(self, name, fields.get(name))
         self.stats: Dict[str, Any] = dict(fields.get("stats", {}))
+        self.events: List[EventHit] = [
+            hit if isinstance(hit, EventHit) else EventHit(*hit) for hit in fields.get("events", [])
+        ]
 
     def __len__(self) -> int:
         return len(self.t)
@@ -75,7 +83,7 @@ class Trajectory:
             name: (None if getattr(self, name) is None else getattr(self, name)[index])
             for name in _ARRAYS
         }
-        return Trajectory(stats=self.stats, **fields)
+        return Trajectory(stats=self.stats, events=self.events, **fields)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Trajectory):
@@ -91,12 +99,16 @@ class Trajectory:
     def __getstate__(self) -> Dict[str, Any]:
         state = {name: getattr(self, name) for name in _ARRAYS}
         state["stats"] = self.stats
+        state["events"] = [tuple(hit) for hit in self.events]
         return state
 
     def __setstate__(self, state: Dict[str, Any]) -> None:
         for name in _ARRAYS:
             setattr(self, name, state.get(name))
         self.stats = state.get("stats", {})
+        from ._events import EventHit
+
+        self.events = [EventHit(*hit) for hit in state.get("events", [])]
 
     def __repr__(self) -> str:
         span = f"t = {self.t[0]:g} ... {self.t[-1]:g}" if len(self.t) else "empty"

@@ -1,0 +1,196 @@
+//! A run's stop condition, `QUANTITY<VALUE` or `QUANTITY>VALUE` (what `lgsvi simulate
+//! --stop-when` takes): the run ends after the step in which the quantity falls below or
+//! rises above the value, the crossing located on the step's curve and refined by the
+//! method's own steps ([`lgsvi_mechanics::events`]).
+//!
+//! | quantity | meaning | systems |
+//! |---|---|---|
+//! | `omega_1`, `omega_2`, `omega_3` | a body rate `Ω_i`, rad/s | all |
+//! | `omega` | `|Ω|`, rad/s | all |
+//! | `angle` | the rotation from the start attitude, `|log(R₀ᵀR)|`, degrees | all |
+//! | `x_1`, `x_2`, `x_3` | a coordinate of the centre of mass, world frame | bodies in space |
+//! | `r` | `|x|` | bodies in space |
+//! | `speed` | `|ẋ|` | bodies in space |
+//! | `wheel_1` … `wheel_4` | a wheel's rate relative to the body, rad/s | gyrostats |
+//!
+//! ```
+//! use lgsvi_experiments::stop::StopWhen;
+//! let stop: StopWhen = "angle>90".parse()?;
+//! assert_eq!(stop.to_string(), "angle>90");
+//! assert!("omega_4<1".parse::<StopWhen>().is_err());
+//! # Ok::<(), String>(())
+//! ```
+
+use crate::record::{MotionRecord, WheelRecord};
+use lgsvi_mechanics::events::Direction;
+use lgsvi_mechanics::lie::SO3;
+use lgsvi_mechanics::State;
+use std::fmt;
+use std::str::FromStr;
+
+/// A quantity a stop condition watches (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// `Ω_i`, `i` in 0..3.
+    Omega(usize),
+    /// `|Ω|`.
+    OmegaNorm,
+    /// The rotation angle from the start attitude, degrees.
+    Angle,
+    /// `x_i`, `i` in 0..3.
+    Position(usize),
+    /// `|x|`.
+    Distance,
+    /// `|ẋ|`.
+    Speed,
+    /// Wheel `k`'s rate, `k` in 0..4.
+    Wheel(usize),
+}
+
+impl Quantity {
+    /// The quantity's value at a state's SO(3) columns (and translation or wheels), the
+    /// run's start attitude `r0` given; `None` where the system has no such quantity.
+    pub fn value(
+        &self,
+        rotation: &State,
+        motion: Option<&MotionRecord>,
+        wheels: Option<&WheelRecord>,
+        r0: &SO3,
+    ) -> Option<f64> {
+        Some(match *self {
+            Quantity::Omega(i) => rotation.velocity[i],
+            Quantity::OmegaNorm => rotation.velocity.norm(),
+            Quantity::Angle => {
+                let relative = r0.matrix().transpose() * rotation.configuration.matrix();
+                SO3::from_matrix_unchecked(relative)
+                    .log()
+                    .norm()
+                    .to_degrees()
+            }
+            Quantity::Position(i) => motion?.position[i],
+            Quantity::Distance => motion?.position.norm(),
+            Quantity::Speed => motion?.velocity.norm(),
+            Quantity::Wheel(k) => *wheels?.speeds.get(k)?,
+        })
+    }
+
+    /// What the quantity needs, for an error where the system lacks it.
+    pub fn applies_to(&self) -> &'static str {
+        match self {
+            Quantity::Position(_) | Quantity::Distance | Quantity::Speed => {
+                "a body in space (free-body, orbiting-body)"
+            }
+            Quantity::Wheel(_) => "a gyrostat with that many wheels",
+            _ => "every system",
+        }
+    }
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Quantity::Omega(i) => write!(f, "omega_{}", i + 1),
+            Quantity::OmegaNorm => write!(f, "omega"),
+            Quantity::Angle => write!(f, "angle"),
+            Quantity::Position(i) => write!(f, "x_{}", i + 1),
+            Quantity::Distance => write!(f, "r"),
+            Quantity::Speed => write!(f, "speed"),
+            Quantity::Wheel(k) => write!(f, "wheel_{}", k + 1),
+        }
+    }
+}
+
+impl FromStr for Quantity {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, String> {
+        let indexed = |prefix: &str, count: usize| {
+            name.strip_prefix(prefix)
+                .and_then(|i| i.parse::<usize>().ok())
+                .filter(|i| (1..=count).contains(i))
+                .map(|i| i - 1)
+        };
+        Ok(match name {
+            "omega" => Quantity::OmegaNorm,
+            "angle" => Quantity::Angle,
+            "r" => Quantity::Distance,
+            "speed" => Quantity::Speed,
+            _ => {
+                if let Some(i) = indexed("omega_", 3) {
+                    Quantity::Omega(i)
+                } else if let Some(i) = indexed("x_", 3) {
+                    Quantity::Position(i)
+                } else if let Some(k) = indexed("wheel_", 4) {
+                    Quantity::Wheel(k)
+                } else {
+                    return Err(format!(
+                        "unknown quantity {name:?}: one of omega_1, omega_2, omega_3, omega, \
+                         angle (degrees from the start attitude), x_1, x_2, x_3, r, speed, \
+                         wheel_1 … wheel_4"
+                    ));
+                }
+            }
+        })
+    }
+}
+
+/// A stop condition: the run ends when `quantity` falls below (`<`) or rises above (`>`)
+/// `threshold` (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StopWhen {
+    /// What is watched.
+    pub quantity: Quantity,
+    /// `true` for `<` (a falling crossing), `false` for `>` (a rising one).
+    pub below: bool,
+    /// The value.
+    pub threshold: f64,
+}
+
+impl StopWhen {
+    /// The crossing's direction of `quantity − threshold`.
+    pub fn direction(&self) -> Direction {
+        if self.below {
+            Direction::Falling
+        } else {
+            Direction::Rising
+        }
+    }
+}
+
+impl fmt::Display for StopWhen {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let sign = if self.below { '<' } else { '>' };
+        write!(f, "{}{sign}{}", self.quantity, self.threshold)
+    }
+}
+
+impl FromStr for StopWhen {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        let text = text.trim();
+        let (at, below) = match (text.find('<'), text.find('>')) {
+            (Some(i), None) => (i, true),
+            (None, Some(i)) => (i, false),
+            _ => {
+                return Err(format!(
+                    "{text:?} is not QUANTITY<VALUE or QUANTITY>VALUE (e.g. omega_3<0.1: stop \
+                     when Ω₃ falls below 0.1 rad/s; angle>90: when the body has turned 90°)"
+                ))
+            }
+        };
+        let quantity: Quantity = text[..at].trim().parse()?;
+        let value = text[at + 1..].trim();
+        let threshold: f64 = value
+            .parse()
+            .map_err(|_| format!("{value:?} is not a number (in {text:?})"))?;
+        if !threshold.is_finite() {
+            return Err(format!("the value {threshold} is not finite (in {text:?})"));
+        }
+        Ok(Self {
+            quantity,
+            below,
+            threshold,
+        })
+    }
+}
