@@ -236,7 +236,9 @@ where
     type Error = MechanicsError;
 
     fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
-        self.start = Some(*integrator.state());
+        if !self.events.is_empty() {
+            self.start = Some(*integrator.state());
+        }
     }
 
     fn after_step(
@@ -244,6 +246,10 @@ where
         integrator: &Integrator<S, C, D>,
         _step: StepInfo,
     ) -> Result<ControlFlow<()>, MechanicsError> {
+        // No events, no work (a run without a stop condition pays nothing per step).
+        if self.events.is_empty() {
+            return Ok(ControlFlow::Continue(()));
+        }
         let Some(curve) = integrator.last_curve() else {
             return Ok(ControlFlow::Continue(()));
         };
