@@ -23,4 +23,8 @@ pub enum BenchError {
     /// The thread pool of an ensemble could not be built.
     #[error("thread pool: {0}")]
     ThreadPool(#[from] rayon::ThreadPoolBuildError),
+    /// A measurement that could not be set up (its members' draws, no setting that reaches
+    /// its accuracy).
+    #[error("{0}")]
+    Setup(String),
 }

@@ -8,12 +8,15 @@
 //!   run timed whole, construction included, median of the repeats), and the parallel
 //!   ensemble;
 //! - [`space`]: the same protocol for the orbiting body O1 and the torqued body F1;
+//! - [`dispersion`]: Monte Carlo throughput, dispersed members of case A to 1e-10 by lgsvi
+//!   and by DOP853 on the same threads;
 //! - [`long_run`]: a long run of case A beside DOP853, its invariants over time, and the
 //!   energy-trend ensemble that tells a drift from a random walk.
 //!
 //! Everything returns data (`lgsvi_experiments::work_precision::Point` and the structs
 //! here); `lgsvi bench` turns it into tables, plots and files.
 
+pub mod dispersion;
 mod error;
 pub mod long_run;
 pub mod report;

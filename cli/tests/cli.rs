@@ -1775,3 +1775,36 @@ fn bad_conditions_name_the_flag() {
         "{err}"
     );
 }
+
+/// `lgsvi bench --dispersion N`: both methods run the same members to the same accuracy
+/// (their final attitudes agree to a few times 1e-10), and the file says so.
+#[test]
+fn bench_dispersion_runs_both_methods_on_the_same_members() {
+    let dir = temp_dir("bench-dispersion");
+    let out = dir.join("bench");
+    let (code, stdout, err) = lgsvi(&[
+        "bench",
+        "--dispersion",
+        "24",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("DOP853"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("dispersion.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["members"], 24);
+    assert_eq!(json["failures"], 0);
+    // Each method is within 1e-10 of the reference on the nominal, so two members' final
+    // attitudes differ by at most a few times that.
+    for key in ["lgsvi_nominal_error", "dop853_nominal_error"] {
+        assert!(json[key].as_f64().unwrap() <= 1e-10, "{key}: {json}");
+    }
+    assert!(json["agreement"].as_f64().unwrap() < 5e-10, "{json}");
+    let (code, _, err) = lgsvi(&["bench", "--dispersion", "0"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--dispersion"), "{err}");
+}
