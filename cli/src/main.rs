@@ -66,7 +66,7 @@ enum Command {
     /// inertia, start and torque, in parallel; members.csv (one row per member) and
     /// summary.json (final-state statistics, every failure with its seed and cause).
     /// Exit status 3 when members failed.
-    Montecarlo(montecarlo::MontecarloOptions),
+    Montecarlo(Box<montecarlo::MontecarloOptions>),
 }
 
 /// The run the problem describes, recorded; a `--tol` run that failed says what to change.
@@ -273,7 +273,7 @@ fn main() -> ExitCode {
         Some(Command::Reproduce(options)) => reproduce::run(options),
         Some(Command::Bench(options)) => bench::run(options),
         Some(Command::Linearize(options)) => linearize::run(options),
-        Some(Command::Montecarlo(options)) => montecarlo::run(options),
+        Some(Command::Montecarlo(options)) => montecarlo::run(*options),
         None => reproduce::run(cli.reproduce),
     };
     match result {

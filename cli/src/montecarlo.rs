@@ -70,7 +70,38 @@ pub struct MontecarloOptions {
     /// 2 to 10000 [default: 100].
     #[arg(long, value_name = "K")]
     pub samples: Option<usize>,
+    /// Complete the interrupted run in --out (its options are the run's own, kept in
+    /// checkpoint.json; give no others): every finished member is kept, the rest run.
+    #[arg(long)]
+    #[serde(skip)]
+    pub resume: bool,
+    /// Stop once this many members are written, as an interruption would (for testing
+    /// --resume).
+    #[arg(long, hide = true, value_name = "MEMBERS")]
+    #[serde(skip)]
+    pub interrupt_after: Option<u64>,
 }
+
+/// What a run keeps beside members.csv after every chunk, so that `--resume` completes an
+/// interrupted run exactly as an uninterrupted one would have ended.
+#[derive(Serialize, Deserialize)]
+struct Checkpoint {
+    /// The Monte Carlo options (the config's merged in).
+    options: MontecarloOptions,
+    /// The nominal's options, resolved.
+    simulate: SimulateOptions,
+    /// Members whose rows members.csv holds.
+    members_done: u64,
+    /// members.csv's length after them (a row half written past it is cut off).
+    csv_bytes: u64,
+    /// The statistics over them.
+    statistics: Statistics,
+    /// The integration's wall time so far.
+    wall_time_s: f64,
+}
+
+/// The file of [`Checkpoint`] in a run's folder.
+const CHECKPOINT: &str = "checkpoint.json";
 
 /// One member's outcome: its draws, and its final state or why it failed.
 struct Outcome {
@@ -79,7 +110,7 @@ struct Outcome {
 }
 
 /// A member's last recorded state, and where `--stop-when` stopped it.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Serialize, Deserialize)]
 struct Final {
     time: f64,
     attitude: Matrix3<f64>,
@@ -117,7 +148,12 @@ fn chunk_members(samples: usize) -> u64 {
 /// Runs `lgsvi montecarlo`; `Ok(())` when every member finished, else
 /// [`CliError::MembersFailed`] after writing everything.
 pub fn run(options: MontecarloOptions) -> Result<()> {
-    let options = with_config(options)?;
+    let (options, checkpoint) = if options.resume {
+        let (options, checkpoint) = resumed(options)?;
+        (options, Some(checkpoint))
+    } else {
+        (with_config(options)?, None)
+    };
     let base = &options.base;
     let row = "montecarlo writes one row per member (see --replay)";
     for (flag, given, why) in [
@@ -191,11 +227,12 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
     let table = out.join("members.csv");
-    if table.exists() {
+    if table.exists() && checkpoint.is_none() {
         return Err(CliError::invalid(
             "--out",
             out.display(),
-            "the folder holds another run (members.csv): give another folder, or remove it",
+            "the folder holds another run (members.csv): give another folder, remove it, or \
+             complete an interrupted one with --resume",
         ));
     }
     std::fs::create_dir_all(&out).map_err(|source| CliError::CreateDir {
@@ -221,45 +258,75 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         "the nominal run recorded no state",
     ))?;
     let stopping = nominal_problem.stop.is_some();
-    let mut stats = Statistics::new(nominal_run.times.len(), nominal_final);
+    let (mut stats, mut first, earlier_wall_time, resume_bytes) = match checkpoint {
+        Some(c) => (
+            c.statistics,
+            c.members_done,
+            c.wall_time_s,
+            Some(c.csv_bytes),
+        ),
+        None => (
+            Statistics::new(nominal_run.times.len(), nominal_final),
+            0,
+            0.0,
+            None,
+        ),
+    };
     let bar = crate::progress::bar(members, "members", "members", base.quiet);
+    bar.set_position(first);
     let started = std::time::Instant::now();
     let chunk_size = chunk_members(nominal_run.times.len());
     // Rows are written as their chunk finishes, in member order, and the statistics
-    // updated: nothing of a member is held past its chunk.
-    let mut failed_draw: Option<CliError> = None;
-    crate::files::write_with(&table, |file| {
-        use std::io::Write;
-        writeln!(file, "{}", csv_header(stopping))?;
-        let mut first = 0;
-        while first < members {
-            let last = (first + chunk_size).min(members);
-            let chunk: Result<Vec<(Outcome, Option<Sampled>)>> = (first..last)
-                .into_par_iter()
-                .map(|index| {
-                    let outcome = run_member(&plan, index, every, &member_options);
-                    bar.inc(1);
-                    outcome
-                })
-                .collect();
-            let chunk = match chunk {
-                Ok(chunk) => chunk,
-                Err(error) => {
-                    failed_draw = Some(error);
-                    return Err(std::io::Error::other("a member could not be drawn"));
-                }
-            };
-            for (outcome, sampled) in chunk {
-                writeln!(file, "{}", csv_row(&outcome, stopping))?;
-                stats.add(&outcome, sampled.as_ref(), &nominal_run);
-            }
-            first = last;
+    // updated: nothing of a member is held past its chunk. After each chunk the rows are
+    // flushed to disk and the checkpoint written, so an interruption loses one chunk.
+    let (mut file, mut csv_bytes) = open_table(&table, resume_bytes, stopping)?;
+    let checkpoint_path = out.join(CHECKPOINT);
+    while first < members {
+        let mut last = (first + chunk_size).min(members);
+        if let Some(at) = options.interrupt_after.filter(|&at| at > first) {
+            last = last.min(at);
         }
-        Ok(())
-    })
-    .map_err(|error| failed_draw.take().unwrap_or(error))?;
+        let chunk: Vec<(Outcome, Option<Sampled>)> = (first..last)
+            .into_par_iter()
+            .map(|index| {
+                let outcome = run_member(&plan, index, every, &member_options);
+                bar.inc(1);
+                outcome
+            })
+            .collect::<Result<_>>()?;
+        let mut rows = String::new();
+        for (outcome, sampled) in chunk {
+            rows.push_str(&csv_row(&outcome, stopping));
+            rows.push('\n');
+            stats.add(&outcome, sampled.as_ref(), &nominal_run);
+        }
+        append(&mut file, &table, rows.as_bytes())?;
+        csv_bytes += rows.len() as u64;
+        first = last;
+        let saved = Checkpoint {
+            options: MontecarloOptions {
+                base: SimulateOptions::default(),
+                ..options.clone()
+            },
+            simulate: resolved.clone(),
+            members_done: first,
+            csv_bytes,
+            statistics: stats,
+            wall_time_s: earlier_wall_time + started.elapsed().as_secs_f64(),
+        };
+        crate::files::write(&checkpoint_path, &serde_json::to_vec(&saved)?)?;
+        stats = saved.statistics;
+        if options.interrupt_after == Some(first) && first < members {
+            bar.finish_and_clear();
+            return Err(CliError::invalid(
+                "--interrupt-after",
+                first,
+                format!("interrupted after {first} of {members} members, as asked"),
+            ));
+        }
+    }
     bar.finish_and_clear();
-    let wall_time = started.elapsed().as_secs_f64();
+    let wall_time = earlier_wall_time + started.elapsed().as_secs_f64();
     let mut summary = summary(&options, &plan, &nominal_problem, &stats, wall_time);
     summary["envelopes"] = envelopes_json(&stats.envelope, &nominal_run.times);
     crate::plot::save(
@@ -287,6 +354,8 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     let text = serde_json::to_string_pretty(&summary)? + "\n";
     let summary_path = out.join("summary.json");
     crate::files::write(&summary_path, text.as_bytes())?;
+    // Complete: nothing left to resume.
+    let _ = std::fs::remove_file(&checkpoint_path);
     if !stats.failures.is_empty() {
         return Err(CliError::MembersFailed {
             failed: stats.failures.len(),
@@ -307,6 +376,122 @@ const MAX_SAMPLES: usize = 10_000;
 const MAX_MEMBERS: u64 = 10_000_000;
 /// The output folder without `--out`.
 const DEFAULT_OUT: &str = "lgsvi-montecarlo";
+
+/// The options and checkpoint of the interrupted run in `--out` that `--resume`
+/// completes: the run's own options (only `--out` and `--quiet` may be given beside
+/// `--resume`).
+fn resumed(given: MontecarloOptions) -> Result<(MontecarloOptions, Checkpoint)> {
+    let out = given
+        .base
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
+    let quiet = given.base.quiet;
+    let mut bare = given.clone();
+    bare.resume = false;
+    bare.interrupt_after = None;
+    bare.base.out = None;
+    bare.base.quiet = false;
+    let nothing_else = serde_json::to_value(&bare)?
+        == serde_json::to_value(MontecarloOptions::default())?
+        && serde_json::to_value(&bare.base)? == serde_json::to_value(SimulateOptions::default())?
+        && bare.base.config.is_none();
+    if !nothing_else {
+        return Err(CliError::invalid(
+            "--resume",
+            out.display(),
+            "a resumed run takes its own options from the folder's checkpoint.json: give \
+             only --out (and --quiet) with --resume",
+        ));
+    }
+    let path = out.join(CHECKPOINT);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        CliError::invalid(
+            "--resume",
+            out.display(),
+            format!(
+                "the folder holds no interrupted run ({}: {e}); a complete run leaves none",
+                path.display()
+            ),
+        )
+    })?;
+    let checkpoint: Checkpoint = serde_json::from_str(&text).map_err(|e| {
+        CliError::invalid(
+            "--resume",
+            path.display(),
+            format!("not a checkpoint of this version of lgsvi montecarlo: {e}"),
+        )
+    })?;
+    let mut options = checkpoint.options.clone();
+    options.base = checkpoint.simulate.clone();
+    options.base.out = Some(out);
+    options.base.quiet = quiet;
+    options.interrupt_after = given.interrupt_after;
+    Ok((options, checkpoint))
+}
+
+/// members.csv for writing: created with its header, or (resuming) cut back to the
+/// `bytes` the checkpoint counted and opened at its end; its length.
+fn open_table(
+    table: &std::path::Path,
+    resume_bytes: Option<u64>,
+    stopping: bool,
+) -> Result<(std::fs::File, u64)> {
+    let failed = |source: std::io::Error| {
+        CliError::invalid(
+            "--out",
+            table.display(),
+            format!("members.csv cannot be written: {source}"),
+        )
+    };
+    match resume_bytes {
+        Some(bytes) => {
+            let mut file = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .open(table)
+                .map_err(failed)?;
+            let length = file.metadata().map_err(failed)?.len();
+            if length < bytes {
+                return Err(CliError::invalid(
+                    "--resume",
+                    table.display(),
+                    format!(
+                        "members.csv holds {length} bytes, fewer than the {bytes} its checkpoint \
+                         counted: it was changed since; start the run again in a new folder"
+                    ),
+                ));
+            }
+            file.set_len(bytes).map_err(failed)?;
+            std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0)).map_err(failed)?;
+            Ok((file, bytes))
+        }
+        None => {
+            let mut file = std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(table)
+                .map_err(failed)?;
+            let header = csv_header(stopping) + "\n";
+            append(&mut file, table, header.as_bytes())?;
+            Ok((file, header.len() as u64))
+        }
+    }
+}
+
+/// Appends `bytes` to members.csv and waits until they are on disk.
+fn append(file: &mut std::fs::File, table: &std::path::Path, bytes: &[u8]) -> Result<()> {
+    use std::io::Write;
+    file.write_all(bytes)
+        .and_then(|()| file.sync_data())
+        .map_err(|source| {
+            CliError::invalid(
+                "--out",
+                table.display(),
+                format!("members.csv cannot be written: {source}"),
+            )
+        })
+}
 
 /// The options with the config's `[montecarlo]` table under the flags.
 fn with_config(options: MontecarloOptions) -> Result<MontecarloOptions> {
@@ -620,6 +805,7 @@ fn csv_row(outcome: &Outcome, stop: bool) -> String {
 /// What the summary reports, gathered member by member in member order: the envelopes,
 /// the final rates' and attitude departures' running mean and covariance (Welford), the
 /// largest departure angle, and every failure.
+#[derive(Serialize, Deserialize)]
 struct Statistics {
     envelope: Envelope,
     /// The stop times of the members `--stop-when` stopped (8 bytes a member: held, so
@@ -668,7 +854,7 @@ impl Statistics {
 }
 
 /// Running mean and covariance of 3-vectors (Welford's update, in the order added).
-#[derive(Default)]
+#[derive(Default, Serialize, Deserialize)]
 struct Running {
     count: u64,
     mean: Vector3<f64>,

@@ -352,3 +352,79 @@ fn stop_times_per_member_match_simulate_and_are_summarised() {
         assert!(out.join(format!("stop_times.{ext}")).exists());
     }
 }
+
+#[test]
+fn an_interrupted_run_resumes_to_the_uninterrupted_result() {
+    let dir = temp_dir("resume");
+    let (whole, cut) = (dir.join("whole"), dir.join("cut"));
+    let mut args = RUN.to_vec();
+    args.extend(["--t-end", "5"]);
+    let with_out = |out: &std::path::Path, extra: &[&str]| {
+        let mut a = args.clone();
+        a.extend(["--out", out.to_str().unwrap()]);
+        a.extend(extra);
+        lgsvi(&a.iter().map(|s| &**s).collect::<Vec<_>>(), None)
+    };
+    let (code, _, err) = with_out(&whole, &[]);
+    assert_eq!(code, 0, "{err}");
+    // Interrupted after 17 of 40 members, a row half written after them.
+    let (code, _, err) = with_out(&cut, &["--interrupt-after", "17"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("17 of 40"), "{err}");
+    assert!(cut.join("checkpoint.json").exists());
+    let (_, rows) = table(&cut.join("members.csv"));
+    assert_eq!(rows.len(), 17);
+    let mut file = std::fs::OpenOptions::new()
+        .append(true)
+        .open(cut.join("members.csv"))
+        .unwrap();
+    std::io::Write::write_all(&mut file, b"17,ok,3.3,0.0").unwrap();
+    let (code, _, err) = lgsvi(
+        &[
+            "montecarlo",
+            "--resume",
+            "--quiet",
+            "--out",
+            cut.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read(whole.join("members.csv")).unwrap(),
+        std::fs::read(cut.join("members.csv")).unwrap(),
+        "the resumed members.csv differs from the uninterrupted one"
+    );
+    let summary = |d: &std::path::Path| -> serde_json::Value {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap())
+                .unwrap();
+        v.as_object_mut().unwrap().remove("wall_time_s");
+        v
+    };
+    assert_eq!(summary(&whole), summary(&cut));
+    assert!(!cut.join("checkpoint.json").exists());
+    // A complete run has nothing to resume; other flags beside --resume are refused.
+    let (code, _, err) = lgsvi(
+        &["montecarlo", "--resume", "--out", cut.to_str().unwrap()],
+        None,
+    );
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--resume") && err.contains("no interrupted run"),
+        "{err}"
+    );
+    let (code, _, err) = lgsvi(
+        &[
+            "montecarlo",
+            "--resume",
+            "--members",
+            "3",
+            "--out",
+            cut.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_ne!(code, 0);
+    assert!(err.contains("only --out"), "{err}");
+}
