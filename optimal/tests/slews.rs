@@ -1,0 +1,174 @@
+//! Minimum-energy slews against references that do not come from the solver: the exact
+//! optimum of the discrete problem for a spherical body (a double integrator about a fixed
+//! axis, whose least-norm torques follow from two linear conditions), the continuous
+//! optimum `J* = 12 j²θ²/T³` (the single-axis cubic, derived in `docs/optimal.md`) and its
+//! second-order convergence under constant torques per step, the replay of a solution by
+//! the integrator, the bounds, and the errors.
+
+use lgsvi_mechanics::lie::{LieGroup, SO3};
+use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+use lgsvi_optimal::{OptimalError, Slew};
+use nalgebra::{Matrix2, Vector2, Vector3};
+
+/// The exact optimum of the discrete problem for a spherical body `J = jI` turning by `θ`
+/// about a fixed axis, rest to rest in `K` steps of `h`, the torque `u_k` held over step
+/// `k`: `φ_K = Σ_k (h²/2 + (K−1−k) h²) u_k / j`, `ω_K = Σ_k h u_k / j`; the least `Σ h u_k²`
+/// meeting `(φ_K, ω_K) = (θ, 0)` is `h |u*|²` with `u* = Gᵀ (G Gᵀ)⁻¹ (θ, 0)`.
+fn discrete_optimum(j: f64, theta: f64, t_end: f64, k: usize) -> f64 {
+    let h = t_end / k as f64;
+    let rows: Vec<(f64, f64)> = (0..k)
+        .map(|i| ((0.5 + (k - 1 - i) as f64) * h * h / j, h / j))
+        .collect();
+    let mut ggt = Matrix2::zeros();
+    for &(a, b) in &rows {
+        ggt += Matrix2::new(a * a, a * b, a * b, b * b);
+    }
+    let y = ggt.try_inverse().unwrap() * Vector2::new(theta, 0.0);
+    h * rows
+        .iter()
+        .map(|&(a, b)| (a * y.x + b * y.y).powi(2))
+        .sum::<f64>()
+}
+
+fn spherical(j: f64, theta: f64, t_end: f64, k: usize) -> f64 {
+    let axis = Vector3::new(1.0, 2.0, 2.0) / 3.0;
+    let solution = Slew::new(Inertia::from_principal_moments([j; 3]).unwrap(), t_end)
+        .to(SO3::exp(&(axis * theta)), Vector3::zeros())
+        .steps(k)
+        .nodes(6)
+        .solve()
+        .unwrap();
+    assert!(solution.converged);
+    solution.cost
+}
+
+#[test]
+fn a_spherical_body_meets_the_discrete_problems_exact_optimum() {
+    // The integrator is exact for this motion (the chart curve is quadratic in time), so
+    // the solver's optimum is the discrete problem's to rounding: 1e-12 relative allows
+    // the KKT tolerance (1e-10 on the scaled residual) squared through the cost, and the
+    // solves' rounding.
+    let (j, theta, t_end) = (2.0, 1.2, 10.0);
+    for k in [5, 20] {
+        let ours = spherical(j, theta, t_end, k);
+        let exact = discrete_optimum(j, theta, t_end, k);
+        assert!(
+            (ours - exact).abs() <= 1e-12 * exact,
+            "K = {k}: {ours} against {exact}"
+        );
+    }
+}
+
+#[test]
+fn constant_torques_converge_to_the_continuous_optimum_at_second_order() {
+    let (j, theta, t_end): (f64, f64, f64) = (2.0, 1.2, 10.0);
+    let continuous = 12.0 * j * j * theta * theta / t_end.powi(3);
+    let errors: Vec<f64> = [10, 20, 40]
+        .iter()
+        .map(|&k| (spherical(j, theta, t_end, k) - continuous).abs() / continuous)
+        .collect();
+    // The discrete cost lies above the continuous one by O(h²): halving h divides the
+    // error by 4 (to within 2% at these K).
+    for pair in errors.windows(2) {
+        let order = (pair[0] / pair[1]).log2();
+        assert!((order - 2.0).abs() < 0.05, "order {order}: {errors:?}");
+    }
+}
+
+#[test]
+fn an_asymmetric_slew_replays_onto_its_target() {
+    let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
+    let start = SO3::exp(&Vector3::new(0.1, -0.2, 0.3));
+    let target = SO3::exp(&Vector3::new(1.5, 0.4, -0.9));
+    let (w0, wf) = (Vector3::new(0.02, 0.0, -0.01), Vector3::new(0.0, 0.01, 0.0));
+    let solution = Slew::new(inertia, 30.0)
+        .from(start, w0)
+        .to(target, wf)
+        .steps(30)
+        .nodes(10)
+        .solve()
+        .unwrap();
+    assert!(solution.converged);
+    assert!(*solution.statistics.kkt_residuals.last().unwrap() <= 1e-10);
+    // A fresh integrator driven by the torques lands on the target.
+    let mut it = Integrator::new(
+        RigidBody::new(inertia),
+        StepSettings::new(solution.h, 10).unwrap(),
+        start,
+        w0,
+    )
+    .unwrap();
+    for u in &solution.inputs {
+        it.set_input(*u).unwrap();
+        it.step().unwrap();
+    }
+    let end = it.state();
+    let miss = end.configuration.inverse().compose(&target).log().amax();
+    assert!(miss <= 1e-10, "attitude miss {miss}");
+    assert!((end.velocity - wf).amax() <= 1e-10);
+    assert_eq!(solution.states.len(), 31);
+}
+
+#[test]
+fn bounds_hold_and_too_tight_ones_are_infeasible() {
+    let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.0]).unwrap();
+    let target = SO3::exp(&Vector3::new(0.0, 0.0, 1.0));
+    let free = Slew::new(inertia, 10.0)
+        .to(target, Vector3::zeros())
+        .steps(20)
+        .solve()
+        .unwrap();
+    let peak = free.inputs.iter().map(|u| u.amax()).fold(0.0, f64::max);
+    // Bounded at 80% of the free optimum's peak: the bound is active, the cost higher.
+    let bound = 0.8 * peak;
+    let bounded = Slew::new(inertia, 10.0)
+        .to(target, Vector3::zeros())
+        .steps(20)
+        .torque_max([bound; 3])
+        .solve()
+        .unwrap();
+    let largest = bounded.inputs.iter().map(|u| u.amax()).fold(0.0, f64::max);
+    assert!(largest <= bound * (1.0 + 1e-9) && largest >= bound * (1.0 - 1e-6));
+    assert!(bounded.cost > free.cost);
+    // A rest-to-rest turn of 1 rad about z in 10 s needs a peak torque of at least
+    // 4 J₃ θ / T² = 0.2 N·m (bang-bang); 0.05 cannot.
+    let error = Slew::new(inertia, 10.0)
+        .to(target, Vector3::zeros())
+        .steps(20)
+        .torque_max([0.05; 3])
+        .solve()
+        .unwrap_err();
+    assert!(matches!(error, OptimalError::Infeasible { .. }), "{error}");
+    assert!(error.to_string().contains("infeasible"));
+}
+
+#[test]
+fn bad_settings_name_themselves() {
+    let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.0]).unwrap();
+    for (slew, word) in [
+        (Slew::new(inertia, -1.0), "t_end"),
+        (Slew::new(inertia, 1.0).steps(0), "steps"),
+        (
+            Slew::new(inertia, 1.0).torque_max([1.0, 0.0, 1.0]),
+            "torque_max",
+        ),
+        (Slew::new(inertia, 1.0).tolerance(0.0), "tolerance"),
+        (
+            Slew::new(inertia, 1.0).warm_start(vec![Vector3::zeros(); 3]),
+            "warm_start",
+        ),
+    ] {
+        let error = slew.solve().unwrap_err();
+        assert!(error.to_string().contains(word), "{word}: {error}");
+    }
+    // An oblique turn is nonlinear in the torques: one iteration does not settle it.
+    let error = Slew::new(inertia, 10.0)
+        .to(SO3::exp(&Vector3::new(1.5, 0.4, -0.9)), Vector3::zeros())
+        .max_iterations(1)
+        .solve()
+        .unwrap_err();
+    assert!(
+        matches!(error, OptimalError::NotConverged { .. }),
+        "{error}"
+    );
+}
