@@ -112,7 +112,7 @@ pub enum Format {
 }
 
 /// Parses `a,b,c` into `N` finite numbers.
-fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
+pub(crate) fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != N {
         return Err(format!(

@@ -10,6 +10,7 @@ mod error;
 mod files;
 mod linearize;
 mod montecarlo;
+mod optimize;
 mod plot;
 mod problem;
 mod progress;
@@ -67,6 +68,10 @@ enum Command {
     /// summary.json (final-state statistics, every failure with its seed and cause).
     /// Exit status 3 when members failed.
     Montecarlo(Box<montecarlo::MontecarloOptions>),
+    /// A rigid body's minimum-energy slew in a fixed time, torques bounded per axis:
+    /// sequential quadratic programming with lgsvi's step as the dynamics; JSON with the
+    /// torques and states, figures with --plot.
+    Optimize(optimize::OptimizeOptions),
 }
 
 /// The run the problem describes, recorded; a `--tol` run that failed says what to change.
@@ -274,6 +279,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(options)) => bench::run(options),
         Some(Command::Linearize(options)) => linearize::run(options),
         Some(Command::Montecarlo(options)) => montecarlo::run(*options),
+        Some(Command::Optimize(options)) => optimize::run(options),
         None => reproduce::run(cli.reproduce),
     };
     match result {

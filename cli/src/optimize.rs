@@ -1,0 +1,289 @@
+//! `lgsvi optimize`: a rigid body's minimum-energy slew in a fixed time, torques bounded
+//! per axis ([`lgsvi_optimal`]), written as JSON with optional figures of the torques,
+//! the rates and the attitude error.
+
+use crate::error::{CliError, Result};
+use clap::{Args, ValueEnum};
+use lgsvi_mechanics::lie::{LieGroup, SO3};
+use lgsvi_mechanics::Inertia;
+use lgsvi_optimal::{OptimalError, Slew};
+use nalgebra::Vector3;
+use serde_json::json;
+use std::path::PathBuf;
+
+/// What a slew minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Cost {
+    /// `∫ |u|² dt` in the fixed time `--t-end`.
+    Energy,
+    /// The final time (not built yet: refused with what to use instead).
+    Time,
+}
+
+/// The options of `lgsvi optimize`.
+#[derive(Debug, Clone, Args)]
+pub struct OptimizeOptions {
+    /// Principal moments of inertia J = diag(a, b, c), kg·m² [default: 3.3,2.5,3.4, the
+    /// paper's body].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "A,B,C")]
+    pub inertia: Option<[f64; 3]>,
+    /// The start attitude as a rotation vector (radians, body to world) [default: 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub attitude0: Option<[f64; 3]>,
+    /// The target attitude as a rotation vector (radians, body to world).
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub attitude_final: [f64; 3],
+    /// The start body rates, rad/s [default: 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub omega0: Option<[f64; 3]>,
+    /// The target body rates, rad/s [default: 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub omega_final: Option<[f64; 3]>,
+    /// The slew's duration T, s.
+    #[arg(long, allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    /// What is minimised [default: energy].
+    #[arg(long, value_enum)]
+    pub cost: Option<Cost>,
+    /// The largest torque per body axis, N·m: one value for all three, or X,Y,Z.
+    #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
+    pub torque_max: Option<[f64; 3]>,
+    /// Steps K (the torque is constant over each) [default: 40].
+    #[arg(long)]
+    pub steps: Option<usize>,
+    /// Nodes n per step [default: 10].
+    #[arg(long)]
+    pub nodes: Option<usize>,
+    /// The scaled KKT residual to reach [default: 1e-10].
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// The most SQP iterations [default: 100].
+    #[arg(long)]
+    pub max_iterations: Option<usize>,
+    /// Output file (JSON) [default: standard output].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Also draw the torques, the rates and the attitude error to PLOT_*.svg and .png.
+    #[arg(long, value_name = "PLOT")]
+    pub plot: Option<PathBuf>,
+    /// No progress line.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `--torque-max`: one bound for every axis, or three.
+fn torque_bound(text: &str) -> std::result::Result<[f64; 3], String> {
+    if text.contains(',') {
+        crate::config::numbers::<3>(text)
+    } else {
+        let [u] = crate::config::numbers::<1>(text)?;
+        Ok([u; 3])
+    }
+}
+
+/// Runs `lgsvi optimize`.
+pub fn run(options: OptimizeOptions) -> Result<()> {
+    if options.cost == Some(Cost::Time) {
+        return Err(CliError::invalid(
+            "--cost",
+            "time",
+            "free final time (minimum-time slews) is not built yet: give --cost energy with \
+             --t-end",
+        ));
+    }
+    let t_end = options.t_end.ok_or(CliError::invalid(
+        "--t-end",
+        "(none)",
+        "a minimum-energy slew takes a fixed duration: give --t-end T in seconds",
+    ))?;
+    let moments = options.inertia.unwrap_or([3.3, 2.5, 3.4]);
+    let inertia = Inertia::from_principal_moments(moments).map_err(|e| {
+        CliError::invalid(
+            "--inertia",
+            moments.map(|x| x.to_string()).join(","),
+            e.to_string(),
+        )
+    })?;
+    let start = SO3::exp(&Vector3::from(options.attitude0.unwrap_or([0.0; 3])));
+    let target = SO3::exp(&Vector3::from(options.attitude_final));
+    let omega0 = Vector3::from(options.omega0.unwrap_or([0.0; 3]));
+    let omega_final = Vector3::from(options.omega_final.unwrap_or([0.0; 3]));
+    let (steps, nodes) = (options.steps.unwrap_or(40), options.nodes.unwrap_or(10));
+    let mut slew = Slew::new(inertia, t_end)
+        .from(start, omega0)
+        .to(target, omega_final)
+        .steps(steps)
+        .nodes(nodes);
+    if let Some(bound) = options.torque_max {
+        slew = slew.torque_max(bound);
+    }
+    if let Some(tolerance) = options.tolerance {
+        slew = slew.tolerance(tolerance);
+    }
+    if let Some(iterations) = options.max_iterations {
+        slew = slew.max_iterations(iterations);
+    }
+    if !options.quiet {
+        eprintln!(
+            "optimize: a {:.1}° slew in {t_end} s, {steps} steps of {nodes} nodes …",
+            start.inverse().compose(&target).log().norm().to_degrees()
+        );
+    }
+    let solution = slew.solve().map_err(|error| named(error, &options))?;
+    if !options.quiet {
+        eprintln!(
+            "optimize: cost {:.12e} after {} iterations, scaled KKT residual {:.1e}, {:.1} ms",
+            solution.cost,
+            solution.statistics.iterations,
+            solution
+                .statistics
+                .kkt_residuals
+                .last()
+                .copied()
+                .unwrap_or(f64::NAN),
+            1e3 * solution.statistics.time_s
+        );
+    }
+    let times: Vec<f64> = solution.states.iter().map(|s| s.time).collect();
+    let error_deg: Vec<f64> = solution
+        .states
+        .iter()
+        .map(|s| {
+            s.configuration
+                .inverse()
+                .compose(&target)
+                .log()
+                .norm()
+                .to_degrees()
+        })
+        .collect();
+    let output = json!({
+        "command": "optimize",
+        "cost": solution.cost,
+        "cost_kind": "energy: the integral of |u|^2 dt",
+        "t_end": t_end,
+        "h": solution.h,
+        "steps": steps,
+        "nodes": nodes,
+        "converged": solution.converged,
+        "iterations": solution.statistics.iterations,
+        "kkt_residuals": solution.statistics.kkt_residuals,
+        "time_s": solution.statistics.time_s,
+        "torque_max": options.torque_max,
+        "multipliers": solution.multipliers,
+        "t": times,
+        "inputs": solution.inputs.iter().map(|u| [u.x, u.y, u.z]).collect::<Vec<_>>(),
+        "R": solution.states.iter().map(|s| s.attitude().to_row_major()).collect::<Vec<_>>(),
+        "omega": solution.states.iter().map(|s| [s.velocity.x, s.velocity.y, s.velocity.z]).collect::<Vec<_>>(),
+        "attitude_error_deg": error_deg,
+    });
+    if let Some(base) = &options.plot {
+        for (suffix, figure) in figures(&solution, &times, &error_deg) {
+            let mut path = base.clone().into_os_string();
+            path.push(suffix);
+            crate::plot::save(&figure, &PathBuf::from(path))?;
+        }
+    }
+    let text = serde_json::to_string_pretty(&output)? + "\n";
+    match &options.out {
+        Some(path) => crate::files::write(path, text.as_bytes()),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}
+
+/// A solver's error naming the flag to change.
+fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
+    let flag = match &error {
+        OptimalError::InvalidSetting { name, .. } => match *name {
+            "t_end" => "--t-end",
+            "steps" => "--steps",
+            "torque_max" => "--torque-max",
+            "tolerance" => "--tolerance",
+            "start" => "--attitude0/--omega0",
+            "target" => "--attitude-final/--omega-final",
+            _ => "--steps",
+        },
+        OptimalError::Infeasible { .. } => "--torque-max",
+        OptimalError::NotConverged { .. } => "--max-iterations",
+        OptimalError::Mechanics(_) => "--steps/--nodes",
+        _ => "--tolerance",
+    };
+    let list = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    let value = match flag {
+        "--t-end" => options.t_end.map_or(String::new(), |t| t.to_string()),
+        "--torque-max" => options.torque_max.map_or(String::new(), |u| list(&u)),
+        "--steps" => options.steps.unwrap_or(40).to_string(),
+        "--max-iterations" => options.max_iterations.unwrap_or(100).to_string(),
+        _ => String::new(),
+    };
+    CliError::invalid(flag, value, error.to_string())
+}
+
+/// The torques, rates and attitude error over time.
+fn figures(
+    solution: &lgsvi_optimal::Solution,
+    times: &[f64],
+    error_deg: &[f64],
+) -> Vec<(&'static str, lgsvi_plot::Figure)> {
+    let axis = |points: Vec<(f64, f64)>, i: usize, name: &str| lgsvi_plot::Series {
+        label: format!("{name}_{}", i + 1),
+        points,
+        style: lgsvi_plot::Style::Line,
+        color: i,
+    };
+    let figure = |title: &str, y: &str, series| lgsvi_plot::Figure {
+        title: title.into(),
+        x_label: "t (s)".into(),
+        y_label: y.into(),
+        x_log: false,
+        y_log: false,
+        series,
+        hlines: vec![],
+    };
+    // Each torque held over its step: drawn as a staircase.
+    let torque = (0..3)
+        .map(|i| {
+            let points = solution
+                .inputs
+                .iter()
+                .enumerate()
+                .flat_map(|(k, u)| [(times[k], u[i]), (times[k + 1], u[i])])
+                .collect();
+            axis(points, i, "u")
+        })
+        .collect();
+    let rates = (0..3)
+        .map(|i| {
+            let points = solution
+                .states
+                .iter()
+                .map(|s| (s.time, s.velocity[i]))
+                .collect();
+            axis(points, i, "omega")
+        })
+        .collect();
+    let error = vec![lgsvi_plot::Series {
+        label: "angle to the target".into(),
+        points: times
+            .iter()
+            .copied()
+            .zip(error_deg.iter().copied())
+            .collect(),
+        style: lgsvi_plot::Style::Line,
+        color: 0,
+    }];
+    vec![
+        (
+            "_torques",
+            figure("optimal torques (held over each step)", "u (N·m)", torque),
+        ),
+        ("_rates", figure("body rates", "Ω (rad/s)", rates)),
+        (
+            "_attitude_error",
+            figure("attitude error", "angle to the target (deg)", error),
+        ),
+    ]
+}
