@@ -10,6 +10,7 @@
 //! | `control` | discrete LQR, finite-horizon LQR, the regulator |
 //! | `ensemble` | many initial conditions in parallel |
 //! | `montecarlo` | a chunk of a Monte Carlo dispersion run and its percentile envelope |
+//! | `optimal` | a rigid body's minimum-energy slew |
 //! | `foundations` | the quadrature rules, Chebyshev series, SO(3)/SE(3) and the charts on arrays |
 
 use pyo3::prelude::*;
@@ -21,6 +22,7 @@ mod errors;
 mod foundations;
 mod integrator;
 mod montecarlo;
+mod optimal;
 mod run;
 mod state;
 mod systems;
@@ -43,6 +45,7 @@ fn lgsvi_module(module: &Bound<'_, PyModule>) -> PyResult<()> {
     control::register(module)?;
     ensemble::register(module)?;
     montecarlo::register(module)?;
+    optimal::register(module)?;
     foundations::register(module)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

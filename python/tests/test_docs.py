@@ -1,4 +1,4 @@
-"""The Python code of the README and of the guide's Python, Monte Carlo and events pages runs: each page's blocks in
+"""The Python code of the README and of the guide's Python, Monte Carlo, events and optimal-control pages runs: each page's blocks in
 order, in one namespace, as a reader would paste them."""
 
 import pathlib
@@ -12,6 +12,7 @@ PAGES = [
     ROOT / "docs" / "guide" / "python.md",
     ROOT / "docs" / "guide" / "montecarlo.md",
     ROOT / "docs" / "guide" / "events.md",
+    ROOT / "docs" / "optimal.md",
 ]
 
 

@@ -10,7 +10,7 @@ Systems: :class:`RigidBody`, :class:`HeavyTop` (SO(3)), :class:`FreeBody`,
 :class:`OrbitingBody` (SE(3)), :class:`Gyrostat` (reaction wheels). Integration:
 :class:`Integrator` (``step``, ``run_until`` to a horizon or a tolerance, with
 :class:`Event` zero crossings located on the steps' curves, ``linearize``, dense output), :func:`run_ensemble`, :mod:`lgsvi.montecarlo` (dispersion analysis, locally or on a
-Dask cluster). Control: :mod:`lgsvi.control`. Foundations:
+Dask cluster), :mod:`lgsvi.optimal` (minimum-energy slews). Control: :mod:`lgsvi.control`. Foundations:
 :mod:`lgsvi.quadrature`, :mod:`lgsvi.chebyshev`, :mod:`lgsvi.lie`. Errors:
 :class:`LgsviError` and its subclasses.
 
@@ -41,7 +41,7 @@ from ._lgsvi import (
 from ._events import Event, EventHit
 from ._trajectory import EnsembleResult, Trajectory
 from ._ensemble import run_ensemble
-from . import chebyshev, control, lie, montecarlo, quadrature
+from . import chebyshev, control, lie, montecarlo, optimal, quadrature
 
 __all__ = [
     "ChartError",
@@ -68,6 +68,7 @@ __all__ = [
     "control",
     "lie",
     "montecarlo",
+    "optimal",
     "quadrature",
     "run_ensemble",
     "__version__",

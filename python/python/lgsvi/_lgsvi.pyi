@@ -17,6 +17,7 @@ class ChartError(LgsviError): ...
 class ToleranceError(LgsviError): ...
 class ModelError(LgsviError): ...
 class InternalError(LgsviError): ...
+class InfeasibleError(LgsviError): ...
 
 class System:
     """A mechanical system lgsvi integrates (the base of the built-in systems)."""
@@ -263,3 +264,18 @@ def _montecarlo_chunk(
     threads: Optional[int] = None,
 ) -> Dict[str, Any]: ...
 def _montecarlo_envelope_from_bytes(data: bytes) -> MonteCarloEnvelope: ...
+
+def _slew(
+    inertia: ArrayLike,
+    t_end: float,
+    attitude_final: ArrayLike,
+    attitude0: Optional[ArrayLike] = None,
+    omega0: Optional[ArrayLike] = None,
+    omega_final: Optional[ArrayLike] = None,
+    steps: int = 40,
+    nodes: int = 10,
+    torque_max: Optional[ArrayLike] = None,
+    tolerance: float = 1e-10,
+    max_iterations: int = 100,
+    warm_start: Optional[ArrayLike] = None,
+) -> Dict[str, Any]: ...

@@ -1,0 +1,145 @@
+//! `lgsvi.optimal`'s compiled core: a rigid body's minimum-energy slew
+//! ([`lgsvi_optimal::Slew`]), solved with the GIL released.
+
+use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3};
+use crate::errors::{guarded, invalid, mechanics, ConvergenceError, LgsviError};
+use lgsvi_mechanics::Inertia;
+use lgsvi_optimal::{OptimalError, Slew};
+use nalgebra::Vector3;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pyo3::create_exception!(
+    lgsvi._lgsvi,
+    InfeasibleError,
+    LgsviError,
+    "No inputs within the bounds reach the target in the time: raise the bound or the time."
+);
+
+/// The exception for a solver's error.
+fn optimal_error(error: OptimalError) -> PyErr {
+    match error {
+        OptimalError::InvalidSetting { .. } => invalid(error.to_string()),
+        OptimalError::Infeasible { .. } => InfeasibleError::new_err(error.to_string()),
+        OptimalError::NotConverged { .. } => ConvergenceError::new_err(error.to_string()),
+        OptimalError::Mechanics(inner) => mechanics(inner),
+        other => LgsviError::new_err(other.to_string()),
+    }
+}
+
+/// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
+#[pyfunction]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None))]
+#[allow(clippy::too_many_arguments)]
+fn _slew<'py>(
+    py: Python<'py>,
+    inertia: &Bound<'py, PyAny>,
+    t_end: f64,
+    attitude_final: &Bound<'py, PyAny>,
+    attitude0: Option<&Bound<'py, PyAny>>,
+    omega0: Option<&Bound<'py, PyAny>>,
+    omega_final: Option<&Bound<'py, PyAny>>,
+    steps: usize,
+    nodes: usize,
+    torque_max: Option<&Bound<'py, PyAny>>,
+    tolerance: f64,
+    max_iterations: usize,
+    warm_start: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let moments = vector3(inertia, "inertia")?;
+    let inertia = Inertia::from_principal_moments([moments.x, moments.y, moments.z])
+        .map_err(|e| invalid(format!("inertia: {e}")))?;
+    let vector_or_zero =
+        |v: Option<&Bound<'py, PyAny>>, name| v.map_or(Ok(Vector3::zeros()), |v| vector3(v, name));
+    let start = match attitude0 {
+        Some(r) => rotation(r, "attitude0")?,
+        None => lgsvi_mechanics::lie::SO3::identity(),
+    };
+    let mut slew = Slew::new(inertia, t_end)
+        .from(start, vector_or_zero(omega0, "omega0")?)
+        .to(
+            rotation(attitude_final, "attitude_final")?,
+            vector_or_zero(omega_final, "omega_final")?,
+        )
+        .steps(steps)
+        .nodes(nodes)
+        .tolerance(tolerance)
+        .max_iterations(max_iterations);
+    if let Some(bound) = torque_max {
+        let bound = match crate::convert::shape_of(bound, "torque_max")?.as_slice() {
+            [] => {
+                let u: f64 = bound.extract()?;
+                Vector3::new(u, u, u)
+            }
+            _ => vector3(bound, "torque_max")?,
+        };
+        slew = slew.torque_max([bound.x, bound.y, bound.z]);
+    }
+    if let Some(inputs) = warm_start {
+        slew = slew.warm_start(vectors3(inputs, "warm_start")?);
+    }
+    let solution = py.detach(|| guarded(|| slew.solve().map_err(optimal_error)))?;
+    let k = solution.inputs.len();
+    let d = PyDict::new(py);
+    d.set_item("cost", solution.cost)?;
+    d.set_item("t_end", t_end)?;
+    d.set_item("h", solution.h)?;
+    d.set_item("converged", solution.converged)?;
+    d.set_item("iterations", solution.statistics.iterations)?;
+    d.set_item(
+        "kkt_residuals",
+        array1(py, solution.statistics.kkt_residuals.clone()),
+    )?;
+    d.set_item("time_s", solution.statistics.time_s)?;
+    d.set_item("multipliers", array1(py, solution.multipliers.to_vec()))?;
+    d.set_item(
+        "t",
+        array1(py, solution.states.iter().map(|s| s.time).collect()),
+    )?;
+    d.set_item(
+        "inputs",
+        array2(
+            py,
+            k,
+            3,
+            solution
+                .inputs
+                .iter()
+                .flat_map(|u| [u.x, u.y, u.z])
+                .collect(),
+        ),
+    )?;
+    d.set_item(
+        "attitude",
+        array3(
+            py,
+            (k + 1, 3, 3),
+            solution
+                .states
+                .iter()
+                .flat_map(|s| rows3(s.configuration.matrix()))
+                .collect(),
+        ),
+    )?;
+    d.set_item(
+        "omega",
+        array2(
+            py,
+            k + 1,
+            3,
+            solution
+                .states
+                .iter()
+                .flat_map(|s| [s.velocity.x, s.velocity.y, s.velocity.z])
+                .collect(),
+        ),
+    )?;
+    Ok(d)
+}
+
+/// Registers the slew solver and its exception.
+pub fn register(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    module.add("InfeasibleError", module.py().get_type::<InfeasibleError>())?;
+    module.add_function(wrap_pyfunction!(_slew, module)?)?;
+    Ok(())
+}
