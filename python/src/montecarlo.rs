@@ -8,10 +8,13 @@ use crate::convert::{array1, array2, array3, rotation, rows3, vector3};
 use crate::errors::{guarded, invalid, mechanics};
 use crate::run::{chart_named, in_pool, matching_named, Options};
 use crate::systems::{system_of, So3System, Spec};
+use lgsvi_experiments::stop::StopWhen;
 use lgsvi_mechanics::built_in::BuiltInSo3;
+use lgsvi_mechanics::events::{Event, Events};
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::stepper::each;
+use lgsvi_mechanics::State;
 use lgsvi_mechanics::{
     Forced, HeavyTop, Integrator, MechanicsError, RigidBody, StepSettings, Stepper, System,
 };
@@ -78,26 +81,57 @@ fn run_sampled(
     body: &Body,
     t_end: f64,
     every: usize,
-) -> Result<Samples, MechanicsError> {
+    stop: Option<&StopWhen>,
+) -> Result<(Samples, Option<f64>), MechanicsError> {
     let mut it = Integrator::new(system, settings, body.attitude, body.omega)?;
     let mut sampled = Samples::default();
     push(&mut sampled, &it);
+    let r0 = body.attitude;
+    // The condition as `lgsvi simulate --stop-when` watches it: the quantity of the state
+    // on the curve, less the value.
+    let mut events = Events::new(
+        stop.map(|stop| {
+            let stop = *stop;
+            Event::new(stop.to_string(), move |t, g: &SO3, xi: &Vector3<f64>| {
+                let state = State {
+                    time: t,
+                    configuration: *g,
+                    momentum: Vector3::zeros(),
+                    velocity: *xi,
+                };
+                stop.quantity
+                    .value(&state, None, None, &r0)
+                    .map_or(f64::NAN, |v| v - stop.threshold)
+            })
+            .direction(stop.direction())
+            .terminal()
+        })
+        .into_iter()
+        .collect(),
+    );
+    let mut recorded = true;
     let mut observer = each(
         |it: &Integrator<So3System>, info: lgsvi_mechanics::stepper::StepInfo| {
-            if info.index.is_multiple_of(every) || info.last {
+            recorded = info.index.is_multiple_of(every) || info.last;
+            if recorded {
                 push(&mut sampled, it);
             }
             Ok::<_, MechanicsError>(ControlFlow::Continue(()))
         },
     );
-    it.drive_until(t_end, &mut observer)?;
-    Ok(sampled)
+    it.drive_until(t_end, &mut (&mut observer, &mut events))?;
+    if events.stopped() && !recorded {
+        // The step that holds the crossing ends the samples.
+        push(&mut sampled, &it);
+    }
+    let stopped = events.hits().first().map(|hit| hit.time);
+    Ok((sampled, stopped))
 }
 
 /// One member's draws and final state (or why it failed).
 struct Outcome {
     member: Member,
-    result: Result<Samples, MechanicsError>,
+    result: Result<(Samples, Option<f64>), MechanicsError>,
 }
 
 /// Percentile envelopes over a Monte Carlo run's members: per channel (attitude departure
@@ -242,7 +276,7 @@ fn nominal_of(spec: &Spec, attitude: SO3, omega: Vector3<f64>) -> PyResult<(Kind
 /// `seed`, each to `t_end` with steps `h` of `nodes` nodes; returns their draws, final
 /// states, failures and envelope (the Python layer's `lgsvi.montecarlo.run` wraps it).
 #[pyfunction]
-#[pyo3(signature = (system, attitude, omega, dispersions, seed, first, last, t_end, h, nodes, samples, chart="exp", matching="exact", threads=None))]
+#[pyo3(signature = (system, attitude, omega, dispersions, seed, first, last, t_end, h, nodes, samples, chart="exp", matching="exact", threads=None, stop_when=None))]
 #[allow(clippy::too_many_arguments)]
 fn _montecarlo_chunk<'py>(
     py: Python<'py>,
@@ -260,8 +294,34 @@ fn _montecarlo_chunk<'py>(
     chart: &str,
     matching: &str,
     threads: Option<usize>,
+    stop_when: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, _) = system_of(system)?;
+    let stop = stop_when
+        .map(|text| {
+            let stop: StopWhen = text
+                .parse()
+                .map_err(|reason| invalid(format!("stop_when {text:?}: {reason}")))?;
+            let probe = State {
+                time: 0.0,
+                configuration: SO3::identity(),
+                momentum: Vector3::zeros(),
+                velocity: Vector3::zeros(),
+            };
+            if stop
+                .quantity
+                .value(&probe, None, None, &SO3::identity())
+                .is_none()
+            {
+                return Err(invalid(format!(
+                    "stop_when {text:?}: {} applies to {}, not to a body on SO(3)",
+                    stop.quantity,
+                    stop.quantity.applies_to()
+                )));
+            }
+            Ok(stop)
+        })
+        .transpose()?;
     let attitude = rotation(attitude, "attitude")?;
     let omega = vector3(omega, "omega")?;
     let dispersions: Dispersions =
@@ -304,8 +364,9 @@ fn _montecarlo_chunk<'py>(
     let every = ((whole as usize) / (samples - 1)).max(1);
     let nominal_system = member_system(kind, damping, plan.nominal()).map_err(mechanics)?;
     let nominal_run = py
-        .detach(|| run_sampled(nominal_system, settings, plan.nominal(), t_end, every))
-        .map_err(|e| invalid(format!("the nominal run failed: {e}")))?;
+        .detach(|| run_sampled(nominal_system, settings, plan.nominal(), t_end, every, None))
+        .map_err(|e| invalid(format!("the nominal run failed: {e}")))?
+        .0;
     let mut envelope = Envelope::of_attitude(nominal_run.times.len());
     let mut outcomes: Vec<Outcome> = Vec::with_capacity((last - first) as usize);
     py.detach(|| {
@@ -320,14 +381,21 @@ fn _montecarlo_chunk<'py>(
                             let member = plan.member(index).map_err(|e| invalid(e.to_string()))?;
                             let result =
                                 member_system(kind, damping, &member.body).and_then(|system| {
-                                    run_sampled(system, settings, &member.body, t_end, every)
+                                    run_sampled(
+                                        system,
+                                        settings,
+                                        &member.body,
+                                        t_end,
+                                        every,
+                                        stop.as_ref(),
+                                    )
                                 });
                             Ok(Outcome { member, result })
                         })
                         .collect();
                     for outcome in batch {
                         let mut outcome = outcome?;
-                        if let Ok(sampled) = &mut outcome.result {
+                        if let Ok((sampled, _)) = &mut outcome.result {
                             envelope.add_attitude_samples(&nominal_run, sampled);
                             // Only the final state is kept past the batch.
                             let k = sampled.times.len() - 1;
@@ -362,6 +430,7 @@ fn chunk_dict<'py>(
     let (mut index, mut ok) = (Vec::with_capacity(m), Vec::with_capacity(m));
     let (mut j, mut r0, mut w0, mut tau) = (vec![], vec![], vec![], vec![]);
     let (mut t, mut r, mut w, mut e) = (vec![], vec![], vec![], vec![]);
+    let mut t_stop = Vec::with_capacity(m);
     for outcome in outcomes {
         let body = &outcome.member.body;
         index.push(outcome.member.index);
@@ -370,8 +439,9 @@ fn chunk_dict<'py>(
         w0.extend_from_slice(body.omega.as_slice());
         tau.extend_from_slice(body.torque.as_slice());
         match outcome.result {
-            Ok(s) => {
+            Ok((s, stopped)) => {
                 ok.push(true);
+                t_stop.push(stopped.unwrap_or(f64::NAN));
                 t.push(s.times[0]);
                 r.extend(rows3(&s.attitudes[0]));
                 w.extend_from_slice(s.omegas[0].as_slice());
@@ -379,6 +449,7 @@ fn chunk_dict<'py>(
             }
             Err(error) => {
                 ok.push(false);
+                t_stop.push(f64::NAN);
                 t.push(f64::NAN);
                 r.extend([f64::NAN; 9]);
                 w.extend([f64::NAN; 3]);
@@ -398,6 +469,7 @@ fn chunk_dict<'py>(
     d.set_item("attitude", array3(py, (m, 3, 3), r))?;
     d.set_item("omega", array2(py, m, 3, w))?;
     d.set_item("energy", array1(py, e))?;
+    d.set_item("t_stop", array1(py, t_stop))?;
     d.set_item("errors", errors)?;
     d.set_item("envelope", MonteCarloEnvelope { envelope })?;
     d.set_item("times", array1(py, nominal.times.clone()))?;

@@ -216,3 +216,44 @@ def test_members_are_the_command_lines_rows(tmp_path):
         assert np.array_equal(got("R0", nine), result.attitude0[k].ravel())
         assert np.array_equal(got("omega", three), result.omega[k])
         assert np.array_equal(got("R", nine), result.attitude[k].ravel())
+
+
+def test_stop_times_match_the_command_line_and_are_summarised(tmp_path):
+    """`stop_when` stops each member as `lgsvi montecarlo --stop-when` does: the same stop
+    times, bit for bit; an axisymmetric body's Omega_1 falls through 0 near pi/(2 lambda)."""
+    import csv
+    import pathlib
+    import subprocess
+
+    body = lgsvi.RigidBody([1.0, 1.0, 1.8])
+    spec = {"omega": mc.normal(0.05)}
+    result = mc.run(body, np.eye(3), [0.3, 0.0, 1.5], spec, members=12, seed=4, t_end=10.0,
+                    h=0.25, nodes=12, stop_when="omega_1<0")
+    assert np.isfinite(result.t_stop).all()
+    lam = 0.8 * 1.5
+    assert np.all(np.abs(result.t_stop - np.pi / (2 * lam)) < 0.6)
+    # Each member ends at the end of the step that holds its stop.
+    assert np.all((result.t >= result.t_stop) & (result.t - result.t_stop < 0.25))
+    stats = result.stop_statistics()
+    assert stats["stopped"] == 12 and stats["not_stopped"] == 0
+    assert stats["p50"] == np.sort(result.t_stop)[5]  # the ceil(0.5 * 12) = 6th smallest
+    binary = pathlib.Path(__file__).resolve().parents[2] / "target" / "release" / "lgsvi"
+    if not binary.exists():
+        pytest.skip("build the command line first: cargo build --release -p lgsvi-cli")
+    out = tmp_path / "run"
+    subprocess.run(
+        [str(binary), "montecarlo", "--inertia", "1,1,1.8", "--omega0", "0.3,0,1.5", "--h", "0.25",
+         "--nodes", "12", "--t-end", "10", "--members", "12", "--seed", "4",
+         "--disperse-omega", "0.05", "--stop-when", "omega_1<0", "--out", str(out), "--quiet"],
+        check=True,
+    )
+    with open(out / "members.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r["t_stop"]) for r in rows] == list(result.t_stop)
+
+
+def test_a_stop_condition_the_body_lacks_is_refused():
+    with pytest.raises(lgsvi.InvalidInputError, match="body in space"):
+        run(members=2, stop_when="x_1<0")
+    with pytest.raises(lgsvi.InvalidInputError, match="QUANTITY"):
+        run(members=2, stop_when="omega_1=0")

@@ -262,6 +262,7 @@ def _montecarlo_chunk(
     chart: str = "exp",
     matching: str = "exact",
     threads: Optional[int] = None,
+    stop_when: Optional[str] = None,
 ) -> Dict[str, Any]: ...
 def _montecarlo_envelope_from_bytes(data: bytes) -> MonteCarloEnvelope: ...
 

@@ -96,6 +96,7 @@ _FIELDS = (
     "attitude",
     "omega",
     "energy",
+    "t_stop",
 )
 
 
@@ -115,6 +116,8 @@ class MonteCarloResult:
         Its start rates and constant body torque.
     t, energy : ndarray (M,)
         Its final time and energy (NaN for a failed member).
+    t_stop : ndarray (M,)
+        Where ``stop_when`` stopped it (NaN where it never met the condition, or failed).
     attitude : ndarray (M, 3, 3)
         Its final attitude; ``omega`` (M, 3) its final rates (NaN for a failed member).
     errors : dict
@@ -151,6 +154,20 @@ class MonteCarloResult:
                 f"channel must be one of {', '.join(CHANNELS)}, got {channel!r}"
             )
         return self.envelope.percentile(q)[CHANNELS.index(channel)]
+
+    def stop_statistics(self) -> Dict[str, Any]:
+        """The stop times of the members ``stop_when`` stopped: ``stopped`` (how many),
+        ``not_stopped`` (finished without meeting it), and the exact sample percentiles
+        ``p1`` ... ``p99`` (the ``ceil(qN)``-th smallest) with ``min`` and ``max``."""
+        times = np.sort(self.t_stop[self.ok & np.isfinite(self.t_stop)])
+        n = len(times)
+        out: Dict[str, Any] = {"stopped": n, "not_stopped": int(self.ok.sum()) - n}
+        for p in (1, 5, 25, 50, 75, 95, 99):
+            rank = min(max(int(np.ceil(p / 100 * n)), 1), n) if n else 0
+            out[f"p{p}"] = float(times[rank - 1]) if n else float("nan")
+        out["min"] = float(times[0]) if n else float("nan")
+        out["max"] = float(times[-1]) if n else float("nan")
+        return out
 
     def final_statistics(self) -> Dict[str, np.ndarray]:
         """The final rates' and attitude departures' mean and covariance over the members
@@ -236,6 +253,7 @@ def run(
     threads: Optional[int] = None,
     client: Any = None,
     chunk_size: Optional[int] = None,
+    stop_when: Optional[str] = None,
 ) -> MonteCarloResult:
     """Runs ``members`` members of ``system`` (a :class:`lgsvi.RigidBody` or
     :class:`lgsvi.HeavyTop`) from the nominal start ``(attitude, omega)``, each with its
@@ -246,6 +264,12 @@ def run(
     ----------
     samples : int
         Sample times of the percentile envelopes, 2 to 10000, evenly spaced in steps.
+    stop_when : str, optional
+        Stop each member after the step in which a quantity falls below (``<``) or rises
+        above (``>``) a value, as ``lgsvi simulate --stop-when``: ``"omega<0.01"``,
+        ``"angle>90"`` (degrees turned from the start), ``"omega_3<0"``. The crossing's
+        time (located on the step's curve and refined by the method's own steps) is in
+        ``t_stop``; :meth:`MonteCarloResult.stop_statistics` summarises them.
     threads : int, optional
         Threads per process (default: one per core locally, one per task on a cluster,
         whose workers run tasks side by side).
@@ -271,7 +295,7 @@ def run(
     spec = _spec_json(dispersions)
     attitude = np.asarray(attitude, dtype=float)
     omega = np.asarray(omega, dtype=float)
-    common = dict(chart=chart, matching=matching)
+    common = dict(chart=chart, matching=matching, stop_when=stop_when)
     args = (system, attitude, omega, spec, seed)
     settings = (float(t_end), float(h), int(nodes), int(samples))
     if client is None:
