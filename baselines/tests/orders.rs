@@ -95,3 +95,19 @@ fn dop853_converges_with_the_tolerance() {
         }
     }
 }
+
+/// The baselines' failures say what failed and what to change: the LGVI's Newton at a step
+/// far too long for the motion, DOP853 asked for a tolerance below double precision.
+#[test]
+fn baseline_failures_name_the_method_and_the_remedy() {
+    let c = case("A");
+    let mut s = c.start;
+    let error = Lgvi2.run(&c.model, &mut s, 40.0, 1).unwrap_err();
+    let text = error.to_string();
+    assert!(
+        text.contains("LGVI") && text.contains("take a smaller step"),
+        "{text}"
+    );
+    let error = dop853(&c.model, &c.start, 10.0, 1e-300, Dop853State::Quaternion).unwrap_err();
+    assert!(error.to_string().starts_with("DOP853:"), "{error}");
+}

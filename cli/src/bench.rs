@@ -189,12 +189,20 @@ fn run_long(
     quiet: bool,
 ) -> Result<()> {
     let progress = crate::progress::bar(steps as u64, "long run (lgsvi)", "steps", quiet);
-    let run = long_run(settings, steps, 500, |k| progress.inc(k))?;
+    // The long run's settings are the flags': a run that fails names them.
+    let named = |error: lgsvi_bench::BenchError| {
+        CliError::invalid(
+            "--long-run-h/--long-run-nodes",
+            format!("{}, {}", settings.h(), settings.nodes()),
+            error.to_string(),
+        )
+    };
+    let run = long_run(settings, steps, 500, |k| progress.inc(k)).map_err(named)?;
     progress.finish_and_clear();
     let trend = if members > 0 {
         let total = (members * steps) as u64;
         let progress = crate::progress::bar(total, "energy trend (ensemble)", "steps", quiet);
-        let trend = energy_trend(settings, steps, members, |k| progress.inc(k))?;
+        let trend = energy_trend(settings, steps, members, |k| progress.inc(k)).map_err(named)?;
         progress.finish_and_clear();
         Some(trend)
     } else {

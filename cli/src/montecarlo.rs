@@ -541,10 +541,17 @@ fn dispersions(options: &MontecarloOptions) -> Dispersions {
 }
 
 /// A refused dispersion that a flag set, as an error naming the flag and its value as
-/// given; any other refusal as it is (its message names the config's key).
+/// given; one the config's `[montecarlo.dispersions]` set, naming the file and the key.
 fn named_by_flag(error: DispersionError, options: &MontecarloOptions) -> CliError {
+    // Not set by a flag: the config's table set it, and the error names the file.
+    let from_config = |error: DispersionError| match &options.base.config {
+        Some(path) => config_error(path, &format!("[montecarlo.dispersions] {error}")),
+        None => error.into(),
+    };
     let key = match &error {
-        DispersionError::Invalid { key, .. } | DispersionError::NotPhysical { key, .. } => *key,
+        DispersionError::Invalid { key, .. }
+        | DispersionError::NotPhysical { key, .. }
+        | DispersionError::NotApplicable { key, .. } => *key,
         _ => return error.into(),
     };
     let given = match key {
@@ -559,7 +566,7 @@ fn named_by_flag(error: DispersionError, options: &MontecarloOptions) -> CliErro
     };
     match given {
         Some((flag, value, how)) => CliError::invalid(flag, value, format!("{error}{how}")),
-        None => error.into(),
+        None => from_config(error),
     }
 }
 

@@ -1905,3 +1905,26 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
 }
+
+/// A long run whose settings fail names them (`CliError::Bench` through the long run).
+#[test]
+fn a_failing_long_run_names_its_settings() {
+    let dir = temp_dir("long-run-fails");
+    let (code, _, err) = lgsvi(&[
+        "bench",
+        "--long-run",
+        "--long-run-h",
+        "8",
+        "--long-run-steps",
+        "10",
+        "--quiet",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--long-run-h") && err.contains("take a smaller step h"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}

@@ -428,3 +428,32 @@ fn an_interrupted_run_resumes_to_the_uninterrupted_result() {
     assert_ne!(code, 0);
     assert!(err.contains("only --out"), "{err}");
 }
+
+/// A dispersion the config's table sets and the body cannot take names the file and key.
+#[test]
+fn a_config_dispersion_the_body_cannot_take_names_the_file() {
+    let dir = temp_dir("config-mass");
+    let config = dir.join("mc.toml");
+    std::fs::write(
+        &config,
+        "[montecarlo]\nmembers = 3\n[montecarlo.dispersions]\nmass = { distribution = \"uniform\", half_width = 0.1 }\n",
+    )
+    .unwrap();
+    let out = dir.join("run");
+    let (code, _, err) = lgsvi(
+        &[
+            "montecarlo",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+        None,
+    );
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("mc.toml") && err.contains("[montecarlo.dispersions]") && err.contains("mass"),
+        "{err}"
+    );
+}

@@ -60,6 +60,9 @@ pub enum ExperimentError {
         reason: String,
     },
     /// The reference run has no Galerkin curve at this time (it ended before it).
-    #[error("reference has no curve at t = {0}")]
+    #[error(
+        "the reference has no curve at t = {0}: its run ended before that time; build the \
+         reference to a horizon at or past the study's"
+    )]
     NoReferenceCurve(f64),
 }

@@ -127,3 +127,24 @@ fn a_failed_run_is_kept_with_its_reason() {
     assert!(reason.contains("Newton"), "{reason}");
     assert!(m.error_r.is_nan() && m.error_curve.is_nan());
 }
+
+/// A reference asked for a time its run did not reach names the time and what to change.
+#[test]
+fn a_reference_without_curves_names_the_time_it_lacks() {
+    let reference = Reference::Dense {
+        step: 0.5,
+        states: vec![],
+        curves: vec![],
+        self_check: 0.0,
+    };
+    let error = reference.at(1.3).unwrap_err();
+    assert!(
+        matches!(error, lgsvi_experiments::ExperimentError::NoReferenceCurve(t) if t == 1.3),
+        "{error:?}"
+    );
+    let text = error.to_string();
+    assert!(
+        text.contains("t = 1.3") && text.contains("horizon"),
+        "{text}"
+    );
+}

@@ -75,7 +75,8 @@ pub enum MechanicsError {
     #[error(
         "step {step} (t = {time}): the Lagrangian is not strictly convex in the velocity here \
          (∂²ℓ/∂ξ² has eigenvalues from {least:e} to {most:e}): a zero or negative inertia or \
-         mass; check the system's parameters (e.g. what system_mut changed) — no step h or \
+         mass, or velocity terms of your own Lagrangian that are not strictly convex at this \
+         state; check the system's parameters (e.g. what system_mut changed) — no step h or \
          node count can mend it"
     )]
     DegenerateLagrangian {

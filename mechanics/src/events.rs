@@ -268,6 +268,7 @@ where
         let mut found: Vec<(EventHit<ElementOf<S, D>, D>, bool)> = Vec::new();
         for (k, event) in self.events.iter_mut().enumerate() {
             let (terminal, wanted) = (event.terminal, event.direction);
+            let event_name = &event.name;
             let function = &mut event.function;
             let values: Vec<f64> = taus
                 .iter()
@@ -296,7 +297,16 @@ where
                         if b == 0.0 {
                             taus[i + 1]
                         } else {
-                            located(&mut *function, &curve, (taus[i], a), (taus[i + 1], b))?
+                            located(&mut *function, &curve, (taus[i], a), (taus[i + 1], b))
+                                .map_err(|error| MechanicsError::NonFinite {
+                                    what: "an event's function along the step",
+                                    value: format!(
+                                        "(event \"{}\", between t = {} and {}: {error})",
+                                        event_name,
+                                        t0 + taus[i],
+                                        t0 + taus[i + 1]
+                                    ),
+                                })?
                         },
                         direction,
                     ));
@@ -444,13 +454,22 @@ where
 
 /// The root of `f` in `[a, b]` where `f(a)` and `f(b)` differ in sign (`f(b) ≠ 0`): the
 /// root of its Chebyshev series nearest the sign change (an odd number of roots lies
-/// between; the series resolves `f` to machine precision).
+/// between; the series resolves `f` to machine precision), or by bisection where `f` is
+/// not smooth enough for a series.
 fn locate(
     mut f: impl FnMut(f64) -> f64,
     (a, fa): (f64, f64),
     (b, fb): (f64, f64),
 ) -> Result<f64, MechanicsError> {
-    let series = Chebyshev::fit(&mut f, a, b)?;
+    let series = match Chebyshev::fit(&mut f, a, b) {
+        Ok(series) => series,
+        // A function the series cannot resolve (not smooth where it changes sign: a
+        // switch, a jump) still changes sign: bisection finds where, to the last bit.
+        Err(lgsvi_spectral::SpectralError::NotResolved { .. }) => {
+            return bisect(&mut f, (a, fa), (b, fb));
+        }
+        Err(error) => return Err(error.into()),
+    };
     let roots = series.roots();
     // The first root where the series changes sign the way the samples do; a sign change
     // the series sees at no root (a root at rounding distance of an end) is at that end.
@@ -472,6 +491,37 @@ fn locate(
         .find(|&x| crosses(x))
         .or_else(|| roots.first().copied())
         .unwrap_or(if fa.abs() < fb.abs() { a } else { b }))
+}
+
+/// The sign change of `f` between `a` and `b` by bisection, to adjacent doubles.
+///
+/// # Errors
+/// [`MechanicsError::NonFinite`] where `f` is not finite at a midpoint.
+fn bisect(
+    f: &mut impl FnMut(f64) -> f64,
+    (mut a, fa): (f64, f64),
+    (mut b, _): (f64, f64),
+) -> Result<f64, MechanicsError> {
+    let below = fa < 0.0;
+    for _ in 0..200 {
+        let mid = 0.5 * (a + b);
+        if mid <= a || mid >= b {
+            break;
+        }
+        let value = f(mid);
+        if !value.is_finite() {
+            return Err(MechanicsError::NonFinite {
+                what: "an event's function along the step",
+                value: format!("{value} at τ = {mid}"),
+            });
+        }
+        if (value < 0.0) == below && value != 0.0 {
+            a = mid;
+        } else {
+            b = mid;
+        }
+    }
+    Ok(b)
 }
 
 /// The user guide's page on events (`docs/guide/events.md`), whose Rust example is

@@ -166,14 +166,18 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
             legendre_blocks(system, start.time, &start.configuration, &start.velocity);
         let (p_out, q_out) = legendre_blocks(system, end.time, &end.configuration, &end.velocity);
         // A Lagrangian whose velocity Hessian is singular at the end has no velocity
-        // coordinates there (a valid inertia never does).
-        let q_out_inverse = q_out
-            .try_inverse()
-            .ok_or(MechanicsError::SingularJacobian {
+        // coordinates there (a valid inertia never does): the Lagrangian's fault, named as
+        // such with the Hessian's eigenvalues.
+        let q_out_inverse = q_out.try_inverse().ok_or_else(|| {
+            let eigenvalues =
+                DMatrix::from_iterator(D, D, q_out.iter().copied()).symmetric_eigenvalues();
+            MechanicsError::DegenerateLagrangian {
                 step: index,
-                time: start.time,
-                advice: "",
-            })?;
+                time: end.time,
+                least: eigenvalues.min(),
+                most: eigenvalues.amax(),
+            }
+        })?;
         // A_μ T_in = [[x11, x12], [x21, x22]].
         let x11 = j.theta_theta + j.theta_mu * p_in;
         let x12 = j.theta_mu * q_in;

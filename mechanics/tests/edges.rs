@@ -638,3 +638,49 @@ fn a_companion_that_fails_is_named_as_the_check() {
         "{text}"
     );
 }
+
+/// A Lagrangian `ℓ = ¼|Ω|⁴` has no velocity Hessian at rest: the step from rest is fine
+/// (the body stays at rest), but its linearisation has no velocity coordinates there. It
+/// was reported as "singular Newton system; take a smaller step h", which no step mends;
+/// it is named as the Lagrangian's, with the Hessian's eigenvalues.
+#[test]
+fn a_linearisation_where_the_lagrangian_is_flat_names_the_lagrangian() {
+    #[derive(Clone, Copy)]
+    struct Quartic;
+    impl GroupLagrangian<3> for Quartic {
+        type Group = Rotations;
+        fn lagrangian<T: nalgebra::RealField + Copy>(
+            &self,
+            _: f64,
+            _: &SO3<T>,
+            w: &Vector3<T>,
+        ) -> T {
+            let quarter: T = nalgebra::convert(0.25);
+            let n = w.x * w.x + w.y * w.y + w.z * w.z;
+            quarter * n * n
+        }
+    }
+    let mut it = Integrator::new(
+        Quartic,
+        StepSettings::new(0.5, 6).unwrap(),
+        SO3::identity(),
+        Vector3::zeros(),
+    )
+    .unwrap();
+    it.step().unwrap();
+    for error in [
+        it.linearize().unwrap_err(),
+        it.step_linearized().unwrap_err(),
+    ] {
+        let text = error.to_string();
+        assert!(
+            matches!(error, MechanicsError::DegenerateLagrangian { .. }),
+            "{text}"
+        );
+        assert!(
+            text.contains("not strictly convex") && text.contains("your own Lagrangian"),
+            "{text}"
+        );
+        assert!(!text.contains("smaller step"), "{text}");
+    }
+}

@@ -184,3 +184,47 @@ fn long_steps_locate_through_the_methods_own_steps() -> Result<(), MechanicsErro
     }
     Ok(())
 }
+
+#[test]
+fn a_function_that_is_not_finite_between_its_samples_is_named_too() -> Result<(), MechanicsError> {
+    // NaN only on (0.61, 0.62), between the samples of the step [0.5, 1.0] (12 pieces of
+    // 0.0417), where the function changes sign: the fit along the curve meets it.
+    let mut integrator = axisymmetric(0.5, 12)?;
+    let mut events = Events::new(vec![Event::new("odd", |t, _: &SO3, _: &Vector3<f64>| {
+        if t > 0.61 && t < 0.62 {
+            f64::NAN
+        } else {
+            t - 0.615
+        }
+    })]);
+    let error = integrator.drive_until(3.0, &mut events).unwrap_err();
+    let message = error.to_string();
+    assert!(
+        matches!(error, MechanicsError::NonFinite { .. })
+            && message.contains("\"odd\"")
+            && message.contains("between t = "),
+        "{message}"
+    );
+    Ok(())
+}
+
+#[test]
+fn a_function_that_jumps_through_zero_is_located_by_bisection() -> Result<(), MechanicsError> {
+    // A switch at t = 0.6137 (no Chebyshev series resolves a jump): located to adjacent
+    // doubles, and refined by the method's steps (the function of time is the same there).
+    let switch = 0.6137;
+    let mut integrator = axisymmetric(0.5, 12)?;
+    let mut events = Events::new(vec![Event::new(
+        "switch",
+        move |t, _: &SO3, _: &Vector3<f64>| if t < switch { -1.0 } else { 1.0 },
+    )]);
+    integrator.drive_until(2.0, &mut events)?;
+    let hits = events.hits();
+    assert_eq!(hits.len(), 1);
+    assert!(
+        (hits[0].time - switch).abs() <= 4.0 * f64::EPSILON,
+        "{}",
+        hits[0].time
+    );
+    Ok(())
+}

@@ -325,3 +325,22 @@ fn a_spec_reads_from_toml() {
             .to_string();
     assert!(family.contains("cauchy"), "{family}");
 }
+
+/// A nominal body built field by field that is inconsistent (two wheel axes for one wheel
+/// inertia, a mass that is not positive) is refused naming what to fix.
+#[test]
+fn an_inconsistent_nominal_body_is_refused() {
+    let mut body = nominal();
+    body.wheel_inertias = vec![0.1];
+    body.wheel_axes = vec![Vector3::x(), Vector3::y()];
+    let error = Plan::new(body, Dispersions::default(), 1).unwrap_err();
+    assert!(matches!(error, DispersionError::Nominal(_)), "{error:?}");
+    assert!(error.to_string().contains("one axis per wheel"), "{error}");
+    let mut body = nominal();
+    body.mass = Some(-2.0);
+    let error = Plan::new(body, Dispersions::default(), 1).unwrap_err();
+    assert!(
+        error.to_string().contains("mass -2") && error.to_string().contains("positive"),
+        "{error}"
+    );
+}

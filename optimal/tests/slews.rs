@@ -172,3 +172,12 @@ fn bad_settings_name_themselves() {
         "{error}"
     );
 }
+
+/// A step setting the integrator refuses comes back as the integrator's error, naming it.
+#[test]
+fn an_integrator_setting_out_of_range_is_named() {
+    let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.0]).unwrap();
+    let error = Slew::new(inertia, 10.0).nodes(1).solve().unwrap_err();
+    assert!(matches!(error, OptimalError::Mechanics(_)), "{error:?}");
+    assert!(error.to_string().contains("nodes"), "{error}");
+}

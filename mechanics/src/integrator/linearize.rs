@@ -111,7 +111,9 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             .and_then(|outcome| self.end_state(&outcome))
             .and_then(|end| self.linearization_of(start, end, parameters));
         self.work.unpark_factors();
-        linearization
+        // A singular linearisation has the causes of a failed step (a Lagrangian not
+        // strictly convex in the velocity at the state, …), named the same way.
+        linearization.map_err(|error| self.diagnose(error))
     }
 
     /// [`Integrator::step_linearized`], with the parameter columns if `parameters`.
@@ -126,6 +128,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         taken?;
         let end = self.state;
         self.linearization_of(start, end, parameters)
+            .map_err(|error| self.diagnose(error))
     }
 
     /// The linearisation of the step just solved (its unknowns in the workspace) from
