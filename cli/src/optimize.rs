@@ -196,6 +196,7 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
 
 /// A solver's error naming the flag to change.
 fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
+    use lgsvi_mechanics::MechanicsError as M;
     let flag = match &error {
         OptimalError::InvalidSetting { name, .. } => match *name {
             "t_end" => "--t-end",
@@ -206,18 +207,38 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "target" => "--attitude-final/--omega-final",
             _ => "--steps",
         },
-        OptimalError::Infeasible { .. } => "--torque-max",
+        OptimalError::Infeasible { bounded: true, .. } => "--torque-max",
+        OptimalError::Infeasible { bounded: false, .. } | OptimalError::Subproblem(_) => {
+            "--t-end/--inertia/--steps"
+        }
         OptimalError::NotConverged { .. } => "--max-iterations",
-        OptimalError::Mechanics(_) => "--steps/--nodes",
+        OptimalError::Mechanics(M::InvalidSetting { name: "nodes", .. }) => "--nodes",
+        OptimalError::Mechanics(
+            M::DegenerateLagrangian { .. } | M::IllConditioned { .. } | M::InvalidInertia { .. },
+        ) => "--inertia",
+        OptimalError::Mechanics(_) => "--steps",
         _ => "--tolerance",
     };
-    let list = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
     let value = match flag {
-        "--t-end" => options.t_end.map_or(String::new(), |t| t.to_string()),
+        "--t-end" => options.t_end.map_or(String::new(), |t| format!("{t:?}")),
         "--torque-max" => options.torque_max.map_or(String::new(), |u| list(&u)),
         "--steps" => options.steps.unwrap_or(40).to_string(),
+        "--nodes" => options.nodes.unwrap_or(10).to_string(),
         "--max-iterations" => options.max_iterations.unwrap_or(100).to_string(),
-        _ => String::new(),
+        "--tolerance" => format!("{:?}", options.tolerance.unwrap_or(1e-10)),
+        "--inertia" => list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
+        _ => format!(
+            "{:?}, {}, {}",
+            options.t_end.unwrap_or(f64::NAN),
+            list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
+            options.steps.unwrap_or(40)
+        ),
     };
     CliError::invalid(flag, value, error.to_string())
 }

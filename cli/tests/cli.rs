@@ -1928,3 +1928,31 @@ fn a_failing_long_run_names_its_settings() {
     );
     assert_eq!(err.trim().lines().count(), 1, "{err}");
 }
+
+/// A slew whose numbers are too far apart for the QP names the scales to change, not a
+/// bound that was never given (found by the adversarial pass).
+#[test]
+fn optimize_names_scale_failures() {
+    for args in [
+        ["--inertia", "1e300,1e300,1e300", "--t-end", "10"],
+        ["--inertia", "3.3,2.5,3.4", "--t-end", "1e-9"],
+    ] {
+        let mut all = vec![
+            "optimize",
+            "--quiet",
+            "--attitude-final",
+            "0.5,0.2,0",
+            "--steps",
+            "20",
+        ];
+        all.extend(args);
+        let (code, _, err) = lgsvi(&all);
+        assert_ne!(code, 0, "{all:?}");
+        assert!(
+            err.contains("--t-end/--inertia/--steps")
+                && err.contains("units")
+                && !err.contains("--torque-max"),
+            "{all:?}: {err}"
+        );
+    }
+}

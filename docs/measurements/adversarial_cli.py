@@ -1,5 +1,6 @@
-"""An adversarial pass over `lgsvi simulate`: every system, every physical and numerical
-flag, at values a user may type by mistake or on purpose (zero, negative, NaN, infinite,
+"""An adversarial pass over `lgsvi simulate` and `lgsvi optimize`: every system, every
+physical and numerical flag (and `--stop-when`, and each of optimize's flags over a
+feasible slew), at values a user may type by mistake or on purpose (zero, negative, NaN, infinite,
 tiny, huge, the wrong count, stiff, ill-conditioned, far from unit scale).
 
 Each input is run once and classified:
@@ -93,6 +94,27 @@ FLAGS = [
     ("--tol", ["0", "-1", "nan", "1e-300", "1e-16", "1", "100"], None),
     ("--t-end", ["0", "-1", "nan", "1e12", "0.3"], None),
     ("--every", ["0", "1000000"], None),
+    ("--stop-when", ["omega<0.1", "angle>90", "x_1<0", "r>1e300", "wheel_1>1", "omega_9<0",
+                     "omega=0", "omega<nan", "omega<inf", "speed>-1"], None),
+]
+
+# `lgsvi optimize`: each flag at adversarial values over a feasible base slew.
+OPTIMIZE_BASE = ["--attitude-final=0.5,0.2,0", "--t-end=10", "--steps=20"]
+OPTIMIZE_FLAGS = [
+    ("--inertia", ["1,1,1", "0,1,1", "-1,2,2", "1,1,3", "1e-300,1e-300,1e-300",
+                   "1e300,1e300,1e300", "nan,1,1", "1,1"]),
+    ("--attitude-final", ["0,0,0", "nan,0,0", "inf,0,0", "1e300,0,0", "3.14159,0,0",
+                          "6.3,0,0", "1,2"]),
+    ("--attitude0", ["0,0,3", "nan,0,0"]),
+    ("--omega0", ["0,0,0", "nan,0,0", "1e6,0,0", "10,0,0"]),
+    ("--omega-final", ["1,0,0", "inf,0,0"]),
+    ("--t-end", ["0", "-1", "nan", "inf", "1e-9", "1e9"]),
+    ("--torque-max", ["0", "-1", "nan", "inf", "1e-9", "1e300", "1,2", "0.05"]),
+    ("--steps", ["0", "1", "2", "2000"]),
+    ("--nodes", ["0", "1", "2", "101"]),
+    ("--tolerance", ["0", "-1", "nan", "1e-300", "1e-14", "1"]),
+    ("--max-iterations", ["0", "1"]),
+    ("--cost", ["time", "fuel"]),
 ]
 
 
@@ -156,15 +178,20 @@ def main():
         ["--inertia=1e-7,1,1", "--tol=1e-10", "--t-end", "4"],
         [*SYSTEMS["heavy-top"], "--omega0=0,0,300", "--t-end", "4"],
     ]
+    commands = [["simulate", *args] for args in inputs]
+    for flag, values in OPTIMIZE_FLAGS:
+        for value in values:
+            base = [a for a in OPTIMIZE_BASE if not a.startswith(flag + "=")]
+            commands.append(["optimize", "--quiet", *base, f"{flag}={value}"])
     counts = {}
     with tempfile.TemporaryDirectory() as _:
-        for args in inputs:
+        for args in commands:
             # One value per flag: the flag's own `=` keeps values with a leading minus.
-            kind, message = classify(["simulate", *args])
+            kind, message = classify(args)
             counts[kind] = counts.get(kind, 0) + 1
             if kind != "ok" or message:
                 print(f"{kind:10} {' '.join(args)}\n           {message[:400]}")
-    print(f"\n{len(inputs)} inputs: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    print(f"\n{len(commands)} inputs: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
 
 
 if __name__ == "__main__":

@@ -160,7 +160,13 @@ impl StopWhen {
 impl fmt::Display for StopWhen {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let sign = if self.below { '<' } else { '>' };
-        write!(f, "{}{sign}{}", self.quantity, self.threshold)
+        // Integers as typed (`angle>90`), others in their shortest exact form (`1e300`).
+        let t = self.threshold;
+        if t.fract() == 0.0 && t.abs() < 1e15 {
+            write!(f, "{}{sign}{t:.0}", self.quantity)
+        } else {
+            write!(f, "{}{sign}{t:?}", self.quantity)
+        }
     }
 }
 

@@ -148,7 +148,8 @@ pub enum MechanicsError {
     /// attitude wrong by a turn the chart cannot see).
     #[error(
         "step {step} (t = {time}): the body turns by at least {rotation:.3} rad within the step, \
-         beyond the {chart} chart's reach of {limit:.3} rad; take a smaller step h (below {suggested:.3}){advice}"
+         beyond the {chart} chart's reach of {limit:.3} rad; take a smaller step h (below {}){advice}",
+        readable(*suggested)
     )]
     StepTooLong {
         /// The step that failed (0-based).
@@ -328,5 +329,16 @@ fn away_from_flow(distance: f64) -> String {
         format!("{distance:.3} rad away from the motion's continuation")
     } else {
         "whose distance from the motion's continuation is not finite".into()
+    }
+}
+
+/// A positive number for a message: three decimals where that shows four significant
+/// digits or fewer zeros, scientific notation below 1e-3 (a step "below 0.000" says
+/// nothing).
+fn readable(x: f64) -> String {
+    if x.abs() >= 1e-3 || x == 0.0 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
     }
 }

@@ -87,14 +87,20 @@ pub enum OptimalError {
         /// Why, and what to give.
         reason: String,
     },
-    /// The bounds leave no torques that reach the target in the time.
+    /// No torques (within the bounds, where there are any) reach the target in the time.
     #[error(
-        "infeasible: no torques within the bounds reach the target in the time (the closest \
-         iterate misses it by {residual:.3e}): raise the torque bound or the final time"
+        "infeasible: {} (the closest iterate misses it by {residual:.3e}): {}",
+        if *bounded { "no torques within the bounds reach the target in the time" }
+        else { "the QP finds no torques that reach the target" },
+        if *bounded { "raise the torque bound or the final time" }
+        else { "the problem's numbers are too far apart for the QP (give the time, inertia \
+               and torques units that make them comparable) or too few steps" }
     )]
     Infeasible {
         /// The terminal miss of the last iterate.
         residual: f64,
+        /// Whether the torques were bounded (the bounds are then the likely cause).
+        bounded: bool,
     },
     /// The iteration did not reach the tolerance.
     #[error(
@@ -114,7 +120,10 @@ pub enum OptimalError {
     #[error("a step failed: {0}")]
     Mechanics(#[from] MechanicsError),
     /// The QP subproblem solver failed.
-    #[error("the QP subproblem: {0}")]
+    #[error(
+        "the QP subproblem: {0}; the problem's numbers may be too far apart for it: give the \
+         time, inertia and torques units that make them comparable"
+    )]
     Subproblem(String),
 }
 
@@ -243,15 +252,16 @@ impl Slew {
         if !(self.t_end.is_finite() && self.t_end > 0.0) {
             return Err(invalid(
                 "t_end",
-                self.t_end.to_string(),
+                format!("{:?}", self.t_end),
                 "the final time is positive and finite",
             ));
         }
-        if self.steps == 0 || self.steps > 100_000 {
+        if self.steps < 2 || self.steps > 100_000 {
             return Err(invalid(
                 "steps",
                 self.steps.to_string(),
-                "from 1 to 100000 steps",
+                "from 2 to 100000 steps (the terminal attitude and rates are six conditions; \
+                 one step has three torques)",
             ));
         }
         if let Some(bound) = self.torque_max {
@@ -266,7 +276,7 @@ impl Slew {
         if !(self.tolerance.is_finite() && self.tolerance >= 1e-14 && self.tolerance < 1.0) {
             return Err(invalid(
                 "tolerance",
-                self.tolerance.to_string(),
+                format!("{:?}", self.tolerance),
                 "a scaled KKT residual from 1e-14 to below 1",
             ));
         }
@@ -354,7 +364,12 @@ impl Slew {
             let qp = self.subproblem(h, &inputs, &run)?;
             let (step, lambda, nu) = match qp {
                 Some(qp) => qp,
-                None => return Err(OptimalError::Infeasible { residual: miss }),
+                None => {
+                    return Err(OptimalError::Infeasible {
+                        residual: miss,
+                        bounded: self.torque_max.is_some(),
+                    })
+                }
             };
             // The merit J + ρ|e|₁, ρ above the multipliers: halve the step until it falls.
             let rho = 2.0 * lambda.amax() + 1.0;
