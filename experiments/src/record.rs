@@ -30,7 +30,7 @@
 use crate::error::ExperimentError;
 use crate::stop::StopWhen;
 use lgsvi_mechanics::control::GroupLog;
-use lgsvi_mechanics::events::{Event, Events};
+use lgsvi_mechanics::events::Events;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
 use lgsvi_mechanics::group::{GroupChart, Rotations};
 use lgsvi_mechanics::gyrostat::BodyWheels;
@@ -342,28 +342,10 @@ where
             });
         }
     }
-    let columns_at = move |t: f64, g: &ElementOf<S, D>, xi: &SVector<f64, D>| {
-        ElementOf::<S, D>::columns(&State {
-            time: t,
-            configuration: *g,
-            momentum: body_momentum(&system, t, g, xi),
-            velocity: *xi,
-        })
-    };
     let mut events = Events::new(
-        stop.map(|stop| {
-            let stop = *stop;
-            Event::new(stop.to_string(), move |t, g, xi| {
-                let (rotation, motion, wheels) = columns_at(t, g, xi);
-                stop.quantity
-                    .value(&rotation, motion.as_ref(), wheels.as_ref(), &r0)
-                    .map_or(f64::NAN, |v| v - stop.threshold)
-            })
-            .direction(stop.direction())
-            .terminal()
-        })
-        .into_iter()
-        .collect(),
+        stop.map(|stop| stop.event(r0, ElementOf::<S, D>::columns))
+            .into_iter()
+            .collect(),
     );
     let mut visit = |k: usize,
                      state: &State<ElementOf<S, D>, D>,
@@ -440,7 +422,12 @@ where
         }
     }
     run.stopped = events.into_hits().into_iter().next().map(|hit| {
-        let (state, motion, wheels) = columns_at(hit.time, &hit.configuration, &hit.velocity);
+        let (state, motion, wheels) = ElementOf::<S, D>::columns(&State {
+            time: hit.time,
+            configuration: hit.configuration,
+            momentum: body_momentum(&system, hit.time, &hit.configuration, &hit.velocity),
+            velocity: hit.velocity,
+        });
         Stopped {
             condition: stop.map(ToString::to_string).unwrap_or_default(),
             time: hit.time,

@@ -22,9 +22,10 @@
 //! ```
 
 use crate::record::{MotionRecord, WheelRecord};
-use lgsvi_mechanics::events::Direction;
+use lgsvi_mechanics::events::{Direction, Event};
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::State;
+use nalgebra::SVector;
 use std::fmt;
 use std::str::FromStr;
 
@@ -147,6 +148,31 @@ pub struct StopWhen {
 }
 
 impl StopWhen {
+    /// The terminal event that watches this condition on a run from the attitude `r0`:
+    /// `quantity − threshold` of the state on the step's curve, its SO(3) columns and the
+    /// translation or wheels beside them given by `columns` (the quantities read the
+    /// configuration and the velocity only, so the state handed to `columns` carries a
+    /// zero momentum rather than one computed at every evaluation).
+    pub fn event<'a, E: Copy + 'a, const D: usize>(
+        self,
+        r0: SO3,
+        columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
+    ) -> Event<'a, E, D> {
+        Event::new(self.to_string(), move |t, g: &E, xi: &SVector<f64, D>| {
+            let (rotation, motion, wheels) = columns(&State {
+                time: t,
+                configuration: *g,
+                momentum: SVector::zeros(),
+                velocity: *xi,
+            });
+            self.quantity
+                .value(&rotation, motion.as_ref(), wheels.as_ref(), &r0)
+                .map_or(f64::NAN, |v| v - self.threshold)
+        })
+        .direction(self.direction())
+        .terminal()
+    }
+
     /// The crossing's direction of `quantity − threshold`.
     pub fn direction(&self) -> Direction {
         if self.below {

@@ -10,7 +10,7 @@ use crate::run::{chart_named, in_pool, matching_named, Options};
 use crate::systems::{system_of, So3System, Spec};
 use lgsvi_experiments::stop::StopWhen;
 use lgsvi_mechanics::built_in::BuiltInSo3;
-use lgsvi_mechanics::events::{Event, Events};
+use lgsvi_mechanics::events::Events;
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::stepper::each;
@@ -86,28 +86,13 @@ fn run_sampled(
     let mut it = Integrator::new(system, settings, body.attitude, body.omega)?;
     let mut sampled = Samples::default();
     push(&mut sampled, &it);
-    let r0 = body.attitude;
     // The condition as `lgsvi simulate --stop-when` watches it: the quantity of the state
     // on the curve, less the value.
+    // The condition as `lgsvi simulate --stop-when` watches it.
     let mut events = Events::new(
-        stop.map(|stop| {
-            let stop = *stop;
-            Event::new(stop.to_string(), move |t, g: &SO3, xi: &Vector3<f64>| {
-                let state = State {
-                    time: t,
-                    configuration: *g,
-                    momentum: Vector3::zeros(),
-                    velocity: *xi,
-                };
-                stop.quantity
-                    .value(&state, None, None, &r0)
-                    .map_or(f64::NAN, |v| v - stop.threshold)
-            })
-            .direction(stop.direction())
-            .terminal()
-        })
-        .into_iter()
-        .collect(),
+        stop.map(|stop| stop.event(body.attitude, |s: &State| (*s, None, None)))
+            .into_iter()
+            .collect(),
     );
     let mut recorded = true;
     let mut observer = each(
