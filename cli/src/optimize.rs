@@ -1,6 +1,6 @@
-//! `lgsvi optimize`: a rigid body's minimum-energy slew in a fixed time, torques bounded
-//! per axis ([`lgsvi_optimal`]), written as JSON with optional figures of the torques,
-//! the rates and the attitude error.
+//! `lgsvi optimize`: a rigid body's slew at the least input energy in a fixed time or in
+//! the least time, torques bounded per axis ([`lgsvi_optimal`]), written as JSON with
+//! optional figures of the torques, the rates and the attitude error.
 
 use crate::error::{CliError, Result};
 use clap::{Args, ValueEnum};
@@ -16,7 +16,8 @@ use std::path::PathBuf;
 pub enum Cost {
     /// `∫ |u|² dt` in the fixed time `--t-end`.
     Energy,
-    /// The final time (not built yet: refused with what to use instead).
+    /// The final time, the torques bounded by `--torque-max` (`--t-end` is then a first
+    /// guess).
     Time,
 }
 
@@ -39,7 +40,8 @@ pub struct OptimizeOptions {
     /// The target body rates, rad/s [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub omega_final: Option<[f64; 3]>,
-    /// The slew's duration T, s.
+    /// The slew's duration T, s; with `--cost time` a first guess [default there: the
+    /// bang-bang turn about the rotation's axis].
     #[arg(long, allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// What is minimised [default: energy].
@@ -83,19 +85,23 @@ fn torque_bound(text: &str) -> std::result::Result<[f64; 3], String> {
 
 /// Runs `lgsvi optimize`.
 pub fn run(options: OptimizeOptions) -> Result<()> {
-    if options.cost == Some(Cost::Time) {
+    let minimum_time = options.cost == Some(Cost::Time);
+    if minimum_time && options.torque_max.is_none() {
         return Err(CliError::invalid(
-            "--cost",
-            "time",
-            "free final time (minimum-time slews) is not built yet: give --cost energy with \
-             --t-end",
+            "--torque-max",
+            "(none)",
+            "a minimum-time slew needs a torque bound (without one, any time is reachable): \
+             give --torque-max U or X,Y,Z in N·m",
         ));
     }
-    let t_end = options.t_end.ok_or(CliError::invalid(
-        "--t-end",
-        "(none)",
-        "a minimum-energy slew takes a fixed duration: give --t-end T in seconds",
-    ))?;
+    if !minimum_time && options.t_end.is_none() {
+        return Err(CliError::invalid(
+            "--t-end",
+            "(none)",
+            "a minimum-energy slew takes a fixed duration: give --t-end T in seconds (or \
+             --cost time with --torque-max for the least time)",
+        ));
+    }
     let moments = options.inertia.unwrap_or([3.3, 2.5, 3.4]);
     let inertia = Inertia::from_principal_moments(moments).map_err(|e| {
         CliError::invalid(
@@ -109,11 +115,30 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     let omega0 = Vector3::from(options.omega0.unwrap_or([0.0; 3]));
     let omega_final = Vector3::from(options.omega_final.unwrap_or([0.0; 3]));
     let (steps, nodes) = (options.steps.unwrap_or(40), options.nodes.unwrap_or(10));
+    let t_end = match options.t_end {
+        Some(t) => t,
+        None => lgsvi_optimal::eigen_axis_time(
+            &inertia,
+            &start.inverse().compose(&target),
+            options.torque_max.unwrap_or([1.0; 3]),
+        )
+        .ok_or(CliError::invalid(
+            "--attitude-final",
+            options.attitude_final.map(|x| format!("{x:?}")).join(","),
+            "the target attitude is the start's: give another target, or --t-end as the \
+             first guess of the time",
+        ))?,
+    };
     let mut slew = Slew::new(inertia, t_end)
         .from(start, omega0)
         .to(target, omega_final)
         .steps(steps)
-        .nodes(nodes);
+        .nodes(nodes)
+        .cost(if minimum_time {
+            lgsvi_optimal::Cost::Time
+        } else {
+            lgsvi_optimal::Cost::Energy
+        });
     if let Some(bound) = options.torque_max {
         slew = slew.torque_max(bound);
     }
@@ -124,16 +149,24 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         slew = slew.max_iterations(iterations);
     }
     if !options.quiet {
-        eprintln!(
-            "optimize: a {:.1}° slew in {t_end} s, {steps} steps of {nodes} nodes …",
-            start.inverse().compose(&target).log().norm().to_degrees()
-        );
+        let angle = start.inverse().compose(&target).log().norm().to_degrees();
+        if minimum_time {
+            eprintln!(
+                "optimize: a {angle:.1}° slew in the least time (first guess {t_end:.6} s), \
+                 {steps} steps of {nodes} nodes …"
+            );
+        } else {
+            eprintln!(
+                "optimize: a {angle:.1}° slew in {t_end} s, {steps} steps of {nodes} nodes …"
+            );
+        }
     }
     let solution = slew.solve().map_err(|error| named(error, &options))?;
     if !options.quiet {
         eprintln!(
-            "optimize: cost {:.12e} after {} iterations, scaled KKT residual {:.1e}, {:.1} ms",
+            "optimize: cost {:.12e}{} after {} iterations, scaled KKT residual {:.1e}, {:.1} ms",
             solution.cost,
+            if minimum_time { " s" } else { "" },
             solution.statistics.iterations,
             solution
                 .statistics
@@ -160,8 +193,8 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     let output = json!({
         "command": "optimize",
         "cost": solution.cost,
-        "cost_kind": "energy: the integral of |u|^2 dt",
-        "t_end": t_end,
+        "cost_kind": if minimum_time { "time: the final time in s" } else { "energy: the integral of |u|^2 dt" },
+        "t_end": solution.t_end,
         "h": solution.h,
         "steps": steps,
         "nodes": nodes,

@@ -29,3 +29,8 @@ cp "$out/bench/bench_B_T100.svg" docs/samples/
 cargo run --release --bin lgsvi -- bench --long-run --long-run-tol 1e-13 --long-run-members 36 \
     --quiet --out "$out/long-run-tol"
 cp "$out/long-run-tol/long_run_energy.svg" docs/samples/long_run_energy_adaptive.svg
+# Betts's minimum-time reorientation (docs/optimal.md; 100 steps, about 0.2 s).
+cargo run --release --bin lgsvi -- optimize --quiet --inertia 5621,4547,2364 \
+    --attitude-final 2.6179938779914944,0,0 --torque-max 50 --cost time --steps 100 \
+    --nodes 8 --plot "$out/betts" --out /dev/null
+cp "$out/betts_torques.svg" docs/samples/betts_minimum_time_torques.svg

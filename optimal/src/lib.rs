@@ -1,56 +1,84 @@
-//! Optimal control on the group with lgsvi's variational step as the constraint: the
-//! minimum-energy slew of a rigid body, from a start `(R₀, Ω₀)` to a target `(R_f, Ω_f)` in
-//! a fixed time, the torques bounded per axis.
+//! Optimal control on the group with lgsvi's variational step as the constraint: slews of
+//! a rigid body from a start `(R₀, Ω₀)` to a target `(R_f, Ω_f)`, the torques bounded per
+//! axis, at the least input energy in a fixed time or in the least time.
 //!
 //! # The problem
 //!
-//! `K` steps of `h = T/K`, each one of lgsvi's steps (`n` nodes, exp chart, exact
-//! matching), the body torque `u_k` held over step `k` (the integrator's input):
+//! `K` steps of a common length `h`, each one of lgsvi's steps (`n` nodes, exp chart,
+//! exact matching), the body torque `u_k` held over step `k` (the integrator's input):
 //!
 //! ```text
-//! minimise   Σ_k h |u_k|²                       (= ∫ |u|² dt, no ½)
-//! subject to x_{k+1} = step(x_k, u_k),  x_0 = (R₀, Ω₀),  x_K = (R_f, Ω_f),
+//! minimise   Σ_k h |u_k|²  (= ∫ |u|² dt, no ½; h = T/K fixed)   [Cost::Energy]
+//!       or   T = K h       (h free)                             [Cost::Time]
+//! subject to x_{k+1} = step_h(x_k, u_k),  x_0 = (R₀, Ω₀),  x_K = (R_f, Ω_f),
 //!            |u_k,i| ≤ u_max,i
 //! ```
 //!
-//! The states are the step's own, so the solution replays exactly: an [`Integrator`]
-//! driven with the optimal torques lands on the target (to the solver's tolerance).
+//! The states are the step's own, so the solution replays exactly: an
+//! [`Integrator`](lgsvi_mechanics::Integrator)
+//! driven with the optimal torques at the solution's `h` lands on the target (to the
+//! solver's tolerance).
 //!
-//! # The solver
+//! # The solvers
 //!
-//! Sequential quadratic programming over the torques (single shooting: each iterate's
-//! states come from a run of the integrator, so every iterate is a motion). Each iteration
-//! linearises every step exactly ([`Integrator::step_linearized`]: `A_k = ∂x_{k+1}/∂x_k`,
+//! Both are sequential quadratic programming over the torques (single shooting: each
+//! iterate's states come from a run of the integrator, so every iterate is a motion),
+//! with the QP subproblems solved by `clarabel`. Each iteration linearises every step
+//! exactly ([`Integrator::step_linearized`](lgsvi_mechanics::Integrator::step_linearized): `A_k = ∂x_{k+1}/∂x_k`,
 //! `B_k = ∂x_{k+1}/∂u_k` in the body-frame coordinates `(θ, ω)` of
-//! `docs/linearization.md`), chains them into the terminal state's sensitivity
-//! `M = ∂x_K/∂u`, and solves the QP
+//! `docs/linearization.md`) and chains them into the terminal state's sensitivity
+//! `M = ∂x_K/∂u`; the subproblem is
 //!
 //! ```text
-//! minimise  Σ h |u_k + δu_k|²  subject to  M δu = e,  |u + δu| ≤ u_max
+//! minimise  ½ δᵀ W δ + ∇Jᵀ δ  subject to  M δ = e,  bounds
 //! ```
 //!
-//! (`e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`, the terminal state's miss) with `clarabel`. Its
-//! Hessian is the cost's, exact; the constraint's curvature (the step's second
-//! derivatives, which lgsvi does not form) is left out: a Gauss–Newton SQP, converging
-//! linearly at a rate set by the multipliers times that curvature, quadratically for a
-//! motion that is linear in the torques. A step that does not lower the merit
-//! `J + ρ |e|₁` is halved. The iteration ends when the scaled KKT residual
-//! (stationarity over `1 + |∇J|`, and the terminal miss) is at most the tolerance.
+//! with `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)` the terminal state's miss. An iteration ends
+//! when the scaled KKT residual (stationarity over `1 + |∇J|`, and the terminal miss) is at
+//! most the tolerance.
+//!
+//! - **Minimum energy.** `W` is the cost's Hessian `2h I`, exact; the constraint's
+//!   curvature (the step's second derivatives, which lgsvi does not form) is left out: a
+//!   Gauss–Newton SQP, converging linearly at a rate set by the multipliers times that
+//!   curvature, quadratically for a motion that is linear in the torques. A step that
+//!   does not lower the merit `J + ρ |e|₁` is halved.
+//! - **Minimum time.** The cost is linear, so the constraint's curvature is all there is:
+//!   `W` is the Lagrangian's Hessian `Σ λ_i ∂²e_i/∂z²`, by forward differences of its exact
+//!   gradient `Mᵀλ` in each torque off its bounds and in `h` (one run of the integrator
+//!   each), made positive definite on the constraints' null space. The optimum is
+//!   bang-bang: all torques but a few on their bounds, so few are free and the Hessian is
+//!   cheap, and Newton's convergence is quadratic (to the differences' 1e-8). The
+//!   derivative in the step length, `∂x_{k+1}/∂h`, comes from the same `A_k`, `B_k` by
+//!   the rigid body's time scaling (`h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)`; derived in
+//!   `docs/optimal.md`). The subproblem's solution is made exact on its active set (the
+//!   interior-point method meets it only to its tolerance), a step the merit refuses gets
+//!   a second-order correction before it is halved, and the solve climbs a ladder of step
+//!   counts (`K` halved down to about 20 steps, each level started from the one below),
+//!   from the minimum-energy slew rescaled in time until its largest torque meets its
+//!   bound (rest to rest) or at the shortest time that slew is found for (otherwise),
+//!   perturbed off symmetric motions.
+//!
+//! A minimum-time slew whose optimum has a singular arc (a torque strictly inside its
+//! bounds over a stretch of steps, as for a 90° turn of `diag(3, 4, 5)` about
+//! `(1, 1, 0)/√2`) has a nearly singular reduced Hessian: its iteration settles the final
+//! time (to about 1e-12) but stalls at a scaled KKT residual near 1e-7, reported as
+//! [`OptimalError::NotConverged`]; a tolerance of 1e-6 accepts it.
 //!
 //! The torque is constant over each step: the optimal cost of the discrete problem
 //! converges to the continuous one at second order in `h`, whatever the integrator's
-//! order (measured in `optimal/tests/slews.rs` and `docs/optimal.md`); inputs polynomial
-//! within a step, which would follow the integrator's order, are not built yet.
+//! order (measured in `optimal/tests/slews.rs`, `optimal/tests/free_time.rs` and
+//! `docs/optimal.md`); inputs polynomial within a step, which would follow the
+//! integrator's order, are not built yet.
 //!
 //! ```
 //! use lgsvi_mechanics::lie::{LieGroup, SO3};
 //! use lgsvi_mechanics::Inertia;
-//! use lgsvi_optimal::Slew;
+//! use lgsvi_optimal::{Cost, Slew};
 //! use nalgebra::Vector3;
 //!
-//! // A 90° rest-to-rest slew about an oblique axis in 20 s, at most 0.05 N·m per axis.
+//! // A 66° rest-to-rest slew about an oblique axis in 20 s, at most 0.05 N·m per axis.
 //! let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.0])?;
-//! let target = SO3::exp(&(Vector3::new(1.0, 1.0, 0.0).normalize() * std::f64::consts::FRAC_PI_2));
+//! let target = SO3::exp(&Vector3::new(0.5, 0.3, 1.0));
 //! let solution = Slew::new(inertia, 20.0)
 //!     .to(target, Vector3::zeros())
 //!     .steps(40)
@@ -58,20 +86,27 @@
 //!     .solve()?;
 //! assert!(solution.converged);
 //! assert!(solution.inputs.iter().all(|u| u.amax() <= 0.05 + 1e-9));
+//!
+//! // The same turn in the least time the bounds allow (the time given is a first guess).
+//! let fastest = Slew::new(inertia, 20.0)
+//!     .to(target, Vector3::zeros())
+//!     .steps(40)
+//!     .torque_max([0.05; 3])
+//!     .cost(Cost::Time)
+//!     .solve()?;
+//! assert!(fastest.t_end < 20.0 && fastest.cost == fastest.t_end);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![warn(missing_docs)]
 
-use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
-    SupportedConeT, ZeroConeT,
-};
-use lgsvi_mechanics::lie::{LieGroup, SO3};
-use lgsvi_mechanics::linearization::Coordinates;
-use lgsvi_mechanics::{Inertia, Integrator, MechanicsError, RigidBody, State, StepSettings};
-use nalgebra::{DMatrix, DVector, Vector3};
-use std::time::Instant;
+mod energy;
+mod qp;
+mod shooting;
+mod time;
+
+use lgsvi_mechanics::lie::SO3;
+use lgsvi_mechanics::{Inertia, MechanicsError, State, StepSettings};
+use nalgebra::Vector3;
 
 /// Why a slew was not solved.
 #[derive(Debug, thiserror::Error)]
@@ -127,8 +162,40 @@ pub enum OptimalError {
     Subproblem(String),
 }
 
-/// A minimum-energy slew of a rigid body (module documentation): built, then
-/// [`Slew::solve`]d.
+/// The time of a rest-to-rest bang-bang turn by `rotation` (body frame: the start's
+/// inverse times the target) about its fixed axis, with the largest torque along that
+/// axis the bounds allow and the gyroscopic torque ignored: a first guess for
+/// [`Cost::Time`] (what `lgsvi optimize --cost time` uses without `--t-end`). `None` for no
+/// rotation or a bound that is not positive.
+///
+/// ```
+/// # use lgsvi_mechanics::{Inertia, lie::{LieGroup, SO3}};
+/// # use nalgebra::Vector3;
+/// // About a principal axis: 2 √(θ J₁ / u_max).
+/// let inertia = Inertia::from_principal_moments([5621.0, 4547.0, 2364.0])?;
+/// let turn = SO3::exp(&(Vector3::x() * 150f64.to_radians()));
+/// let t = lgsvi_optimal::eigen_axis_time(&inertia, &turn, [50.0; 3]).unwrap();
+/// assert!((t - 2.0 * (150f64.to_radians() * 5621.0 / 50.0).sqrt()).abs() < 1e-12 * t);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn eigen_axis_time(inertia: &Inertia, rotation: &SO3, torque_max: [f64; 3]) -> Option<f64> {
+    let rotation = rotation.log();
+    let angle = rotation.norm();
+    if !(angle > 0.0 && angle.is_finite()) || torque_max.iter().any(|u| u.is_nan() || *u <= 0.0) {
+        return None;
+    }
+    let axis = rotation / angle;
+    // The largest s with |s a_i| ≤ u_max,i; the inertia about the axis aᵀJa.
+    let torque = (0..3)
+        .filter(|&i| axis[i] != 0.0)
+        .map(|i| torque_max[i] / axis[i].abs())
+        .fold(f64::INFINITY, f64::min);
+    let moment = axis.dot(&(inertia.matrix() * axis));
+    let time = 2.0 * (angle * moment / torque).sqrt();
+    time.is_finite().then_some(time)
+}
+
+/// A slew of a rigid body (crate documentation): built, then [`Slew::solve`]d.
 #[derive(Debug, Clone)]
 pub struct Slew {
     inertia: Inertia,
@@ -138,13 +205,25 @@ pub struct Slew {
     steps: usize,
     nodes: usize,
     torque_max: Option<Vector3<f64>>,
+    cost: Cost,
     tolerance: f64,
     max_iterations: usize,
     initial: Option<Vec<Vector3<f64>>>,
 }
 
+/// What a slew minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Cost {
+    /// `∫ |u|² dt` (no ½) at the fixed final time.
+    #[default]
+    Energy,
+    /// The final time, the torques bounded ([`Slew::torque_max`]).
+    Time,
+}
+
 /// The solver's record of a solve.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Statistics {
     /// SQP iterations.
     pub iterations: usize,
@@ -163,12 +242,14 @@ pub struct Solution {
     pub states: Vec<State>,
     /// The torque of each step, `u_0 … u_{K−1}` (body frame, N·m).
     pub inputs: Vec<Vector3<f64>>,
-    /// `Σ h |u_k|²`.
+    /// The cost: `Σ h |u_k|²` for [`Cost::Energy`], the final time for [`Cost::Time`].
     pub cost: f64,
     /// The terminal constraint's multipliers (`∂J*/∂e`, in `(θ, ω)` at the target).
     pub multipliers: [f64; 6],
     /// The step `h = T/K`.
     pub h: f64,
+    /// The final time `T = K h` (the given one for [`Cost::Energy`]).
+    pub t_end: f64,
     /// Whether the scaled KKT residual reached the tolerance.
     pub converged: bool,
     /// The solver's record.
@@ -188,6 +269,7 @@ impl Slew {
             steps: 20,
             nodes: 10,
             torque_max: None,
+            cost: Cost::Energy,
             tolerance: 1e-10,
             max_iterations: 100,
             initial: None,
@@ -221,6 +303,18 @@ impl Slew {
     /// The largest torque per body axis.
     pub fn torque_max(mut self, bound: [f64; 3]) -> Self {
         self.torque_max = Some(Vector3::from(bound));
+        self
+    }
+
+    /// What to minimise: the input energy (the default) or the final time. For
+    /// [`Cost::Time`] the torques must be bounded ([`Slew::torque_max`]) and the final
+    /// time given to [`Slew::new`] is a first guess: rest to rest the start does not
+    /// depend on it (the minimum-energy slew is rescaled in time until its largest
+    /// torque meets its bound); between moving states the start is the bounded
+    /// minimum-energy slew at the shortest time within 30% that it is found for, from
+    /// the guess. A warm start ([`Slew::warm_start`]) is used at the guess as it is.
+    pub fn cost(mut self, cost: Cost) -> Self {
+        self.cost = cost;
         self
     }
 
@@ -304,233 +398,22 @@ impl Slew {
         )?)
     }
 
-    /// Solves the slew (module documentation).
+    /// Solves the slew (crate documentation).
     ///
     /// # Errors
-    /// [`OptimalError::InvalidSetting`] for a setting out of range;
+    /// [`OptimalError::InvalidSetting`] for a setting out of range (and for a
+    /// minimum-time slew without a torque bound);
     /// [`OptimalError::Infeasible`] when the bounds leave the target out of reach;
     /// [`OptimalError::NotConverged`] when the iterations run out;
     /// [`OptimalError::Mechanics`] for a step that fails (a slew too fast for its steps:
     /// give more steps).
     pub fn solve(&self) -> Result<Solution, OptimalError> {
         let settings = self.check()?;
-        let clock = Instant::now();
-        let (k_steps, h) = (self.steps, settings.h());
-        let body = RigidBody::new(self.inertia);
-        let mut inputs = self
-            .initial
-            .clone()
-            .unwrap_or_else(|| vec![Vector3::zeros(); k_steps]);
-        if let Some(bound) = self.torque_max {
-            for u in &mut inputs {
-                *u = u.zip_map(&bound, |x, b| x.clamp(-b, b));
-            }
-        }
-        let cost = |u: &[Vector3<f64>]| h * u.iter().map(|u| u.norm_squared()).sum::<f64>();
-        let mut statistics = Statistics {
-            iterations: 0,
-            kkt_residuals: Vec::new(),
-            terminal_misses: Vec::new(),
-            time_s: 0.0,
-        };
-        let mut multipliers = DVector::<f64>::zeros(6);
-        let mut bound_duals = DVector::<f64>::zeros(3 * k_steps);
-        let mut run = self.shoot(body, settings, &inputs)?;
-        loop {
-            let miss = run.miss.amax();
-            let gradient = DVector::from_iterator(
-                3 * k_steps,
-                inputs
-                    .iter()
-                    .flat_map(|u| (2.0 * h * u).into_iter().copied().collect::<Vec<_>>()),
-            );
-            let stationarity =
-                (&gradient + run.sensitivity.transpose() * &multipliers + &bound_duals).amax()
-                    / (1.0 + gradient.amax());
-            let residual = stationarity.max(miss);
-            statistics.kkt_residuals.push(residual);
-            statistics.terminal_misses.push(miss);
-            if residual <= self.tolerance && statistics.iterations > 0 {
-                break;
-            }
-            if statistics.iterations >= self.max_iterations {
-                return Err(OptimalError::NotConverged {
-                    iterations: statistics.iterations,
-                    residual,
-                    tolerance: self.tolerance,
-                });
-            }
-            statistics.iterations += 1;
-            let qp = self.subproblem(h, &inputs, &run)?;
-            let (step, lambda, nu) = match qp {
-                Some(qp) => qp,
-                None => {
-                    return Err(OptimalError::Infeasible {
-                        residual: miss,
-                        bounded: self.torque_max.is_some(),
-                    })
-                }
-            };
-            // The merit J + ρ|e|₁, ρ above the multipliers: halve the step until it falls.
-            let rho = 2.0 * lambda.amax() + 1.0;
-            let merit = |c: f64, e: &DVector<f64>| c + rho * e.iter().map(|x| x.abs()).sum::<f64>();
-            let before = merit(cost(&inputs), &run.miss);
-            let mut alpha = 1.0;
-            let (next_inputs, next_run) = loop {
-                let trial: Vec<Vector3<f64>> = inputs
-                    .iter()
-                    .enumerate()
-                    .map(|(k, u)| {
-                        u + alpha * Vector3::new(step[3 * k], step[3 * k + 1], step[3 * k + 2])
-                    })
-                    .collect();
-                let trial_run = self.shoot(body, settings, &trial);
-                match trial_run {
-                    Ok(r) if merit(cost(&trial), &r.miss) <= before || alpha < 1e-3 => {
-                        break (trial, r)
-                    }
-                    Err(error) if alpha < 1e-3 => return Err(error),
-                    _ => alpha *= 0.5,
-                }
-            };
-            inputs = next_inputs;
-            run = next_run;
-            multipliers = lambda;
-            bound_duals = nu;
-        }
-        statistics.time_s = clock.elapsed().as_secs_f64();
-        let mut terminal = [0.0; 6];
-        terminal.copy_from_slice(multipliers.as_slice());
-        Ok(Solution {
-            cost: cost(&inputs),
-            states: run.states,
-            inputs,
-            multipliers: terminal,
-            h,
-            converged: true,
-            statistics,
-        })
-    }
-
-    /// The run from the start with `inputs`, its terminal miss and the terminal state's
-    /// sensitivity to every torque.
-    fn shoot(
-        &self,
-        body: RigidBody,
-        settings: StepSettings,
-        inputs: &[Vector3<f64>],
-    ) -> Result<Shot, OptimalError> {
-        let mut it = Integrator::new(body, settings, self.start.0, self.start.1)?;
-        let mut states = vec![*it.state()];
-        let mut a = Vec::with_capacity(inputs.len());
-        let mut b = Vec::with_capacity(inputs.len());
-        for u in inputs {
-            it.set_input(*u)?;
-            let step = it.step_linearized()?;
-            a.push(step.a(Coordinates::Velocity).clone());
-            b.push(step.b(Coordinates::Velocity).clone());
-            states.push(*it.state());
-        }
-        // M = ∂x_K/∂u: M_k = A_{K−1} ⋯ A_{k+1} B_k, chained backwards.
-        let k_steps = inputs.len();
-        let mut sensitivity = DMatrix::<f64>::zeros(6, 3 * k_steps);
-        let mut chain = DMatrix::<f64>::identity(6, 6);
-        for k in (0..k_steps).rev() {
-            sensitivity
-                .view_mut((0, 3 * k), (6, 3))
-                .copy_from(&(&chain * &b[k]));
-            chain = &chain * &a[k];
-        }
-        let last = states[k_steps];
-        let rotation = last.configuration.inverse().compose(&self.target.0).log();
-        let rates = self.target.1 - last.velocity;
-        let miss = DVector::from_iterator(6, rotation.iter().chain(rates.iter()).copied());
-        Ok(Shot {
-            states,
-            sensitivity,
-            miss,
-        })
-    }
-
-    /// The QP of one iteration: the step in the torques, the terminal multipliers and
-    /// the bounds' (upper minus lower); `None` where the QP is infeasible.
-    #[allow(clippy::type_complexity)]
-    fn subproblem(
-        &self,
-        h: f64,
-        inputs: &[Vector3<f64>],
-        run: &Shot,
-    ) -> Result<Option<(DVector<f64>, DVector<f64>, DVector<f64>)>, OptimalError> {
-        let n = 3 * inputs.len();
-        // ½ δuᵀ (2h I) δu + (2h u)ᵀ δu: the cost Σ h |u + δu|² up to a constant.
-        let p = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), vec![2.0 * h; n]);
-        let q: Vec<f64> = inputs
-            .iter()
-            .flat_map(|u| [2.0 * h * u.x, 2.0 * h * u.y, 2.0 * h * u.z])
-            .collect();
-        // Rows: M δu = e (6), then δu ≤ u_max − u and −δu ≤ u_max + u.
-        let bounded = self.torque_max.is_some();
-        let rows = 6 + if bounded { 2 * n } else { 0 };
-        let mut colptr = vec![0];
-        let (mut rowval, mut nzval) = (Vec::new(), Vec::new());
-        for j in 0..n {
-            for i in 0..6 {
-                rowval.push(i);
-                nzval.push(run.sensitivity[(i, j)]);
-            }
-            if bounded {
-                rowval.extend([6 + j, 6 + n + j]);
-                nzval.extend([1.0, -1.0]);
-            }
-            colptr.push(rowval.len());
-        }
-        let a = CscMatrix::new(rows, n, colptr, rowval, nzval);
-        let mut b: Vec<f64> = run.miss.iter().copied().collect();
-        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(6)];
-        if let Some(bound) = self.torque_max {
-            let flat: Vec<f64> = inputs.iter().flat_map(|u| [u.x, u.y, u.z]).collect();
-            b.extend((0..n).map(|j| bound[j % 3] - flat[j]));
-            b.extend((0..n).map(|j| bound[j % 3] + flat[j]));
-            cones.push(NonnegativeConeT(2 * n));
-        }
-        let settings = DefaultSettingsBuilder::default()
-            .verbose(false)
-            .tol_gap_abs(1e-13)
-            .tol_gap_rel(1e-13)
-            .tol_feas(1e-13)
-            .build()
-            .map_err(|e| OptimalError::Subproblem(format!("{e:?}")))?;
-        let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings)
-            .map_err(|e| OptimalError::Subproblem(format!("{e:?}")))?;
-        solver.solve();
-        match solver.solution.status {
-            SolverStatus::Solved | SolverStatus::AlmostSolved => {
-                let z = &solver.solution.z;
-                let lambda = DVector::from_column_slice(&z[..6]);
-                let nu = if bounded {
-                    DVector::from_iterator(n, (0..n).map(|j| z[6 + j] - z[6 + n + j]))
-                } else {
-                    DVector::zeros(n)
-                };
-                Ok(Some((
-                    DVector::from_column_slice(&solver.solution.x),
-                    lambda,
-                    nu,
-                )))
-            }
-            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Ok(None),
-            other => Err(OptimalError::Subproblem(format!(
-                "clarabel stopped with status {other:?}"
-            ))),
+        match self.cost {
+            Cost::Energy => energy::minimum_energy(self, settings, self.tolerance),
+            Cost::Time => time::minimum_time(self, self.tolerance),
         }
     }
-}
-
-/// One run of the torques: its states, the terminal state's sensitivity and miss.
-struct Shot {
-    states: Vec<State>,
-    sensitivity: DMatrix<f64>,
-    miss: DVector<f64>,
 }
 
 /// The page `docs/optimal.md`, whose Rust example is compiled and run as a doctest.

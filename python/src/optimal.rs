@@ -1,10 +1,11 @@
-//! `lgsvi.optimal`'s compiled core: a rigid body's minimum-energy slew
-//! ([`lgsvi_optimal::Slew`]), solved with the GIL released.
+//! `lgsvi.optimal`'s compiled core: a rigid body's slew at the least energy or in the
+//! least time ([`lgsvi_optimal::Slew`]), solved with the GIL released.
 
 use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3};
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError, LgsviError};
+use lgsvi_mechanics::lie::LieGroup;
 use lgsvi_mechanics::Inertia;
-use lgsvi_optimal::{OptimalError, Slew};
+use lgsvi_optimal::{Cost, OptimalError, Slew};
 use nalgebra::Vector3;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -29,12 +30,12 @@ fn optimal_error(error: OptimalError) -> PyErr {
 
 /// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None))]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy"))]
 #[allow(clippy::too_many_arguments)]
 fn _slew<'py>(
     py: Python<'py>,
     inertia: &Bound<'py, PyAny>,
-    t_end: f64,
+    t_end: Option<f64>,
     attitude_final: &Bound<'py, PyAny>,
     attitude0: Option<&Bound<'py, PyAny>>,
     omega0: Option<&Bound<'py, PyAny>>,
@@ -45,7 +46,18 @@ fn _slew<'py>(
     tolerance: f64,
     max_iterations: usize,
     warm_start: Option<&Bound<'py, PyAny>>,
+    cost: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let cost = match cost {
+        "energy" => Cost::Energy,
+        "time" => Cost::Time,
+        other => {
+            return Err(invalid(format!(
+                "cost = {other:?}: \"energy\" (the integral of |u|^2 in the time t_end) or \
+                 \"time\" (the least final time, torque_max needed)"
+            )))
+        }
+    };
     let moments = vector3(inertia, "inertia")?;
     let inertia = Inertia::from_principal_moments([moments.x, moments.y, moments.z])
         .map_err(|e| invalid(format!("inertia: {e}")))?;
@@ -55,24 +67,51 @@ fn _slew<'py>(
         Some(r) => rotation(r, "attitude0")?,
         None => lgsvi_mechanics::lie::SO3::identity(),
     };
+    let target = rotation(attitude_final, "attitude_final")?;
+    let bound = match torque_max {
+        Some(bound) => Some(
+            match crate::convert::shape_of(bound, "torque_max")?.as_slice() {
+                [] => {
+                    let u: f64 = bound.extract()?;
+                    Vector3::new(u, u, u)
+                }
+                _ => vector3(bound, "torque_max")?,
+            },
+        ),
+        None => None,
+    };
+    let t_end = match (t_end, cost, bound) {
+        (Some(t), _, _) => t,
+        (None, Cost::Time, Some(b)) => {
+            lgsvi_optimal::eigen_axis_time(&inertia, &start.inverse().compose(&target), b.into())
+                .ok_or_else(|| {
+                    invalid(
+                        "attitude_final: the target attitude is the start's; give another \
+                         target, or t_end as the first guess of the time"
+                            .to_string(),
+                    )
+                })?
+        }
+        (None, Cost::Time, None) => {
+            return Err(invalid(
+                "torque_max: a minimum-time slew needs a torque bound".to_string(),
+            ))
+        }
+        (None, _, _) => {
+            return Err(invalid(
+                "t_end: a minimum-energy slew takes a fixed duration in seconds".to_string(),
+            ))
+        }
+    };
     let mut slew = Slew::new(inertia, t_end)
         .from(start, vector_or_zero(omega0, "omega0")?)
-        .to(
-            rotation(attitude_final, "attitude_final")?,
-            vector_or_zero(omega_final, "omega_final")?,
-        )
+        .to(target, vector_or_zero(omega_final, "omega_final")?)
         .steps(steps)
         .nodes(nodes)
         .tolerance(tolerance)
-        .max_iterations(max_iterations);
-    if let Some(bound) = torque_max {
-        let bound = match crate::convert::shape_of(bound, "torque_max")?.as_slice() {
-            [] => {
-                let u: f64 = bound.extract()?;
-                Vector3::new(u, u, u)
-            }
-            _ => vector3(bound, "torque_max")?,
-        };
+        .max_iterations(max_iterations)
+        .cost(cost);
+    if let Some(bound) = bound {
         slew = slew.torque_max([bound.x, bound.y, bound.z]);
     }
     if let Some(inputs) = warm_start {
@@ -82,7 +121,7 @@ fn _slew<'py>(
     let k = solution.inputs.len();
     let d = PyDict::new(py);
     d.set_item("cost", solution.cost)?;
-    d.set_item("t_end", t_end)?;
+    d.set_item("t_end", solution.t_end)?;
     d.set_item("h", solution.h)?;
     d.set_item("converged", solution.converged)?;
     d.set_item("iterations", solution.statistics.iterations)?;

@@ -1,0 +1,137 @@
+//! One run of the integrator under given torques: its states, the terminal miss, and the
+//! terminal state's exact sensitivity to every torque and to the common step length.
+
+use crate::OptimalError;
+use lgsvi_mechanics::lie::{LieGroup, SO3};
+use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::{Integrator, RigidBody, State, StepSettings};
+use nalgebra::{DMatrix, DVector, Vector3};
+
+/// One run of the torques: its states, the terminal state's sensitivity and miss.
+pub(crate) struct Shot {
+    /// `x_0 … x_K`.
+    pub states: Vec<State>,
+    /// `M = ∂x_K/∂u` (`6 × 3K`) in the body-frame coordinates `(θ, ω)`.
+    pub sensitivity: DMatrix<f64>,
+    /// `∂x_K/∂h` (6), the step length shared by every step.
+    pub time_sensitivity: DVector<f64>,
+    /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`.
+    pub miss: DVector<f64>,
+}
+
+/// The run from `start` with `inputs` held one per step of `settings`, against `target`.
+///
+/// Each step is linearised exactly ([`Integrator::step_linearized`]: `A_k`, `B_k`), and
+/// its derivative in the step length follows from the same `A_k` and `B_k` by the rigid
+/// body's time scaling: a step of length `ch` from `(R, Ω)` under `u` is the step of
+/// length `h` from `(R, cΩ)` under `c²u` with its end rates divided by `c` (the Euler
+/// equations, and lgsvi's discrete action term by term, are invariant under `t ↦ ct`,
+/// `Ω ↦ Ω/c`, `u ↦ u/c²`). Differentiating at `c = 1`:
+///
+/// ```text
+/// h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)
+/// ```
+///
+/// with `A_ω` the columns of `A` in the start's rates; `optimal/tests/free_time.rs`
+/// checks both the scaling and this derivative against finite differences.
+pub(crate) fn shoot(
+    body: RigidBody,
+    settings: StepSettings,
+    start: (SO3, Vector3<f64>),
+    target: (SO3, Vector3<f64>),
+    inputs: &[Vector3<f64>],
+) -> Result<Shot, OptimalError> {
+    let h = settings.h();
+    let mut it = Integrator::new(body, settings, start.0, start.1)?;
+    let mut states = vec![*it.state()];
+    let mut a = Vec::with_capacity(inputs.len());
+    let mut b = Vec::with_capacity(inputs.len());
+    let mut d = Vec::with_capacity(inputs.len());
+    for u in inputs {
+        let omega = it.state().velocity;
+        it.set_input(*u)?;
+        let step = it.step_linearized()?;
+        let (ak, bk) = (
+            step.a(Coordinates::Velocity).clone(),
+            step.b(Coordinates::Velocity).clone(),
+        );
+        let end = it.state().velocity;
+        let mut dk = ak.view((0, 3), (6, 3)) * omega + 2.0 * (&bk * u);
+        for i in 0..3 {
+            dk[3 + i] -= end[i];
+        }
+        d.push(dk / h);
+        a.push(ak);
+        b.push(bk);
+        states.push(*it.state());
+    }
+    // M_k = A_{K−1} ⋯ A_{k+1} B_k and ∂x_K/∂h = Σ_k A_{K−1} ⋯ A_{k+1} d_k, chained
+    // backwards.
+    let k_steps = inputs.len();
+    let mut sensitivity = DMatrix::<f64>::zeros(6, 3 * k_steps);
+    let mut time_sensitivity = DVector::<f64>::zeros(6);
+    let mut chain = DMatrix::<f64>::identity(6, 6);
+    for k in (0..k_steps).rev() {
+        sensitivity
+            .view_mut((0, 3 * k), (6, 3))
+            .copy_from(&(&chain * &b[k]));
+        time_sensitivity += &chain * &d[k];
+        chain = &chain * &a[k];
+    }
+    let last = states[k_steps];
+    let rotation = last.configuration.inverse().compose(&target.0).log();
+    let rates = target.1 - last.velocity;
+    let miss = DVector::from_iterator(6, rotation.iter().chain(rates.iter()).copied());
+    Ok(Shot {
+        states,
+        sensitivity,
+        time_sensitivity,
+        miss,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lgsvi_mechanics::Inertia;
+
+    /// `∂x_K/∂h` from the time scaling against central differences of whole runs: with
+    /// `δ = 1e-4 h` the difference's truncation error is `~δ² |x'''| ≈ 1e-8` relative and
+    /// its rounding `~1e-16/δ·|x| ≈ 1e-11`, so they agree to about 1e-7 relative.
+    #[test]
+    fn the_time_derivative_matches_central_differences() {
+        let body = RigidBody::new(Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap());
+        let start = (
+            SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
+            Vector3::new(0.3, -0.2, 0.5),
+        );
+        let target = (SO3::identity(), Vector3::zeros());
+        let inputs: Vec<Vector3<f64>> = (0..6)
+            .map(|k| Vector3::new(0.1 * k as f64, -0.2, 0.05 * (k as f64).sin()))
+            .collect();
+        let h = 0.4;
+        let at = |h: f64| {
+            shoot(
+                body,
+                StepSettings::new(h, 8).unwrap(),
+                start,
+                target,
+                &inputs,
+            )
+            .unwrap()
+        };
+        let shot = at(h);
+        let delta = 1e-4 * h;
+        let (plus, minus) = (at(h + delta), at(h - delta));
+        let (p, m) = (plus.states[6], minus.states[6]);
+        let theta = m.configuration.inverse().compose(&p.configuration).log() / (2.0 * delta);
+        let omega = (p.velocity - m.velocity) / (2.0 * delta);
+        let difference = DVector::from_iterator(6, theta.iter().chain(omega.iter()).copied());
+        let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
+        assert!(
+            error < 1e-7,
+            "{error:e}: {shot:?} against {difference}",
+            shot = shot.time_sensitivity
+        );
+    }
+}

@@ -1,0 +1,754 @@
+//! The minimum-time slew: SQP over the torques and the common step length, the
+//! Lagrangian's Hessian by differences of its exact gradient on the free variables.
+
+use crate::energy::minimum_energy;
+use crate::qp::QpSolution;
+use crate::shooting::{shoot, Shot};
+use crate::{qp, Cost, OptimalError, Slew, Solution, Statistics};
+use lgsvi_mechanics::{RigidBody, StepSettings};
+use nalgebra::{DMatrix, DVector, Vector3};
+use std::time::Instant;
+
+/// The largest relative change of the step length in one iteration (a trust region on
+/// the one variable the problem is not bounded in).
+const TIME_TRUST: f64 = 0.3;
+
+/// The subproblem's tolerance: the KKT residual is measured afresh at each iterate
+/// (with multipliers refitted), so the subproblem's only needs to be small beside it.
+const QP_TOLERANCE: f64 = 1e-10;
+
+/// Solves `slew` for the least final time (the crate documentation's iteration): from
+/// the coarsest of a ladder of step counts (halving `K` while at least `2 ×`
+/// [`COARSEST`]) up to `K`, each level started from the one below (its torques sampled
+/// at the finer steps' midpoints).
+pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
+    let clock = Instant::now();
+    let bound = slew
+        .torque_max
+        .ok_or_else(|| OptimalError::InvalidSetting {
+            name: "torque_max",
+            value: "(none)".into(),
+            reason: "a minimum-time slew needs a torque bound (without one, any time is reachable)"
+                .into(),
+        })?;
+    let mut ladder = vec![slew.steps];
+    while slew.initial.is_none() && ladder[ladder.len() - 1] >= 2 * COARSEST {
+        ladder.push(ladder[ladder.len() - 1].div_ceil(2));
+    }
+    let mut statistics = Statistics::default();
+    let mut solved: Option<(Vec<Vector3<f64>>, Scaled)> = None;
+    for (level, &k_steps) in ladder.iter().enumerate().rev() {
+        let problem = Problem {
+            slew,
+            bound,
+            k_steps,
+            body: RigidBody::new(slew.inertia),
+        };
+        let level_tolerance = if level == 0 {
+            tolerance
+        } else {
+            LADDER_TOLERANCE
+        };
+        let found = match solved.take() {
+            None => problem.coarsest(level_tolerance, &mut statistics)?,
+            Some((coarse, below)) => {
+                let fine: Vec<Vector3<f64>> = (0..k_steps)
+                    .map(|k| {
+                        coarse[((2 * k + 1) * coarse.len() / (2 * k_steps)).min(coarse.len() - 1)]
+                    })
+                    .collect();
+                let t_coarse = below.h * below.k_steps as f64;
+                let z0 = problem.scaled(&fine, 0.0);
+                problem.sqp(z0, t_coarse, level_tolerance, &mut statistics)?
+            }
+        };
+        solved = Some((problem.torques(&found.z), found));
+    }
+    let (inputs, last) = solved.expect("the ladder has at least one level");
+    statistics.time_s = clock.elapsed().as_secs_f64();
+    // The multipliers in the unscaled miss, as the energy's are: the scaled objective
+    // is T/T_ref and the scaled rates rows ω·T_ref.
+    let mut gradient = DVector::<f64>::zeros(last.z.len());
+    gradient[last.z.len() - 1] = 1.0;
+    let lambda = least_squares_multipliers(&last.jacobian, &gradient, &last.z);
+    let mut terminal = [0.0; 6];
+    for (i, m) in terminal.iter_mut().enumerate() {
+        *m = lambda[i] * last.t_ref * if i < 3 { 1.0 } else { last.t_ref };
+    }
+    let t_end = last.h * last.k_steps as f64;
+    Ok(Solution {
+        cost: t_end,
+        states: last.shot.states,
+        inputs,
+        multipliers: terminal,
+        h: last.h,
+        t_end,
+        converged: true,
+        statistics,
+    })
+}
+
+/// The step counts below which the ladder stops halving.
+const COARSEST: usize = 20;
+
+/// The KKT tolerance of the ladder's lower levels (their solutions only start the next).
+const LADDER_TOLERANCE: f64 = 1e-6;
+
+/// The size of the coarsest level's second start's perturbation, in units of the bound.
+const PERTURBATION: f64 = 0.2;
+
+/// One level of the ladder.
+struct Problem<'a> {
+    slew: &'a Slew,
+    bound: Vector3<f64>,
+    k_steps: usize,
+    body: RigidBody,
+}
+
+impl Problem<'_> {
+    /// The coarsest level, from the warm start if one is given, else from the
+    /// minimum-energy slew perturbed by [`PERTURBATION`] (a rest-to-rest turn about a
+    /// principal axis is a symmetric stationary point of the time, a saddle, which an
+    /// unperturbed start can stall on), and unperturbed if that fails.
+    fn coarsest(
+        &self,
+        tolerance: f64,
+        statistics: &mut Statistics,
+    ) -> Result<Scaled, OptimalError> {
+        let (inputs, t_start) = feasible_start(&Slew {
+            steps: self.k_steps,
+            ..self.slew.clone()
+        })?;
+        if self.slew.initial.is_some() {
+            return self.sqp(self.scaled(&inputs, 0.0), t_start, tolerance, statistics);
+        }
+        match self.sqp(
+            self.scaled(&inputs, PERTURBATION),
+            t_start,
+            tolerance,
+            statistics,
+        ) {
+            Ok(found) => Ok(found),
+            Err(first) => self
+                .sqp(self.scaled(&inputs, 0.0), t_start, tolerance, statistics)
+                .map_err(|_| first),
+        }
+    }
+
+    /// The scaled variables of `inputs` (torques over their bounds, the step length 1 in
+    /// units of `T_ref/K`), with a perturbation `size · sin((i+1)πt/T)` on axis `i`.
+    fn scaled(&self, inputs: &[Vector3<f64>], size: f64) -> DVector<f64> {
+        let n = 3 * self.k_steps + 1;
+        let mut z = DVector::<f64>::zeros(n);
+        for (k, u) in inputs.iter().enumerate() {
+            let t = (k as f64 + 0.5) / self.k_steps as f64;
+            for i in 0..3 {
+                let wave = size * ((i + 1) as f64 * std::f64::consts::PI * t).sin();
+                z[3 * k + i] = (u[i] / self.bound[i] + wave).clamp(-1.0, 1.0);
+            }
+        }
+        z[n - 1] = 1.0;
+        z
+    }
+
+    /// The torques of scaled variables.
+    fn torques(&self, z: &DVector<f64>) -> Vec<Vector3<f64>> {
+        (0..self.k_steps)
+            .map(|k| Vector3::from_fn(|i, _| z[3 * k + i] * self.bound[i]))
+            .collect()
+    }
+
+    /// The shot of scaled variables, `T_ref` the time of `σ = 1`.
+    fn run(&self, z: &DVector<f64>, t_ref: f64) -> Result<Scaled, OptimalError> {
+        let h_ref = t_ref / self.k_steps as f64;
+        let settings = StepSettings::new(z[z.len() - 1] * h_ref, self.slew.nodes)?;
+        let shot = shoot(
+            self.body,
+            settings,
+            self.slew.start,
+            self.slew.target,
+            &self.torques(z),
+        )?;
+        Ok(Scaled::of(
+            shot,
+            z.clone(),
+            &self.bound,
+            h_ref,
+            t_ref,
+            self.k_steps,
+        ))
+    }
+
+    /// The SQP from `z` with `σ = 1` meaning the final time `t_ref`: the solution's shot.
+    fn sqp(
+        &self,
+        mut z: DVector<f64>,
+        t_ref: f64,
+        tolerance: f64,
+        statistics: &mut Statistics,
+    ) -> Result<Scaled, OptimalError> {
+        let n = z.len();
+        let run = |z: &DVector<f64>| self.run(z, t_ref);
+        let mut current = run(&z)?;
+        let mut gradient = DVector::<f64>::zeros(n);
+        gradient[n - 1] = 1.0;
+        let mut multipliers = least_squares_multipliers(&current.jacobian, &gradient, &z);
+        let mut rho = 1.0_f64;
+        let mut iterations = 0;
+        loop {
+            let miss = current.miss.amax();
+            let stationarity = stationarity(&z, &current.jacobian, &gradient);
+            let residual = stationarity.max(miss);
+            statistics.kkt_residuals.push(residual);
+            statistics.terminal_misses.push(current.shot.miss.amax());
+            if residual <= tolerance && iterations > 0 {
+                return Ok(current);
+            }
+            if statistics.iterations >= self.slew.max_iterations {
+                return Err(OptimalError::NotConverged {
+                    iterations: statistics.iterations,
+                    residual,
+                    tolerance,
+                });
+            }
+            statistics.iterations += 1;
+            iterations += 1;
+            let hessian = lagrangian_hessian(&z, &multipliers, &current, &run)?;
+            let (mut lower, mut upper): (Vec<f64>, Vec<f64>) =
+                (0..n - 1).map(|j| (-1.0 - z[j], 1.0 - z[j])).unzip();
+            lower.push(-TIME_TRUST * z[n - 1]);
+            upper.push(TIME_TRUST * z[n - 1]);
+            let solve = |e: &DVector<f64>| -> Result<Option<QpSolution>, OptimalError> {
+                Ok(qp::solve(
+                    qp::upper_triangle(&hessian),
+                    gradient.as_slice(),
+                    &current.jacobian,
+                    e,
+                    &lower,
+                    &upper,
+                    QP_TOLERANCE,
+                )?
+                .map(|found| {
+                    polish(
+                        &hessian,
+                        &gradient,
+                        &current.jacobian,
+                        e,
+                        &z,
+                        &lower,
+                        &upper,
+                        &found,
+                    )
+                    .unwrap_or_else(|| project(&current.jacobian, e, &z, &lower, &upper, found))
+                }))
+            };
+            let solution = solve(&current.miss)?.ok_or(OptimalError::Infeasible {
+                residual: current.shot.miss.amax(),
+                bounded: true,
+            })?;
+            // The merit σ + ρ|e|₁ with ρ above the multipliers (never lowered).
+            rho = rho.max(2.0 * solution.lambda.amax() + 1.0);
+            let merit = |z: &DVector<f64>, e: &DVector<f64>| z[n - 1] + rho * e.abs().sum();
+            let before = merit(&z, &current.miss);
+            let accepts = |z: &DVector<f64>, r: &Scaled| {
+                merit(z, &r.miss) <= before + ROUNDING * (1.0 + before.abs())
+            };
+            let full = snap(&z + &solution.step, &solution.nu);
+            let first = run(&full);
+            let (next_z, next) = match first {
+                Ok(r) if accepts(&full, &r) => (full, r),
+                _ => {
+                    // A second-order correction (the full step's miss against its
+                    // linearisation, put back into the subproblem) before backtracking:
+                    // the ℓ1 merit otherwise refuses steps along the constraints'
+                    // curvature.
+                    let corrected = match &first {
+                        Ok(r) => {
+                            let e = &r.miss + &current.jacobian * &solution.step;
+                            solve(&e)?.and_then(|c| {
+                                let trial = snap(&z + &c.step, &c.nu);
+                                let r = run(&trial).ok()?;
+                                accepts(&trial, &r).then_some((trial, r))
+                            })
+                        }
+                        Err(_) => None,
+                    };
+                    match corrected {
+                        Some(accepted) => accepted,
+                        None => {
+                            let mut alpha = 1.0;
+                            loop {
+                                alpha *= 0.5;
+                                let trial = snap(&z + alpha * &solution.step, &solution.nu);
+                                match run(&trial) {
+                                    Ok(r) if accepts(&trial, &r) || alpha < 1e-3 => {
+                                        break (trial, r)
+                                    }
+                                    Err(error) if alpha < 1e-3 => return Err(error),
+                                    _ => {}
+                                }
+                            }
+                        }
+                    }
+                }
+            };
+            z = next_z;
+            current = next;
+            multipliers = solution.lambda;
+        }
+    }
+}
+
+/// A shot in the scaled variables.
+struct Scaled {
+    shot: Shot,
+    /// The scaled variables.
+    z: DVector<f64>,
+    /// The time of `σ = 1`.
+    t_ref: f64,
+    /// The step length and count.
+    h: f64,
+    k_steps: usize,
+    /// `∂e/∂z` up to sign (`6 × (3K+1)`), rates rows times `T_ref`.
+    jacobian: DMatrix<f64>,
+    /// The miss, rates rows times `T_ref`.
+    miss: DVector<f64>,
+}
+
+impl Scaled {
+    fn of(
+        shot: Shot,
+        z: DVector<f64>,
+        bound: &Vector3<f64>,
+        h_ref: f64,
+        t_ref: f64,
+        k_steps: usize,
+    ) -> Self {
+        let h = z[z.len() - 1] * h_ref;
+        let columns = shot.sensitivity.ncols();
+        let mut jacobian = DMatrix::<f64>::zeros(6, columns + 1);
+        for j in 0..columns {
+            jacobian
+                .column_mut(j)
+                .copy_from(&(shot.sensitivity.column(j) * bound[j % 3]));
+        }
+        jacobian
+            .column_mut(columns)
+            .copy_from(&(&shot.time_sensitivity * h_ref));
+        let mut miss = shot.miss.clone();
+        for i in 3..6 {
+            jacobian.row_mut(i).scale_mut(t_ref);
+            miss[i] *= t_ref;
+        }
+        Self {
+            shot,
+            z,
+            t_ref,
+            h,
+            k_steps,
+            jacobian,
+            miss,
+        }
+    }
+}
+
+/// Torques and a final time that reach the target: the warm start if given; for a
+/// rest-to-rest slew, the unbounded minimum-energy slew at the given time rescaled in
+/// time until its largest torque meets its bound (the time scaling of
+/// [`crate::shooting::shoot`] is exact for the step, and leaves rest at rest: the
+/// rescaled torques reach the target whatever the first guess); else the bounded
+/// minimum-energy slew at the given time, half as long again until one exists.
+fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError> {
+    if let Some(initial) = &slew.initial {
+        return Ok((initial.clone(), slew.t_end));
+    }
+    let settings = |t_end: f64| StepSettings::new(t_end / slew.steps as f64, slew.nodes);
+    let bound = slew
+        .torque_max
+        .unwrap_or_else(|| Vector3::repeat(f64::INFINITY));
+    if slew.start.1 == Vector3::zeros() && slew.target.1 == Vector3::zeros() {
+        let free = Slew {
+            cost: Cost::Energy,
+            torque_max: None,
+            ..slew.clone()
+        };
+        let solution = minimum_energy(&free, settings(slew.t_end)?, START_TOLERANCE)?;
+        let peak = solution
+            .inputs
+            .iter()
+            .map(|u| u.component_div(&bound).amax())
+            .fold(0.0, f64::max);
+        if peak > 0.0 && peak.is_finite() {
+            // u(t) over T becomes u(t/c)/c² over cT: the peak meets the bound at c = √peak.
+            let c = peak.sqrt();
+            let inputs = solution.inputs.iter().map(|u| u / (c * c)).collect();
+            return Ok((inputs, slew.t_end * c));
+        }
+    }
+    let attempt = |t_end: f64| {
+        let energy = Slew {
+            t_end,
+            cost: Cost::Energy,
+            ..slew.clone()
+        };
+        minimum_energy(&energy, settings(t_end)?, START_TOLERANCE)
+    };
+    // Half as long again until a bounded motion exists, then shorter by 30% while one
+    // does: the start is then within 30% of the least time for which the minimum-energy
+    // iteration finds a motion.
+    let mut t_end = slew.t_end;
+    let mut found = None;
+    let mut last = None;
+    for _ in 0..GUESSES {
+        match attempt(t_end) {
+            Ok(solution) => {
+                found = Some((solution.inputs, t_end));
+                break;
+            }
+            Err(error @ (OptimalError::Infeasible { .. } | OptimalError::NotConverged { .. })) => {
+                last = Some(error);
+                t_end *= 1.5;
+            }
+            Err(error) => return Err(error),
+        }
+    }
+    let Some(mut found) = found else {
+        return Err(last.expect("every attempt an error"));
+    };
+    if last.is_none() {
+        for _ in 0..GUESSES {
+            match attempt(0.7 * found.1) {
+                Ok(solution) => found = (solution.inputs, 0.7 * found.1),
+                Err(OptimalError::Infeasible { .. } | OptimalError::NotConverged { .. }) => break,
+                Err(error) => return Err(error),
+            }
+        }
+    }
+    Ok(found)
+}
+
+/// The most lengthenings (and shortenings) of the first guess of the time.
+const GUESSES: usize = 8;
+
+/// The KKT tolerance of the minimum-energy slew that starts a minimum-time one.
+const START_TOLERANCE: f64 = 1e-8;
+
+/// The variables off their bounds (the step length always).
+fn free_set(z: &DVector<f64>) -> Vec<usize> {
+    let n = z.len();
+    (0..n).filter(|&j| j == n - 1 || z[j].abs() < 1.0).collect()
+}
+
+/// `z` with the torques the subproblem holds on a bound put on it: the interior-point
+/// subproblem lands near its active bounds, not on them, and the active set is read
+/// from which torques are on their bounds ([`held`]).
+fn snap(mut z: DVector<f64>, nu: &DVector<f64>) -> DVector<f64> {
+    let n = z.len();
+    for (x, m) in z.iter_mut().zip(nu.iter()).take(n - 1) {
+        if let Some(side) = held(*x, *m) {
+            *x = side;
+        }
+    }
+    z
+}
+
+/// The bound (±1) that holds a scaled torque at `x` with the subproblem's bound
+/// multiplier `nu` (upper minus lower): the one it is within [`NEAR`] of, if the
+/// multiplier pushes outwards and exceeds the gap (complementarity: an active bound's
+/// gap is about the interior-point tolerance over its multiplier, an inactive one's
+/// multiplier the tolerance over its gap).
+fn held(x: f64, nu: f64) -> Option<f64> {
+    let gap = 1.0 - x.abs();
+    (gap < NEAR && nu * x.signum() > gap.max(0.0)).then(|| x.signum())
+}
+
+/// How near its bound (in units of the bound) an active torque is put on it.
+const NEAR: f64 = 1e-3;
+
+/// The multipliers that best make the free variables stationary (least squares): the
+/// first iterate's estimate.
+fn least_squares_multipliers(
+    jacobian: &DMatrix<f64>,
+    gradient: &DVector<f64>,
+    z: &DVector<f64>,
+) -> DVector<f64> {
+    let free = free_set(z);
+    let m = jacobian.select_columns(&free);
+    let g = gradient.select_rows(&free);
+    (&m * m.transpose())
+        .lu()
+        .solve(&(-(&m * g)))
+        .filter(|l| l.iter().all(|x| x.is_finite()))
+        .unwrap_or_else(|| DVector::zeros(6))
+}
+
+/// The QP's Hessian: the Lagrangian's, `Σ λ_i ∂²e_i/∂z²`, on the free variables by
+/// forward differences of its exact gradient `Mᵀλ` (one run of the integrator per free
+/// variable), made positive definite on the constraints' null space by adding
+/// `c MᵀM` (which leaves the subproblem's solution unchanged: `M δ` is fixed there) and
+/// positive definite outright by raising eigenvalues below a floor; the variables on
+/// their bounds get a unit diagonal.
+fn lagrangian_hessian(
+    z: &DVector<f64>,
+    lambda: &DVector<f64>,
+    current: &Scaled,
+    run: &impl Fn(&DVector<f64>) -> Result<Scaled, OptimalError>,
+) -> Result<DMatrix<f64>, OptimalError> {
+    let n = z.len();
+    let free = free_set(z);
+    let f = free.len();
+    let mut block = DMatrix::<f64>::zeros(f, f);
+    for (c, &j) in free.iter().enumerate() {
+        // Towards the interior, so that the shifted torque stays within its bound.
+        let mut shifted = z.clone();
+        let delta = if j + 1 < n && z[j] > 0.0 {
+            -DIFFERENCE
+        } else {
+            DIFFERENCE
+        };
+        shifted[j] += delta;
+        let column = (run(&shifted)?.jacobian - &current.jacobian).transpose() * lambda / delta;
+        for (r, &i) in free.iter().enumerate() {
+            block[(r, c)] = column[i];
+        }
+    }
+    let jacobian = current.jacobian.select_columns(&free);
+    let symmetric = 0.5 * (&block + block.transpose());
+    let scale = symmetric.amax().max(1.0);
+    let weight = scale / jacobian.amax().powi(2).max(f64::MIN_POSITIVE);
+    let convexified = &symmetric + weight * jacobian.transpose() * &jacobian;
+    let eigen = convexified.symmetric_eigen();
+    let floor = 1e-8 * eigen.eigenvalues.amax().max(1.0);
+    let values = eigen.eigenvalues.map(|v| v.max(floor));
+    let positive =
+        &eigen.eigenvectors * DMatrix::from_diagonal(&values) * eigen.eigenvectors.transpose();
+    let mut hessian = DMatrix::<f64>::identity(n, n);
+    for (r, &i) in free.iter().enumerate() {
+        for (c, &j) in free.iter().enumerate() {
+            hessian[(i, j)] = positive[(r, c)];
+        }
+    }
+    Ok(hessian)
+}
+
+/// The forward difference's step in the scaled variables (`O(1)`): its truncation error
+/// `~ε` and rounding `~10⁻¹⁶/ε` both near 1e-8 relative, which slows Newton's quadratic
+/// convergence only below that (the KKT residual itself is exact).
+const DIFFERENCE: f64 = 1e-8;
+
+/// The merit's rounding: a full step that changes it by less is taken (the last steps
+/// move the variables by ~1e-9, below what the ℓ1 merit resolves).
+const ROUNDING: f64 = 1e-14;
+
+/// The KKT residual's stationarity part with the multipliers that fit it best: the
+/// Lagrangian's gradient `∇f + Mᵀλ` (λ by least squares on the free variables) on the
+/// free variables, and on a variable at a bound its part of the wrong sign (a bound
+/// holds the variable only against a gradient that pushes it outwards); over `1 + |∇f|`.
+fn stationarity(z: &DVector<f64>, jacobian: &DMatrix<f64>, gradient: &DVector<f64>) -> f64 {
+    let lambda = least_squares_multipliers(jacobian, gradient, z);
+    let lagrangian = gradient + jacobian.transpose() * lambda;
+    let free = free_set(z);
+    let worst = (0..z.len())
+        .map(|j| {
+            let g = lagrangian[j];
+            if free.binary_search(&j).is_ok() {
+                g.abs()
+            } else if z[j] > 0.0 {
+                // At the upper bound: ∇L = −ν ≤ 0.
+                g.max(0.0)
+            } else {
+                (-g).max(0.0)
+            }
+        })
+        .fold(0.0, f64::max);
+    worst / (1.0 + gradient.amax())
+}
+
+/// The subproblem's solution made exact on its active set: the torques whose bounds hold
+/// ([`held`]) put on them, and the equality-constrained
+/// quadratic on the rest,
+///
+/// ```text
+/// minimise ½ δ_Fᵀ P_FF δ_F + (q_F + P_FA δ_A)ᵀ δ_F   subject to   M_F δ_F = e − M_A δ_A,
+/// ```
+///
+/// solved by the null-space method (the least-norm solution of the equality rows, from
+/// an SVD, plus the reduced Hessian's step in their null space): the rows are then met to
+/// rounding even where the reduced Hessian is nearly singular (a torque with a singular
+/// arc, intermediate over a stretch of steps), where a KKT matrix solve loses them. A
+/// torque within [`NEAR`] of a bound that this pushes past it is held on it,
+/// a bound whose multiplier then comes out of the wrong sign released and the system
+/// solved again (a few rounds at most). `None` when the step leaves a bound or the system
+/// is singular (the interior-point solution is then used as it is). The interior-point
+/// method meets the equality rows and the active bounds only to its tolerance, and near
+/// the solution its multipliers cannot tell a weakly active bound from an inactive one;
+/// this is what lets the KKT residual fall to rounding instead of stalling there.
+#[allow(clippy::too_many_arguments)]
+fn polish(
+    hessian: &DMatrix<f64>,
+    gradient: &DVector<f64>,
+    jacobian: &DMatrix<f64>,
+    e: &DVector<f64>,
+    z: &DVector<f64>,
+    lower: &[f64],
+    upper: &[f64],
+    found: &QpSolution,
+) -> Option<QpSolution> {
+    let n = z.len();
+    let mut active: Vec<Option<f64>> = (0..n)
+        .map(|j| {
+            if j + 1 < n {
+                held(z[j] + found.step[j], found.nu[j])
+            } else {
+                None
+            }
+        })
+        .collect();
+    for _ in 0..POLISH_ROUNDS {
+        let fixed = DVector::from_fn(n, |j, _| active[j].map_or(0.0, |b| b - z[j]));
+        let free: Vec<usize> = (0..n).filter(|&j| active[j].is_none()).collect();
+        let m = e.len();
+        let mf = jacobian.select_columns(&free);
+        let pushed = hessian * &fixed;
+        let moved = jacobian * &fixed;
+        let hff = hessian.select_rows(&free).select_columns(&free);
+        let gf = DVector::from_iterator(free.len(), free.iter().map(|&i| gradient[i] + pushed[i]));
+        // Null-space method: the equality rows met to rounding by the least-norm part,
+        // the reduced Hessian (which the weight c MᵀM does not enter) solved on the rest.
+        let svd = mf.clone().svd(true, true);
+        let largest = svd.singular_values.max();
+        let rank = svd
+            .singular_values
+            .iter()
+            .filter(|&&v| v > 1e-12 * largest)
+            .count();
+        if rank < m || largest == 0.0 {
+            return None;
+        }
+        let particular = svd.solve(&(e - &moved), 0.0).ok()?;
+        let v_t = svd.v_t.as_ref()?;
+        let range = v_t.rows(0, m).transpose();
+        let projector =
+            DMatrix::<f64>::identity(free.len(), free.len()) - &range * range.transpose();
+        let eigen = projector.symmetric_eigen();
+        let columns: Vec<usize> = (0..free.len())
+            .filter(|&i| eigen.eigenvalues[i] > 0.5)
+            .collect();
+        let solution = if columns.is_empty() {
+            // As many free variables as rows: the rows alone fix the step.
+            particular
+        } else {
+            let basis = eigen.eigenvectors.select_columns(&columns);
+            let reduced = basis.transpose() * &hff * &basis;
+            let right = -(basis.transpose() * (&gf + &hff * &particular));
+            &particular + &basis * reduced.lu().solve(&right)?
+        };
+        // The multipliers by least squares on the free rows: M_Fᵀ λ = −(q_F + P_F· δ).
+        let lambda = mf
+            .transpose()
+            .svd(true, true)
+            .solve(&(-(&gf + &hff * &solution)), 0.0)
+            .ok()?;
+        let mut step = fixed;
+        let mut held = Vec::new();
+        for (r, &j) in free.iter().enumerate() {
+            let x = solution[r];
+            if !x.is_finite() {
+                return None;
+            }
+            if x < lower[j] || x > upper[j] {
+                // A torque within NEAR of the bound it is pushed past is held on it (a
+                // singular arc's flat directions push such torques far); any other
+                // excursion leaves the subproblem's own solution in place.
+                let side = if x > upper[j] { 1.0 } else { -1.0 };
+                if j + 1 == n || (side - z[j]).abs() > NEAR {
+                    return None;
+                }
+                held.push((j, side));
+            }
+            step[j] = x;
+        }
+        if !held.is_empty() {
+            for (j, side) in held {
+                active[j] = Some(side);
+            }
+            continue;
+        }
+        // The bounds' multipliers from stationarity, P δ + q + Mᵀλ + ν = 0: an upper
+        // bound holds with ν ≥ 0, a lower one with ν ≤ 0.
+        let residual = hessian * &step + gradient + jacobian.transpose() * &lambda;
+        let nu = DVector::from_fn(n, |j, _| {
+            if active[j].is_some() {
+                -residual[j]
+            } else {
+                0.0
+            }
+        });
+        let wrong: Vec<usize> = (0..n)
+            .filter(|&j| active[j].is_some_and(|b| b * nu[j] < 0.0))
+            .collect();
+        if wrong.is_empty() {
+            return Some(QpSolution { step, lambda, nu });
+        }
+        for j in wrong {
+            active[j] = None;
+        }
+    }
+    None
+}
+
+/// The most rounds of releasing wrongly held bounds in [`polish`].
+const POLISH_ROUNDS: usize = 8;
+
+/// The subproblem's own solution with the torques it holds on a bound put on it
+/// ([`held`]) and then its equality rows met to rounding: the least-norm correction
+/// `M_F⁺ (e − M δ)` on the variables off their bounds. The interior-point method lands
+/// near its active bounds, not on them; putting them on the bounds moves the terminal
+/// state by `M` times those gaps, which the correction takes back. Left as it is if the
+/// correction would leave a bound.
+fn project(
+    jacobian: &DMatrix<f64>,
+    e: &DVector<f64>,
+    z: &DVector<f64>,
+    lower: &[f64],
+    upper: &[f64],
+    mut found: QpSolution,
+) -> QpSolution {
+    let n = z.len();
+    let mut step = found.step.clone();
+    let mut on_bound = vec![false; n];
+    for j in 0..n - 1 {
+        if let Some(side) = held(z[j] + step[j], found.nu[j]) {
+            step[j] = side - z[j];
+            on_bound[j] = true;
+        }
+    }
+    let free: Vec<usize> = (0..n)
+        .filter(|&j| {
+            j + 1 == n
+                || (!on_bound[j]
+                    && step[j] > lower[j] + PROJECTION_MARGIN
+                    && step[j] < upper[j] - PROJECTION_MARGIN)
+        })
+        .collect();
+    let miss = e - jacobian * &step;
+    let Ok(correction) = jacobian
+        .select_columns(&free)
+        .svd(true, true)
+        .solve(&miss, 0.0)
+    else {
+        return found;
+    };
+    for (r, &j) in free.iter().enumerate() {
+        step[j] += correction[r];
+        if !(step[j] >= lower[j] && step[j] <= upper[j]) {
+            return found;
+        }
+    }
+    found.step = step;
+    found
+}
+
+/// How far inside its bounds (scaled) a variable must lie to take part in [`project`]'s
+/// correction.
+const PROJECTION_MARGIN: f64 = 1e-9;
