@@ -21,6 +21,15 @@ pub enum Cost {
     Time,
 }
 
+/// How the torque varies within a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum InputShape {
+    /// Held constant over each step.
+    Constant,
+    /// A polynomial within each step, given at its Gauss points (the energy cost only).
+    Polynomial,
+}
+
 /// The options of `lgsvi optimize`.
 #[derive(Debug, Clone, Args)]
 pub struct OptimizeOptions {
@@ -47,6 +56,10 @@ pub struct OptimizeOptions {
     /// What is minimised [default: energy].
     #[arg(long, value_enum)]
     pub cost: Option<Cost>,
+    /// How the torque varies within a step [default: constant]; polynomial: the cost
+    /// converges at the integrator's order (with --cost energy).
+    #[arg(long, value_enum)]
+    pub inputs: Option<InputShape>,
     /// The largest torque per body axis, N·m: one value for all three, or X,Y,Z.
     #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
     pub torque_max: Option<[f64; 3]>,
@@ -142,6 +155,9 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     if let Some(bound) = options.torque_max {
         slew = slew.torque_max(bound);
     }
+    if options.inputs == Some(InputShape::Polynomial) {
+        slew = slew.inputs(lgsvi_optimal::Inputs::Polynomial);
+    }
     if let Some(tolerance) = options.tolerance {
         slew = slew.tolerance(tolerance);
     }
@@ -206,6 +222,8 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         "multipliers": solution.multipliers,
         "t": times,
         "inputs": solution.inputs.iter().map(|u| [u.x, u.y, u.z]).collect::<Vec<_>>(),
+        "inputs_at_points": solution.inputs_at_points.iter().map(|step| step.iter().map(|u| [u.x, u.y, u.z]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        "quadrature_nodes": solution.quadrature_nodes,
         "R": solution.states.iter().map(|s| s.attitude().to_row_major()).collect::<Vec<_>>(),
         "omega": solution.states.iter().map(|s| [s.velocity.x, s.velocity.y, s.velocity.z]).collect::<Vec<_>>(),
         "attitude_error_deg": error_deg,
@@ -238,6 +256,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "tolerance" => "--tolerance",
             "start" => "--attitude0/--omega0",
             "target" => "--attitude-final/--omega-final",
+            "inputs" => "--inputs",
             _ => "--steps",
         },
         OptimalError::Infeasible { bounded: true, .. } => "--torque-max",
@@ -266,6 +285,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         "--max-iterations" => options.max_iterations.unwrap_or(100).to_string(),
         "--tolerance" => format!("{:?}", options.tolerance.unwrap_or(1e-10)),
         "--inertia" => list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
+        "--inputs" => "polynomial".into(),
         _ => format!(
             "{:?}, {}, {}",
             options.t_end.unwrap_or(f64::NAN),
@@ -297,15 +317,29 @@ fn figures(
         series,
         hlines: vec![],
     };
-    // Each torque held over its step: drawn as a staircase.
+    // Each torque held over its step: drawn as a staircase; polynomial within a step: its
+    // values at the Gauss points, joined.
     let torque = (0..3)
         .map(|i| {
-            let points = solution
-                .inputs
-                .iter()
-                .enumerate()
-                .flat_map(|(k, u)| [(times[k], u[i]), (times[k + 1], u[i])])
-                .collect();
+            let points = if solution.inputs_at_points.is_empty() {
+                solution
+                    .inputs
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(k, u)| [(times[k], u[i]), (times[k + 1], u[i])])
+                    .collect()
+            } else {
+                solution
+                    .inputs_at_points
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(k, step)| {
+                        step.iter()
+                            .zip(&solution.quadrature_nodes)
+                            .map(move |(u, c)| (times[k] + c * solution.h, u[i]))
+                    })
+                    .collect()
+            };
             axis(points, i, "u")
         })
         .collect();
@@ -332,7 +366,15 @@ fn figures(
     vec![
         (
             "_torques",
-            figure("optimal torques (held over each step)", "u (N·m)", torque),
+            figure(
+                if solution.inputs_at_points.is_empty() {
+                    "optimal torques (held over each step)"
+                } else {
+                    "optimal torques (at each step's Gauss points)"
+                },
+                "u (N·m)",
+                torque,
+            ),
         ),
         ("_rates", figure("body rates", "Ω (rad/s)", rates)),
         (

@@ -37,7 +37,9 @@
 use crate::error::MechanicsError;
 use crate::group::ConfigurationGroup;
 use crate::state::{body_momentum, legendre_blocks, State};
-use crate::step::linearize::{MomentumJacobians, ParameterDerivative, ParameterJacobians};
+use crate::step::linearize::{
+    MomentumJacobians, ParameterDerivative, ParameterJacobians, PointInputJacobians,
+};
 use crate::system::System;
 use lgsvi_lie::{LieGroup, SE3};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector};
@@ -72,6 +74,14 @@ pub struct StepLinearization<E, const D: usize> {
     a_velocity: DMatrix<f64>,
     b_velocity: DMatrix<f64>,
     parameters: Option<ParameterColumns>,
+    points: Option<PointColumns>,
+}
+
+/// `∂x₊/∂u_j` per Gauss point in both coordinates.
+#[derive(Debug, Clone)]
+struct PointColumns {
+    momentum: Vec<DMatrix<f64>>,
+    velocity: Vec<DMatrix<f64>>,
 }
 
 /// `∂x₊/∂p` in both coordinates, with the parameters' names.
@@ -97,6 +107,17 @@ impl<E, const D: usize> StepLinearization<E, D> {
             Coordinates::Velocity => &self.b_velocity,
             Coordinates::Momentum => &self.b_momentum,
         }
+    }
+
+    /// `B_j = ∂x₊/∂u_j` (`2D × D` each) in `coordinates`, one per Gauss point of the
+    /// step: the derivative in the input at point `j` when the inputs were given per point
+    /// ([`crate::Integrator::set_input_at_points`]; `None` for a constant input). They sum
+    /// to [`StepLinearization::b`], the derivative in an input added at every point.
+    pub fn b_points(&self, coordinates: Coordinates) -> Option<&[DMatrix<f64>]> {
+        self.points.as_ref().map(|p| match coordinates {
+            Coordinates::Velocity => p.velocity.as_slice(),
+            Coordinates::Momentum => p.momentum.as_slice(),
+        })
     }
 
     /// `∂x₊/∂p` (`2D × P`) in `coordinates`: the end state's derivative in the system's
@@ -143,6 +164,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
 
     /// Builds the linearisation from the step's momentum Jacobians and the Legendre
     /// transforms at both ends.
+    #[allow(clippy::too_many_arguments)] // the step's parts, each from its own computation
     pub(crate) fn new<S>(
         system: &S,
         jacobians: &MomentumJacobians<D>,
@@ -151,6 +173,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
         input: SVector<f64, D>,
         (h, nodes, index): (f64, usize, usize),
         parameters: Option<ParameterJacobians>,
+        points: Option<PointInputJacobians<D>>,
     ) -> Result<Self, MechanicsError>
     where
         S: System<D>,
@@ -212,6 +235,18 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
                 velocity,
             }
         });
+        let points = points.map(|columns| {
+            let (momentum, velocity) = columns
+                .iter()
+                .map(|(theta, mu)| {
+                    (
+                        stacked(theta, mu),
+                        stacked(theta, &(q_out_inverse * (mu - p_out * theta))),
+                    )
+                })
+                .unzip();
+            PointColumns { momentum, velocity }
+        });
         Ok(Self {
             start,
             end,
@@ -223,6 +258,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
             a_velocity,
             b_velocity,
             parameters,
+            points,
         })
     }
 }

@@ -1,12 +1,14 @@
 //! The minimum-energy slew: Gauss–Newton SQP over the torques at a fixed final time.
 
 use crate::shooting::shoot;
-use crate::{qp, OptimalError, Slew, Solution, Statistics};
+use crate::{qp, quadrature, Inputs, OptimalError, Slew, Solution, Statistics};
 use lgsvi_mechanics::{RigidBody, StepSettings};
 use nalgebra::{DVector, Vector3};
 use std::time::Instant;
 
-/// Solves `slew` for the least `Σ h |u_k|²` (the crate documentation's iteration).
+/// Solves `slew` for the least `∫|u|² dt` (the crate documentation's iteration): with
+/// constant torques `Σ_k h |u_k|²`, with polynomial ones the steps' quadrature
+/// `Σ_k h Σ_j b_j |u_kj|²`.
 pub(crate) fn minimum_energy(
     slew: &Slew,
     settings: StepSettings,
@@ -15,28 +17,49 @@ pub(crate) fn minimum_energy(
     let clock = Instant::now();
     let (k_steps, h) = (slew.steps, settings.h());
     let body = RigidBody::new(slew.inertia);
-    let mut inputs = slew
-        .initial
-        .clone()
-        .unwrap_or_else(|| vec![Vector3::zeros(); k_steps]);
+    let (nodes, weights) = quadrature(slew, settings)?;
+    // The quadrature weight of each input of a step: h for a held torque, h b_j at the
+    // Gauss points.
+    let step_weights: Vec<f64> = match slew.inputs {
+        Inputs::Constant => vec![h],
+        _ => weights.iter().map(|b| h * b).collect(),
+    };
+    let per_step = step_weights.len();
+    let mut inputs: Vec<Vector3<f64>> = match &slew.initial {
+        Some(initial) if initial.len() == k_steps * per_step => initial.clone(),
+        Some(initial) => initial
+            .iter()
+            .flat_map(|u| std::iter::repeat_n(*u, per_step))
+            .collect(),
+        None => vec![Vector3::zeros(); k_steps * per_step],
+    };
     if let Some(bound) = slew.torque_max {
         for u in &mut inputs {
             *u = u.zip_map(&bound, |x, b| x.clamp(-b, b));
         }
     }
-    let cost = |u: &[Vector3<f64>]| h * u.iter().map(|u| u.norm_squared()).sum::<f64>();
+    let weight = |i: usize| step_weights[i % per_step];
+    let cost = |u: &[Vector3<f64>]| {
+        u.iter()
+            .enumerate()
+            .map(|(i, u)| weight(i) * u.norm_squared())
+            .sum::<f64>()
+    };
     let mut statistics = Statistics::default();
     let mut multipliers = DVector::<f64>::zeros(6);
-    let mut bound_duals = DVector::<f64>::zeros(3 * k_steps);
-    let shot = |u: &[Vector3<f64>]| shoot(body, settings, slew.start, slew.target, u);
+    let n = 3 * inputs.len();
+    let mut bound_duals = DVector::<f64>::zeros(n);
+    let shot = |u: &[Vector3<f64>]| shoot(body, settings, slew.start, slew.target, u, per_step);
     let mut run = shot(&inputs)?;
+    let hessian: Vec<f64> = (0..n).map(|j| 2.0 * weight(j / 3)).collect();
     loop {
         let miss = run.miss.amax();
         let gradient = DVector::from_iterator(
-            3 * k_steps,
-            inputs
-                .iter()
-                .flat_map(|u| [2.0 * h * u.x, 2.0 * h * u.y, 2.0 * h * u.z]),
+            n,
+            inputs.iter().enumerate().flat_map(|(i, u)| {
+                let w = 2.0 * weight(i);
+                [w * u.x, w * u.y, w * u.z]
+            }),
         );
         let stationarity = (&gradient + run.sensitivity.transpose() * &multipliers + &bound_duals)
             .amax()
@@ -55,9 +78,8 @@ pub(crate) fn minimum_energy(
             });
         }
         statistics.iterations += 1;
-        // ½ δuᵀ (2h I) δu + (2h u)ᵀ δu: the cost Σ h |u + δu|² up to a constant; the
+        // ½ δuᵀ diag(2w) δu + (2w u)ᵀ δu: the cost Σ w |u + δu|² up to a constant; the
         // bounds |u + δu| ≤ u_max.
-        let n = 3 * k_steps;
         let flat: Vec<f64> = inputs.iter().flat_map(|u| [u.x, u.y, u.z]).collect();
         let (lower, upper): (Vec<f64>, Vec<f64>) = match slew.torque_max {
             Some(bound) => (0..n)
@@ -66,7 +88,7 @@ pub(crate) fn minimum_energy(
             None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
         };
         let solution = qp::solve(
-            qp::diagonal(&vec![2.0 * h; n]),
+            qp::diagonal(&hessian),
             gradient.as_slice(),
             &run.sensitivity,
             &run.miss,
@@ -88,8 +110,8 @@ pub(crate) fn minimum_energy(
             let trial: Vec<Vector3<f64>> = inputs
                 .iter()
                 .enumerate()
-                .map(|(k, u)| {
-                    u + alpha * Vector3::new(step[3 * k], step[3 * k + 1], step[3 * k + 2])
+                .map(|(i, u)| {
+                    u + alpha * Vector3::new(step[3 * i], step[3 * i + 1], step[3 * i + 2])
                 })
                 .collect();
             match shot(&trial) {
@@ -108,10 +130,22 @@ pub(crate) fn minimum_energy(
     statistics.time_s = clock.elapsed().as_secs_f64();
     let mut terminal = [0.0; 6];
     terminal.copy_from_slice(multipliers.as_slice());
+    let (means, at_points) = if per_step == 1 {
+        (inputs.clone(), Vec::new())
+    } else {
+        let steps: Vec<Vec<Vector3<f64>>> = inputs.chunks(per_step).map(|c| c.to_vec()).collect();
+        let means = steps
+            .iter()
+            .map(|c| c.iter().zip(&weights).map(|(u, b)| u * *b).sum())
+            .collect();
+        (means, steps)
+    };
     Ok(Solution {
         cost: cost(&inputs),
         states: run.states,
-        inputs,
+        inputs: means,
+        inputs_at_points: at_points,
+        quadrature_nodes: nodes,
         multipliers: terminal,
         h,
         t_end: h * k_steps as f64,

@@ -11,7 +11,7 @@ use nalgebra::{DMatrix, DVector, Vector3};
 pub(crate) struct Shot {
     /// `x_0 … x_K`.
     pub states: Vec<State>,
-    /// `M = ∂x_K/∂u` (`6 × 3K`) in the body-frame coordinates `(θ, ω)`.
+    /// `M = ∂x_K/∂u` (`6 × 3K` per input of a step) in the body-frame coordinates `(θ, ω)`.
     pub sensitivity: DMatrix<f64>,
     /// `∂x_K/∂h` (6), the step length shared by every step.
     pub time_sensitivity: DVector<f64>,
@@ -19,17 +19,20 @@ pub(crate) struct Shot {
     pub miss: DVector<f64>,
 }
 
-/// The run from `start` with `inputs` held one per step of `settings`, against `target`.
+/// The run from `start` under `inputs`, `per_step` of them per step of `settings` (one:
+/// held over the step; the step's Gauss-point count: its values at the points,
+/// [`Integrator::set_input_at_points`]), against `target`.
 ///
-/// Each step is linearised exactly ([`Integrator::step_linearized`]: `A_k`, `B_k`), and
-/// its derivative in the step length follows from the same `A_k` and `B_k` by the rigid
-/// body's time scaling: a step of length `ch` from `(R, Ω)` under `u` is the step of
-/// length `h` from `(R, cΩ)` under `c²u` with its end rates divided by `c` (the Euler
-/// equations, and lgsvi's discrete action term by term, are invariant under `t ↦ ct`,
-/// `Ω ↦ Ω/c`, `u ↦ u/c²`). Differentiating at `c = 1`:
+/// Each step is linearised exactly ([`Integrator::step_linearized`]: `A_k` and the input
+/// Jacobians `B_kj`), and its derivative in the step length follows from the same `A_k`
+/// and `B_kj` by the rigid body's time scaling: a step of length `ch` from `(R, Ω)` under
+/// `u(t)` is the step of length `h` from `(R, cΩ)` under `c² u(ct)` with its end rates
+/// divided by `c` (the Euler equations, and lgsvi's discrete action term by term, are
+/// invariant under `t ↦ ct`, `Ω ↦ Ω/c`, `u ↦ u/c²`; the inputs at the points keep their
+/// fractions of the step). Differentiating at `c = 1`:
 ///
 /// ```text
-/// h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)
+/// h ∂x₊/∂h = A_ω Ω + 2 Σ_j B_j u_j − (0, Ω₊)
 /// ```
 ///
 /// with `A_ω` the columns of `A` in the start's rates; `optimal/tests/free_time.rs`
@@ -40,23 +43,33 @@ pub(crate) fn shoot(
     start: (SO3, Vector3<f64>),
     target: (SO3, Vector3<f64>),
     inputs: &[Vector3<f64>],
+    per_step: usize,
 ) -> Result<Shot, OptimalError> {
     let h = settings.h();
     let mut it = Integrator::new(body, settings, start.0, start.1)?;
     let mut states = vec![*it.state()];
-    let mut a = Vec::with_capacity(inputs.len());
-    let mut b = Vec::with_capacity(inputs.len());
-    let mut d = Vec::with_capacity(inputs.len());
-    for u in inputs {
+    let k_steps = inputs.len() / per_step;
+    let mut a = Vec::with_capacity(k_steps);
+    let mut b = Vec::with_capacity(k_steps);
+    let mut d = Vec::with_capacity(k_steps);
+    for step_inputs in inputs.chunks(per_step) {
         let omega = it.state().velocity;
-        it.set_input(*u)?;
+        if per_step == 1 {
+            it.set_input(step_inputs[0])?;
+        } else {
+            it.set_input_at_points(step_inputs)?;
+        }
         let step = it.step_linearized()?;
-        let (ak, bk) = (
-            step.a(Coordinates::Velocity).clone(),
-            step.b(Coordinates::Velocity).clone(),
-        );
+        let ak = step.a(Coordinates::Velocity).clone();
+        let bk: Vec<DMatrix<f64>> = match step.b_points(Coordinates::Velocity) {
+            Some(points) => points.to_vec(),
+            None => vec![step.b(Coordinates::Velocity).clone()],
+        };
         let end = it.state().velocity;
-        let mut dk = ak.view((0, 3), (6, 3)) * omega + 2.0 * (&bk * u);
+        let mut dk = ak.view((0, 3), (6, 3)) * omega;
+        for (bj, u) in bk.iter().zip(step_inputs) {
+            dk += 2.0 * (bj * u);
+        }
         for i in 0..3 {
             dk[3 + i] -= end[i];
         }
@@ -65,16 +78,18 @@ pub(crate) fn shoot(
         b.push(bk);
         states.push(*it.state());
     }
-    // M_k = A_{K−1} ⋯ A_{k+1} B_k and ∂x_K/∂h = Σ_k A_{K−1} ⋯ A_{k+1} d_k, chained
+    // M_kj = A_{K−1} ⋯ A_{k+1} B_kj and ∂x_K/∂h = Σ_k A_{K−1} ⋯ A_{k+1} d_k, chained
     // backwards.
-    let k_steps = inputs.len();
-    let mut sensitivity = DMatrix::<f64>::zeros(6, 3 * k_steps);
+    let columns = 3 * per_step;
+    let mut sensitivity = DMatrix::<f64>::zeros(6, columns * k_steps);
     let mut time_sensitivity = DVector::<f64>::zeros(6);
     let mut chain = DMatrix::<f64>::identity(6, 6);
     for k in (0..k_steps).rev() {
-        sensitivity
-            .view_mut((0, 3 * k), (6, 3))
-            .copy_from(&(&chain * &b[k]));
+        for (j, bj) in b[k].iter().enumerate() {
+            sensitivity
+                .view_mut((0, columns * k + 3 * j), (6, 3))
+                .copy_from(&(&chain * bj));
+        }
         time_sensitivity += &chain * &d[k];
         chain = &chain * &a[k];
     }
@@ -95,8 +110,9 @@ mod tests {
     use super::*;
     use lgsvi_mechanics::Inertia;
 
-    /// `∂x_K/∂h` from the time scaling against central differences of whole runs: with
-    /// `δ = 1e-4 h` the difference's truncation error is `~δ² |x'''| ≈ 1e-8` relative and
+    /// `∂x_K/∂h` from the time scaling against central differences of whole runs, with
+    /// torques held over each step and with torques at the Gauss points: with
+    /// `δ = 1e-4 h` the difference's truncation error is `~δ² |x‴| ≈ 1e-8` relative and
     /// its rounding `~1e-16/δ·|x| ≈ 1e-11`, so they agree to about 1e-7 relative.
     #[test]
     fn the_time_derivative_matches_central_differences() {
@@ -106,32 +122,38 @@ mod tests {
             Vector3::new(0.3, -0.2, 0.5),
         );
         let target = (SO3::identity(), Vector3::zeros());
-        let inputs: Vec<Vector3<f64>> = (0..6)
-            .map(|k| Vector3::new(0.1 * k as f64, -0.2, 0.05 * (k as f64).sin()))
-            .collect();
         let h = 0.4;
-        let at = |h: f64| {
-            shoot(
-                body,
-                StepSettings::new(h, 8).unwrap(),
-                start,
-                target,
-                &inputs,
-            )
+        let points = Integrator::new(body, StepSettings::new(h, 8).unwrap(), start.0, start.1)
             .unwrap()
-        };
-        let shot = at(h);
-        let delta = 1e-4 * h;
-        let (plus, minus) = (at(h + delta), at(h - delta));
-        let (p, m) = (plus.states[6], minus.states[6]);
-        let theta = m.configuration.inverse().compose(&p.configuration).log() / (2.0 * delta);
-        let omega = (p.velocity - m.velocity) / (2.0 * delta);
-        let difference = DVector::from_iterator(6, theta.iter().chain(omega.iter()).copied());
-        let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
-        assert!(
-            error < 1e-7,
-            "{error:e}: {shot:?} against {difference}",
-            shot = shot.time_sensitivity
-        );
+            .quadrature_nodes()
+            .len();
+        for per_step in [1, points] {
+            let inputs: Vec<Vector3<f64>> = (0..6 * per_step)
+                .map(|k| {
+                    let t = k as f64 / per_step as f64;
+                    Vector3::new(0.1 * t, -0.2, 0.05 * t.sin())
+                })
+                .collect();
+            let at = |h: f64| {
+                shoot(
+                    body,
+                    StepSettings::new(h, 8).unwrap(),
+                    start,
+                    target,
+                    &inputs,
+                    per_step,
+                )
+                .unwrap()
+            };
+            let shot = at(h);
+            let delta = 1e-4 * h;
+            let (plus, minus) = (at(h + delta), at(h - delta));
+            let (p, m) = (plus.states[6], minus.states[6]);
+            let theta = m.configuration.inverse().compose(&p.configuration).log() / (2.0 * delta);
+            let omega = (p.velocity - m.velocity) / (2.0 * delta);
+            let difference = DVector::from_iterator(6, theta.iter().chain(omega.iter()).copied());
+            let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
+            assert!(error < 1e-7, "{per_step} inputs a step: {error:e}");
+        }
     }
 }

@@ -76,10 +76,13 @@ pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, Opti
         *m = lambda[i] * last.t_ref * if i < 3 { 1.0 } else { last.t_ref };
     }
     let t_end = last.h * last.k_steps as f64;
+    let settings = StepSettings::new(last.h, slew.nodes)?;
     Ok(Solution {
         cost: t_end,
         states: last.shot.states,
         inputs,
+        inputs_at_points: Vec::new(),
+        quadrature_nodes: crate::quadrature(slew, settings)?.0,
         multipliers: terminal,
         h: last.h,
         t_end,
@@ -168,6 +171,7 @@ impl Problem<'_> {
             self.slew.start,
             self.slew.target,
             &self.torques(z),
+            1,
         )?;
         Ok(Scaled::of(
             shot,

@@ -400,6 +400,42 @@ impl Integrator {
         })
     }
 
+    /// The Gauss points of a step as fractions of its length, ``c_j`` in (0, 1): where
+    /// :meth:`set_input_at_points` acts.
+    #[getter]
+    fn quadrature_nodes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        Ok(array1(py, self.lock()?.run.quadrature().0))
+    }
+
+    /// The weights ``b_j`` of a step's quadrature (summing to 1):
+    /// ``∫ f dt ≈ h Σ_j b_j f(c_j h)``.
+    #[getter]
+    fn quadrature_weights<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        Ok(array1(py, self.lock()?.run.quadrature().1))
+    }
+
+    /// Sets the control input at each Gauss point of the following steps (``u`` of shape
+    /// ``(m, d)``, ``m = len(quadrature_nodes)``): an input varying within a step, such as
+    /// a polynomial given by its values at the points; :meth:`set_input` holds a constant
+    /// again. Raises InvalidInputError for the wrong number of points or a non-finite
+    /// entry.
+    fn set_input_at_points(&self, u: &Bound<'_, PyAny>) -> PyResult<()> {
+        guarded(|| {
+            let shape = crate::convert::shape_of(u, "u")?;
+            let [m, d] = shape.as_slice() else {
+                return Err(crate::errors::invalid(format!(
+                    "u: an (m, d) array, one input a Gauss point; got shape {shape:?}"
+                )));
+            };
+            let values = crate::convert::values(u, "u", &[*m, *d])?;
+            let rows: Vec<Vec<f64>> = values.chunks(*d).map(|r| r.to_vec()).collect();
+            self.lock()?.run.set_input_at_points(&rows)
+        })
+    }
+
     /// Advances one step; returns its Newton iterations. Releases the GIL.
     ///
     /// Raises ConvergenceError, ChartError or ModelError, naming the step, when it fails

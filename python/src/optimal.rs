@@ -5,7 +5,7 @@ use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3}
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError, LgsviError};
 use lgsvi_mechanics::lie::LieGroup;
 use lgsvi_mechanics::Inertia;
-use lgsvi_optimal::{Cost, OptimalError, Slew};
+use lgsvi_optimal::{Cost, Inputs, OptimalError, Slew};
 use nalgebra::Vector3;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -30,7 +30,7 @@ fn optimal_error(error: OptimalError) -> PyErr {
 
 /// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy"))]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant"))]
 #[allow(clippy::too_many_arguments)]
 fn _slew<'py>(
     py: Python<'py>,
@@ -47,7 +47,18 @@ fn _slew<'py>(
     max_iterations: usize,
     warm_start: Option<&Bound<'py, PyAny>>,
     cost: &str,
+    inputs: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let shape = match inputs {
+        "constant" => Inputs::Constant,
+        "polynomial" => Inputs::Polynomial,
+        other => {
+            return Err(invalid(format!(
+                "inputs = {other:?}: \"constant\" (held over each step) or \"polynomial\" \
+                 (given at each step's Gauss points)"
+            )))
+        }
+    };
     let cost = match cost {
         "energy" => Cost::Energy,
         "time" => Cost::Time,
@@ -110,7 +121,8 @@ fn _slew<'py>(
         .nodes(nodes)
         .tolerance(tolerance)
         .max_iterations(max_iterations)
-        .cost(cost);
+        .cost(cost)
+        .inputs(shape);
     if let Some(bound) = bound {
         slew = slew.torque_max([bound.x, bound.y, bound.z]);
     }
@@ -144,6 +156,32 @@ fn _slew<'py>(
             solution
                 .inputs
                 .iter()
+                .flat_map(|u| [u.x, u.y, u.z])
+                .collect(),
+        ),
+    )?;
+    let points = solution.quadrature_nodes.len();
+    d.set_item(
+        "quadrature_nodes",
+        array1(py, solution.quadrature_nodes.clone()),
+    )?;
+    d.set_item(
+        "inputs_at_points",
+        array3(
+            py,
+            (
+                solution.inputs_at_points.len(),
+                if solution.inputs_at_points.is_empty() {
+                    0
+                } else {
+                    points
+                },
+                3,
+            ),
+            solution
+                .inputs_at_points
+                .iter()
+                .flatten()
                 .flat_map(|u| [u.x, u.y, u.z])
                 .collect(),
         ),

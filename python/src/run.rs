@@ -200,6 +200,16 @@ impl Run {
         each_run!(self, it => set_input_of(it, u))
     }
 
+    /// The Gauss points of a step as fractions of it, and their weights.
+    pub fn quadrature(&self) -> (Vec<f64>, Vec<f64>) {
+        each_run!(self, it => (it.quadrature_nodes(), it.quadrature_weights()))
+    }
+
+    /// Sets the control input at each Gauss point: `rows` one input's entries a point.
+    pub fn set_input_at_points(&mut self, rows: &[Vec<f64>]) -> PyResult<()> {
+        each_run!(self, it => set_input_at_points_of(it, rows))
+    }
+
     /// Restarts from `start` (the input and statistics are kept).
     pub fn reset(&mut self, start: &Start) -> PyResult<()> {
         each_run!(self, it => {
@@ -228,6 +238,23 @@ where
 {
     let input = <ElementOf<S, D> as Element<D>>::input(u)?;
     it.set_input(input).map_err(mechanics)
+}
+
+/// Sets `it`'s inputs at the Gauss points from the entries `rows`.
+fn set_input_at_points_of<S, C, const D: usize>(
+    it: &mut Integrator<S, C, D>,
+    rows: &[Vec<f64>],
+) -> PyResult<()>
+where
+    S: System<D>,
+    C: GroupChart<S::Group, D>,
+    ElementOf<S, D>: Element<D>,
+{
+    let inputs = rows
+        .iter()
+        .map(|u| <ElementOf<S, D> as Element<D>>::input(u))
+        .collect::<PyResult<Vec<_>>>()?;
+    it.set_input_at_points(&inputs).map_err(mechanics)
 }
 
 /// The numbers of a state of `it`.

@@ -486,6 +486,21 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         base: &ElementOf<S, D>,
     ) -> Result<StepOutcome<ElementOf<S, D>, D>, MechanicsError> {
         let (mu, step, time) = (self.state.momentum, self.clock.step_index, self.state.time);
+        if let Some(points) = &self.point_inputs {
+            if points.len() != self.discretisation.m {
+                return Err(MechanicsError::InvalidSetting {
+                    name: "input_at_points",
+                    value: format!(
+                        "{} inputs for {} Gauss points ({} nodes)",
+                        points.len(),
+                        self.discretisation.m,
+                        self.discretisation.n
+                    ),
+                    reason: "the node count changed since the inputs were set per Gauss point: \
+                             set them again (or a constant input) for the new node count",
+                });
+            }
+        }
         // Only the exact matching's step has a linearisation (the Newton loop itself keeps
         // Hessians only where its matrix is the exact one).
         let linearizing =
@@ -506,6 +521,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 d: &self.discretisation,
                 time: self.state.time,
                 forcing,
+                point_inputs: self.point_inputs.as_deref(),
             },
             &mut self.work,
         )

@@ -146,6 +146,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             d: &self.discretisation,
             time: start.time,
             forcing: self.forcing(),
+            point_inputs: self.point_inputs.as_deref(),
         };
         let index = self.clock.step_index;
         let jacobians =
@@ -161,6 +162,11 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         } else {
             None
         };
+        let point_jacobians = if self.point_inputs.is_some() {
+            Some(stepper.point_input_jacobians(&self.work, index)?)
+        } else {
+            None
+        };
         StepLinearization::new(
             &self.system,
             &jacobians,
@@ -169,6 +175,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             self.input,
             (self.settings.h(), self.discretisation.n, index),
             parameter_jacobians,
+            point_jacobians,
         )
     }
 }

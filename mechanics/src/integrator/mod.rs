@@ -85,6 +85,9 @@ pub struct Integrator<S: System<D>, C = ChartKind, const D: usize = 3> {
     state: State<ElementOf<S, D>, D>,
     /// The piecewise-constant generalised force added to the system's own.
     input: SVector<f64, D>,
+    /// The input at each Gauss point of a step (in place of `input`'s constant value),
+    /// when set by [`Integrator::set_input_at_points`].
+    point_inputs: Option<Vec<SVector<f64, D>>>,
     /// Whether the step being solved is to be linearised ([`Integrator::step_linearized`],
     /// [`Integrator::linearize`]): its Newton loop then asks its last assembly for
     /// Hessians, which the linearisation reuses when it got them.
@@ -185,6 +188,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 velocity,
             },
             input: SVector::zeros(),
+            point_inputs: None,
             linearizing: false,
             clock: Clock::default(),
             predictor: Predictor {
@@ -292,7 +296,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
                 v += self.work.xi[i] * slopes[i];
             }
             let velocity = self.chart.left_differential(&x) * v;
-            let mut force = *input;
+            let mut force = self.point_inputs.as_ref().map_or(*input, |p| p[j]);
             if self.system.is_forced() {
                 // Φ(x) only where the force reads the configuration.
                 let g = if self.system.force_depends_on_configuration() {
@@ -333,12 +337,92 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     pub fn set_input(&mut self, input: SVector<f64, D>) -> Result<(), MechanicsError> {
         check_finite("control input", input.as_slice())?;
         self.input = input;
+        self.point_inputs = None;
         Ok(())
     }
 
-    /// The control input in force.
+    /// The control input in force (with inputs at the Gauss points, their weighted
+    /// mean: the constant input of the same impulse).
     pub fn input(&self) -> &SVector<f64, D> {
         &self.input
+    }
+
+    /// The Gauss points of a step as fractions of its length, `c_j ∈ (0, 1)`: where the
+    /// inputs of [`Integrator::set_input_at_points`] act, and with
+    /// [`Integrator::quadrature_weights`] the step's quadrature `∫ f dt ≈ h Σ_j b_j f(c_j h)`.
+    pub fn quadrature_nodes(&self) -> Vec<f64> {
+        let h = self.settings.h();
+        self.discretisation.times.iter().map(|t| t / h).collect()
+    }
+
+    /// The weights `b_j` of the step's quadrature (summing to 1), beside
+    /// [`Integrator::quadrature_nodes`].
+    pub fn quadrature_weights(&self) -> Vec<f64> {
+        let h = self.settings.h();
+        self.discretisation.weights.iter().map(|w| w / h).collect()
+    }
+
+    /// Sets the control input at each Gauss point of the following steps (until set
+    /// again, or [`Integrator::set_input`] holds a constant): an input that varies
+    /// within a step, such as a polynomial given by its values at the points
+    /// ([`Integrator::quadrature_nodes`]). The discrete Lagrange–d'Alembert principle
+    /// sees the force only at those points, so a polynomial input of degree below the
+    /// number of points acts exactly as its values there; and its linearisation
+    /// ([`Integrator::step_linearized`]) then carries one input Jacobian per point
+    /// ([`StepLinearization::b_points`](crate::linearization::StepLinearization::b_points)).
+    ///
+    /// ```
+    /// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+    /// use lgsvi_lie::SO3;
+    /// use nalgebra::Vector3;
+    /// // A torque rising linearly over a step, u(t) = (0, 0, t/h), on a body at rest.
+    /// let body = RigidBody::new(Inertia::from_principal_moments([2.0, 2.0, 2.0])?);
+    /// let mut integrator = Integrator::new(body, StepSettings::new(0.5, 6)?, SO3::identity(), Vector3::zeros())?;
+    /// let inputs: Vec<Vector3<f64>> =
+    ///     integrator.quadrature_nodes().iter().map(|c| Vector3::new(0.0, 0.0, *c)).collect();
+    /// integrator.set_input_at_points(&inputs)?;
+    /// integrator.step()?;
+    /// // The impulse ∫ u dt = h/2 about z: Ω_z = (h/2)/J = 0.125.
+    /// assert!((integrator.state().velocity.z - 0.125).abs() < 1e-14);
+    /// # Ok::<(), lgsvi_mechanics::MechanicsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for a number of inputs other than the number of
+    /// Gauss points; [`MechanicsError::NonFinite`] for a non-finite input (the inputs are
+    /// then unchanged).
+    pub fn set_input_at_points(
+        &mut self,
+        inputs: &[SVector<f64, D>],
+    ) -> Result<(), MechanicsError> {
+        let m = self.discretisation.m;
+        if inputs.len() != m {
+            return Err(MechanicsError::InvalidSetting {
+                name: "input_at_points",
+                value: format!(
+                    "{} inputs for {m} Gauss points ({} nodes)",
+                    inputs.len(),
+                    self.discretisation.n
+                ),
+                reason: "one input per Gauss point of the step (quadrature_nodes)",
+            });
+        }
+        for input in inputs {
+            check_finite("control input", input.as_slice())?;
+        }
+        let h = self.settings.h();
+        self.input = inputs
+            .iter()
+            .zip(&self.discretisation.weights)
+            .map(|(u, w)| u * (w / h))
+            .sum();
+        self.point_inputs = Some(inputs.to_vec());
+        Ok(())
+    }
+
+    /// The inputs at the Gauss points set by [`Integrator::set_input_at_points`], if any.
+    pub fn inputs_at_points(&self) -> Option<&[SVector<f64, D>]> {
+        self.point_inputs.as_deref()
     }
 
     /// Restarts from `(t, g, ξ)`: the state is replaced (momentum from the Legendre

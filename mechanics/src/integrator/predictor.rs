@@ -22,7 +22,10 @@ pub(super) const PROBE_CONTINUED: usize = 16;
 impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
     /// Whether the next step is forced: the system has a force or the input is not zero.
     pub(super) fn forcing(&self) -> Option<SVector<f64, D>> {
-        (self.system.is_forced() || self.input.iter().any(|&u| u != 0.0)).then_some(self.input)
+        (self.system.is_forced()
+            || self.point_inputs.is_some()
+            || self.input.iter().any(|&u| u != 0.0))
+        .then_some(self.input)
     }
 
     /// The predictor. When the system has a flow predictor (the SO(3) systems with `Ω(μ)`

@@ -278,8 +278,8 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         // in a uniform field: `crate::jet_lanes`), else one by one. The force at point j
         // as the point-by-point path forms it (`point_derivatives`).
         let force_at = |j: usize, g: &Element<S, D>, xi: &SVector<f64, D>| {
-            let input = self.forcing.as_ref().expect("asked for a forced step only");
-            StepForce::new(self.system, self.time + d.times[j], input).jet_and_power(
+            let input = self.input_at(j).expect("asked for a forced step only");
+            StepForce::new(self.system, self.time + d.times[j], &input).jet_and_power(
                 g,
                 xi,
                 with_jacobian,
@@ -318,7 +318,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
                     &work.v[j],
                     with_configuration,
                     with_jacobian,
-                    self.forcing.as_ref(),
+                    self.input_at(j).as_ref(),
                     &mut work.points[j],
                     &mut work.transports[j],
                 );

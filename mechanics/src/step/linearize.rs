@@ -49,6 +49,10 @@ pub(crate) struct MomentumJacobians<const D: usize> {
     pub mu_u: SMatrix<f64, D, D>,
 }
 
+/// The input Jacobians of a step at each Gauss point, `(θ, μ)` blocks
+/// ([`StepSolver::point_input_jacobians`]).
+pub(crate) type PointInputJacobians<const D: usize> = Vec<(SMatrix<f64, D, D>, SMatrix<f64, D, D>)>;
+
 /// The mixed derivatives of one Gauss point in `θ`: rows `x`, `v`, `ζ` of the point's
 /// gradient (with the force's terms), columns `θ`.
 #[derive(Debug, Clone, Copy)]
@@ -339,6 +343,89 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         })
     }
 
+    /// `solution = −F_Ξ⁻¹ column` with the fresh factors in `work` (the unknowns'
+    /// derivative in a parameter whose residual derivative is `column`).
+    ///
+    /// # Errors
+    /// [`MechanicsError::SingularJacobian`] if the solution is not finite.
+    fn solve_column(
+        &self,
+        work: &WorkspaceOf<S, D>,
+        column: &[f64],
+        solution: &mut [f64],
+        step: usize,
+    ) -> Result<(), MechanicsError> {
+        for (entry, &p) in solution.iter_mut().zip(&work.perm) {
+            *entry = -column[p];
+        }
+        substitute(&work.jacobian, solution);
+        if solution.iter().all(|e| e.is_finite()) {
+            Ok(())
+        } else {
+            Err(MechanicsError::SingularJacobian {
+                step,
+                time: self.time,
+                advice: self.chart.advice(),
+            })
+        }
+    }
+
+    /// The step's derivatives in the input at each Gauss point, after
+    /// [`StepSolver::linearize`] of the same step (its fresh factors, `∂w/∂ξ` and matching
+    /// terms in `work`): for point `j`, the input columns of the module documentation with
+    /// the sums over the points reduced to point `j`'s term — node `i`'s rows
+    /// `h b_j φ_i(c_j h) A(x_j)ᵀ`, the matching rows `T Ad_{Φ(x_j)⁻¹}ᵀ h b_j −
+    /// h b_j φ_n(c_j h) A(x_j)ᵀ`, and `w`'s explicit part `h b_j Ad_{Φ(x_j)⁻¹}ᵀ`. Their sum
+    /// over the points is the constant input's `(θ, μ)` columns. One `(θ, μ)` pair of
+    /// `D × D` blocks per point.
+    ///
+    /// # Errors
+    /// [`MechanicsError::SingularJacobian`] if a solution is not finite.
+    pub(crate) fn point_input_jacobians(
+        &self,
+        work: &WorkspaceOf<S, D>,
+        step: usize,
+    ) -> Result<PointInputJacobians<D>, MechanicsError> {
+        let d = self.d;
+        let (n, m) = (d.n, d.m);
+        let unknowns = D * (n - 1);
+        let end = EndMap::at(self, work);
+        let transport = work.matching.transport;
+        let mut out = Vec::with_capacity(m);
+        let mut column = vec![0.0; unknowns];
+        let mut solution = vec![0.0; unknowns];
+        for j in 0..m {
+            let point = PointChart::at(self.chart, &work.x[j]);
+            let a_t = point.a.transpose();
+            let explicit = point.to_start * d.weights[j];
+            let mut theta = SMatrix::<f64, D, D>::zeros();
+            let mut mu = SMatrix::<f64, D, D>::zeros();
+            for c in 0..D {
+                column.fill(0.0);
+                for i in 1..n - 1 {
+                    let weight = d.weighted_basis[(2 * j, i)];
+                    for r in 0..D {
+                        column[D * (i - 1) + r] = a_t[(r, c)] * weight;
+                    }
+                }
+                let last = D * (n - 2);
+                let weight = d.weighted_basis[(2 * j, n - 1)];
+                let matching = transport * explicit;
+                for r in 0..D {
+                    column[last + r] = matching[(r, c)] - a_t[(r, c)] * weight;
+                }
+                self.solve_column(work, &column, &mut solution, step)?;
+                let delta =
+                    |k: usize| SVector::<f64, D>::from_column_slice(&solution[D * k..D * (k + 1)]);
+                let (t, p) = end.perturbation(self, work, explicit.column(c).into_owned(), delta);
+                theta.set_column(c, &t);
+                mu.set_column(c, &p);
+            }
+            out.push((theta, mu));
+        }
+        Ok(out)
+    }
+
     /// The step's derivatives in the system's parameters ([`ParameterJacobians`]), after
     /// [`StepSolver::linearize`] of the same step: its fresh factors of the Newton matrix at
     /// the converged unknowns, its `∂w/∂ξ` and matching terms in `work` (unchanged here).
@@ -378,20 +465,11 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
                 d: self.d,
                 time: self.time,
                 forcing: None,
+                point_inputs: None,
             };
             scratch.xi.copy_from_slice(&work.xi);
             stepper.assemble(base, &zero, scratch, false);
-            for (entry, &p) in solution.iter_mut().zip(&work.perm) {
-                *entry = -scratch.residual[p];
-            }
-            substitute(&work.jacobian, &mut solution);
-            if !solution.iter().all(|e| e.is_finite()) {
-                return Err(MechanicsError::SingularJacobian {
-                    step,
-                    time: self.time,
-                    advice: self.chart.advice(),
-                });
-            }
+            self.solve_column(work, &scratch.residual, &mut solution, step)?;
             let delta =
                 |k: usize| SVector::<f64, D>::from_column_slice(&solution[D * k..D * (k + 1)]);
             let (theta, momentum) = end.perturbation(self, work, scratch.matching.w, delta);
@@ -435,10 +513,9 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         let at = (self.forcing.is_some() || configured_force)
             .then(|| base.compose(&self.chart.to_group(&point.x)));
         let force = self
-            .forcing
-            .as_ref()
+            .input_at(j)
             .zip(at.as_ref())
-            .map(|(input, at)| StepForce::new(system, time, input).jet(at, &(a * v)));
+            .map(|(input, at)| StepForce::new(system, time, &input).jet(at, &(a * v)));
         let mut mixed = PointMixed {
             x: SMatrix::zeros(),
             v: SMatrix::zeros(),

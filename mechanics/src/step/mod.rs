@@ -79,9 +79,21 @@ pub(crate) struct StepSolver<'a, S, C, const D: usize> {
     /// The control input added to the system's force, when the step is forced (the
     /// system has a force or the input is not zero); `None` for an unforced step.
     pub forcing: Option<SVector<f64, D>>,
+    /// The input at each Gauss point, in place of the constant one in `forcing` (which
+    /// is then `Some`), when the integrator was given them.
+    pub point_inputs: Option<&'a [SVector<f64, D>]>,
 }
 
 impl<S: System<D>, C, const D: usize> StepSolver<'_, S, C, D> {
+    /// The control input at Gauss point `j`: its own where the inputs are given per
+    /// point, else the constant one; `None` for an unforced step.
+    pub(crate) fn input_at(&self, j: usize) -> Option<SVector<f64, D>> {
+        match self.point_inputs {
+            Some(points) => Some(points[j]),
+            None => self.forcing,
+        }
+    }
+
     /// Whether the points need their `ζ` derivatives: the exact matching of a system
     /// that is not left-invariant or is forced.
     fn needs_configuration(&self) -> bool {

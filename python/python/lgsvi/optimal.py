@@ -60,7 +60,14 @@ class SlewResult:
     omega : ndarray (K+1, 3)
         The body rates at the step boundaries.
     inputs : ndarray (K, 3)
-        The torque of each step (body frame, N m).
+        The torque of each step (body frame, N m); with ``inputs="polynomial"`` each step's
+        mean over its Gauss points (the constant torque of the same impulse).
+    inputs_at_points : ndarray (K, m, 3)
+        With ``inputs="polynomial"``, each step's torques at its ``m`` Gauss points, which
+        replay through :meth:`lgsvi.Integrator.set_input_at_points`; ``(0, 0, 3)``
+        otherwise.
+    quadrature_nodes : ndarray (m,)
+        The Gauss points as fractions of a step.
     multipliers : ndarray (6,)
         The terminal constraint's multipliers, in the body-frame ``(theta, omega)`` at the
         target.
@@ -76,7 +83,8 @@ class SlewResult:
     """
 
     __slots__ = (
-        "cost", "t", "attitude", "omega", "inputs", "multipliers", "h", "t_end",
+        "cost", "t", "attitude", "omega", "inputs", "inputs_at_points", "quadrature_nodes",
+        "multipliers", "h", "t_end",
         "converged", "iterations", "kkt_residuals", "time_s",
     )
 
@@ -106,6 +114,7 @@ def slew(
     max_iterations: int = 100,
     warm_start: Optional[Any] = None,
     cost: str = "energy",
+    inputs: str = "constant",
 ) -> SlewResult:
     """The slew of the body of principal moments ``inertia`` (3,) to ``attitude_final``
     (3, 3) and ``omega_final`` (default rest), from ``attitude0`` (default identity) and
@@ -115,6 +124,11 @@ def slew(
     ``cost="energy"`` (the default) minimises the input energy in the time ``t_end`` (s);
     ``cost="time"`` minimises the final time, needs ``torque_max``, and takes ``t_end`` as
     a first guess (``None``: the bang-bang turn about the rotation's axis).
+
+    ``inputs="constant"`` holds the torque over each step (the optimal cost converges at
+    second order in ``h``); ``inputs="polynomial"`` (energy cost only) makes it a
+    polynomial within each step, given at the step's Gauss points, and the cost converges
+    at the integrator's order ``2 (nodes - 1)``.
 
     Raises
     ------
@@ -139,5 +153,6 @@ def slew(
         max_iterations=max_iterations,
         warm_start=warm_start,
         cost=cost,
+        inputs=inputs,
     )
     return SlewResult(**fields)

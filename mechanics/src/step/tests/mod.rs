@@ -784,6 +784,7 @@ fn check_newton_matrix<S: crate::System<3, Group = crate::group::Rotations>>(
                 d: &d,
                 time: 0.0,
                 forcing,
+                point_inputs: None,
             };
             let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
             assert_newton_matrix_near_differences(
@@ -843,6 +844,7 @@ fn carried_matching_momentum_agrees_with_a_new_assembly() {
             d: &d,
             time: 0.0,
             forcing: Some(input),
+            point_inputs: None,
         };
         let (mut work, b, mu) = assembled_off_the_solution(&stepper, &d);
         let before = work.matching.w;
@@ -904,6 +906,7 @@ fn a_linearisation_from_the_kept_hessians_is_the_fresh_one() {
                     d: &d,
                     time: 0.0,
                     forcing,
+                    point_inputs: None,
                 };
                 let mut work: WorkspaceOf<S, D> = Workspace::new(&d);
                 work.keep_converged_hessians = true;
@@ -1014,6 +1017,7 @@ fn exact_newton_matrix_on_six_dimensional_groups_matches_differences() {
                 d: &d,
                 time: 0.3,
                 forcing,
+                point_inputs: None,
             };
             let mu = SVector::<f64, 6>::new(0.4, -0.5, 0.52, 0.3, 1.1, -0.2);
             let mut work = assembled_along(
@@ -1136,6 +1140,7 @@ fn a_point_that_hands_nothing_back_leaves_no_stale_transport() {
         d: &d,
         time: 0.0,
         forcing: None,
+        point_inputs: None,
     };
     let b = SO3::from_matrix_unchecked(base());
     let mu = Vector3::new(2.4, -1.5, 1.52);

@@ -777,6 +777,7 @@ fn matching_map_jacobian_matches_dual_numbers() {
             d: &d,
             time: 0.0,
             forcing: None,
+            point_inputs: None,
         };
         let w = SVector::<f64, D>::from_fn(|i, _| 0.7 - 0.45 * i as f64);
         for scale in [0.0, 1e-9, 0.3, 1.0, 2.1] {
@@ -836,6 +837,7 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
                 d: &d,
                 time: 0.3,
                 forcing,
+                point_inputs: None,
             };
             let mut jet =
                 <<S::Group as crate::group::ConfigurationGroup<D>>::Jet as PointJet>::zeros();
