@@ -128,8 +128,13 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     let omega0 = Vector3::from(options.omega0.unwrap_or([0.0; 3]));
     let omega_final = Vector3::from(options.omega_final.unwrap_or([0.0; 3]));
     let (steps, nodes) = (options.steps.unwrap_or(40), options.nodes.unwrap_or(10));
+    let bounds_valid = options
+        .torque_max
+        .is_none_or(|b| b.iter().all(|u| u.is_finite() && *u > 0.0));
     let t_end = match options.t_end {
         Some(t) => t,
+        // A bound the solver refuses (naming --torque-max) needs no guess.
+        None if !bounds_valid => 1.0,
         None => lgsvi_optimal::eigen_axis_time(
             &inertia,
             &start.inverse().compose(&target),
@@ -287,8 +292,10 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         "--inertia" => list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
         "--inputs" => "polynomial".into(),
         _ => format!(
-            "{:?}, {}, {}",
-            options.t_end.unwrap_or(f64::NAN),
+            "{}, {}, {}",
+            options
+                .t_end
+                .map_or(String::from("(first guess)"), |t| format!("{t:?}")),
             list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
             options.steps.unwrap_or(40)
         ),

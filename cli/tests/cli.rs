@@ -1899,6 +1899,30 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
         (
             vec![
                 "--attitude-final",
+                "1,0,0",
+                "--cost",
+                "time",
+                "--torque-max",
+                "1,0,1",
+            ],
+            "--torque-max",
+        ),
+        (
+            vec![
+                "--attitude-final",
+                "1,0,0",
+                "--cost",
+                "time",
+                "--torque-max",
+                "1",
+                "--inputs",
+                "polynomial",
+            ],
+            "--inputs",
+        ),
+        (
+            vec![
+                "--attitude-final",
                 "0,0,1",
                 "--t-end",
                 "10",

@@ -13,9 +13,11 @@ use std::time::Instant;
 /// the one variable the problem is not bounded in).
 const TIME_TRUST: f64 = 0.3;
 
-/// The subproblem's tolerance: the KKT residual is measured afresh at each iterate
-/// (with multipliers refitted), so the subproblem's only needs to be small beside it.
-const QP_TOLERANCE: f64 = 1e-10;
+/// The subproblem's tolerance: two orders below the default KKT tolerance, since at a
+/// degenerate vertex (fewer free torques than terminal conditions: a switch on a step's
+/// boundary) the refitted multipliers are not unique and the subproblem's own carry the
+/// residual (at 1e-10, 7 of 84 slews swept stalled just above 1e-10; at 1e-12 none).
+const QP_TOLERANCE: f64 = 1e-12;
 
 /// Solves `slew` for the least final time (the crate documentation's iteration): from
 /// the coarsest of a ladder of step counts (halving `K` while at least `2 ×`
@@ -36,35 +38,18 @@ pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, Opti
         ladder.push(ladder[ladder.len() - 1].div_ceil(2));
     }
     let mut statistics = Statistics::default();
-    let mut solved: Option<(Vec<Vector3<f64>>, Scaled)> = None;
-    for (level, &k_steps) in ladder.iter().enumerate().rev() {
-        let problem = Problem {
-            slew,
-            bound,
-            k_steps,
-            body: RigidBody::new(slew.inertia),
-        };
-        let level_tolerance = if level == 0 {
-            tolerance
-        } else {
-            LADDER_TOLERANCE
-        };
-        let found = match solved.take() {
-            None => problem.coarsest(level_tolerance, &mut statistics)?,
-            Some((coarse, below)) => {
-                let fine: Vec<Vector3<f64>> = (0..k_steps)
-                    .map(|k| {
-                        coarse[((2 * k + 1) * coarse.len() / (2 * k_steps)).min(coarse.len() - 1)]
-                    })
-                    .collect();
-                let t_coarse = below.h * below.k_steps as f64;
-                let z0 = problem.scaled(&fine, 0.0);
-                problem.sqp(z0, t_coarse, level_tolerance, &mut statistics)?
-            }
-        };
-        solved = Some((problem.torques(&found.z), found));
-    }
-    let (inputs, last) = solved.expect("the ladder has at least one level");
+    let climbed = climb(slew, bound, &ladder, tolerance, &mut statistics);
+    let (inputs, last) = match climbed {
+        Ok(found) => found,
+        // A lower level that does not converge (too few steps for the body, a start far
+        // off) leaves the problem to the full step count from the start: its error, if
+        // any, is then about the tolerance asked for.
+        Err(_) if ladder.len() > 1 => {
+            statistics = Statistics::default();
+            climb(slew, bound, &ladder[..1], tolerance, &mut statistics)?
+        }
+        Err(error) => return Err(error),
+    };
     statistics.time_s = clock.elapsed().as_secs_f64();
     // The multipliers in the unscaled miss, as the energy's are: the scaled objective
     // is T/T_ref and the scaled rates rows ω·T_ref.
@@ -89,6 +74,46 @@ pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, Opti
         converged: true,
         statistics,
     })
+}
+
+/// The ladder's levels from the coarsest (last) to `ladder[0]`: the last level's torques
+/// and shot.
+fn climb(
+    slew: &Slew,
+    bound: Vector3<f64>,
+    ladder: &[usize],
+    tolerance: f64,
+    statistics: &mut Statistics,
+) -> Result<(Vec<Vector3<f64>>, Scaled), OptimalError> {
+    let mut solved: Option<(Vec<Vector3<f64>>, Scaled)> = None;
+    for (level, &k_steps) in ladder.iter().enumerate().rev() {
+        let problem = Problem {
+            slew,
+            bound,
+            k_steps,
+            body: RigidBody::new(slew.inertia),
+        };
+        let level_tolerance = if level == 0 {
+            tolerance
+        } else {
+            LADDER_TOLERANCE
+        };
+        let found = match solved.take() {
+            None => problem.coarsest(level_tolerance, statistics)?,
+            Some((coarse, below)) => {
+                let fine: Vec<Vector3<f64>> = (0..k_steps)
+                    .map(|k| {
+                        coarse[((2 * k + 1) * coarse.len() / (2 * k_steps)).min(coarse.len() - 1)]
+                    })
+                    .collect();
+                let t_coarse = below.h * below.k_steps as f64;
+                let z0 = problem.scaled(&fine, 0.0);
+                problem.sqp(z0, t_coarse, level_tolerance, statistics)?
+            }
+        };
+        solved = Some((problem.torques(&found.z), found));
+    }
+    Ok(solved.expect("the ladder has at least one level"))
 }
 
 /// The step counts below which the ladder stops halving.
@@ -201,7 +226,7 @@ impl Problem<'_> {
         let mut iterations = 0;
         loop {
             let miss = current.miss.amax();
-            let stationarity = stationarity(&z, &current.jacobian, &gradient);
+            let stationarity = stationarity(&z, &current.jacobian, &gradient, &multipliers);
             let residual = stationarity.max(miss);
             statistics.kkt_residuals.push(residual);
             statistics.terminal_misses.push(current.shot.miss.amax());
@@ -544,28 +569,39 @@ const DIFFERENCE: f64 = 1e-8;
 /// move the variables by ~1e-9, below what the ℓ1 merit resolves).
 const ROUNDING: f64 = 1e-14;
 
-/// The KKT residual's stationarity part with the multipliers that fit it best: the
-/// Lagrangian's gradient `∇f + Mᵀλ` (λ by least squares on the free variables) on the
-/// free variables, and on a variable at a bound its part of the wrong sign (a bound
-/// holds the variable only against a gradient that pushes it outwards); over `1 + |∇f|`.
-fn stationarity(z: &DVector<f64>, jacobian: &DMatrix<f64>, gradient: &DVector<f64>) -> f64 {
-    let lambda = least_squares_multipliers(jacobian, gradient, z);
-    let lagrangian = gradient + jacobian.transpose() * lambda;
+/// The KKT residual's stationarity part with the multipliers that fit it best (refitted
+/// by least squares on the free variables, or the last subproblem's): the Lagrangian's
+/// gradient `∇f + Mᵀλ` on the free variables, and on a variable at a bound its part of
+/// the wrong sign (a bound holds the variable only against a gradient that pushes it
+/// outwards); over `1 + |∇f|`.
+fn stationarity(
+    z: &DVector<f64>,
+    jacobian: &DMatrix<f64>,
+    gradient: &DVector<f64>,
+    subproblem: &DVector<f64>,
+) -> f64 {
     let free = free_set(z);
-    let worst = (0..z.len())
-        .map(|j| {
-            let g = lagrangian[j];
-            if free.binary_search(&j).is_ok() {
-                g.abs()
-            } else if z[j] > 0.0 {
-                // At the upper bound: ∇L = −ν ≤ 0.
-                g.max(0.0)
-            } else {
-                (-g).max(0.0)
-            }
-        })
-        .fold(0.0, f64::max);
-    worst / (1.0 + gradient.amax())
+    let residual = |lambda: &DVector<f64>| {
+        let lagrangian = gradient + jacobian.transpose() * lambda;
+        (0..z.len())
+            .map(|j| {
+                let g = lagrangian[j];
+                if free.binary_search(&j).is_ok() {
+                    g.abs()
+                } else if z[j] > 0.0 {
+                    // At the upper bound: ∇L = −ν ≤ 0.
+                    g.max(0.0)
+                } else {
+                    (-g).max(0.0)
+                }
+            })
+            .fold(0.0, f64::max)
+    };
+    // The least of the two: where fewer variables are free than there are terminal
+    // conditions (a switch that falls on a step's boundary), the refit is not unique and
+    // the subproblem's multipliers, which carry the bounds' share, are the ones that fit.
+    let refit = least_squares_multipliers(jacobian, gradient, z);
+    residual(&refit).min(residual(subproblem)) / (1.0 + gradient.amax())
 }
 
 /// The subproblem's solution made exact on its active set: the torques whose bounds hold
