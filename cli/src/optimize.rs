@@ -60,6 +60,10 @@ pub struct OptimizeOptions {
     /// converges at the integrator's order (with --cost energy).
     #[arg(long, value_enum)]
     pub inputs: Option<InputShape>,
+    /// Replace the exact target by a cost Q_THETA |log(R_fᵀ R_K)|² + Q_OMEGA |Ω_K − Ω_f|²
+    /// (a soft target; with --cost energy).
+    #[arg(long, value_parser = crate::config::numbers::<2>, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
+    pub terminal_cost: Option<[f64; 2]>,
     /// The largest torque per body axis, N·m: one value for all three, or X,Y,Z.
     #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
     pub torque_max: Option<[f64; 3]>,
@@ -159,6 +163,9 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         });
     if let Some(bound) = options.torque_max {
         slew = slew.torque_max(bound);
+    }
+    if let Some(weights) = options.terminal_cost {
+        slew = slew.terminal_cost(weights);
     }
     if options.inputs == Some(InputShape::Polynomial) {
         slew = slew.inputs(lgsvi_optimal::Inputs::Polynomial);
@@ -262,6 +269,8 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "start" => "--attitude0/--omega0",
             "target" => "--attitude-final/--omega-final",
             "inputs" => "--inputs",
+            "terminal_cost" => "--terminal-cost",
+            "cost" => "--cost",
             _ => "--steps",
         },
         OptimalError::Infeasible { bounded: true, .. } => "--torque-max",
@@ -291,6 +300,8 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         "--tolerance" => format!("{:?}", options.tolerance.unwrap_or(1e-10)),
         "--inertia" => list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
         "--inputs" => "polynomial".into(),
+        "--terminal-cost" => options.terminal_cost.map_or(String::new(), |q| list(&q)),
+        "--cost" => "time".into(),
         _ => format!(
             "{}, {}, {}",
             options

@@ -1911,6 +1911,17 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
             vec![
                 "--attitude-final",
                 "1,0,0",
+                "--t-end",
+                "10",
+                "--terminal-cost",
+                "-1,1",
+            ],
+            "--terminal-cost",
+        ),
+        (
+            vec![
+                "--attitude-final",
+                "1,0,0",
                 "--cost",
                 "time",
                 "--torque-max",

@@ -17,27 +17,13 @@ pub(crate) fn minimum_energy(
     let clock = Instant::now();
     let (k_steps, h) = (slew.steps, settings.h());
     let body = RigidBody::new(slew.inertia);
-    let (nodes, weights) = quadrature(slew, settings)?;
-    // The quadrature weight of each input of a step: h for a held torque, h b_j at the
-    // Gauss points.
-    let step_weights: Vec<f64> = match slew.inputs {
-        Inputs::Constant => vec![h],
-        _ => weights.iter().map(|b| h * b).collect(),
-    };
+    let Start {
+        nodes,
+        weights,
+        step_weights,
+        mut inputs,
+    } = Start::of(slew, settings)?;
     let per_step = step_weights.len();
-    let mut inputs: Vec<Vector3<f64>> = match &slew.initial {
-        Some(initial) if initial.len() == k_steps * per_step => initial.clone(),
-        Some(initial) => initial
-            .iter()
-            .flat_map(|u| std::iter::repeat_n(*u, per_step))
-            .collect(),
-        None => vec![Vector3::zeros(); k_steps * per_step],
-    };
-    if let Some(bound) = slew.torque_max {
-        for u in &mut inputs {
-            *u = u.zip_map(&bound, |x, b| x.clamp(-b, b));
-        }
-    }
     let weight = |i: usize| step_weights[i % per_step];
     let cost = |u: &[Vector3<f64>]| {
         u.iter()
@@ -130,16 +116,7 @@ pub(crate) fn minimum_energy(
     statistics.time_s = clock.elapsed().as_secs_f64();
     let mut terminal = [0.0; 6];
     terminal.copy_from_slice(multipliers.as_slice());
-    let (means, at_points) = if per_step == 1 {
-        (inputs.clone(), Vec::new())
-    } else {
-        let steps: Vec<Vec<Vector3<f64>>> = inputs.chunks(per_step).map(|c| c.to_vec()).collect();
-        let means = steps
-            .iter()
-            .map(|c| c.iter().zip(&weights).map(|(u, b)| u * *b).sum())
-            .collect();
-        (means, steps)
-    };
+    let (means, at_points) = by_step(&inputs, per_step, &weights);
     Ok(Solution {
         cost: cost(&inputs),
         states: run.states,
@@ -152,4 +129,68 @@ pub(crate) fn minimum_energy(
         converged: true,
         statistics,
     })
+}
+
+/// The torques a minimum-energy iteration starts from, with the step's quadrature.
+pub(crate) struct Start {
+    /// The Gauss points as fractions of a step.
+    pub nodes: Vec<f64>,
+    /// Their weights `b_j`.
+    pub weights: Vec<f64>,
+    /// The quadrature weight of each input of a step: `h` for a held torque, `h b_j` at
+    /// the Gauss points.
+    pub step_weights: Vec<f64>,
+    /// The warm start (one per step spread over the points, or one per point), else rest,
+    /// clamped to the bounds.
+    pub inputs: Vec<Vector3<f64>>,
+}
+
+impl Start {
+    pub(crate) fn of(slew: &Slew, settings: StepSettings) -> Result<Self, OptimalError> {
+        let (k_steps, h) = (slew.steps, settings.h());
+        let (nodes, weights) = quadrature(slew, settings)?;
+        let step_weights: Vec<f64> = match slew.inputs {
+            Inputs::Constant => vec![h],
+            _ => weights.iter().map(|b| h * b).collect(),
+        };
+        let per_step = step_weights.len();
+        let mut inputs: Vec<Vector3<f64>> = match &slew.initial {
+            Some(initial) if initial.len() == k_steps * per_step => initial.clone(),
+            Some(initial) => initial
+                .iter()
+                .flat_map(|u| std::iter::repeat_n(*u, per_step))
+                .collect(),
+            None => vec![Vector3::zeros(); k_steps * per_step],
+        };
+        if let Some(bound) = slew.torque_max {
+            for u in &mut inputs {
+                *u = u.zip_map(&bound, |x, b| x.clamp(-b, b));
+            }
+        }
+        Ok(Self {
+            nodes,
+            weights,
+            step_weights,
+            inputs,
+        })
+    }
+}
+
+/// Each step's torque (its mean `Σ_j b_j u_kj` at the Gauss points) and, with inputs at the
+/// points, each step's values there.
+#[allow(clippy::type_complexity)]
+pub(crate) fn by_step(
+    inputs: &[Vector3<f64>],
+    per_step: usize,
+    weights: &[f64],
+) -> (Vec<Vector3<f64>>, Vec<Vec<Vector3<f64>>>) {
+    if per_step == 1 {
+        return (inputs.to_vec(), Vec::new());
+    }
+    let steps: Vec<Vec<Vector3<f64>>> = inputs.chunks(per_step).map(|c| c.to_vec()).collect();
+    let means = steps
+        .iter()
+        .map(|c| c.iter().zip(weights).map(|(u, b)| u * *b).sum())
+        .collect();
+    (means, steps)
 }

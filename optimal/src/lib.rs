@@ -42,6 +42,10 @@
 //!   Gauss–Newton SQP, converging linearly at a rate set by the multipliers times that
 //!   curvature, quadratically for a motion that is linear in the torques. A step that
 //!   does not lower the merit `J + ρ |e|₁` is halved.
+//! - **Tracking and terminal costs** ([`Slew::track`], [`Slew::terminal_cost`]): the
+//!   same Gauss–Newton SQP on the least squares, the residuals' Jacobians exact (the
+//!   states' sensitivities chained forwards, the group log's through `J_r(e)⁻¹`), the
+//!   Hessian `diag(2w) + 2 GᵀG`.
 //! - **Minimum time.** The cost is linear, so the constraint's curvature is all there is:
 //!   `W` is the Lagrangian's Hessian `Σ λ_i ∂²e_i/∂z²`, by forward differences of its exact
 //!   gradient `Mᵀλ` in each torque off its bounds and in `h` (one run of the integrator
@@ -107,6 +111,7 @@ mod energy;
 mod qp;
 mod shooting;
 mod time;
+mod tracking;
 
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{Inertia, MechanicsError, State, StepSettings};
@@ -211,6 +216,8 @@ pub struct Slew {
     torque_max: Option<Vector3<f64>>,
     cost: Cost,
     inputs: Inputs,
+    tracking: Option<(Vec<Target>, [f64; 2])>,
+    terminal_cost: Option<[f64; 2]>,
     tolerance: f64,
     max_iterations: usize,
     initial: Option<Vec<Vector3<f64>>>,
@@ -231,6 +238,9 @@ pub enum Inputs {
     /// points. For [`Cost::Energy`] (the minimum time's optimum is bang-bang).
     Polynomial,
 }
+
+/// A state to reach or follow: attitude (body to world) and body rates.
+pub type Target = (SO3, Vector3<f64>);
 
 /// What a slew minimises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -271,7 +281,8 @@ pub struct Solution {
     pub inputs_at_points: Vec<Vec<Vector3<f64>>>,
     /// The Gauss points of a step as fractions of its length, `c_j`.
     pub quadrature_nodes: Vec<f64>,
-    /// The cost: `Σ h |u_k|²` for [`Cost::Energy`], the final time for [`Cost::Time`].
+    /// The cost: `Σ h |u_k|²` for [`Cost::Energy`] (plus the tracking and terminal costs
+    /// where given), the final time for [`Cost::Time`].
     pub cost: f64,
     /// The terminal constraint's multipliers (`∂J*/∂e`, in `(θ, ω)` at the target).
     pub multipliers: [f64; 6],
@@ -300,6 +311,8 @@ impl Slew {
             torque_max: None,
             cost: Cost::Energy,
             inputs: Inputs::Constant,
+            tracking: None,
+            terminal_cost: None,
             tolerance: 1e-10,
             max_iterations: 100,
             initial: None,
@@ -352,6 +365,27 @@ impl Slew {
     /// given at the step's Gauss points ([`Inputs`]).
     pub fn inputs(mut self, inputs: Inputs) -> Self {
         self.inputs = inputs;
+        self
+    }
+
+    /// Adds a cost for straying from a reference motion, one state `(R_ref,k, Ω_ref,k)` per
+    /// step boundary `k = 1 … K`:
+    /// `Σ_k h (q_θ |log(R_ref,kᵀ R_k)|² + q_ω |Ω_k − Ω_ref,k|²)` with
+    /// `weights = [q_θ, q_ω]` (the attitude error taken by the group's log). The problem
+    /// stays a least-squares one, solved by Gauss–Newton with the residuals' exact
+    /// Jacobians (the log's through the inverse right Jacobian), the Hessian
+    /// `diag(2w) + 2 GᵀG`: converging linearly where the residuals at the optimum are not
+    /// small. For [`Cost::Energy`].
+    pub fn track(mut self, reference: Vec<Target>, weights: [f64; 2]) -> Self {
+        self.tracking = Some((reference, weights));
+        self
+    }
+
+    /// Replaces the exact terminal condition by a cost on the miss,
+    /// `q_θ |log(R_fᵀ R_K)|² + q_ω |Ω_K − Ω_f|²` with `weights = [q_θ, q_ω]`: a soft target.
+    /// For [`Cost::Energy`].
+    pub fn terminal_cost(mut self, weights: [f64; 2]) -> Self {
+        self.terminal_cost = Some(weights);
         self
     }
 
@@ -429,6 +463,38 @@ impl Slew {
                  bang-bang: hold the torques constant over each step",
             ));
         }
+        let weights_valid = |w: &[f64; 2]| w.iter().all(|x| x.is_finite() && *x >= 0.0);
+        if let Some((reference, weights)) = &self.tracking {
+            if reference.len() != self.steps
+                || !weights_valid(weights)
+                || reference.iter().any(|(r, w)| {
+                    !(r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite()))
+                })
+            {
+                return Err(invalid(
+                    "track",
+                    format!("{} states, weights {weights:?}", reference.len()),
+                    "one finite reference state per step boundary after the start (K of \
+                     them), weights finite and not negative",
+                ));
+            }
+        }
+        if let Some(weights) = &self.terminal_cost {
+            if !weights_valid(weights) {
+                return Err(invalid(
+                    "terminal_cost",
+                    format!("{weights:?}"),
+                    "weights finite and not negative",
+                ));
+            }
+        }
+        if self.cost == Cost::Time && (self.tracking.is_some() || self.terminal_cost.is_some()) {
+            return Err(invalid(
+                "cost",
+                "Time".into(),
+                "tracking and terminal costs are built for the energy cost",
+            ));
+        }
         if let Some(initial) = &self.initial {
             let points = self.points_per_step(settings)?;
             if initial.len() != self.steps && initial.len() != self.steps * points {
@@ -463,6 +529,9 @@ impl Slew {
     pub fn solve(&self) -> Result<Solution, OptimalError> {
         let settings = self.check()?;
         match self.cost {
+            Cost::Energy if self.tracking.is_some() || self.terminal_cost.is_some() => {
+                tracking::least_squares(self, settings, self.tolerance)
+            }
             Cost::Energy => energy::minimum_energy(self, settings, self.tolerance),
             Cost::Time => time::minimum_time(self, self.tolerance),
         }

@@ -83,7 +83,10 @@ pub(crate) fn solve(
     let mut b: Vec<f64> = e.iter().copied().collect();
     b.extend(uppers.iter().map(|&j| upper[j]));
     b.extend(lowers.iter().map(|&j| -lower[j]));
-    let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(rows_eq)];
+    let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
+    if rows_eq > 0 {
+        cones.push(ZeroConeT(rows_eq));
+    }
     if rows > rows_eq {
         cones.push(NonnegativeConeT(rows - rows_eq));
     }

@@ -17,6 +17,28 @@ pub(crate) struct Shot {
     pub time_sensitivity: DVector<f64>,
     /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`.
     pub miss: DVector<f64>,
+    /// Each step's `A_k` and input Jacobians `B_kj` (velocity coordinates).
+    a: Vec<DMatrix<f64>>,
+    b: Vec<Vec<DMatrix<f64>>>,
+}
+
+impl Shot {
+    /// `∂x_k/∂u` for `k = 1 … K` (`6 × n` each), chained forwards:
+    /// `S_{k+1} = A_k S_k + [B_kj in step k's columns]`.
+    pub fn state_sensitivities(&self) -> Vec<DMatrix<f64>> {
+        let columns = self.sensitivity.ncols();
+        let per_step = columns / self.a.len().max(1);
+        let mut out = Vec::with_capacity(self.a.len());
+        let mut s = DMatrix::<f64>::zeros(6, columns);
+        for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
+            s = a * &s;
+            for (j, bj) in b.iter().enumerate() {
+                s.view_mut((0, per_step * k + 3 * j), (6, 3)).copy_from(bj);
+            }
+            out.push(s.clone());
+        }
+        out
+    }
 }
 
 /// The run from `start` under `inputs`, `per_step` of them per step of `settings` (one:
@@ -102,6 +124,8 @@ pub(crate) fn shoot(
         sensitivity,
         time_sensitivity,
         miss,
+        a,
+        b,
     })
 }
 

@@ -30,7 +30,7 @@ fn optimal_error(error: OptimalError) -> PyErr {
 
 /// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant"))]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None))]
 #[allow(clippy::too_many_arguments)]
 fn _slew<'py>(
     py: Python<'py>,
@@ -48,6 +48,8 @@ fn _slew<'py>(
     warm_start: Option<&Bound<'py, PyAny>>,
     cost: &str,
     inputs: &str,
+    track: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>, [f64; 2])>,
+    terminal_cost: Option<[f64; 2]>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = match inputs {
         "constant" => Inputs::Constant,
@@ -125,6 +127,21 @@ fn _slew<'py>(
         .inputs(shape);
     if let Some(bound) = bound {
         slew = slew.torque_max([bound.x, bound.y, bound.z]);
+    }
+    if let Some((attitudes, omegas, weights)) = track {
+        let attitudes = crate::convert::rotations(&attitudes, "track attitudes")?;
+        let omegas = vectors3(&omegas, "track omegas")?;
+        if attitudes.len() != omegas.len() {
+            return Err(invalid(format!(
+                "track: {} attitudes and {} rates; one of each per step boundary after the start",
+                attitudes.len(),
+                omegas.len()
+            )));
+        }
+        slew = slew.track(attitudes.into_iter().zip(omegas).collect(), weights);
+    }
+    if let Some(weights) = terminal_cost {
+        slew = slew.terminal_cost(weights);
     }
     if let Some(inputs) = warm_start {
         slew = slew.warm_start(vectors3(inputs, "warm_start")?);

@@ -108,3 +108,24 @@ def test_polynomial_inputs_meet_pontryagins_optimum():
         optimal.slew([3.0, 4.0, 5.5], 30.0, target, inputs="quadratic")
     with pytest.raises(lgsvi.InvalidInputError):
         it.set_input_at_points(np.zeros((2, 3)))
+
+
+def test_tracking_and_a_soft_target():
+    # Tracking a rotation about a fixed axis with a soft target: the torques follow; the
+    # soft target's miss falls as its weight rises (optimal/tests/tracking.rs has the
+    # checks against an independent least squares and the true cost's stationarity).
+    axis = np.array([1.0, 2.0, 2.0]) / 3.0
+    k, t_end, theta = 12, 10.0, 1.2
+    attitudes = np.array([lie.so3_exp(axis * theta * (i + 1) / k) for i in range(k)])
+    omegas = np.tile(axis * theta / t_end, (k, 1))
+    target = lie.so3_exp(axis * theta)
+    misses = []
+    for q in (1.0, 100.0):
+        result = optimal.slew([2.0, 2.0, 2.0], t_end, target, steps=k, nodes=6,
+                              track=(attitudes, omegas, [3.0, 0.5]), terminal_cost=[q, q])
+        assert result.converged and result.kkt_residuals[-1] <= 1e-10
+        misses.append(np.linalg.norm(lie.so3_log(result.attitude[-1].T @ target)))
+    assert misses[1] < misses[0]
+    with pytest.raises(lgsvi.InvalidInputError, match="track"):
+        optimal.slew([2.0, 2.0, 2.0], t_end, target, steps=k,
+                     track=(attitudes[:3], omegas[:3], [1.0, 1.0]))

@@ -115,6 +115,8 @@ def slew(
     warm_start: Optional[Any] = None,
     cost: str = "energy",
     inputs: str = "constant",
+    track: Optional[Any] = None,
+    terminal_cost: Optional[Any] = None,
 ) -> SlewResult:
     """The slew of the body of principal moments ``inertia`` (3,) to ``attitude_final``
     (3, 3) and ``omega_final`` (default rest), from ``attitude0`` (default identity) and
@@ -129,6 +131,12 @@ def slew(
     second order in ``h``); ``inputs="polynomial"`` (energy cost only) makes it a
     polynomial within each step, given at the step's Gauss points, and the cost converges
     at the integrator's order ``2 (nodes - 1)``.
+
+    ``track=(attitudes, omegas, [q_theta, q_omega])`` (``(K, 3, 3)``, ``(K, 3)``, one state per
+    step boundary after the start) adds ``sum_k h (q_theta |log(R_ref^T R_k)|^2 +
+    q_omega |Omega_k - Omega_ref|^2)``; ``terminal_cost=[q_theta, q_omega]`` replaces the exact
+    terminal state by ``q_theta |log(R_f^T R_K)|^2 + q_omega |Omega_K - Omega_f|^2`` (energy
+    cost only; Gauss-Newton on the least squares).
 
     Raises
     ------
@@ -154,5 +162,7 @@ def slew(
         warm_start=warm_start,
         cost=cost,
         inputs=inputs,
+        track=track,
+        terminal_cost=terminal_cost,
     )
     return SlewResult(**fields)
