@@ -122,7 +122,8 @@ const COARSEST: usize = 20;
 /// The KKT tolerance of the ladder's lower levels (their solutions only start the next).
 const LADDER_TOLERANCE: f64 = 1e-6;
 
-/// The size of the coarsest level's second start's perturbation, in units of the bound.
+/// The size of the perturbation of the coarsest level's first start, in units of the
+/// bound.
 const PERTURBATION: f64 = 0.2;
 
 /// One level of the ladder.
