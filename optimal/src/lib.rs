@@ -529,9 +529,6 @@ impl Slew {
     pub fn solve(&self) -> Result<Solution, OptimalError> {
         let settings = self.check()?;
         match self.cost {
-            Cost::Energy if self.tracking.is_some() || self.terminal_cost.is_some() => {
-                tracking::least_squares(self, settings, self.tolerance)
-            }
             Cost::Energy => energy::minimum_energy(self, settings, self.tolerance),
             Cost::Time => time::minimum_time(self, self.tolerance),
         }
