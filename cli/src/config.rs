@@ -278,6 +278,12 @@ pub struct SimulateOptions {
     /// (gyrostats).
     #[arg(long, value_name = "CONDITION")]
     pub stop_when: Option<String>,
+    /// Report the settling time of a condition (the quantities of --stop-when): the time
+    /// from which it holds to the run's end, e.g. `omega<0.001` (the rates stay below
+    /// 1e-3 rad/s) — the last crossing into it, located on the step's curve (`settled` in
+    /// the JSON; null where it does not hold at the end).
+    #[arg(long, value_name = "CONDITION")]
+    pub settle_when: Option<String>,
     /// Output format [default: json].
     #[arg(long, value_enum)]
     pub format: Option<Format>,

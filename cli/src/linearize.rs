@@ -40,6 +40,16 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
         ("--check", b.check, measures),
         ("--no-check", b.no_check, fixed),
         ("--tol", b.tol.is_some(), fixed),
+        (
+            "--stop-when",
+            b.stop_when.is_some(),
+            "linearize takes one step",
+        ),
+        (
+            "--settle-when",
+            b.settle_when.is_some(),
+            "linearize takes one step",
+        ),
     ] {
         if given {
             return Err(CliError::SimulateOnly { flag, why });

@@ -81,18 +81,21 @@ fn integrate(problem: &Problem) -> Result<Recording> {
     let bar = progress::bar(steps as u64, "integrating", "steps", problem.quiet);
     let mut progress = |k: usize| bar.set_position(k as u64);
     let (t_end, every, check) = (problem.t_end, problem.every, problem.check);
-    let recorded = problem.scenario.record(
-        settings,
-        check,
-        t_end,
-        every,
-        problem.stop.as_ref(),
-        &mut progress,
-    );
+    let recorded =
+        problem
+            .scenario
+            .record(settings, check, t_end, every, &problem.watch, &mut progress);
     bar.finish_and_clear();
     recorded.map_err(|error| match CliError::from(error).into_mechanics() {
         CliError::Experiment(lgsvi_experiments::ExperimentError::Stop { condition, reason }) => {
-            CliError::invalid("--stop-when", condition, reason)
+            let settling = problem.watch.settle.map(|c| c.to_string()) == Some(condition.clone())
+                && problem.watch.stop.map(|c| c.to_string()) != Some(condition.clone());
+            let flag = if settling {
+                "--settle-when"
+            } else {
+                "--stop-when"
+            };
+            CliError::invalid(flag, condition, reason)
         }
         CliError::Mechanics(
             source @ (MechanicsError::ToleranceNotMet { .. }
@@ -184,13 +187,18 @@ pub(crate) fn run_simulate(options: SimulateOptions) -> Result<()> {
     let mut description = problem.description.clone();
     description["settings"] = settings_json(&problem.settings(), problem.t_end, problem.every);
     description["solution"] = "integrator".into();
-    if options.exact && problem.stop.is_some() {
-        return Err(CliError::invalid(
-            "--stop-when",
-            options.stop_when.as_deref().unwrap_or_default(),
-            "--exact prints the closed form at the recorded times and watches no condition: \
-             drop one of the two",
-        ));
+    for (flag, given) in [
+        ("--stop-when", &options.stop_when),
+        ("--settle-when", &options.settle_when),
+    ] {
+        if let (true, Some(condition)) = (options.exact, given) {
+            return Err(CliError::invalid(
+                flag,
+                condition,
+                "--exact prints the closed form at the recorded times and watches no \
+                 condition: drop one of the two",
+            ));
+        }
     }
     let recording = if options.exact {
         let exact = problem
@@ -212,6 +220,21 @@ pub(crate) fn run_simulate(options: SimulateOptions) -> Result<()> {
                 stopped.time,
                 recording.states.last().map_or(stopped.time, |s| s.time)
             );
+        }
+    }
+    if let Some(settled) = &recording.settled {
+        description["settled"] = serde_json::json!({
+            "condition": settled.condition,
+            "t": settled.time,
+        });
+        if !problem.quiet {
+            match settled.time {
+                Some(t) => eprintln!("settled: {} from t = {t} on", settled.condition),
+                None => eprintln!(
+                    "not settled: {} does not hold at the end",
+                    settled.condition
+                ),
+            }
         }
     }
     let estimate = recording.estimates.as_ref().map(|e| e.global);

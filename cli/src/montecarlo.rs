@@ -1,22 +1,25 @@
-//! `lgsvi montecarlo`: many runs of simulate's system, each member's inertia, start and
-//! torque dispersed about the nominal ([`lgsvi_montecarlo`]), in parallel; one CSV row per
-//! member and a JSON summary (final-state statistics and every failure).
+//! `lgsvi montecarlo`: many runs of simulate's system (any built-in one), each member's
+//! inertia, start, torque, mass and wheels dispersed about the nominal
+//! ([`lgsvi_montecarlo`]), in parallel; one CSV row per member and a JSON summary
+//! (final-state statistics, stop and settling times, and every failure).
 //!
 //! Every member runs exactly as `lgsvi simulate` with its drawn parameters as flags
 //! (`--inertia-tensor` its `J`, `--attitude0` its `R₀`, `--omega0` its `Ω₀`, `--torque`
-//! its torque, the nominal's other flags): `members.csv` prints those and the final state
-//! to round-trip, so simulate given a row's parameters reproduces the row bit for bit, and
-//! `--replay K` does so for member `K`, writing its whole trajectory.
+//! its torque, `--mass` its mass, `--wheel-inertia` and `--wheel-axes` its wheels, the
+//! nominal's other flags): `members.csv` prints those and the final state to round-trip,
+//! so simulate given a row's parameters reproduces the row bit for bit, and `--replay K`
+//! does so for member `K`, writing its whole trajectory.
 
-use crate::config::{config_error, SimulateOptions};
+use crate::config::{config_error, Numbers, SimulateOptions};
 use crate::error::{CliError, Result};
 use crate::problem::Problem;
 use clap::Args;
-use lgsvi_experiments::stop::StopWhen;
+use lgsvi_experiments::scenario::Model;
+use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_montecarlo::statistics::{Envelope, Samples as Sampled};
+use lgsvi_montecarlo::statistics::{Envelope, RunEnd, Samples as Sampled};
 use lgsvi_montecarlo::{Body, Dispersion, DispersionError, Dispersions, Member, Plan};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
@@ -35,11 +38,11 @@ use std::path::PathBuf;
     mut_arg("out", |a| a.help("Output folder [default: ./lgsvi-montecarlo]; with --replay, the member's trajectory file (JSON) [default: standard output]"))
 )]
 pub struct MontecarloOptions {
-    /// The nominal run: simulate's flags (rigid-body and heavy-top so far). A config file
-    /// (`--config`) may hold the Monte Carlo keys below in a `[montecarlo]` table, and the
-    /// whole dispersion spec in `[montecarlo.dispersions]` (keys `attitude`, `omega`,
-    /// `inertia`, `inertia_misalignment`, `torque`, each a table like
-    /// `{ distribution = "truncated_normal", sigma = 0.02, bound = 0.06 }`).
+    /// The nominal run: simulate's flags, every system. A config file (`--config`) may
+    /// hold the Monte Carlo keys below in a `[montecarlo]` table, and the whole dispersion
+    /// spec in `[montecarlo.dispersions]` (keys `attitude`, `omega`, `inertia`,
+    /// `inertia_misalignment`, `torque`, `mass`, `wheel_inertia`, `wheel_axis`, each a
+    /// table like `{ distribution = "truncated_normal", sigma = 0.02, bound = 0.06 }`).
     #[command(flatten)]
     #[serde(skip)]
     pub base: SimulateOptions,
@@ -109,23 +112,45 @@ struct Outcome {
     result: std::result::Result<Final, String>,
 }
 
-/// A member's last recorded state, and where `--stop-when` stopped it.
-#[derive(Clone, Copy, Serialize, Deserialize)]
+/// A member's last recorded state (its translation or wheels beside the rotation),
+/// where `--stop-when` stopped it and from when `--settle-when` held.
+#[derive(Clone, Serialize, Deserialize)]
 struct Final {
     time: f64,
     attitude: Matrix3<f64>,
     omega: Vector3<f64>,
+    /// `(x, ẋ)`, world frame, for a body in space.
+    motion: Option<(Vector3<f64>, Vector3<f64>)>,
+    /// The wheels' rates relative to the body, for a gyrostat (else empty).
+    wheel_speeds: Vec<f64>,
     stop: Option<f64>,
+    settle: Option<f64>,
 }
 
-/// A run's last sampled state and its stop time.
-fn final_of(sampled: &Sampled, stop: Option<f64>) -> Option<Final> {
+/// A run's last state and how it ended.
+fn final_of(sampled: &Sampled, ended: &RunEnd) -> Option<Final> {
     sampled.last().map(|(time, attitude, omega)| Final {
         time,
         attitude,
         omega,
-        stop,
+        motion: ended.motion,
+        wheel_speeds: sampled.wheel_speeds.last().cloned().unwrap_or_default(),
+        stop: ended.stop,
+        settle: ended.settle,
     })
+}
+
+/// The optional columns of members.csv, from the nominal system and the options: the
+/// drawn torque, mass and wheels, the final translation and wheel rates, the stop and
+/// settling times.
+#[derive(Clone, Copy)]
+struct Layout {
+    torque: bool,
+    mass: bool,
+    wheels: usize,
+    motion: bool,
+    stop: bool,
+    settle: bool,
 }
 
 /// Bins of the stop times' histogram, over their own range.
@@ -184,17 +209,38 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     nominal_options.quiet = true;
     let (nominal_problem, resolved) = Problem::resolve(nominal_options)?;
     let scenario = &nominal_problem.scenario;
-    if scenario.motion.is_some() || scenario.wheels.is_some() {
-        return Err(CliError::invalid(
-            "--system",
-            resolved.system().name(),
-            "montecarlo runs bodies on SO(3) (rigid-body, heavy-top) so far",
-        ));
-    }
     let mut nominal = Body::new(scenario.inertia, scenario.attitude0, scenario.omega0);
     nominal.torque = resolved.torque.map_or(Vector3::zeros(), Vector3::from);
+    // The mass of a body in space, or of a heavy top that has one; a gyrostat's wheels.
+    nominal.mass = match &nominal_problem.model {
+        Model::HeavyTop(top) => Some(top.mass).filter(|&m| m > 0.0),
+        Model::FreeInSpace(body) => Some(body.mass),
+        Model::Orbiting(orbit) => Some(orbit.body.mass),
+        Model::RigidBody | Model::Gyrostat(_) => None,
+    };
+    if let Model::Gyrostat(wheels) = &nominal_problem.model {
+        nominal.wheel_inertias = wheels.inertia.clone();
+        nominal.wheel_axes = wheels.axes.clone();
+    }
     let dispersions = dispersions(&options);
+    if dispersions.torque.is_some() && !nominal.wheel_inertias.is_empty() {
+        return Err(named_by_flag(
+            DispersionError::NotApplicable {
+                key: "torque",
+                what: "body torque (a gyrostat's wheels take --wheel-torque)",
+            },
+            &options,
+        ));
+    }
     let plan = Plan::new(nominal, dispersions, seed).map_err(|e| named_by_flag(e, &options))?;
+    let layout = Layout {
+        torque: plan.dispersions().torque.is_some() || resolved.torque.is_some(),
+        mass: plan.nominal().mass.is_some() && plan.dispersions().mass.is_some(),
+        wheels: plan.nominal().wheel_inertias.len(),
+        motion: scenario.motion.is_some(),
+        stop: nominal_problem.watch.stop.is_some(),
+        settle: nominal_problem.watch.settle.is_some(),
+    };
     // Every member takes the nominal's step, so that all share one time grid (a --tol
     // run's first step would otherwise follow each member's own rate).
     let h = nominal_problem.settings().h();
@@ -212,6 +258,20 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         o.omega0 = Some(member.body.omega.into());
         if member.body.torque != Vector3::zeros() || o.torque.is_some() {
             o.torque = Some(member.body.torque.into());
+        }
+        if layout.mass {
+            o.mass = member.body.mass;
+        }
+        if layout.wheels > 0 {
+            o.wheel_inertia = Some(Numbers(member.body.wheel_inertias.clone()));
+            o.wheel_axes = Some(Numbers(
+                member
+                    .body
+                    .wheel_axes
+                    .iter()
+                    .flat_map(|a| [a.x, a.y, a.z])
+                    .collect(),
+            ));
         }
         o
     };
@@ -251,13 +311,12 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     let every = (steps / (samples - 1)).max(1);
     // The nominal run fails as simulate's would, with its own error.
     // The nominal runs to the end (the envelopes' times), whatever --stop-when says.
-    let (nominal_run, _) = run_sampled(&nominal_problem, every, None)?;
-    let nominal_final = final_of(&nominal_run, None).ok_or(CliError::invalid(
+    let (nominal_run, nominal_end) = run_sampled(&nominal_problem, every, &Watch::NOTHING)?;
+    let nominal_final = final_of(&nominal_run, &nominal_end).ok_or(CliError::invalid(
         "--t-end",
         nominal_problem.t_end,
         "the nominal run recorded no state",
     ))?;
-    let stopping = nominal_problem.stop.is_some();
     let (mut stats, mut first, earlier_wall_time, resume_bytes) = match checkpoint {
         Some(c) => (
             c.statistics,
@@ -266,7 +325,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
             Some(c.csv_bytes),
         ),
         None => (
-            Statistics::new(nominal_run.times.len(), nominal_final),
+            Statistics::new(nominal_run.times.len(), nominal_final, layout),
             0,
             0.0,
             None,
@@ -279,7 +338,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     // Rows are written as their chunk finishes, in member order, and the statistics
     // updated: nothing of a member is held past its chunk. After each chunk the rows are
     // flushed to disk and the checkpoint written, so an interruption loses one chunk.
-    let (mut file, mut csv_bytes) = open_table(&table, resume_bytes, stopping)?;
+    let (mut file, mut csv_bytes) = open_table(&table, resume_bytes, &layout)?;
     let checkpoint_path = out.join(CHECKPOINT);
     while first < members {
         let mut last = (first + chunk_size).min(members);
@@ -296,7 +355,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
             .collect::<Result<_>>()?;
         let mut rows = String::new();
         for (outcome, sampled) in chunk {
-            rows.push_str(&csv_row(&outcome, stopping));
+            rows.push_str(&csv_row(&outcome, &layout));
             rows.push('\n');
             stats.add(&outcome, sampled.as_ref(), &nominal_run);
         }
@@ -347,9 +406,36 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         ),
         &out.join("envelope_energy"),
     )?;
-    if let Some(stop) = &nominal_problem.stop {
-        summary["stop"] = stop_json(stop, &stats);
-        crate::plot::save(&stop_figure(stop, &stats), &out.join("stop_times"))?;
+    for wheel in 0..layout.wheels {
+        let channel = lgsvi_montecarlo::statistics::ATTITUDE_CHANNELS.len() + wheel;
+        crate::plot::save(
+            &envelope_figure(
+                &stats.envelope,
+                &nominal_run.times,
+                channel,
+                &format!("wheel {} rate (rad/s)", wheel + 1),
+            ),
+            &out.join(format!("envelope_wheel_{}", wheel + 1)),
+        )?;
+    }
+    for (condition, timed, key, file) in [
+        (
+            nominal_problem.watch.stop,
+            Timed::Stop,
+            "stop",
+            "stop_times",
+        ),
+        (
+            nominal_problem.watch.settle,
+            Timed::Settle,
+            "settle",
+            "settle_times",
+        ),
+    ] {
+        if let Some(condition) = condition {
+            summary[key] = times_json(&condition, timed, &stats);
+            crate::plot::save(&times_figure(&condition, timed, &stats), &out.join(file))?;
+        }
     }
     let text = serde_json::to_string_pretty(&summary)? + "\n";
     let summary_path = out.join("summary.json");
@@ -435,7 +521,7 @@ fn resumed(given: MontecarloOptions) -> Result<(MontecarloOptions, Checkpoint)> 
 fn open_table(
     table: &std::path::Path,
     resume_bytes: Option<u64>,
-    stopping: bool,
+    layout: &Layout,
 ) -> Result<(std::fs::File, u64)> {
     let failed = |source: std::io::Error| {
         CliError::invalid(
@@ -472,7 +558,7 @@ fn open_table(
                 .create_new(true)
                 .open(table)
                 .map_err(failed)?;
-            let header = csv_header(stopping) + "\n";
+            let header = csv_header(layout) + "\n";
             append(&mut file, table, header.as_bytes())?;
             Ok((file, header.len() as u64))
         }
@@ -580,10 +666,10 @@ fn run_member(
 ) -> Result<(Outcome, Option<Sampled>)> {
     let member = plan.member(index)?;
     let run = Problem::resolve(options(&member))
-        .and_then(|(problem, _)| run_sampled(&problem, every, problem.stop.as_ref()))
+        .and_then(|(problem, _)| run_sampled(&problem, every, &problem.watch))
         .map_err(|e| e.to_string().replace('\n', " "));
     let (result, sampled) = match run {
-        Ok((sampled, stop)) => match final_of(&sampled, stop) {
+        Ok((sampled, ended)) => match final_of(&sampled, &ended) {
             Some(last) => (Ok(last), Some(sampled)),
             None => (Err("no state recorded".to_string()), None),
         },
@@ -592,34 +678,20 @@ fn run_member(
     Ok((Outcome { member, result }, sampled))
 }
 
-/// The problem's run, its states every `every` steps and the last, ended where `stop` is
-/// met (the crossing's time beside them).
-fn run_sampled(
-    problem: &Problem,
-    every: usize,
-    stop: Option<&StopWhen>,
-) -> Result<(Sampled, Option<f64>)> {
+/// The problem's run, its states every `every` steps and the last, ended where `watch`'s
+/// stop condition is met; the crossing's time, the settling time and the last
+/// translation beside them.
+fn run_sampled(problem: &Problem, every: usize, watch: &Watch) -> Result<(Sampled, RunEnd)> {
     let settings = problem.settings();
     let recording = problem.scenario.record(
         settings,
         problem.check,
         problem.t_end,
         every,
-        stop,
+        watch,
         &mut |_| {},
     )?;
-    let stopped = recording.stopped.as_ref().map(|s| s.time);
-    let sampled = Sampled {
-        times: recording.states.iter().map(|s| s.time).collect(),
-        attitudes: recording
-            .states
-            .iter()
-            .map(|s| *s.attitude().matrix())
-            .collect(),
-        omegas: recording.states.iter().map(|s| s.velocity).collect(),
-        energies: recording.energies,
-    };
-    Ok((sampled, stopped))
+    Ok(Sampled::of_recording(recording))
 }
 
 /// The stop times' histogram: [`STOP_BINS`] bins from the least to the largest (one bin
@@ -643,11 +715,37 @@ fn stop_histogram(times: &[f64]) -> (Vec<f64>, Vec<u64>) {
     (edges, counts)
 }
 
-/// The stop times over the members that met `--stop-when` (`members_stopped` of the
-/// finished ones): their exact sample percentiles (the `⌈qN⌉`-th smallest), least and
-/// largest, and their histogram.
-fn stop_json(stop: &StopWhen, stats: &Statistics) -> serde_json::Value {
-    let mut sorted = stats.stop_times.clone();
+/// What a run's event times are: the stop times (`--stop-when`) or the settling times
+/// (`--settle-when`).
+#[derive(Clone, Copy)]
+enum Timed {
+    Stop,
+    Settle,
+}
+
+impl Timed {
+    /// The verb of the members counted (`members_stopped`, `members_settled`).
+    fn verb(self) -> &'static str {
+        match self {
+            Timed::Stop => "stopped",
+            Timed::Settle => "settled",
+        }
+    }
+
+    /// The times of the members that met the condition.
+    fn times(self, stats: &Statistics) -> &[f64] {
+        match self {
+            Timed::Stop => &stats.stop_times,
+            Timed::Settle => &stats.settle_times,
+        }
+    }
+}
+
+/// The times over the members that met `condition` (`members_stopped` or
+/// `members_settled` of the finished ones): their exact sample percentiles (the
+/// `⌈qN⌉`-th smallest), least and largest, and their histogram.
+fn times_json(condition: &StopWhen, timed: Timed, stats: &Statistics) -> serde_json::Value {
+    let mut sorted = timed.times(stats).to_vec();
     sorted.sort_by(f64::total_cmp);
     let n = sorted.len();
     let mut percentiles = serde_json::Map::new();
@@ -656,10 +754,11 @@ fn stop_json(stop: &StopWhen, stats: &Statistics) -> serde_json::Value {
         percentiles.insert(format!("p{p}"), json!(sorted.get(rank - 1)));
     }
     let (edges, counts) = stop_histogram(&sorted);
+    let verb = timed.verb();
     json!({
-        "condition": stop.to_string(),
-        "members_stopped": n,
-        "members_not_stopped": stats.rates.count as usize - n,
+        "condition": condition.to_string(),
+        format!("members_{verb}"): n,
+        format!("members_not_{verb}"): stats.finished() as usize - n,
         "time_percentiles": percentiles,
         "time_min": sorted.first(),
         "time_max": sorted.last(),
@@ -667,9 +766,10 @@ fn stop_json(stop: &StopWhen, stats: &Statistics) -> serde_json::Value {
     })
 }
 
-/// The stop times' histogram as a staircase.
-fn stop_figure(stop: &StopWhen, stats: &Statistics) -> lgsvi_plot::Figure {
-    let (edges, counts) = stop_histogram(&stats.stop_times);
+/// The times' histogram as a staircase.
+fn times_figure(condition: &StopWhen, timed: Timed, stats: &Statistics) -> lgsvi_plot::Figure {
+    let times = timed.times(stats);
+    let (edges, counts) = stop_histogram(times);
     let mut points = Vec::new();
     if let (Some(&first), Some(&last)) = (edges.first(), edges.last()) {
         points.push((first, 0.0));
@@ -678,18 +778,18 @@ fn stop_figure(stop: &StopWhen, stats: &Statistics) -> lgsvi_plot::Figure {
         }
         points.push((last, 0.0));
     }
+    let (title, label) = match timed {
+        Timed::Stop => (format!("when {condition}"), "stop times"),
+        Timed::Settle => (format!("{condition} from then on"), "settling times"),
+    };
     lgsvi_plot::Figure {
-        title: format!(
-            "when {stop}: {} of {} members",
-            stats.stop_times.len(),
-            stats.rates.count
-        ),
+        title: format!("{title}: {} of {} members", times.len(), stats.finished()),
         x_label: "t".into(),
         y_label: "members per bin".into(),
         x_log: false,
         y_log: false,
         series: vec![lgsvi_plot::Series {
-            label: format!("stop times ({} bins)", counts.len()),
+            label: format!("{label} ({} bins)", counts.len()),
             points,
             style: lgsvi_plot::Style::Line,
             color: 0,
@@ -757,29 +857,53 @@ fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
     ]
 }
 
-/// The header of `members.csv`.
-fn csv_header(stop: bool) -> String {
+/// The header of `members.csv`: the draws (`J`, `R0`, `omega0`, and where the run has
+/// them the torque `tau_1..3`, the mass `m`, each wheel's inertia `I_wK` and axis
+/// `a_wK_1..3`), the final state (`t`, `R`, `omega`, and `x_1..3`, `v_1..3` for a body in
+/// space, `wheel_K` for a gyrostat), then `t_stop` and `t_settle` where watched.
+fn csv_header(layout: &Layout) -> String {
     let names = |prefix: &str| -> Vec<String> {
         (1..=3)
             .flat_map(|i| (1..=3).map(move |j| format!("{prefix}_{i}{j}")))
             .collect()
     };
+    let three =
+        |prefix: &str| -> Vec<String> { (1..=3).map(|i| format!("{prefix}_{i}")).collect() };
     let mut header = vec!["member".to_string(), "status".to_string()];
     header.extend(names("J"));
     header.extend(names("R0"));
-    header.extend((1..=3).map(|i| format!("omega0_{i}")));
+    header.extend(three("omega0"));
+    if layout.torque {
+        header.extend(three("tau"));
+    }
+    if layout.mass {
+        header.push("m".into());
+    }
+    for k in 1..=layout.wheels {
+        header.push(format!("I_w{k}"));
+        header.extend(three(&format!("a_w{k}")));
+    }
     header.push("t".into());
     header.extend(names("R"));
-    header.extend((1..=3).map(|i| format!("omega_{i}")));
-    if stop {
+    header.extend(three("omega"));
+    if layout.motion {
+        header.extend(three("x"));
+        header.extend(three("v"));
+    }
+    header.extend((1..=layout.wheels).map(|k| format!("wheel_{k}")));
+    if layout.stop {
         header.push("t_stop".into());
+    }
+    if layout.settle {
+        header.push("t_settle".into());
     }
     header.join(",")
 }
 
-/// A member's row of `members.csv`: every float in Rust's shortest form that reads back
-/// to the same bits; a failed member's final state left empty.
-fn csv_row(outcome: &Outcome, stop: bool) -> String {
+/// A member's row of `members.csv` ([`csv_header`]): every float in Rust's shortest form
+/// that reads back to the same bits; a failed member's final state left empty, as are
+/// the stop and settling times of a member that did not meet its condition.
+fn csv_row(outcome: &Outcome, layout: &Layout) -> String {
     let m = &outcome.member;
     let mut cells = vec![
         m.index.to_string(),
@@ -794,48 +918,94 @@ fn csv_row(outcome: &Outcome, stop: bool) -> String {
     cells.extend(floats(&row_major(&m.body.inertia.matrix())));
     cells.extend(floats(&row_major(m.body.attitude.matrix())));
     cells.extend(floats(m.body.omega.as_slice()));
+    if layout.torque {
+        cells.extend(floats(m.body.torque.as_slice()));
+    }
+    if layout.mass {
+        cells.extend(floats(&[m.body.mass.unwrap_or(f64::NAN)]));
+    }
+    for (inertia, axis) in m.body.wheel_inertias.iter().zip(&m.body.wheel_axes) {
+        cells.extend(floats(&[*inertia, axis.x, axis.y, axis.z]));
+    }
+    let finals = 13 + if layout.motion { 6 } else { 0 } + layout.wheels;
     match &outcome.result {
         Ok(f) => {
             cells.extend(floats(&[f.time]));
             cells.extend(floats(&row_major(&f.attitude)));
             cells.extend(floats(f.omega.as_slice()));
+            if layout.motion {
+                let (x, v) = f
+                    .motion
+                    .unwrap_or((Vector3::repeat(f64::NAN), Vector3::repeat(f64::NAN)));
+                cells.extend(floats(x.as_slice()));
+                cells.extend(floats(v.as_slice()));
+            }
+            cells.extend(floats(&f.wheel_speeds));
         }
-        Err(_) => cells.extend(std::iter::repeat_n(String::new(), 13)),
+        Err(_) => cells.extend(std::iter::repeat_n(String::new(), finals)),
     }
-    if stop {
-        let t = outcome.result.as_ref().ok().and_then(|f| f.stop);
-        cells.push(t.map_or(String::new(), |t| format!("{t:?}")));
+    let result = outcome.result.as_ref().ok();
+    for (watched, time) in [
+        (layout.stop, result.and_then(|f| f.stop)),
+        (layout.settle, result.and_then(|f| f.settle)),
+    ] {
+        if watched {
+            cells.push(time.map_or(String::new(), |t| format!("{t:?}")));
+        }
     }
     cells.join(",")
 }
 
 /// What the summary reports, gathered member by member in member order: the envelopes,
-/// the final rates' and attitude departures' running mean and covariance (Welford), the
-/// largest departure angle, and every failure.
+/// the final rates' (and translation's, wheel rates') and attitude departures' running
+/// mean and covariance (Welford), the largest departure angle, the stop and settling
+/// times, and every failure.
 #[derive(Serialize, Deserialize)]
 struct Statistics {
     envelope: Envelope,
     /// The stop times of the members `--stop-when` stopped (8 bytes a member: held, so
     /// that their percentiles are exact and their histogram spans their own range).
     stop_times: Vec<f64>,
+    /// The settling times of the members that settled under `--settle-when`, held as the
+    /// stop times are.
+    settle_times: Vec<f64>,
     nominal_final: Final,
     rates: Running,
     departures: Running,
+    /// The final position and velocity of a body in space.
+    positions: Option<Running>,
+    velocities: Option<Running>,
+    /// The final wheel rates of a gyrostat.
+    wheel_speeds: Option<Running>,
     largest_angle: f64,
     failures: Vec<serde_json::Value>,
 }
 
 impl Statistics {
-    fn new(samples: usize, nominal_final: Final) -> Self {
+    fn new(samples: usize, nominal_final: Final, layout: Layout) -> Self {
+        let envelope = if layout.wheels > 0 {
+            Envelope::of_attitude_and_wheels(samples, layout.wheels)
+        } else {
+            Envelope::of_attitude(samples)
+        };
         Self {
-            envelope: Envelope::of_attitude(samples),
+            envelope,
             stop_times: Vec::new(),
+            settle_times: Vec::new(),
             nominal_final,
-            rates: Running::default(),
-            departures: Running::default(),
+            rates: Running::new(3),
+            departures: Running::new(3),
+            positions: layout.motion.then(|| Running::new(3)),
+            velocities: layout.motion.then(|| Running::new(3)),
+            wheel_speeds: (layout.wheels > 0).then(|| Running::new(layout.wheels)),
             largest_angle: 0.0,
             failures: Vec::new(),
         }
+    }
+
+    /// The members that finished.
+    fn finished(&self) -> u64 {
+        self.rates.count
     }
 
     fn add(&mut self, outcome: &Outcome, sampled: Option<&Sampled>, nominal: &Sampled) {
@@ -844,9 +1014,19 @@ impl Statistics {
                 let relative = self.nominal_final.attitude.transpose() * last.attitude;
                 let departure = SO3::from_matrix_unchecked(relative).log();
                 self.largest_angle = self.largest_angle.max(departure.norm());
-                self.departures.add(&departure);
-                self.rates.add(&last.omega);
+                self.departures.add(departure.as_slice());
+                self.rates.add(last.omega.as_slice());
+                if let (Some(p), Some(v), Some((x, xdot))) =
+                    (&mut self.positions, &mut self.velocities, &last.motion)
+                {
+                    p.add(x.as_slice());
+                    v.add(xdot.as_slice());
+                }
+                if let Some(w) = &mut self.wheel_speeds {
+                    w.add(&last.wheel_speeds);
+                }
                 self.stop_times.extend(last.stop);
+                self.settle_times.extend(last.settle);
             }
             Err(error) => self.failures.push(json!({
                 "member": outcome.member.index,
@@ -860,20 +1040,30 @@ impl Statistics {
     }
 }
 
-/// Running mean and covariance of 3-vectors (Welford's update, in the order added).
-#[derive(Default, Serialize, Deserialize)]
+/// Running mean and covariance of vectors of one length (Welford's update, in the order
+/// added).
+#[derive(Serialize, Deserialize)]
 struct Running {
     count: u64,
-    mean: Vector3<f64>,
-    scatter: Matrix3<f64>,
+    mean: DVector<f64>,
+    scatter: DMatrix<f64>,
 }
 
 impl Running {
-    fn add(&mut self, x: &Vector3<f64>) {
+    fn new(dimension: usize) -> Self {
+        Self {
+            count: 0,
+            mean: DVector::zeros(dimension),
+            scatter: DMatrix::zeros(dimension, dimension),
+        }
+    }
+
+    fn add(&mut self, x: &[f64]) {
+        let x = DVector::from_column_slice(x);
         self.count += 1;
-        let before = x - self.mean;
-        self.mean += before / self.count as f64;
-        self.scatter += before * (x - self.mean).transpose();
+        let before = &x - &self.mean;
+        self.mean += &before / self.count as f64;
+        self.scatter += &before * (&x - &self.mean).transpose();
     }
 
     /// Mean and covariance (unbiased; zero for one value; null for none), as JSON.
@@ -881,13 +1071,15 @@ impl Running {
         if self.count == 0 {
             return json!({"mean": null, "covariance": null});
         }
+        // Welford's scatter is symmetric but for rounding: its symmetric part.
         let covariance = if self.count > 1 {
-            self.scatter / (self.count - 1) as f64
+            (&self.scatter + self.scatter.transpose()) / (2.0 * (self.count - 1) as f64)
         } else {
-            Matrix3::zeros()
+            DMatrix::zeros(self.mean.len(), self.mean.len())
         };
-        let rows: Vec<[f64; 3]> = (0..3)
-            .map(|i| [covariance[(i, 0)], covariance[(i, 1)], covariance[(i, 2)]])
+        let rows: Vec<Vec<f64>> = covariance
+            .row_iter()
+            .map(|row| row.iter().copied().collect())
             .collect();
         json!({"mean": self.mean.as_slice(), "covariance": rows})
     }
@@ -908,11 +1100,11 @@ fn summary(
         lgsvi_reports::trajectory::settings_json(&nominal.settings(), nominal.t_end, nominal.every);
     settings["check"] = format!("{:?}", nominal.check).into();
     let members = options.members.unwrap_or(DEFAULT_MEMBERS);
-    let last = stats.nominal_final;
-    json!({
+    let last = &stats.nominal_final;
+    let mut summary = json!({
         "command": "montecarlo",
         "members": members,
-        "finished": stats.rates.count,
+        "finished": stats.finished(),
         "failed": stats.failures.len(),
         "seed": plan.seed(),
         "dispersions": plan.dispersions(),
@@ -931,5 +1123,22 @@ fn summary(
         "failures": stats.failures,
         "wall_time_s": wall_time,
         "threads": rayon::current_num_threads(),
-    })
+    });
+    if let Some((x, v)) = last.motion {
+        summary["nominal_final"]["x"] = x.as_slice().into();
+        summary["nominal_final"]["v"] = v.as_slice().into();
+    }
+    if !last.wheel_speeds.is_empty() {
+        summary["nominal_final"]["wheel_speeds"] = last.wheel_speeds.clone().into();
+    }
+    for (key, running) in [
+        ("final_x", &stats.positions),
+        ("final_v", &stats.velocities),
+        ("final_wheel_speeds", &stats.wheel_speeds),
+    ] {
+        if let Some(running) = running {
+            summary[key] = running.json();
+        }
+    }
+    summary
 }

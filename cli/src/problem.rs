@@ -5,7 +5,7 @@ use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
-use lgsvi_experiments::stop::StopWhen;
+use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_experiments::ExperimentError;
 use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
@@ -200,14 +200,18 @@ pub struct Problem {
     pub scenario: Scenario,
     /// The system's name (`--system`).
     pub name: &'static str,
+    /// The system's own parameters (the top's mass, the wheels, the body in space's
+    /// start), as resolved from the flags.
+    pub model: Model,
     pub t_end: f64,
     pub every: usize,
     pub quiet: bool,
     /// Whether a companion checks the run: a `--tol` run unless `--no-check`, a fixed run
     /// with `--check`.
     pub check: Check,
-    /// Where the run stops early (`--stop-when`).
-    pub stop: Option<StopWhen>,
+    /// Where the run stops early (`--stop-when`) and the condition whose settling time it
+    /// reports (`--settle-when`).
+    pub watch: Watch,
     /// The inputs as given, for the output's `description`.
     pub description: serde_json::Value,
 }
@@ -453,7 +457,7 @@ impl Problem {
         }
         let model = model(&options, kind, &mut description)?;
         let drive = (BodyTorque(torque), AngularDamping(damping));
-        let scenario = Scenario::driven(model, inertia, options.attitude()?, omega0, drive)
+        let scenario = Scenario::driven(model.clone(), inertia, options.attitude()?, omega0, drive)
             .map_err(scenario_error)?;
         if let BuiltInSo3::Top(top) = &scenario.system.system {
             description["gravity_direction"] = top.gravity_direction().as_slice().into();
@@ -472,6 +476,7 @@ impl Problem {
         let problem = Problem {
             scenario: scenario.with_settings(settings),
             name: kind.name(),
+            model,
             t_end,
             every,
             quiet: options.quiet,
@@ -482,14 +487,10 @@ impl Problem {
                 _ => Check::None,
             },
             description,
-            stop: options
-                .stop_when
-                .as_deref()
-                .map(|text| {
-                    text.parse::<StopWhen>()
-                        .map_err(|reason| CliError::invalid("--stop-when", text, reason))
-                })
-                .transpose()?,
+            watch: Watch {
+                stop: condition(&options.stop_when, "--stop-when")?,
+                settle: condition(&options.settle_when, "--settle-when")?,
+            },
         };
         Ok((problem, options))
     }
@@ -498,6 +499,16 @@ impl Problem {
     pub fn settings(&self) -> StepSettings {
         self.scenario.settings
     }
+}
+
+/// The condition a flag gives, parsed; an error naming the flag.
+fn condition(text: &Option<String>, flag: &'static str) -> Result<Option<StopWhen>> {
+    text.as_deref()
+        .map(|text| {
+            text.parse::<StopWhen>()
+                .map_err(|reason| CliError::invalid(flag, text, reason))
+        })
+        .transpose()
 }
 
 /// A scenario's refusal, naming the flags.

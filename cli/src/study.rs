@@ -29,6 +29,16 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             base.every.is_some(),
             "converge measures every step",
         ),
+        (
+            "--stop-when",
+            base.stop_when.is_some(),
+            "converge runs every setting to the same end",
+        ),
+        (
+            "--settle-when",
+            base.settle_when.is_some(),
+            "converge measures errors, not settling times",
+        ),
     ] {
         if given {
             return Err(CliError::SimulateOnly { flag, why });

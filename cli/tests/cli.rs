@@ -1776,6 +1776,98 @@ fn bad_conditions_name_the_flag() {
     );
 }
 
+// `lgsvi simulate --settle-when`: the time from which a condition holds to the run's end,
+// against closed forms: the last crossing into it, the start where it holds throughout,
+// none where it fails at the end.
+
+/// `description.settled` of the axisymmetric run (or the given arguments) with
+/// `--settle-when condition`.
+fn settled(args: &[&str], condition: &str) -> serde_json::Value {
+    let mut full = args.to_vec();
+    full.extend(["--settle-when", condition]);
+    let (code, out, err) = lgsvi(&full);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    assert_eq!(json["description"]["settled"]["condition"], condition);
+    json["description"]["settled"].clone()
+}
+
+#[test]
+fn a_settling_time_is_the_last_crossing_into_the_condition() {
+    use std::f64::consts::PI;
+    // Ω₁ = 0.3 cos(1.5 t) falls through 0.15 at (π/3 + 2πk)/1.5: k = 0, 1, 2 before
+    // t = 10, where Ω₁ = 0.3 cos 15 = −0.23 holds the condition; the settling time is the
+    // last of them, (π/3 + 4π)/1.5 (to the located crossings' 1e-12 relative).
+    let t = settled(&AXISYMMETRIC, "omega_1<0.15")["t"]
+        .as_f64()
+        .unwrap();
+    let exact = (PI / 3.0 + 4.0 * PI) / 1.5;
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+    // Ω₁ > 0.15 fails at the end: not settled.
+    assert!(settled(&AXISYMMETRIC, "omega_1>0.15")["t"].is_null());
+    // Ω₃ = 1.5 throughout: settled from the start.
+    assert_eq!(settled(&AXISYMMETRIC, "omega_3>1")["t"].as_f64(), Some(0.0));
+    // A stop ends the run first: the condition is judged at the stop (Ω₁ = 0 at π/3,
+    // below 0.15 since its crossing at π/4.5).
+    let mut stopping = AXISYMMETRIC.to_vec();
+    stopping.extend(["--stop-when", "omega_1<0"]);
+    let t = settled(&stopping, "omega_1<0.15")["t"].as_f64().unwrap();
+    let exact = PI / 4.5;
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+}
+
+#[test]
+fn a_damped_sphere_settles_when_its_rate_has_decayed() {
+    // J = 2I under −cΩ, c = 0.5: Ω(t) = Ω₀ e^(−t/4), so |Ω| < 0.05 from
+    // t = 4 ln(|Ω₀|/0.05) on (|Ω₀| = √1.1); the run resolves it to ~1e-14 at h = 0.25,
+    // n = 12, and the crossing is located to the 1e-12 relative.
+    let args = [
+        "simulate",
+        "--inertia",
+        "2,2,2",
+        "--damping",
+        "0.5",
+        "--omega0",
+        "0.3,0.1,1",
+        "--h",
+        "0.25",
+        "--nodes",
+        "12",
+        "--t-end",
+        "20",
+        "--quiet",
+    ];
+    let t = settled(&args, "omega<0.05")["t"].as_f64().unwrap();
+    let exact = 4.0 * (1.1f64.sqrt() / 0.05).ln();
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+}
+
+#[test]
+fn bad_settling_conditions_name_the_flag() {
+    for (condition, words) in [("x_1<0", "body in space"), ("omega_1=0", "QUANTITY<VALUE")] {
+        let mut args = AXISYMMETRIC.to_vec();
+        args.extend(["--settle-when", condition]);
+        let (code, _, err) = lgsvi(&args);
+        assert_ne!(code, 0, "{condition}");
+        assert!(
+            err.contains("--settle-when") && err.contains(words),
+            "{condition}: {err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    for command in [
+        vec!["simulate", "--exact"],
+        vec!["linearize"],
+        vec!["converge"],
+    ] {
+        let mut args = command.clone();
+        args.extend(["--settle-when", "omega<1"]);
+        let (code, _, err) = lgsvi(&args);
+        assert_ne!(code, 0, "{command:?}");
+        assert!(err.contains("--settle-when"), "{command:?}: {err}");
+    }
+}
+
 /// `lgsvi bench --dispersion N`: both methods run the same members to the same accuracy
 /// (their final attitudes agree to a few times 1e-10), and the file says so.
 #[test]

@@ -239,10 +239,6 @@ fn bad_input_is_refused_naming_the_flag_or_key() {
                 "below 0.260870",
             ],
         ),
-        (
-            vec!["--system", "se3-body"],
-            vec!["--system se3-body", "rigid-body, heavy-top"],
-        ),
         (vec!["--plot", "p"], vec!["--plot"]),
         (
             vec!["--config", config.to_str().unwrap()],
@@ -456,4 +452,344 @@ fn a_config_dispersion_the_body_cannot_take_names_the_file() {
         err.contains("mc.toml") && err.contains("[montecarlo.dispersions]") && err.contains("mass"),
         "{err}"
     );
+}
+
+/// The cells of `row` under the header's columns named `names`, joined by commas (a
+/// flag's value).
+fn cells(header: &[String], row: &[String], names: &[String]) -> String {
+    names
+        .iter()
+        .map(|name| {
+            let i = header
+                .iter()
+                .position(|h| h == name)
+                .unwrap_or_else(|| panic!("{name}"));
+            row[i].clone()
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// Column names `prefix_1..3`, or `prefix_11..33` row-major.
+fn columns(prefix: &str, matrix: bool) -> Vec<String> {
+    if matrix {
+        (1..=3)
+            .flat_map(|i| (1..=3).map(move |j| format!("{prefix}_{i}{j}")))
+            .collect()
+    } else {
+        (1..=3).map(|i| format!("{prefix}_{i}")).collect()
+    }
+}
+
+/// simulate's JSON for `row` of a run: the nominal's flags `nominal`, the row's drawn
+/// inertia, start (and `extra` flags from its columns), and the run's step.
+fn simulate_row(
+    nominal: &[&str],
+    header: &[String],
+    row: &[String],
+    extra: &[(&str, Vec<String>)],
+    h: &str,
+) -> serde_json::Value {
+    let mut args: Vec<String> = ["simulate", "--quiet", "--h", h]
+        .iter()
+        .chain(nominal)
+        .map(|a| a.to_string())
+        .collect();
+    let mut flags = vec![
+        ("--inertia-tensor", columns("J", true)),
+        ("--attitude0", columns("R0", true)),
+        ("--omega0", columns("omega0", false)),
+    ];
+    flags.extend(extra.iter().cloned());
+    for (flag, names) in flags {
+        args.push(flag.to_string());
+        args.push(cells(header, row, &names));
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, out, err) = lgsvi(&args, None);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+/// The last entry of a JSON trajectory's series `key`.
+fn last_of(json: &serde_json::Value, key: &str) -> Vec<f64> {
+    json[key]
+        .as_array()
+        .and_then(|a| a.last())
+        .and_then(|v| v.as_array())
+        .unwrap_or_else(|| panic!("{key}"))
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+/// The cells of `row` under `names`, as numbers.
+fn numbers(header: &[String], row: &[String], names: &[String]) -> Vec<f64> {
+    cells(header, row, names)
+        .split(',')
+        .map(|c| c.parse().unwrap())
+        .collect()
+}
+
+/// Runs `lgsvi montecarlo` in a fresh folder named `name`: `[members, seed]`, the start
+/// rates dispersed by 0.01 rad/s and the config's `[montecarlo.dispersions]` lines `spec`,
+/// the nominal's flags `nominal`; its output folder, members.csv and summary.
+fn run_spec(
+    name: &str,
+    spec: &str,
+    [members, seed]: [&str; 2],
+    nominal: &[&str],
+) -> (
+    std::path::PathBuf,
+    Vec<String>,
+    Vec<Vec<String>>,
+    serde_json::Value,
+) {
+    let dir = temp_dir(name);
+    let out = dir.join("run");
+    let config = dir.join("spec.toml");
+    std::fs::write(&config, format!("[montecarlo.dispersions]\n{spec}\n")).unwrap();
+    let mut args = vec![
+        "montecarlo",
+        "--members",
+        members,
+        "--seed",
+        seed,
+        "--disperse-omega",
+        "0.01",
+        "--config",
+        config.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(nominal);
+    let (code, _, err) = lgsvi(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let (header, rows) = table(&out.join("members.csv"));
+    let summary =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    (out, header, rows, summary)
+}
+
+/// A gyrostat's members: the drawn wheels (inertias, misaligned axes) in their columns,
+/// the final wheel rates beside the body's, a row that simulate given its draws
+/// reproduces bit for bit, wheel-rate envelopes, and a wheel speed limit as a stop
+/// condition.
+#[test]
+fn gyrostat_members_draw_their_wheels_and_simulate_reproduces_a_row() {
+    // Wheel 1's motor spins it up from 1 rad/s: the members cross 1.5 rad/s at
+    // different times (their wheel inertias differ).
+    let nominal = [
+        "--system",
+        "gyrostat",
+        "--wheel-speeds0",
+        "1,2,3",
+        "--wheel-torque",
+        "0.002,0,0",
+        "--t-end",
+        "20",
+        "--stop-when",
+        "wheel_1>1.5",
+    ];
+    let (out, header, rows, summary) = run_spec(
+        "gyrostat",
+        "wheel_inertia = { distribution = \"uniform\", half_width = 0.05 }\n\
+         wheel_axis = { distribution = \"normal\", sigma = 0.01 }",
+        ["12", "5"],
+        &nominal,
+    );
+    for name in ["I_w1", "a_w3_3", "wheel_3", "t_stop"] {
+        assert!(header.iter().any(|h| h == name), "{name}: {header:?}");
+    }
+    let h = summary["settings"]["h"].as_f64().unwrap().to_string();
+    let wheels = |what: &str| -> Vec<String> { (1..=3).map(|k| format!("{what}{k}")).collect() };
+    let axes: Vec<String> = (1..=3)
+        .flat_map(|k| (1..=3).map(move |i| format!("a_w{k}_{i}")))
+        .collect();
+    let row = &rows[4];
+    // The drawn inertias within 5% of the nominal 0.05 and the axes unit vectors near
+    // the body axes, all different from the nominal.
+    let inertias = numbers(&header, row, &wheels("I_w"));
+    assert!(inertias
+        .iter()
+        .all(|i| (i / 0.05 - 1.0).abs() <= 0.05 && *i != 0.05));
+    let a = numbers(&header, row, &axes);
+    for k in 0..3 {
+        let norm = (a[3 * k].powi(2) + a[3 * k + 1].powi(2) + a[3 * k + 2].powi(2)).sqrt();
+        assert!((norm - 1.0).abs() < 1e-15 && (a[3 * k + k] - 1.0).abs() < 1e-2);
+    }
+    let json = simulate_row(
+        &nominal,
+        &header,
+        row,
+        &[("--wheel-inertia", wheels("I_w")), ("--wheel-axes", axes)],
+        &h,
+    );
+    assert_eq!(
+        last_of(&json, "omega"),
+        numbers(&header, row, &columns("omega", false))
+    );
+    assert_eq!(
+        last_of(&json, "wheel_speeds"),
+        numbers(&header, row, &wheels("wheel_"))
+    );
+    assert_eq!(
+        json["description"]["stopped"]["t"].as_f64(),
+        Some(numbers(&header, row, &["t_stop".to_string()])[0])
+    );
+    // Every member's wheel 1 crossed 1.5 rad/s; the stop times differ with the inertias.
+    assert_eq!(summary["stop"]["members_stopped"], 12);
+    assert!(summary["stop"]["time_min"] != summary["stop"]["time_max"]);
+    assert_eq!(
+        summary["final_wheel_speeds"]["mean"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    let channels = &summary["envelopes"]["channels"];
+    assert!(channels.get("wheel_3").is_some(), "{channels}");
+    for k in 1..=3 {
+        assert!(out.join(format!("envelope_wheel_{k}.png")).exists());
+    }
+}
+
+/// A body in space: the drawn mass and torque in their columns, the final position and
+/// velocity beside the rotation, a row that simulate reproduces bit for bit.
+#[test]
+fn bodies_in_space_draw_mass_and_torque_and_simulate_reproduces_a_row() {
+    let nominal = ["--system", "orbiting-body", "--t-end", "5"];
+    let (_, header, rows, summary) = run_spec(
+        "space",
+        "mass = { distribution = \"uniform\", half_width = 0.1 }\n\
+         torque = { distribution = \"normal\", sigma = 0.01 }",
+        ["8", "2"],
+        &nominal,
+    );
+    let h = summary["settings"]["h"].as_f64().unwrap().to_string();
+    let row = &rows[3];
+    let mass = numbers(&header, row, &["m".to_string()])[0];
+    assert!((mass - 1.0).abs() <= 0.1 && mass != 1.0, "{mass}");
+    let json = simulate_row(
+        &nominal,
+        &header,
+        row,
+        &[
+            ("--mass", vec!["m".into()]),
+            ("--torque", columns("tau", false)),
+        ],
+        &h,
+    );
+    assert_eq!(
+        last_of(&json, "position"),
+        numbers(&header, row, &columns("x", false))
+    );
+    assert_eq!(
+        last_of(&json, "velocity"),
+        numbers(&header, row, &columns("v", false))
+    );
+    assert_eq!(
+        last_of(&json, "R"),
+        numbers(&header, row, &columns("R", true))
+    );
+    assert_eq!(
+        summary["final_x"]["covariance"].as_array().unwrap().len(),
+        3
+    );
+}
+
+/// `--settle-when`: each member's settling time (the last crossing into the condition)
+/// in its row, the one simulate reports for the row's draws; summarised.
+#[test]
+fn settling_times_per_member_match_simulate_and_are_summarised() {
+    let dir = temp_dir("settle");
+    let out = dir.join("run");
+    // A damped body: |Ω| decays about as e^(−0.23 t) through 0.05, near t = 14 to 15
+    // for these members, and stays below by t = 25.
+    let nominal = [
+        "--damping",
+        "0.5",
+        "--nodes",
+        "12",
+        "--t-end",
+        "25",
+        "--settle-when",
+        "omega<0.05",
+    ];
+    let mut args = vec![
+        "montecarlo",
+        "--members",
+        "16",
+        "--seed",
+        "8",
+        "--disperse-omega",
+        "0.05",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--inertia",
+        "2,2.2,2.5",
+        "--omega0",
+        "0.3,0.1,1",
+        "--h",
+        "0.25",
+    ];
+    args.extend(nominal);
+    let (code, _, err) = lgsvi(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let (header, rows) = table(&out.join("members.csv"));
+    assert_eq!(header.last().map(String::as_str), Some("t_settle"));
+    let times: Vec<Option<f64>> = rows
+        .iter()
+        .map(|r| r.last().unwrap().parse().ok())
+        .collect();
+    let settled: Vec<f64> = times.iter().flatten().copied().collect();
+    assert_eq!(settled.len(), 16, "{times:?}");
+    let k = times.iter().position(Option::is_some).unwrap();
+    let json = simulate_row(&nominal, &header, &rows[k], &[], "0.25");
+    assert_eq!(json["description"]["settled"]["t"].as_f64(), times[k]);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let settle = &summary["settle"];
+    assert_eq!(settle["condition"], "omega<0.05");
+    assert_eq!(settle["members_settled"], settled.len());
+    assert_eq!(settle["members_not_settled"], 16 - settled.len());
+    let least = settled.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_eq!(settle["time_min"].as_f64(), Some(least));
+    assert!(out.join("settle_times.png").exists());
+}
+
+/// A dispersion the nominal body cannot take: a torque on a gyrostat (its wheels take
+/// the motor torques), a mass on a body without one.
+#[test]
+fn dispersions_the_system_lacks_are_refused_naming_the_key() {
+    let dir = temp_dir("lacks");
+    for (system, key) in [("gyrostat", "torque"), ("rigid-body", "mass")] {
+        let config = dir.join(format!("{key}.toml"));
+        std::fs::write(
+            &config,
+            format!(
+                "[montecarlo.dispersions]\n{key} = {{ distribution = \"uniform\", half_width = 0.1 }}\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.join(system);
+        let (code, _, err) = lgsvi(
+            &[
+                "montecarlo",
+                "--system",
+                system,
+                "--config",
+                config.to_str().unwrap(),
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_ne!(code, 0, "{system}");
+        assert!(err.contains(key) && err.contains("no "), "{system}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
 }

@@ -28,7 +28,7 @@
 //! ```
 
 use crate::error::ExperimentError;
-use crate::stop::StopWhen;
+use crate::stop::Watch;
 use lgsvi_mechanics::control::GroupLog;
 use lgsvi_mechanics::events::Events;
 use lgsvi_mechanics::exact::FreeRigidBodyExact;
@@ -79,6 +79,9 @@ pub struct Recording {
     /// Where a stop condition ended the run ([`record_until`]), `None` for a run to its
     /// horizon.
     pub stopped: Option<Stopped>,
+    /// Where a settling condition ([`Watch::settle`]) holds from to the run's end, `None`
+    /// for a run without one.
+    pub settled: Option<Settled>,
 }
 
 /// Where a stop condition ([`crate::stop::StopWhen`]) ended a run: the crossing's time and
@@ -96,6 +99,18 @@ pub struct Stopped {
     pub motion: Option<MotionRecord>,
     /// Its wheels, for a gyrostat.
     pub wheels: Option<WheelRecord>,
+}
+
+/// A run's settling time under a settling condition ([`Watch::settle`]): the time from
+/// which the condition holds to the run's last state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settled {
+    /// The condition, as given (`omega<0.001`).
+    pub condition: String,
+    /// The last crossing into the condition (on the step's curve, refined by the
+    /// method's own steps), or the run's start where it holds throughout; `None` where it
+    /// does not hold at the run's last state.
+    pub time: Option<f64>,
 }
 
 impl Recording {
@@ -279,13 +294,14 @@ where
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Columns<D>,
 {
-    record_until(runner, t_end, every, None, progress)
+    record_until(runner, t_end, every, &Watch::NOTHING, progress)
 }
 
-/// As [`record`], ending the run after the step in which `stop` is met (the crossing
-/// located on the step's curve and refined by the method's steps,
+/// As [`record`], ending the run after the step in which `watch`'s stop condition is met
+/// (the crossing located on the step's curve and refined by the method's steps,
 /// [`lgsvi_mechanics::events`]): its time and state in [`Recording::stopped`], the step's
-/// end recorded as the last state.
+/// end recorded as the last state; with `watch`'s settling condition, its settling time
+/// in [`Recording::settled`].
 ///
 /// # Errors
 /// As [`record`]; [`ExperimentError::Stop`] for a condition on a quantity the system
@@ -294,7 +310,7 @@ pub fn record_until<S, C, const D: usize>(
     runner: &mut impl Stepper<S, C, D>,
     t_end: f64,
     every: usize,
-    stop: Option<&StopWhen>,
+    watch: &Watch,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
@@ -322,29 +338,40 @@ where
         factorizations: 0,
         estimates: None,
         stopped: None,
+        settled: None,
     };
     let (start, start_motion, start_wheels) =
         ElementOf::<S, D>::columns(runner.integrator().state());
     let r0 = start.configuration;
-    if let Some(stop) = stop {
-        if stop
+    for (condition, _) in watch.conditions() {
+        if condition
             .quantity
             .value(&start, start_motion.as_ref(), start_wheels.as_ref(), &r0)
             .is_none()
         {
             return Err(ExperimentError::Stop {
-                condition: stop.to_string(),
+                condition: condition.to_string(),
                 reason: format!(
                     "{} applies to {}",
-                    stop.quantity,
-                    stop.quantity.applies_to()
+                    condition.quantity,
+                    condition.quantity.applies_to()
                 ),
             });
         }
     }
+    // The stop condition's event first (index 0 where there is one), the settling one's
+    // after it.
+    let settle_event = usize::from(watch.stop.is_some());
     let mut events = Events::new(
-        stop.map(|stop| stop.event(r0, ElementOf::<S, D>::columns))
-            .into_iter()
+        watch
+            .conditions()
+            .map(|(condition, settle)| {
+                if settle {
+                    condition.crossings(r0, ElementOf::<S, D>::columns)
+                } else {
+                    condition.event(r0, ElementOf::<S, D>::columns)
+                }
+            })
             .collect(),
     );
     let mut visit = |k: usize,
@@ -421,19 +448,43 @@ where
             )?;
         }
     }
-    run.stopped = events.into_hits().into_iter().next().map(|hit| {
+    let hits = events.into_hits();
+    let start_time = start.time;
+    run.stopped = watch.stop.and_then(|stop| {
+        let hit = hits.iter().find(|hit| hit.event == 0)?;
         let (state, motion, wheels) = ElementOf::<S, D>::columns(&State {
             time: hit.time,
             configuration: hit.configuration,
             momentum: body_momentum(&system, hit.time, &hit.configuration, &hit.velocity),
             velocity: hit.velocity,
         });
-        Stopped {
-            condition: stop.map(ToString::to_string).unwrap_or_default(),
+        Some(Stopped {
+            condition: stop.to_string(),
             time: hit.time,
             state,
             motion,
             wheels,
+        })
+    });
+    run.settled = watch.settle.map(|settle| {
+        // The run's end: where a stop condition ended it (crossings past it are not
+        // looked for), else its last state.
+        let (last, motion, wheels) = match &run.stopped {
+            Some(stopped) => (stopped.state, stopped.motion, stopped.wheels.clone()),
+            None => ElementOf::<S, D>::columns(runner.integrator().state()),
+        };
+        let holds = settle
+            .quantity
+            .value(&last, motion.as_ref(), wheels.as_ref(), &r0)
+            .is_some_and(|value| settle.holds(value));
+        let entered = hits
+            .iter()
+            .rev()
+            .find(|hit| hit.event == settle_event)
+            .map_or(start_time, |hit| hit.time);
+        Settled {
+            condition: settle.to_string(),
+            time: holds.then_some(entered),
         }
     });
     let integrator = runner.integrator();
@@ -470,7 +521,7 @@ pub fn record_to_tolerance<S, C, E, const D: usize>(
     tolerance: f64,
     t_end: f64,
     every: usize,
-    stop: Option<&StopWhen>,
+    watch: &Watch,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, E>
 where
@@ -482,7 +533,7 @@ where
     let mut runner = CheckedIntegrator::new(make(settings)?)?.with_tolerance(tolerance)?;
     let mut wall_time = 0.0;
     loop {
-        let mut run = record_until(&mut runner, t_end, every, stop, progress).map_err(E::from)?;
+        let mut run = record_until(&mut runner, t_end, every, watch, progress).map_err(E::from)?;
         wall_time += run.wall_time_s;
         run.wall_time_s = wall_time;
         if runner.judge()? {
@@ -505,7 +556,7 @@ pub fn record_checked<S, C, const D: usize>(
     check: Check,
     t_end: f64,
     every: usize,
-    stop: Option<&StopWhen>,
+    watch: &Watch,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
@@ -514,14 +565,14 @@ where
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
 {
     match check {
-        Check::None => record_until(&mut make(settings)?, t_end, every, stop, progress),
+        Check::None => record_until(&mut make(settings)?, t_end, every, watch, progress),
         Check::Measure => {
             let mut runner = CheckedIntegrator::new(make(settings)?)?;
-            record_until(&mut runner, t_end, every, stop, progress)
+            record_until(&mut runner, t_end, every, watch, progress)
         }
         Check::Tolerance(tol) => {
             let make = |s| make(s).map_err(ExperimentError::from);
-            record_to_tolerance(make, settings, tol, t_end, every, stop, progress)
+            record_to_tolerance(make, settings, tol, t_end, every, watch, progress)
         }
     }
 }
@@ -565,6 +616,7 @@ pub fn record_exact<S: System<3, Group = Rotations>>(
         factorizations: 0,
         estimates: None,
         stopped: None,
+        settled: None,
     })
 }
 

@@ -5,6 +5,7 @@
 //! ```
 //! use lgsvi_experiments::record::Check;
 //! use lgsvi_experiments::scenario::{Model, Orbit, Scenario};
+//! use lgsvi_experiments::stop::Watch;
 //! use lgsvi_mechanics::lie::SO3;
 //! use lgsvi_mechanics::{Inertia, StepSettings};
 //! use nalgebra::Vector3;
@@ -14,14 +15,14 @@
 //! let orbit = Model::Orbiting(Orbit::default()); // μ = m = 1 from (3, 0, 0)
 //! let scenario = Scenario::new(orbit, inertia, SO3::identity(), Vector3::new(0.2, -0.3, 0.5))?;
 //! let settings = StepSettings::new(1.0, 8)?;
-//! let run = scenario.record(settings, Check::None, 10.0, 1, None, &mut |_| {})?;
+//! let run = scenario.record(settings, Check::None, 10.0, 1, &Watch::NOTHING, &mut |_| {})?;
 //! assert_eq!(run.steps, 10);
 //! # Ok(())
 //! # }
 //! ```
 
 use crate::record::{record_checked, record_exact, Check, Recording};
-use crate::stop::StopWhen;
+use crate::stop::Watch;
 use crate::tolerance::{local_errors, tolerance_runs, LocalError, ToleranceStudy};
 use crate::{ExperimentError, Subject};
 use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
@@ -445,8 +446,8 @@ impl Scenario {
     }
 
     /// Runs to `t_end` with `settings`, checked as `check` says, recording every
-    /// `every`-th state ([`record_checked`]); ended early where `stop` is met
-    /// ([`crate::record::record_until`]).
+    /// `every`-th state ([`record_checked`]); ended early where `watch`'s stop condition
+    /// is met, its settling time found ([`crate::record::record_until`]).
     ///
     /// # Errors
     /// [`record_checked`]'s.
@@ -456,11 +457,11 @@ impl Scenario {
         check: Check,
         t_end: f64,
         every: usize,
-        stop: Option<&StopWhen>,
+        watch: &Watch,
         progress: &mut dyn FnMut(usize),
     ) -> Result<Recording, ExperimentError> {
         with_system!(self, (make, K, D) => {
-            record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, stop, progress)
+            record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, watch, progress)
         })
     }
 
@@ -530,50 +531,14 @@ impl Scenario {
 /// gravity gradient are singular or overflow, or where the attracting point lies inside the
 /// body's mass (within twice its radius of gyration).
 fn checked_orbit_radius(body: &Space, orbiting: &OrbitingBody) -> Result<f64, ExperimentError> {
-    let mu = orbiting.gravitational_parameter();
-    let position = body.position;
-    // |x| without underflow (1e-300 squared is zero).
-    let scale = position.amax();
-    let r = if scale > 0.0 {
-        scale * (position / scale).norm()
-    } else {
-        0.0
-    };
-    let invalid = |reason| ExperimentError::InvalidStart {
-        value: format!("{:?}", position.as_slice()),
-        reason,
-    };
-    // At (or next to) the attracting centre the potential −μm/r and its
-    // gradient-gradient terms ~ μm/r³ are singular or overflow.
-    if mu != 0.0 && !(r > 0.0 && (mu * body.mass / r.powi(3)).is_finite()) {
-        return Err(invalid(format!(
-            "the orbiting body starts at the attracting centre (r = {r:e}), where the \
-             potential −μm/r and its gravity gradient are singular: start it away from the \
-             origin"
-        )));
-    }
-    // Within twice the radius of gyration the attracting point lies inside the body's mass,
-    // where MacCullagh's far-field potential does not hold: a step there fails (or, for a
-    // radius of gyration far beyond r, runs into overflow), so the start is refused here,
-    // naming the parameters that set the radius.
-    let k = orbiting.radius_of_gyration();
-    if mu != 0.0 && r < 2.0 * k {
-        return Err(invalid(format!(
-            "the orbiting body starts {r:e} from the attracting point mass, within twice its \
-             radius of gyration √(tr J / 2m) = {k:.4e} (from its inertia and mass): the \
-             attracting point lies inside the body's mass, where the far-field (MacCullagh) \
-             potential does not hold; raise the mass, lower the inertia or start further out"
-        )));
-    }
-    // The gravity gradient's Hessian forms x xᵀ (xᵀJx) ~ r⁴ |J|, which overflows from
-    // about r = 1e77 (measured: 1e70 runs, 1e80 fails).
-    if mu != 0.0 && r > 1e75 {
-        return Err(invalid(format!(
-            "the orbiting body starts at r = {r:e}, where its gravity gradient's terms (of \
-             order r⁴) overflow double precision (r ≤ 1e75): express lengths in larger units"
-        )));
-    }
-    Ok(r)
+    orbiting
+        .check_position(&body.position)
+        .map_err(|error| match error {
+            MechanicsError::InvalidStart { value, reason } => {
+                ExperimentError::InvalidStart { value, reason }
+            }
+            other => ExperimentError::Mechanics(other),
+        })
 }
 
 /// The SO(3) scenario as the studies of this crate run it (for an SE(3) or gyrostat
@@ -626,7 +591,7 @@ mod tests {
         let scenario = Scenario::new(Model::Orbiting(orbit), inertia(), attitude, omega).unwrap();
         let settings = StepSettings::new(1.0, 8).unwrap();
         let run = scenario
-            .record(settings, Check::None, 5.0, 1, None, &mut |_| {})
+            .record(settings, Check::None, 5.0, 1, &Watch::NOTHING, &mut |_| {})
             .unwrap();
         let body = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
         let v = attitude.matrix().transpose() * orbit.body.velocity;

@@ -1,7 +1,13 @@
-//! A run's stop condition, `QUANTITY<VALUE` or `QUANTITY>VALUE` (what `lgsvi simulate
-//! --stop-when` takes): the run ends after the step in which the quantity falls below or
-//! rises above the value, the crossing located on the step's curve and refined by the
-//! method's own steps ([`lgsvi_mechanics::events`]).
+//! A run's conditions, `QUANTITY<VALUE` or `QUANTITY>VALUE`, and what a run watches
+//! ([`Watch`]):
+//! - a **stop** condition (`lgsvi simulate --stop-when`): the run ends after the step in
+//!   which the quantity falls below or rises above the value;
+//! - a **settling** condition (`--settle-when`): the run goes on to its end, and its
+//!   settling time is the time from which the condition holds to the end (a controller's
+//!   "pointing error stays below 0.1°", a damped body's "rates stay below 1e-3 rad/s").
+//!
+//! Every crossing is located on the step's curve and refined by the method's own steps
+//! ([`lgsvi_mechanics::events`]).
 //!
 //! | quantity | meaning | systems |
 //! |---|---|---|
@@ -148,12 +154,42 @@ pub struct StopWhen {
 }
 
 impl StopWhen {
+    /// Whether `value` of the quantity meets the condition (strictly below or above the
+    /// threshold).
+    pub fn holds(&self, value: f64) -> bool {
+        if self.below {
+            value < self.threshold
+        } else {
+            value > self.threshold
+        }
+    }
+
+    /// The recorded (not terminal) event of every crossing of the threshold, either way,
+    /// on a run from the attitude `r0` (a settling condition's, [`Watch::settle`]); as
+    /// [`StopWhen::event`] otherwise.
+    pub fn crossings<'a, E: Copy + 'a, const D: usize>(
+        self,
+        r0: SO3,
+        columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
+    ) -> Event<'a, E, D> {
+        self.watched(r0, columns).direction(Direction::Either)
+    }
+
     /// The terminal event that watches this condition on a run from the attitude `r0`:
     /// `quantity − threshold` of the state on the step's curve, its SO(3) columns and the
     /// translation or wheels beside them given by `columns` (the quantities read the
     /// configuration and the velocity only, so the state handed to `columns` carries a
     /// zero momentum rather than one computed at every evaluation).
     pub fn event<'a, E: Copy + 'a, const D: usize>(
+        self,
+        r0: SO3,
+        columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
+    ) -> Event<'a, E, D> {
+        self.watched(r0, columns).terminal()
+    }
+
+    /// `quantity − threshold` as an event in the condition's direction, recorded.
+    fn watched<'a, E: Copy + 'a, const D: usize>(
         self,
         r0: SO3,
         columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
@@ -170,7 +206,6 @@ impl StopWhen {
                 .map_or(f64::NAN, |v| v - self.threshold)
         })
         .direction(self.direction())
-        .terminal()
     }
 
     /// The crossing's direction of `quantity − threshold`.
@@ -224,5 +259,37 @@ impl FromStr for StopWhen {
             below,
             threshold,
         })
+    }
+}
+
+/// What a run watches beside its integration: where it stops and where it settles.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Watch {
+    /// The run ends after the step in which this is met (`--stop-when`).
+    pub stop: Option<StopWhen>,
+    /// The run's settling time is the time from which this holds to the run's end
+    /// (`--settle-when`): the last crossing into it, or the start where it holds
+    /// throughout; none where it does not hold at the end.
+    pub settle: Option<StopWhen>,
+}
+
+impl Watch {
+    /// Nothing watched: the run goes to its end.
+    pub const NOTHING: Watch = Watch {
+        stop: None,
+        settle: None,
+    };
+
+    /// A watch of the stop condition `stop` alone.
+    pub fn stop(stop: Option<StopWhen>) -> Self {
+        Self { stop, settle: None }
+    }
+
+    /// The conditions watched, each with whether it is the settling one.
+    pub fn conditions(&self) -> impl Iterator<Item = (StopWhen, bool)> {
+        self.stop
+            .map(|c| (c, false))
+            .into_iter()
+            .chain(self.settle.map(|c| (c, true)))
     }
 }

@@ -31,6 +31,16 @@ pub enum MechanicsError {
         /// Its value, as written.
         value: String,
     },
+    /// A start the system cannot take: an orbiting body at (or next to) its attracting
+    /// centre, inside its own far field, or too far out for double precision
+    /// ([`crate::OrbitingBody::check_position`]).
+    #[error("invalid start {value}: {reason}")]
+    InvalidStart {
+        /// The start, as written.
+        value: String,
+        /// Why the system cannot take it, and what to change.
+        reason: String,
+    },
     /// A setting out of range.
     #[error("invalid setting {name} = {value}: {reason}")]
     InvalidSetting {
@@ -116,6 +126,20 @@ pub enum MechanicsError {
         /// How the step failed.
         #[source]
         failure: Box<MechanicsError>,
+    },
+    /// A step ended where the state lies outside what the system models
+    /// ([`crate::System::model_breakdown`]): an orbiting body falling within twice its
+    /// radius of gyration of the attracting point, for instance. The step is not taken
+    /// (the state stays the last one the model holds at); the run's physics, not its
+    /// step, must change.
+    #[error("step {step} (t = {time}) ends outside what the system models: {reason}")]
+    LeftModel {
+        /// The step (0-based).
+        step: usize,
+        /// Its start time.
+        time: f64,
+        /// What lies outside the model at the step's end, and what to change.
+        reason: String,
     },
     /// A step failed where the state lies outside what the system models
     /// ([`crate::System::model_breakdown`]): an orbiting body whose mass surrounds

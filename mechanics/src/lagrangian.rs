@@ -132,9 +132,10 @@ pub(crate) trait Lagrangian {
     }
 
     /// Why the state `(R, Ω)` lies outside what `ℓ` models, if it does: a sentence saying
-    /// what to change. Read only when a step has failed, as
+    /// what to change. Read at each step's end and where a step has failed, as
     /// [`crate::System::model_breakdown`] (which the SO(3) systems take from
-    /// here): the step's error is then [`crate::MechanicsError::OutsideModel`]. `None`
+    /// here): the step's error is then [`crate::MechanicsError::LeftModel`] or
+    /// [`crate::MechanicsError::OutsideModel`]. `None`
     /// (the default): `ℓ` models every state. A type that wraps other Lagrangians should
     /// forward it.
     fn model_breakdown(

@@ -247,10 +247,11 @@ pub trait System<const D: usize> {
 
     /// Why the state lies outside what the system models, if it does (an
     /// [`crate::OrbitingBody`] whose mass surrounds the attracting point, where its
-    /// far-field potential does not hold): a sentence saying what to change. Read only when a step has failed
-    /// ([`crate::Integrator::step`] then returns [`crate::MechanicsError::OutsideModel`] with the
-    /// failure as its source), so it costs nothing on the steps that succeed. The default
-    /// is `None`: the system models every state.
+    /// far-field potential does not hold): a sentence saying what to change. Read at each
+    /// step's end, where a state it refuses is not taken
+    /// ([`crate::MechanicsError::LeftModel`]), and at the start of a step that failed
+    /// ([`crate::MechanicsError::OutsideModel`], with the failure as its source); keep it
+    /// cheap. The default is `None`: the system models every state.
     fn model_breakdown(
         &self,
         time: f64,
@@ -426,8 +427,9 @@ pub trait GroupLagrangian<const D: usize> {
     }
 
     /// Why the state lies outside what the system models, if it does: a sentence saying
-    /// what to change. Read only when a step has failed (the error is then
-    /// [`crate::MechanicsError::OutsideModel`]); the default `None` models every state.
+    /// what to change. Read at each step's end (a state it refuses is not taken:
+    /// [`crate::MechanicsError::LeftModel`]) and where a step has failed
+    /// ([`crate::MechanicsError::OutsideModel`]); the default `None` models every state.
     fn model_breakdown(
         &self,
         time: f64,

@@ -446,17 +446,18 @@ fn a_failed_solve_suggests_another_chart_only_where_there_is_one() {
     }
 }
 
-/// An orbit that falls onto the attracting point: the failed step says the attracting point
-/// lies within the body's mass (where MacCullagh's potential does not hold) and that the orbit
-/// or the body must change, with the step's own failure as its source (before: "Newton did
-/// not converge …; take a smaller step h", which no step mends: the same run fails at
-/// t ≈ 43 at h = 0.5, 0.25 and 0.125). A failure far from the centre keeps its own error.
+/// An orbit that falls onto the attracting point: the first step that ends within twice the
+/// body's radius of gyration (where the attracting point lies within the body's mass and
+/// MacCullagh's potential does not hold) is refused, the state kept at the last one the model
+/// holds at, and the message says that the orbit or the body must change (before the
+/// check at each step's end, the run went on until a step failed at t ≈ 43, whatever h;
+/// a fall from rest went through the region and was flung out with its energy multiplied
+/// a thousandfold, no error raised). A failure far from the centre keeps its own error.
 #[test]
 fn an_orbit_falling_onto_the_centre_is_named_as_the_cause() {
     use lgsvi_mechanics::OrbitingBody;
-    use std::error::Error;
     // The CLI's orbiting body with the inertia of this file's rigid body: the coupling
-    // drains the orbit's angular momentum until it falls in (r = 3 → 0.8 by t = 43).
+    // drains the orbit's angular momentum until it falls in.
     let body = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
     let start = SE3::new(SO3::identity(), Vector3::new(3.0, 0.0, 0.0));
     let velocity = SVector::<f64, 6>::new(0.6, 0.1, -0.4, 0.0, 0.55, 0.05);
@@ -464,21 +465,56 @@ fn an_orbit_falling_onto_the_centre_is_named_as_the_cause() {
         Integrator::new(body, StepSettings::new(0.5, 8).unwrap(), start, velocity).unwrap();
     let error = first_failure(&mut it, 60.0);
     let r = it.state().configuration.translation().norm();
-    // √(tr J / 2m) = √1.05 ≈ 1.025: the diagnosis reads r < 2.05.
-    assert!(r < 2.05, "failed at r = {r}");
+    // √(tr J / 2m) = √1.05 ≈ 1.025: the state kept lies outside r = 2.05.
+    let two_k = 2.0 * 1.05f64.sqrt();
+    assert!(r >= two_k, "kept r = {r}");
     match &error {
-        MechanicsError::OutsideModel { time, reason, .. } => {
+        MechanicsError::LeftModel { time, reason, .. } => {
             assert_eq!(*time, it.state().time);
-            assert!(
-                reason.contains(&format!("{r:.3}")) && reason.contains("wider orbit"),
-                "{reason}"
-            );
+            assert!(reason.contains("wider orbit"), "{reason}");
         }
         other => panic!("{other:?}"),
     }
     let text = error.to_string();
     assert!(!text.contains("smaller step"), "{text}");
-    assert!(error.source().is_some(), "the step's own failure is kept");
+
+    // A fall from rest at r = 3 (2k = 2√1.75 = 2.65): the energy holds to the last step
+    // taken, which ends outside 2k; the step into the body is refused.
+    let body = OrbitingBody::new(
+        Inertia::from_principal_moments([1.0, 1.0, 1.5]).unwrap(),
+        1.0,
+        1.0,
+    )
+    .unwrap();
+    let mut it = Integrator::new(
+        body,
+        StepSettings::new(0.5, 8).unwrap(),
+        start,
+        SVector::<f64, 6>::zeros(),
+    )
+    .unwrap();
+    let energy = |it: &Integrator<OrbitingBody, lgsvi_mechanics::lie::ChartKind, 6>| {
+        let s = it.state();
+        s.momentum.dot(&s.velocity)
+            - lgsvi_mechanics::System::lagrangian(
+                it.system(),
+                s.time,
+                &s.configuration,
+                &s.velocity,
+            )
+    };
+
+    let e0 = energy(&it);
+    let error = first_failure(&mut it, 20.0);
+    assert!(matches!(error, MechanicsError::LeftModel { .. }), "{error}");
+    let r = it.state().configuration.translation().norm();
+    assert!(r >= 2.0 * 1.75f64.sqrt() && r < 3.0, "kept r = {r}");
+    // The variational step's energy error at h = 0.5, n = 8 on this fall: well below 1e-6.
+    assert!(
+        (energy(&it) - e0).abs() < 1e-6 * e0.abs(),
+        "{} against {e0}",
+        energy(&it)
+    );
 
     // Far from the centre (r = 3 against 2k ≈ 2.05), a step the chart cannot follow
     // keeps its own error.
@@ -683,4 +719,45 @@ fn a_linearisation_where_the_lagrangian_is_flat_names_the_lagrangian() {
         );
         assert!(!text.contains("smaller step"), "{text}");
     }
+}
+
+/// `OrbitingBody::check_position`: the start's distance from the attracting point where
+/// the far-field potential holds; a typed refusal at the centre, inside twice the radius
+/// of gyration, or where the gravity gradient overflows.
+#[test]
+fn an_orbit_start_outside_the_far_field_model_is_refused() {
+    use lgsvi_mechanics::OrbitingBody;
+    // tr J / 2m = (3.3 + 2.5 + 3.4) / 2 = 4.6: the radius of gyration √4.6 = 2.1448.
+    let body = OrbitingBody::new(
+        Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap(),
+        1.0,
+        1.0,
+    )
+    .unwrap();
+    assert!((body.radius_of_gyration() - 4.6f64.sqrt()).abs() < 1e-15);
+    let r = body.check_position(&Vector3::new(3.0, 4.0, 12.0)).unwrap();
+    assert_eq!(r, 13.0);
+    for (x, words) in [
+        (Vector3::zeros(), "attracting centre"),
+        (Vector3::new(3.0, 0.0, 0.0), "radius of gyration"),
+        (Vector3::new(4.28, 0.0, 0.0), "radius of gyration"),
+        (Vector3::new(1e76, 0.0, 0.0), "overflow"),
+    ] {
+        match body.check_position(&x) {
+            Err(MechanicsError::InvalidStart { reason, .. }) => {
+                assert!(reason.contains(words), "{x:?}: {reason}")
+            }
+            other => panic!("{x:?}: {other:?}"),
+        }
+    }
+    // Twice the radius of gyration is 4.2895: just outside it is taken.
+    assert!(body.check_position(&Vector3::new(4.3, 0.0, 0.0)).is_ok());
+    // Without gravity any start is taken.
+    let free = OrbitingBody::new(
+        Inertia::from_principal_moments([3.3, 2.5, 3.4]).unwrap(),
+        1.0,
+        0.0,
+    )
+    .unwrap();
+    assert_eq!(free.check_position(&Vector3::zeros()).unwrap(), 0.0);
 }

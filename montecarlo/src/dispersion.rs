@@ -168,7 +168,8 @@ pub struct Body {
     pub attitude: SO3,
     /// `Ω₀`, body frame.
     pub omega: Vector3<f64>,
-    /// The mass, for a body in space (`None` for a body on SO(3)).
+    /// The mass, for a body in space or a heavy top (`None` for a body whose motion does
+    /// not depend on it).
     pub mass: Option<f64>,
     /// A constant body torque.
     pub torque: Vector3<f64>,

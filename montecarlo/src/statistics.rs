@@ -15,6 +15,7 @@
 //! [`Envelope`] holds one [`Quantiles`] per output channel and sample time: the percentile
 //! envelopes of a Monte Carlo run without holding its members.
 
+use lgsvi_experiments::record::Recording;
 use lgsvi_mechanics::lie::SO3;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -240,9 +241,67 @@ pub struct Samples {
     pub omegas: Vec<Vector3<f64>>,
     /// The energy at each.
     pub energies: Vec<f64>,
+    /// The wheels' rates relative to the body at each, for a gyrostat (empty without
+    /// wheels).
+    pub wheel_speeds: Vec<Vec<f64>>,
+}
+
+/// How a member's run ended beside its samples ([`Samples::of_recording`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RunEnd {
+    /// Where its stop condition was met.
+    pub stop: Option<f64>,
+    /// From when its settling condition held to its end.
+    pub settle: Option<f64>,
+    /// The last position and velocity (world frame) of a body in space.
+    pub motion: Option<(Vector3<f64>, Vector3<f64>)>,
 }
 
 impl Samples {
+    /// A recorded run's states as samples (`R`, `Ω`, the energy and a gyrostat's wheel
+    /// rates at each recorded time), and how the run ended: the stop and settling times
+    /// and a body in space's last translation.
+    pub fn of_recording(recording: Recording) -> (Samples, RunEnd) {
+        let end = RunEnd {
+            stop: recording.stopped.as_ref().map(|s| s.time),
+            settle: recording.settled.as_ref().and_then(|s| s.time),
+            motion: recording
+                .motion
+                .as_ref()
+                .and_then(|m| m.last())
+                .map(|m| (m.position, m.velocity)),
+        };
+        let samples = Samples {
+            times: recording.states.iter().map(|s| s.time).collect(),
+            attitudes: recording
+                .states
+                .iter()
+                .map(|s| *s.attitude().matrix())
+                .collect(),
+            omegas: recording.states.iter().map(|s| s.velocity).collect(),
+            energies: recording.energies,
+            wheel_speeds: recording
+                .wheels
+                .map(|w| w.into_iter().map(|w| w.speeds).collect())
+                .unwrap_or_default(),
+        };
+        (samples, end)
+    }
+
+    /// Drops every sample but the last (what a run keeps of a member once its samples are
+    /// in the envelope).
+    pub fn keep_last(&mut self) {
+        fn last<T>(values: &mut Vec<T>) {
+            let before = values.len().saturating_sub(1);
+            values.drain(..before);
+        }
+        last(&mut self.times);
+        last(&mut self.attitudes);
+        last(&mut self.omegas);
+        last(&mut self.energies);
+        last(&mut self.wheel_speeds);
+    }
+
     /// The last sample's time, attitude and rates.
     pub fn last(&self) -> Option<(f64, Matrix3<f64>, Vector3<f64>)> {
         Some((
@@ -265,15 +324,35 @@ pub const ATTITUDE_CHANNELS: [&str; 5] = [
     "energy_change",
 ];
 
+/// The names of a gyrostat's wheel channels after [`ATTITUDE_CHANNELS`]
+/// ([`Envelope::of_attitude_and_wheels`]): `wheel_1` … `wheel_K`, each wheel's rate
+/// relative to the body.
+pub const WHEEL_CHANNELS: [&str; 4] = ["wheel_1", "wheel_2", "wheel_3", "wheel_4"];
+
 impl Envelope {
     /// An empty envelope of [`ATTITUDE_CHANNELS`] at `samples` sample times.
     pub fn of_attitude(samples: usize) -> Self {
         Self::new(&ATTITUDE_CHANNELS, samples)
     }
 
-    /// Adds a member's samples to an envelope of [`ATTITUDE_CHANNELS`], its attitude
-    /// measured from the nominal run's at the same sample; samples past the shorter run's
-    /// or the envelope's are left out.
+    /// An empty envelope of [`ATTITUDE_CHANNELS`] and the rates of `wheels` wheels
+    /// ([`WHEEL_CHANNELS`], at most four) at `samples` sample times.
+    ///
+    /// # Panics
+    /// If `wheels > 4` (a gyrostat has one to four wheels).
+    pub fn of_attitude_and_wheels(samples: usize, wheels: usize) -> Self {
+        let channels: Vec<&str> = ATTITUDE_CHANNELS
+            .iter()
+            .chain(&WHEEL_CHANNELS[..wheels])
+            .copied()
+            .collect();
+        Self::new(&channels, samples)
+    }
+
+    /// Adds a member's samples to an envelope of [`ATTITUDE_CHANNELS`] (and its wheels'
+    /// channels, [`Envelope::of_attitude_and_wheels`]), its attitude measured from the
+    /// nominal run's at the same sample; samples past the shorter run's or the envelope's
+    /// are left out.
     pub fn add_attitude_samples(&mut self, nominal: &Samples, member: &Samples) {
         let e0 = member.energies.first().copied().unwrap_or(f64::NAN);
         let samples = self
@@ -291,6 +370,12 @@ impl Envelope {
                 self.add(1 + axis, k, member.omegas[k][axis]);
             }
             self.add(4, k, (member.energies[k] - e0) / e0.abs());
+            let wheels = self.channels.len() - ATTITUDE_CHANNELS.len();
+            if let Some(speeds) = member.wheel_speeds.get(k) {
+                for (wheel, &speed) in speeds.iter().enumerate().take(wheels) {
+                    self.add(ATTITUDE_CHANNELS.len() + wheel, k, speed);
+                }
+            }
         }
     }
 }

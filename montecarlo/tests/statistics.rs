@@ -136,3 +136,45 @@ fn an_envelope_serializes_to_the_same_counts_and_refuses_a_broken_shape() {
     let error = serde_json::from_str::<Envelope>(broken).unwrap_err();
     assert!(error.to_string().contains("not their product"), "{error}");
 }
+
+/// A gyrostat's envelope: the attitude channels and one per wheel, each wheel's rate
+/// counted at every sample; a member's samples cut to the last.
+#[test]
+fn a_gyrostat_envelope_counts_each_wheel_and_samples_keep_their_last() {
+    use lgsvi_montecarlo::statistics::{Samples, ATTITUDE_CHANNELS};
+    use nalgebra::{Matrix3, Vector3};
+    let envelope = Envelope::of_attitude_and_wheels(3, 2);
+    assert_eq!(envelope.channels().len(), ATTITUDE_CHANNELS.len() + 2);
+    assert_eq!(envelope.channels()[6], "wheel_2");
+    let run = |speed: f64| Samples {
+        times: vec![0.0, 1.0, 2.0],
+        attitudes: vec![Matrix3::identity(); 3],
+        omegas: vec![Vector3::zeros(); 3],
+        energies: vec![1.0; 3],
+        wheel_speeds: (0..3).map(|k| vec![speed * k as f64, -speed]).collect(),
+    };
+    let mut envelope = envelope;
+    let nominal = run(0.0);
+    for speed in [1.0, 2.0, 3.0, 4.0, 5.0] {
+        envelope.add_attitude_samples(&nominal, &run(speed));
+    }
+    // At the last sample wheel 1 spins at 2 × speed: the median of 2, 4, … 10 is 6 (the
+    // sketch's relative error aside); wheel 2's at −3.
+    let median = |channel: usize| envelope.at(channel, 2).quantile(0.5).unwrap();
+    assert!(
+        (median(5) - 6.0).abs() <= 6.0 * RELATIVE_ERROR,
+        "{}",
+        median(5)
+    );
+    assert!(
+        (median(6) + 3.0).abs() <= 3.0 * RELATIVE_ERROR,
+        "{}",
+        median(6)
+    );
+    assert_eq!(envelope.at(5, 0).count(), 5);
+    let mut kept = run(1.0);
+    kept.keep_last();
+    assert_eq!(kept.times, vec![2.0]);
+    assert_eq!(kept.wheel_speeds, vec![vec![2.0, -1.0]]);
+    assert_eq!(kept.energies.len(), 1);
+}

@@ -3,7 +3,7 @@
 
 use crate::convert::{array1, array2, array3, rotations, rows3, vectors3};
 use crate::errors::{guarded, invalid, mechanics};
-use crate::run::{chart_named, each_run, in_pool, matching_named, Options, Run};
+use crate::run::{chart_named, each_run, in_pool, matching_named, start_refusal, Options, Run};
 use crate::state::{Element, Sample, Start};
 use crate::systems::system_of;
 use lgsvi_lie::ChartKind;
@@ -181,6 +181,11 @@ fn _run_ensemble<'py>(
         wheel_speeds: vec![0.0; k],
         wheel_angles: vec![0.0; k],
     });
+    for (i, start) in starts.iter().enumerate() {
+        if let Some(error) = start_refusal(&built, start) {
+            return Err(invalid(format!("member {i}: {error}")));
+        }
+    }
     let probe = Run::new(built, &options, &first)?;
     let results = py.detach(|| {
         guarded(|| {

@@ -112,6 +112,7 @@ pub fn mechanics(error: MechanicsError) -> PyErr {
         E::InvalidInertia { .. }
         | E::NonFinite { .. }
         | E::InvalidSetting { .. }
+        | E::InvalidStart { .. }
         | E::NotOnGroup { .. } => invalid(message),
         E::NewtonDiverged { .. }
         | E::SingularJacobian { .. }
@@ -122,9 +123,10 @@ pub fn mechanics(error: MechanicsError) -> PyErr {
         E::ToleranceNotMet { .. } | E::ToleranceNotChecked { .. } | E::CheckFailed { .. } => {
             ToleranceError::new_err(message)
         }
-        E::DegenerateLagrangian { .. } | E::OutsideModel { .. } | E::IllConditioned { .. } => {
-            ModelError::new_err(message)
-        }
+        E::DegenerateLagrangian { .. }
+        | E::OutsideModel { .. }
+        | E::LeftModel { .. }
+        | E::IllConditioned { .. } => ModelError::new_err(message),
         E::Lie(_) => invalid(message),
         E::Quadrature(inner) => quadrature(inner),
         E::Spectral(inner) => spectral(inner),

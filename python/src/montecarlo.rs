@@ -4,119 +4,159 @@
 //! pickles and merges exactly, so that chunks run on a cluster's workers combine into the
 //! run a single machine gives.
 
-use crate::convert::{array1, array2, array3, rotation, rows3, vector3};
-use crate::errors::{guarded, invalid, mechanics};
-use crate::run::{chart_named, in_pool, matching_named, Options};
-use crate::systems::{system_of, So3System, Spec};
-use lgsvi_experiments::stop::StopWhen;
-use lgsvi_mechanics::built_in::BuiltInSo3;
-use lgsvi_mechanics::events::Events;
-use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
-use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::stepper::each;
-use lgsvi_mechanics::State;
-use lgsvi_mechanics::{
-    Forced, HeavyTop, Integrator, MechanicsError, RigidBody, StepSettings, Stepper, System,
-};
-use lgsvi_montecarlo::statistics::{Envelope, Samples};
+use crate::convert::{array1, array2, array3, rotation, rows3, vector, vector3};
+use crate::errors::{guarded, invalid, mechanics, ConvergenceError};
+use crate::run::{chart_named, each_run, in_pool, matching_named, Options, Run};
+use crate::state::Start;
+use crate::systems::{system_of, InertiaInput, Spec};
+use lgsvi_experiments::record::record_until;
+use lgsvi_experiments::stop::{StopWhen, Watch};
+use lgsvi_experiments::ExperimentError;
+use lgsvi_mechanics::{Inertia, State};
+use lgsvi_montecarlo::statistics::{Envelope, RunEnd, Samples};
 use lgsvi_montecarlo::{Body, Dispersions, Member, Plan};
 use nalgebra::Vector3;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 use rayon::prelude::*;
-use std::ops::ControlFlow;
 
 /// Members run between two additions to the envelope: their sampled states are held only
 /// that long, so a chunk's memory does not grow with its members.
 const BATCH: u64 = 256;
 
-/// The nominal system of a run: which SO(3) body, and its parameters other than the
-/// dispersed ones (inertia, torque).
-#[derive(Debug, Clone, Copy)]
-enum Kind {
-    Free,
-    Top {
-        mass: f64,
-        gravity: f64,
-        com: Vector3<f64>,
-        direction: Vector3<f64>,
-    },
-}
-
-/// The system a member's body makes: the nominal's kind and damping, the body's inertia
-/// and torque.
-fn member_system(kind: Kind, damping: f64, body: &Body) -> Result<So3System, MechanicsError> {
-    let built = match kind {
-        Kind::Free => BuiltInSo3::Free(RigidBody::new(body.inertia)),
-        Kind::Top {
+/// The nominal body of `spec` from `start`: the inertia, the body torque, the mass (of a
+/// body in space, or of a heavy top that has one) and the wheels, which a plan disperses.
+fn nominal_of(spec: &Spec, start: &Start) -> PyResult<Body> {
+    let inertia = |input: &InertiaInput| input.inertia();
+    let (inertia, torque, mass) = match spec {
+        Spec::RigidBody { inertia: i, drive } => (inertia(i)?, drive.torque, None),
+        Spec::HeavyTop {
+            inertia: i,
             mass,
-            gravity,
-            com,
-            direction,
-        } => BuiltInSo3::Top(HeavyTop::new(body.inertia, mass, gravity, com, direction)?),
+            drive,
+            ..
+        } => (inertia(i)?, drive.torque, Some(*mass).filter(|&m| m > 0.0)),
+        Spec::FreeBody {
+            inertia: i,
+            mass,
+            drive,
+        }
+        | Spec::OrbitingBody {
+            inertia: i,
+            mass,
+            drive,
+            ..
+        } => (inertia(i)?, drive.torque, Some(*mass)),
+        Spec::Gyrostat { inertia: j, .. } => (
+            Inertia::from_tensor(*j).map_err(mechanics)?,
+            Vector3::zeros(),
+            None,
+        ),
     };
-    Ok(Forced::new(
-        built,
-        (BodyTorque(body.torque), AngularDamping(damping)),
-    ))
+    let mut body = Body::new(inertia, start.attitude, start.omega);
+    body.torque = torque;
+    body.mass = mass;
+    if let Spec::Gyrostat {
+        axes,
+        wheel_inertias,
+        ..
+    } = spec
+    {
+        body.wheel_inertias = wheel_inertias.clone();
+        body.wheel_axes = axes.clone();
+    }
+    Ok(body)
 }
 
-/// Adds the integrator's present state to the samples.
-fn push(sampled: &mut Samples, it: &Integrator<So3System>) {
-    let s = it.state();
-    let energy = s.momentum.dot(&s.velocity)
-        - it.system()
-            .lagrangian(s.time, &s.configuration, &s.velocity);
-    sampled.times.push(s.time);
-    sampled.attitudes.push(*s.configuration.matrix());
-    sampled.omegas.push(s.velocity);
-    sampled.energies.push(energy);
+/// `spec` with a member's draws in place of the nominal's parameters: its inertia (as the
+/// tensor `lgsvi montecarlo` hands simulate), torque, mass and wheels.
+fn member_spec(spec: &Spec, body: &Body) -> Spec {
+    let mut member = spec.clone();
+    let tensor = body.inertia.matrix();
+    match &mut member {
+        Spec::RigidBody { inertia, drive } => {
+            *inertia = InertiaInput::Tensor(tensor);
+            drive.torque = body.torque;
+        }
+        Spec::HeavyTop {
+            inertia,
+            mass,
+            drive,
+            ..
+        }
+        | Spec::FreeBody {
+            inertia,
+            mass,
+            drive,
+        }
+        | Spec::OrbitingBody {
+            inertia,
+            mass,
+            drive,
+            ..
+        } => {
+            *inertia = InertiaInput::Tensor(tensor);
+            *mass = body.mass.unwrap_or(*mass);
+            drive.torque = body.torque;
+        }
+        Spec::Gyrostat {
+            inertia,
+            axes,
+            wheel_inertias,
+        } => {
+            *inertia = tensor;
+            axes.clone_from(&body.wheel_axes);
+            wheel_inertias.clone_from(&body.wheel_inertias);
+        }
+    }
+    member
 }
 
-/// The body's run to `t_end`, sampled every `every` steps.
-fn run_sampled(
-    system: So3System,
-    settings: StepSettings,
-    body: &Body,
+/// What a run needs beside the system: its start, settings, end, sampling, watched
+/// conditions and constant input.
+struct Setup {
+    options: Options,
     t_end: f64,
     every: usize,
-    stop: Option<&StopWhen>,
-) -> Result<(Samples, Option<f64>), MechanicsError> {
-    let mut it = Integrator::new(system, settings, body.attitude, body.omega)?;
-    let mut sampled = Samples::default();
-    push(&mut sampled, &it);
-    // The condition as `lgsvi simulate --stop-when` watches it: the quantity of the state
-    // on the curve, less the value.
-    // The condition as `lgsvi simulate --stop-when` watches it.
-    let mut events = Events::new(
-        stop.map(|stop| stop.event(body.attitude, |s: &State| (*s, None, None)))
-            .into_iter()
-            .collect(),
-    );
-    let mut recorded = true;
-    let mut observer = each(
-        |it: &Integrator<So3System>, info: lgsvi_mechanics::stepper::StepInfo| {
-            recorded = info.index.is_multiple_of(every) || info.last;
-            if recorded {
-                push(&mut sampled, it);
-            }
-            Ok::<_, MechanicsError>(ControlFlow::Continue(()))
-        },
-    );
-    it.drive_until(t_end, &mut (&mut observer, &mut events))?;
-    if events.stopped() && !recorded {
-        // The step that holds the crossing ends the samples.
-        push(&mut sampled, &it);
+    watch: Watch,
+    input: Option<Vec<f64>>,
+}
+
+/// `spec`'s run from `start`, sampled every `every` steps and at its end, as `lgsvi
+/// montecarlo` runs a member ([`record_until`]: the same steps, the same events).
+fn run_sampled(
+    spec: &Spec,
+    start: &Start,
+    setup: &Setup,
+    watch: &Watch,
+) -> Result<(Samples, RunEnd), PyErr> {
+    let built = spec.build()?;
+    let mut run = Run::new(built, &setup.options, start)?;
+    if let Some(u) = &setup.input {
+        run.set_input(u)?;
     }
-    let stopped = events.hits().first().map(|hit| hit.time);
-    Ok((sampled, stopped))
+    let recording = each_run!(&mut run, it => {
+        record_until(it, setup.t_end, setup.every, watch, &mut |_| {})
+    })
+    .map_err(experiment)?;
+    Ok(Samples::of_recording(recording))
+}
+
+/// A run's error as the Python exception of its kind: the library's own, a state that
+/// overflowed as a [`ConvergenceError`], the rest as invalid input.
+fn experiment(error: ExperimentError) -> PyErr {
+    match error {
+        ExperimentError::Mechanics(e) => mechanics(e),
+        e @ ExperimentError::Overflow { .. } => ConvergenceError::new_err(e.to_string()),
+        other => invalid(other.to_string()),
+    }
 }
 
 /// One member's draws and final state (or why it failed).
 struct Outcome {
     member: Member,
-    result: Result<(Samples, Option<f64>), MechanicsError>,
+    result: Result<(Samples, RunEnd), PyErr>,
 }
 
 /// Percentile envelopes over a Monte Carlo run's members: per channel (attitude departure
@@ -222,46 +262,61 @@ fn _montecarlo_envelope_from_bytes(data: &[u8]) -> PyResult<MonteCarloEnvelope> 
     Ok(MonteCarloEnvelope { envelope })
 }
 
-/// The nominal body and kind of `spec` (rigid body or heavy top), from `(attitude,
-/// omega)`.
-fn nominal_of(spec: &Spec, attitude: SO3, omega: Vector3<f64>) -> PyResult<(Kind, f64, Body)> {
-    let (kind, inertia, drive) = match spec {
-        Spec::RigidBody { inertia, drive } => (Kind::Free, inertia, drive),
-        Spec::HeavyTop {
-            inertia,
-            mass,
-            gravity,
-            com,
-            gravity_direction,
-            drive,
-        } => (
-            Kind::Top {
-                mass: *mass,
-                gravity: *gravity,
-                com: *com,
-                direction: *gravity_direction,
-            },
-            inertia,
-            drive,
-        ),
-        other => {
-            return Err(invalid(format!(
-                "montecarlo runs RigidBody and HeavyTop so far, not a {}",
-                other.name()
-            )))
-        }
+/// A condition given as `name=` (`stop_when`, `settle_when`), parsed and checked against
+/// the system at its start (a quantity the system lacks is refused).
+fn condition(
+    text: Option<&str>,
+    name: &str,
+    spec: &Spec,
+    start: &Start,
+) -> PyResult<Option<StopWhen>> {
+    let Some(text) = text else {
+        return Ok(None);
     };
-    let mut body = Body::new(inertia.inertia()?, attitude, omega);
-    body.torque = drive.torque;
-    Ok((kind, drive.damping, body))
+    let condition: StopWhen = text
+        .parse()
+        .map_err(|reason| invalid(format!("{name} {text:?}: {reason}")))?;
+    let rotation = State {
+        time: 0.0,
+        configuration: start.attitude,
+        momentum: Vector3::zeros(),
+        velocity: start.omega,
+    };
+    let motion = spec
+        .in_space()
+        .then(|| lgsvi_experiments::record::MotionRecord {
+            position: start.position,
+            velocity: start.velocity,
+            spatial_momentum: nalgebra::SVector::zeros(),
+        });
+    let wheels = (spec.wheels() > 0).then(|| lgsvi_experiments::record::WheelRecord {
+        angles: start.wheel_angles.clone(),
+        speeds: start.wheel_speeds.clone(),
+        momenta: vec![0.0; spec.wheels()],
+    });
+    if condition
+        .quantity
+        .value(&rotation, motion.as_ref(), wheels.as_ref(), &start.attitude)
+        .is_none()
+    {
+        return Err(invalid(format!(
+            "{name} {text:?}: {} applies to {}, not to a {}",
+            condition.quantity,
+            condition.quantity.applies_to(),
+            spec.name()
+        )));
+    }
+    Ok(Some(condition))
 }
 
-/// Runs members `first..last` of the plan of `system` from `(attitude, omega)`, the
-/// dispersions `dispersions` (JSON, the keys of `lgsvi_montecarlo::Dispersions`) and
-/// `seed`, each to `t_end` with steps `h` of `nodes` nodes; returns their draws, final
-/// states, failures and envelope (the Python layer's `lgsvi.montecarlo.run` wraps it).
+/// Runs members `first..last` of the plan of `system` from `(attitude, omega)` (and
+/// `position`, `velocity` in space, `wheel_speeds` of a gyrostat), the dispersions
+/// `dispersions` (JSON, the keys of `lgsvi_montecarlo::Dispersions`) and `seed`, each to
+/// `t_end` with steps `h` of `nodes` nodes under the constant `input`; returns their
+/// draws, final states, stop and settling times, failures and envelope (the Python
+/// layer's `lgsvi.montecarlo.run` wraps it).
 #[pyfunction]
-#[pyo3(signature = (system, attitude, omega, dispersions, seed, first, last, t_end, h, nodes, samples, chart="exp", matching="exact", threads=None, stop_when=None))]
+#[pyo3(signature = (system, attitude, omega, dispersions, seed, first, last, t_end, h, nodes, samples, chart="exp", matching="exact", threads=None, stop_when=None, settle_when=None, position=None, velocity=None, wheel_speeds=None, input=None))]
 #[allow(clippy::too_many_arguments)]
 fn _montecarlo_chunk<'py>(
     py: Python<'py>,
@@ -280,38 +335,57 @@ fn _montecarlo_chunk<'py>(
     matching: &str,
     threads: Option<usize>,
     stop_when: Option<&str>,
+    settle_when: Option<&str>,
+    position: Option<&Bound<'py, PyAny>>,
+    velocity: Option<&Bound<'py, PyAny>>,
+    wheel_speeds: Option<&Bound<'py, PyAny>>,
+    input: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, _) = system_of(system)?;
-    let stop = stop_when
-        .map(|text| {
-            let stop: StopWhen = text
-                .parse()
-                .map_err(|reason| invalid(format!("stop_when {text:?}: {reason}")))?;
-            let probe = State {
-                time: 0.0,
-                configuration: SO3::identity(),
-                momentum: Vector3::zeros(),
-                velocity: Vector3::zeros(),
-            };
-            if stop
-                .quantity
-                .value(&probe, None, None, &SO3::identity())
-                .is_none()
-            {
-                return Err(invalid(format!(
-                    "stop_when {text:?}: {} applies to {}, not to a body on SO(3)",
-                    stop.quantity,
-                    stop.quantity.applies_to()
-                )));
-            }
-            Ok(stop)
-        })
-        .transpose()?;
-    let attitude = rotation(attitude, "attitude")?;
-    let omega = vector3(omega, "omega")?;
+    let k = spec.wheels();
+    let space = spec.in_space();
+    let in_space = "a body in space (FreeBody, OrbitingBody)";
+    for (given, name, applies, of) in [
+        (position.is_some(), "position", space, in_space),
+        (velocity.is_some(), "velocity", space, in_space),
+        (wheel_speeds.is_some(), "wheel_speeds", k > 0, "a gyrostat"),
+    ] {
+        if given && !applies {
+            return Err(invalid(format!(
+                "{name} is a start of {of}, not of a {}",
+                spec.name()
+            )));
+        }
+    }
+    let start = Start {
+        t: 0.0,
+        attitude: rotation(attitude, "attitude")?,
+        omega: vector3(omega, "omega")?,
+        position: position.map_or(Ok(Vector3::zeros()), |p| vector3(p, "position"))?,
+        velocity: velocity.map_or(Ok(Vector3::zeros()), |v| vector3(v, "velocity"))?,
+        wheel_speeds: wheel_speeds.map_or(Ok(vec![0.0; k]), |w| vector(w, "wheel_speeds"))?,
+        wheel_angles: vec![0.0; k],
+    };
+    if start.wheel_speeds.len() != k {
+        return Err(invalid(format!(
+            "wheel_speeds has {} entries for the gyrostat's {k} wheels",
+            start.wheel_speeds.len()
+        )));
+    }
+    let watch = Watch {
+        stop: condition(stop_when, "stop_when", &spec, &start)?,
+        settle: condition(settle_when, "settle_when", &spec, &start)?,
+    };
+    let input = input.map(|u| vector(u, "input")).transpose()?;
     let dispersions: Dispersions =
         serde_json::from_str(dispersions).map_err(|e| invalid(format!("dispersions: {e}")))?;
-    let (kind, damping, nominal) = nominal_of(&spec, attitude, omega)?;
+    if dispersions.torque.is_some() && k > 0 {
+        return Err(invalid(
+            "dispersion torque: a gyrostat takes no body torque (its wheels' motor torques \
+             are the input)",
+        ));
+    }
+    let nominal = nominal_of(&spec, &start)?;
     let plan = Plan::new(nominal, dispersions, seed).map_err(|e| invalid(e.to_string()))?;
     if first > last {
         return Err(invalid(format!(
@@ -331,50 +405,54 @@ fn _montecarlo_chunk<'py>(
     if threads == Some(0) {
         return Err(invalid("threads must be at least 1"));
     }
-    let settings = Options {
+    let options = Options {
         h,
         nodes,
         chart: chart_named(chart)?,
         matching: matching_named(matching)?,
         quadrature_points: None,
         max_newton_iterations: None,
-    }
-    .settings()?;
+    };
+    let settings = options.settings()?;
     let whole = (t_end / settings.h() + 1e-9).floor();
     if whole > 1e9 {
         return Err(invalid(format!(
             "t_end / h = {whole:e} steps: take a longer step or a shorter run"
         )));
     }
-    let every = ((whole as usize) / (samples - 1)).max(1);
-    let nominal_system = member_system(kind, damping, plan.nominal()).map_err(mechanics)?;
+    let setup = Setup {
+        options,
+        t_end,
+        every: ((whole as usize) / (samples - 1)).max(1),
+        watch,
+        input,
+    };
+    // The nominal runs to the end (the envelopes' times), whatever stop_when says.
     let nominal_run = py
-        .detach(|| run_sampled(nominal_system, settings, plan.nominal(), t_end, every, None))
+        .detach(|| run_sampled(&spec, &start, &setup, &Watch::NOTHING))
         .map_err(|e| invalid(format!("the nominal run failed: {e}")))?
         .0;
-    let mut envelope = Envelope::of_attitude(nominal_run.times.len());
+    let mut envelope = if k > 0 {
+        Envelope::of_attitude_and_wheels(nominal_run.times.len(), k)
+    } else {
+        Envelope::of_attitude(nominal_run.times.len())
+    };
     let mut outcomes: Vec<Outcome> = Vec::with_capacity((last - first) as usize);
     py.detach(|| {
         guarded(|| {
             let work = || -> PyResult<()> {
-                let mut start = first;
-                while start < last {
-                    let end = (start + BATCH).min(last);
-                    let batch: Vec<PyResult<Outcome>> = (start..end)
+                let mut begin = first;
+                while begin < last {
+                    let end = (begin + BATCH).min(last);
+                    let batch: Vec<PyResult<Outcome>> = (begin..end)
                         .into_par_iter()
                         .map(|index| {
                             let member = plan.member(index).map_err(|e| invalid(e.to_string()))?;
-                            let result =
-                                member_system(kind, damping, &member.body).and_then(|system| {
-                                    run_sampled(
-                                        system,
-                                        settings,
-                                        &member.body,
-                                        t_end,
-                                        every,
-                                        stop.as_ref(),
-                                    )
-                                });
+                            let mut from = start.clone();
+                            from.attitude = member.body.attitude;
+                            from.omega = member.body.omega;
+                            let spec = member_spec(&spec, &member.body);
+                            let result = run_sampled(&spec, &from, &setup, &setup.watch);
                             Ok(Outcome { member, result })
                         })
                         .collect();
@@ -383,24 +461,18 @@ fn _montecarlo_chunk<'py>(
                         if let Ok((sampled, _)) = &mut outcome.result {
                             envelope.add_attitude_samples(&nominal_run, sampled);
                             // Only the final state is kept past the batch.
-                            let k = sampled.times.len() - 1;
-                            *sampled = Samples {
-                                times: vec![sampled.times[k]],
-                                attitudes: vec![sampled.attitudes[k]],
-                                omegas: vec![sampled.omegas[k]],
-                                energies: vec![sampled.energies[k]],
-                            };
+                            sampled.keep_last();
                         }
                         outcomes.push(outcome);
                     }
-                    start = end;
+                    begin = end;
                 }
                 Ok(())
             };
             in_pool(threads, work)
         })
     })?;
-    chunk_dict(py, outcomes, envelope, &nominal_run)
+    chunk_dict(py, outcomes, envelope, &nominal_run, space, k)
 }
 
 /// The chunk's arrays, failures and envelope as a dict.
@@ -409,13 +481,17 @@ fn chunk_dict<'py>(
     outcomes: Vec<Outcome>,
     envelope: Envelope,
     nominal: &Samples,
+    space: bool,
+    wheels: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = outcomes.len();
     let errors = PyDict::new(py);
     let (mut index, mut ok) = (Vec::with_capacity(m), Vec::with_capacity(m));
     let (mut j, mut r0, mut w0, mut tau) = (vec![], vec![], vec![], vec![]);
+    let (mut mass, mut wheel_inertia, mut wheel_axes) = (vec![], vec![], vec![]);
     let (mut t, mut r, mut w, mut e) = (vec![], vec![], vec![], vec![]);
-    let mut t_stop = Vec::with_capacity(m);
+    let (mut x, mut v, mut speeds) = (vec![], vec![], vec![]);
+    let (mut t_stop, mut t_settle) = (Vec::with_capacity(m), Vec::with_capacity(m));
     for outcome in outcomes {
         let body = &outcome.member.body;
         index.push(outcome.member.index);
@@ -423,23 +499,38 @@ fn chunk_dict<'py>(
         r0.extend(rows3(body.attitude.matrix()));
         w0.extend_from_slice(body.omega.as_slice());
         tau.extend_from_slice(body.torque.as_slice());
+        mass.push(body.mass.unwrap_or(f64::NAN));
+        wheel_inertia.extend_from_slice(&body.wheel_inertias);
+        wheel_axes.extend(body.wheel_axes.iter().flat_map(|a| [a.x, a.y, a.z]));
         match outcome.result {
-            Ok((s, stopped)) => {
+            Ok((s, ended)) => {
                 ok.push(true);
-                t_stop.push(stopped.unwrap_or(f64::NAN));
+                t_stop.push(ended.stop.unwrap_or(f64::NAN));
+                t_settle.push(ended.settle.unwrap_or(f64::NAN));
                 t.push(s.times[0]);
                 r.extend(rows3(&s.attitudes[0]));
                 w.extend_from_slice(s.omegas[0].as_slice());
                 e.push(s.energies[0]);
+                let (xs, vs) = ended.motion.unwrap_or_default();
+                x.extend_from_slice(xs.as_slice());
+                v.extend_from_slice(vs.as_slice());
+                match s.wheel_speeds.first() {
+                    Some(last) => speeds.extend_from_slice(last),
+                    None => speeds.extend(std::iter::repeat_n(f64::NAN, wheels)),
+                }
             }
             Err(error) => {
                 ok.push(false);
                 t_stop.push(f64::NAN);
+                t_settle.push(f64::NAN);
                 t.push(f64::NAN);
                 r.extend([f64::NAN; 9]);
                 w.extend([f64::NAN; 3]);
                 e.push(f64::NAN);
-                errors.set_item(outcome.member.index, mechanics(error).value(py))?;
+                x.extend([f64::NAN; 3]);
+                v.extend([f64::NAN; 3]);
+                speeds.extend(std::iter::repeat_n(f64::NAN, wheels));
+                errors.set_item(outcome.member.index, error.value(py))?;
             }
         }
     }
@@ -450,11 +541,20 @@ fn chunk_dict<'py>(
     d.set_item("attitude0", array3(py, (m, 3, 3), r0))?;
     d.set_item("omega0", array2(py, m, 3, w0))?;
     d.set_item("torque", array2(py, m, 3, tau))?;
+    d.set_item("mass", array1(py, mass))?;
+    d.set_item("wheel_inertia", array2(py, m, wheels, wheel_inertia))?;
+    d.set_item("wheel_axes", array3(py, (m, wheels, 3), wheel_axes))?;
     d.set_item("t", array1(py, t))?;
     d.set_item("attitude", array3(py, (m, 3, 3), r))?;
     d.set_item("omega", array2(py, m, 3, w))?;
     d.set_item("energy", array1(py, e))?;
+    if space {
+        d.set_item("position", array2(py, m, 3, x))?;
+        d.set_item("velocity", array2(py, m, 3, v))?;
+    }
+    d.set_item("wheel_speeds", array2(py, m, wheels, speeds))?;
     d.set_item("t_stop", array1(py, t_stop))?;
+    d.set_item("t_settle", array1(py, t_settle))?;
     d.set_item("errors", errors)?;
     d.set_item("envelope", MonteCarloEnvelope { envelope })?;
     d.set_item("times", array1(py, nominal.times.clone()))?;

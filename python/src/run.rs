@@ -175,6 +175,7 @@ impl Run {
     /// The integrator of `built` from `start`.
     pub fn new(built: Built, options: &Options, start: &Start) -> PyResult<Self> {
         let settings = options.settings()?;
+        check_start(&built, start)?;
         Ok(match built {
             Built::So3(s) => Run::So3(make(s, settings, start)?),
             Built::Se3(s) => Run::Se3(make(s, settings, start)?),
@@ -226,6 +227,25 @@ impl Run {
     /// The integrator's statistics and estimates.
     pub fn totals(&self) -> Totals {
         each_run!(self, it => totals(it))
+    }
+}
+
+/// Refuses a start the system cannot take (an orbiting body at its attracting centre or
+/// inside its own far field: [`lgsvi_mechanics::OrbitingBody::check_position`]).
+pub fn check_start(built: &Built, start: &Start) -> PyResult<()> {
+    start_refusal(built, start).map_or(Ok(()), |e| Err(mechanics(e)))
+}
+
+/// Why the system refuses `start`, if it does ([`check_start`]).
+pub fn start_refusal(built: &Built, start: &Start) -> Option<MechanicsError> {
+    match built {
+        Built::Se3(system) => match &system.system {
+            lgsvi_mechanics::built_in::BuiltInSe3::Orbit(body) => {
+                body.check_position(&start.position).err()
+            }
+            _ => None,
+        },
+        _ => None,
     }
 }
 

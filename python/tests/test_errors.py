@@ -91,10 +91,13 @@ def test_an_unmeetable_tolerance_raises_tolerance_error():
 
 
 def test_a_state_outside_the_model_raises_model_error():
+    # A fall from rest at r = 3: the step that would end within twice the body's radius
+    # of gyration (2 sqrt(1.75) = 2.65) is refused, the last state the model holds at kept.
     body = lgsvi.OrbitingBody([1.0, 1.0, 1.5], mass=1.0, mu=1.0)
-    it = lgsvi.Integrator(body, 0.5, 8, position=[0.5, 0.0, 0.0])
-    with pytest.raises(lgsvi.ModelError, match="wider orbit"):
+    it = lgsvi.Integrator(body, 0.5, 8, position=[3.0, 0.0, 0.0])
+    with pytest.raises(lgsvi.ModelError, match="ends outside .*wider orbit"):
         it.run_until(20.0)
+    assert np.linalg.norm(it.state.position) >= 2 * np.sqrt(1.75)
 
 
 def test_a_panic_becomes_an_internal_error():
@@ -110,3 +113,24 @@ def test_the_hierarchy():
         assert issubclass(kind, lgsvi.LgsviError)
     assert issubclass(lgsvi.LgsviError, Exception)
     assert issubclass(lgsvi.InvalidInputError, ValueError)
+
+
+def test_an_orbit_starting_inside_its_own_far_field_is_refused():
+    """An orbiting body whose attracting point lies within twice its radius of gyration
+    (sqrt(tr J / 2m) = 2.14 here) is outside MacCullagh's far-field model: refused up
+    front, as the command line refuses it, by the integrator, the ensemble and Monte Carlo."""
+    from lgsvi import montecarlo
+
+    body = lgsvi.OrbitingBody([3.3, 2.5, 3.4], mass=1.0, mu=1.0)
+    start = dict(position=[3.0, 0.0, 0.0], velocity=[0.0, 0.55, 0.05])
+    with pytest.raises(lgsvi.InvalidInputError, match="radius of gyration"):
+        lgsvi.Integrator(body, h=0.5, nodes=10, **start)
+    with pytest.raises(lgsvi.InvalidInputError, match="member 1: .*radius of gyration"):
+        lgsvi.run_ensemble(body, 0.5, 10, np.stack([np.eye(3)] * 2), np.zeros((2, 3)), 1.0,
+                           positions=[[9.0, 0.0, 0.0], [3.0, 0.0, 0.0]],
+                           velocities=np.zeros((2, 3)))
+    with pytest.raises(lgsvi.InvalidInputError, match="radius of gyration"):
+        montecarlo.run(body, np.eye(3), [0.1, 0.0, 0.2], members=2, t_end=1.0, h=0.5, nodes=10,
+                       **start)
+    # Further out it runs.
+    lgsvi.Integrator(body, h=0.5, nodes=10, position=[5.0, 0.0, 0.0])

@@ -3,6 +3,7 @@ Integrator gives with its draws, percentiles within the sketch's stated 0.55% of
 exact order statistics, failures listed with their exception, bad specs refused naming
 their key, and a run on a two-process Dask cluster identical to the local run."""
 
+import json
 import pickle
 
 import numpy as np
@@ -139,8 +140,16 @@ def test_bad_settings():
         run(samples=1)
     with pytest.raises(lgsvi.InvalidInputError, match="t_end"):
         run(t_end=float("inf"))
-    with pytest.raises(lgsvi.InvalidInputError, match="FreeBody"):
-        mc.run(lgsvi.FreeBody([1.0, 2.0, 2.5], mass=1.0), np.eye(3), OMEGA0, members=2, **RUN)
+    with pytest.raises(lgsvi.InvalidInputError, match="body in space"):
+        run(members=2, position=[1.0, 0.0, 0.0])
+    with pytest.raises(lgsvi.InvalidInputError, match="gyrostat"):
+        run(members=2, wheel_speeds=[1.0])
+    with pytest.raises(lgsvi.InvalidInputError, match="settle_when"):
+        run(members=2, settle_when="wheel_1<1")
+    with pytest.raises(lgsvi.InvalidInputError, match="torque"):
+        mc.run(WHEELS, np.eye(3), OMEGA0, {"torque": mc.normal(0.1)}, members=2, **RUN)
+    with pytest.raises(lgsvi.InvalidInputError, match="mass"):
+        mc.run(BODY, np.eye(3), OMEGA0, {"mass": mc.uniform(0.1)}, members=2, **RUN)
     with pytest.raises(lgsvi.InvalidInputError, match="channel"):
         run(members=2).percentile("omega_4", 50)
     with pytest.raises(lgsvi.LgsviError):
@@ -257,3 +266,113 @@ def test_a_stop_condition_the_body_lacks_is_refused():
         run(members=2, stop_when="x_1<0")
     with pytest.raises(lgsvi.InvalidInputError, match="QUANTITY"):
         run(members=2, stop_when="omega_1=0")
+
+
+#: The command line's default gyrostat: J = diag(10, 12, 8) with three wheels of axial
+#: inertia 0.05 on the body axes.
+WHEELS = lgsvi.Gyrostat(np.diag([10.0, 12.0, 8.0]), np.eye(3), [0.05, 0.05, 0.05])
+
+
+def _binary():
+    import pathlib
+
+    binary = pathlib.Path(__file__).resolve().parents[2] / "target" / "release" / "lgsvi"
+    if not binary.exists():
+        pytest.skip("build the command line first: cargo build --release -p lgsvi-cli")
+    return binary
+
+
+def _rows(tmp_path, args, spec=None):
+    """`lgsvi montecarlo args` (and the dispersion dict `spec` as its config's
+    `[montecarlo.dispersions]` table) in `tmp_path`: members.csv's rows."""
+    import csv
+    import subprocess
+
+    binary = _binary()
+    if spec is not None:
+        config = tmp_path / "spec.toml"
+        lines = ["[montecarlo.dispersions]"] + [
+            f"{key} = {{ "
+            + ", ".join(f"{k} = {json.dumps(v)}" for k, v in value.items())
+            + " }"
+            for key, value in spec.items()
+        ]
+        config.write_text("\n".join(lines) + "\n")
+        args = [*args, "--config", str(config)]
+    out = tmp_path / "run"
+    subprocess.run([str(binary), "montecarlo", *args, "--out", str(out), "--quiet"], check=True)
+    with open(out / "members.csv") as f:
+        return list(csv.DictReader(f))
+
+
+def _column(rows, name):
+    return np.array([float(r[name]) if r[name] else np.nan for r in rows])
+
+
+def test_gyrostat_members_are_the_command_lines_rows(tmp_path):
+    """A gyrostat's members (wheel inertias and axes dispersed, wheel 1's motor spinning it
+    up to a speed limit) are `lgsvi montecarlo --system gyrostat`'s rows, bit for bit:
+    the draws, the final rates of body and wheels, the stop times."""
+    spec = {"omega": mc.normal(0.01), "wheel_inertia": mc.uniform(0.05),
+            "wheel_axis": mc.normal(0.01)}
+    result = mc.run(WHEELS, np.eye(3), [0.05, 0.0, 0.0], spec, members=6, seed=5, t_end=20.0,
+                    h=0.5, nodes=10, wheel_speeds=[1.0, 2.0, 3.0],
+                    input=[0.0, 0.0, 0.0, 0.002, 0.0, 0.0], stop_when="wheel_1>1.5")
+    assert result.ok.all() and result.wheel_speeds.shape == (6, 3)
+    assert "wheel_3" in result.channels
+    # Wheel 1 spins up at 0.002 / I_1 (the body barely turns): it crosses 1.5 rad/s near
+    # t = 0.5 I_1 / 0.002 = 12.5 for I_1 = 0.05.
+    assert np.all(np.abs(result.t_stop - 0.5 * result.wheel_inertia[:, 0] / 0.002) < 0.5)
+    rows = _rows(tmp_path, [
+        "--system", "gyrostat", "--omega0", "0.05,0,0", "--wheel-speeds0", "1,2,3",
+        "--wheel-torque", "0.002,0,0", "--h", "0.5", "--nodes", "10", "--t-end", "20",
+        "--members", "6", "--seed", "5", "--stop-when", "wheel_1>1.5",
+    ], spec)
+    for k in (1, 2, 3):
+        assert np.array_equal(_column(rows, f"I_w{k}"), result.wheel_inertia[:, k - 1])
+        assert np.array_equal(_column(rows, f"wheel_{k}"), result.wheel_speeds[:, k - 1])
+        for i in (1, 2, 3):
+            assert np.array_equal(_column(rows, f"a_w{k}_{i}"), result.wheel_axes[:, k - 1, i - 1])
+        assert np.array_equal(_column(rows, f"omega_{k}"), result.omega[:, k - 1])
+    assert np.array_equal(_column(rows, "t_stop"), result.t_stop)
+
+
+def test_bodies_in_space_draw_their_mass_as_the_command_line_does(tmp_path):
+    """An orbiting body's members (mass and torque dispersed) end where `lgsvi montecarlo
+    --system orbiting-body`'s rows do, position and velocity included, bit for bit."""
+    body = lgsvi.OrbitingBody([0.3, 0.2, 0.4], mass=1.0, mu=1.0)
+    spec = {"omega": mc.normal(0.01), "mass": mc.uniform(0.1), "torque": mc.normal(0.01)}
+    result = mc.run(body, np.eye(3), [0.1, 0.0, 0.2], spec, members=5, seed=2, t_end=5.0,
+                    h=0.5, nodes=10, position=[3.0, 0.0, 0.0], velocity=[0.0, 0.55, 0.05])
+    assert result.ok.all() and result.position.shape == (5, 3)
+    assert np.all(np.abs(result.mass - 1.0) <= 0.1) and len(set(result.mass)) == 5
+    rows = _rows(tmp_path, [
+        "--system", "orbiting-body", "--inertia", "0.3,0.2,0.4", "--omega0", "0.1,0,0.2",
+        "--position0", "3,0,0", "--velocity0", "0,0.55,0.05", "--h", "0.5", "--nodes", "10",
+        "--t-end", "5", "--members", "5", "--seed", "2",
+    ], spec)
+    assert np.array_equal(_column(rows, "m"), result.mass)
+    for i in (1, 2, 3):
+        assert np.array_equal(_column(rows, f"tau_{i}"), result.torque[:, i - 1])
+        assert np.array_equal(_column(rows, f"x_{i}"), result.position[:, i - 1])
+        assert np.array_equal(_column(rows, f"v_{i}"), result.velocity[:, i - 1])
+
+
+def test_settling_times_are_the_command_lines_and_a_damped_sphere_s_closed_form(tmp_path):
+    """`settle_when`: a damped sphere's |Omega| = |Omega_0| e^(-c t / j) stays below 0.05
+    from t = (j / c) ln(|Omega_0| / 0.05) on; every member's settling time within 1e-12
+    relative of it, and equal to `lgsvi montecarlo --settle-when`'s, bit for bit."""
+    sphere = lgsvi.RigidBody([2.0, 2.0, 2.0], damping=0.5)
+    result = mc.run(sphere, np.eye(3), [0.3, 0.1, 1.0], {"omega": mc.normal(0.05)}, members=8,
+                    seed=3, t_end=20.0, h=0.25, nodes=12, settle_when="omega<0.05")
+    exact = 4.0 * np.log(np.linalg.norm(result.omega0, axis=1) / 0.05)
+    assert np.all(np.abs(result.t_settle - exact) <= 1e-12 * exact)
+    stats = result.settle_statistics()
+    assert stats["settled"] == 8 and stats["not_settled"] == 0
+    assert stats["min"] == result.t_settle.min()
+    rows = _rows(tmp_path, [
+        "--inertia", "2,2,2", "--damping", "0.5", "--omega0", "0.3,0.1,1", "--h", "0.25",
+        "--nodes", "12", "--t-end", "20", "--members", "8", "--seed", "3",
+        "--disperse-omega", "0.05", "--settle-when", "omega<0.05",
+    ])
+    assert np.array_equal(_column(rows, "t_settle"), result.t_settle)

@@ -461,6 +461,19 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         estimate: f64,
     ) -> Result<usize, MechanicsError> {
         let end = self.end_state(&outcome)?;
+        // A step that converged to a state the model does not hold at is not taken: its
+        // end, and every step after it, would integrate equations that do not describe
+        // the system (an orbiting body flung out of a fall through its own far field).
+        if let Some(reason) =
+            self.system
+                .model_breakdown(end.time, &end.configuration, &end.velocity)
+        {
+            return Err(MechanicsError::LeftModel {
+                step: self.clock.step_index,
+                time: self.state.time,
+                reason,
+            });
+        }
         if let Some(input) = self.forcing() {
             let work = self.step_work(base, self.state.time, &input);
             self.ledger.work.add(work);

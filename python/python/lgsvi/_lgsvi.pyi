@@ -263,6 +263,11 @@ def _montecarlo_chunk(
     matching: str = "exact",
     threads: Optional[int] = None,
     stop_when: Optional[str] = None,
+    settle_when: Optional[str] = None,
+    position: Optional[ArrayLike] = None,
+    velocity: Optional[ArrayLike] = None,
+    wheel_speeds: Optional[ArrayLike] = None,
+    input: Optional[ArrayLike] = None,
 ) -> Dict[str, Any]: ...
 def _montecarlo_envelope_from_bytes(data: bytes) -> MonteCarloEnvelope: ...
 

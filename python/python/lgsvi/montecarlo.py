@@ -1,5 +1,6 @@
-"""Monte Carlo dispersion analysis: thousands of runs of a rigid body or heavy top whose
-inertia, start and torque are dispersed about a nominal, on one machine or a Dask cluster.
+"""Monte Carlo dispersion analysis: thousands of runs of a built-in system (rigid body,
+heavy top, free or orbiting body in space, gyrostat) whose inertia, start, torque, mass and
+wheels are dispersed about a nominal, on one machine or a Dask cluster.
 
 Member ``i``'s draws depend on ``(seed, i)`` alone (a ChaCha stream per quantity), so a
 member is the same whatever the thread count, the chunking, or the machine that runs it: a
@@ -18,6 +19,9 @@ key                      perturbation ``d`` of each member
 ``inertia``              each principal moment, relative: ``J_i (1 + d_i)``
 ``inertia_misalignment`` each component of a rotation vector of the principal axes, rad
 ``torque``               added to each component of the constant body torque, N m
+``mass``                 relative: ``m (1 + d)`` (a body in space, a heavy top)
+``wheel_inertia``        each wheel's axial inertia, relative: ``I_k (1 + d_k)``
+``wheel_axis``           each component of a rotation vector of each wheel's axis, rad
 ======================== ============================================================
 
 Each value is :func:`normal`, :func:`truncated_normal` or :func:`uniform` (or the same
@@ -62,7 +66,8 @@ __all__ = [
 MonteCarloEnvelope = _lgsvi.MonteCarloEnvelope
 
 #: The envelope's channels: the attitude's departure from the nominal run at the same
-#: time (degrees), the body rates (rad/s) and the energy's relative change since the start.
+#: time (degrees), the body rates (rad/s) and the energy's relative change since the start;
+#: a gyrostat's envelope adds ``wheel_1`` ... ``wheel_K``, each wheel's rate (rad/s).
 CHANNELS = ("attitude_departure_deg", "omega_1", "omega_2", "omega_3", "energy_change")
 
 #: Members one chunk of a Dask run holds without ``chunk_size``.
@@ -97,7 +102,15 @@ _FIELDS = (
     "omega",
     "energy",
     "t_stop",
+    "t_settle",
+    "mass",
+    "wheel_inertia",
+    "wheel_axes",
+    "wheel_speeds",
 )
+
+#: Fields only a body in space has.
+_SPACE_FIELDS = ("position", "velocity")
 
 
 class MonteCarloResult:
@@ -118,6 +131,17 @@ class MonteCarloResult:
         Its final time and energy (NaN for a failed member).
     t_stop : ndarray (M,)
         Where ``stop_when`` stopped it (NaN where it never met the condition, or failed).
+    t_settle : ndarray (M,)
+        From when ``settle_when`` held to the end (NaN where it does not hold at the end,
+        or failed).
+    mass : ndarray (M,)
+        The drawn mass (NaN for a system without one).
+    wheel_inertia : ndarray (M, K); wheel_axes : ndarray (M, K, 3)
+        A gyrostat's drawn wheel inertias and unit axes (K = 0 without wheels).
+    wheel_speeds : ndarray (M, K)
+        The wheels' final rates relative to the body.
+    position, velocity : ndarray (M, 3)
+        A body in space's final position and velocity (world frame); absent otherwise.
     attitude : ndarray (M, 3, 3)
         Its final attitude; ``omega`` (M, 3) its final rates (NaN for a failed member).
     errors : dict
@@ -135,6 +159,9 @@ class MonteCarloResult:
     def __init__(self, fields: Dict[str, Any], seed: int) -> None:
         for name in _FIELDS:
             setattr(self, name, fields[name])
+        for name in _SPACE_FIELDS:
+            if name in fields:
+                setattr(self, name, fields[name])
         self.errors: Dict[int, Exception] = dict(fields["errors"])
         self.envelope: MonteCarloEnvelope = fields["envelope"]
         self.times: np.ndarray = fields["times"]
@@ -145,23 +172,38 @@ class MonteCarloResult:
     def __len__(self) -> int:
         return len(self.member)
 
+    @property
+    def channels(self) -> List[str]:
+        """The envelope's channels: :data:`CHANNELS`, and a gyrostat's ``wheel_K``."""
+        return list(self.envelope.channels)
+
     def percentile(self, channel: str, q: float) -> np.ndarray:
-        """The ``q``-th percentile (0 to 100) of ``channel`` (one of :data:`CHANNELS`)
+        """The ``q``-th percentile (0 to 100) of ``channel`` (one of :attr:`channels`)
         over the members that finished, at each of :attr:`times`: within 0.55% of the
         exact sample percentile."""
-        if channel not in CHANNELS:
+        channels = self.channels
+        if channel not in channels:
             raise _lgsvi.InvalidInputError(
-                f"channel must be one of {', '.join(CHANNELS)}, got {channel!r}"
+                f"channel must be one of {', '.join(channels)}, got {channel!r}"
             )
-        return self.envelope.percentile(q)[CHANNELS.index(channel)]
+        return self.envelope.percentile(q)[channels.index(channel)]
 
     def stop_statistics(self) -> Dict[str, Any]:
         """The stop times of the members ``stop_when`` stopped: ``stopped`` (how many),
         ``not_stopped`` (finished without meeting it), and the exact sample percentiles
         ``p1`` ... ``p99`` (the ``ceil(qN)``-th smallest) with ``min`` and ``max``."""
-        times = np.sort(self.t_stop[self.ok & np.isfinite(self.t_stop)])
+        return self._time_statistics(self.t_stop, "stopped")
+
+    def settle_statistics(self) -> Dict[str, Any]:
+        """The settling times of the members ``settle_when`` held for at the end:
+        ``settled`` (how many), ``not_settled`` (finished without it holding), and the
+        exact sample percentiles ``p1`` ... ``p99`` with ``min`` and ``max``."""
+        return self._time_statistics(self.t_settle, "settled")
+
+    def _time_statistics(self, times: np.ndarray, verb: str) -> Dict[str, Any]:
+        times = np.sort(times[self.ok & np.isfinite(times)])
         n = len(times)
-        out: Dict[str, Any] = {"stopped": n, "not_stopped": int(self.ok.sum()) - n}
+        out: Dict[str, Any] = {verb: n, f"not_{verb}": int(self.ok.sum()) - n}
         for p in (1, 5, 25, 50, 75, 95, 99):
             rank = min(max(int(np.ceil(p / 100 * n)), 1), n) if n else 0
             out[f"p{p}"] = float(times[rank - 1]) if n else float("nan")
@@ -204,7 +246,8 @@ def _spec_json(dispersions: Optional[Dict[str, Any]]) -> str:
     if not isinstance(dispersions, dict):
         raise _lgsvi.InvalidInputError(
             "dispersions must be a dict from a quantity (attitude, omega, inertia, "
-            f"inertia_misalignment, torque) to its distribution, got {type(dispersions).__name__}"
+            "inertia_misalignment, torque, mass, wheel_inertia, wheel_axis) to its "
+            f"distribution, got {type(dispersions).__name__}"
         )
     try:
         return json.dumps(dispersions, allow_nan=False)
@@ -213,9 +256,8 @@ def _spec_json(dispersions: Optional[Dict[str, Any]]) -> str:
 
 
 def _combine(chunks: List[Dict[str, Any]], seed: int) -> MonteCarloResult:
-    fields: Dict[str, Any] = {
-        name: np.concatenate([c[name] for c in chunks]) for name in _FIELDS
-    }
+    names = _FIELDS + tuple(n for n in _SPACE_FIELDS if n in chunks[0])
+    fields: Dict[str, Any] = {name: np.concatenate([c[name] for c in chunks]) for name in names}
     errors: Dict[int, Exception] = {}
     envelope = chunks[0]["envelope"]
     for k, chunk in enumerate(chunks):
@@ -254,11 +296,19 @@ def run(
     client: Any = None,
     chunk_size: Optional[int] = None,
     stop_when: Optional[str] = None,
+    settle_when: Optional[str] = None,
+    position: Any = None,
+    velocity: Any = None,
+    wheel_speeds: Any = None,
+    input: Any = None,
 ) -> MonteCarloResult:
-    """Runs ``members`` members of ``system`` (a :class:`lgsvi.RigidBody` or
-    :class:`lgsvi.HeavyTop`) from the nominal start ``(attitude, omega)``, each with its
-    own draws of ``dispersions`` (module documentation), to ``t_end`` with steps ``h`` of
-    ``nodes`` nodes (every member the same steps, so that all share the sample times).
+    """Runs ``members`` members of ``system`` (any built-in system:
+    :class:`lgsvi.RigidBody`, :class:`lgsvi.HeavyTop`, :class:`lgsvi.FreeBody`,
+    :class:`lgsvi.OrbitingBody`, :class:`lgsvi.Gyrostat`) from the nominal start
+    ``(attitude, omega)`` (and ``position``, ``velocity`` in space, ``wheel_speeds`` of a
+    gyrostat), each with its own draws of ``dispersions`` (module documentation), to
+    ``t_end`` with steps ``h`` of ``nodes`` nodes (every member the same steps, so that all
+    share the sample times).
 
     Parameters
     ----------
@@ -270,6 +320,15 @@ def run(
         ``"angle>90"`` (degrees turned from the start), ``"omega_3<0"``. The crossing's
         time (located on the step's curve and refined by the method's own steps) is in
         ``t_stop``; :meth:`MonteCarloResult.stop_statistics` summarises them.
+        ``"wheel_1>300"`` is a wheel speed limit.
+    settle_when : str, optional
+        A settling condition, as ``lgsvi montecarlo --settle-when``: each member's
+        ``t_settle`` is the time from which it holds to the member's end (the last crossing
+        into it, or the start), NaN where it does not hold at the end; e.g.
+        ``"omega<0.001"``. :meth:`MonteCarloResult.settle_statistics` summarises them.
+    input : array_like, optional
+        A constant control input for every member, as :meth:`lgsvi.Integrator.set_input`
+        takes it (a gyrostat's ``(body torque, wheel motor torques)``).
     threads : int, optional
         Threads per process (default: one per core locally, one per task on a cluster,
         whose workers run tasks side by side).
@@ -284,8 +343,9 @@ def run(
     Raises
     ------
     InvalidInputError
-        For a system other than a rigid body or heavy top, members < 1, a bad spec (its
-        message names the key), a non-physical dispersion, bad settings.
+        For members < 1, a bad spec (its message names the key), a dispersion of a
+        quantity the system lacks (a torque on a gyrostat, a mass on a free rigid body), a
+        non-physical dispersion, a start or condition the system lacks, bad settings.
     """
     if isinstance(members, bool) or not isinstance(members, (int, np.integer)) or members < 1:
         raise _lgsvi.InvalidInputError(f"members must be an int >= 1, got {members!r}")
@@ -295,7 +355,16 @@ def run(
     spec = _spec_json(dispersions)
     attitude = np.asarray(attitude, dtype=float)
     omega = np.asarray(omega, dtype=float)
-    common = dict(chart=chart, matching=matching, stop_when=stop_when)
+    common = dict(
+        chart=chart,
+        matching=matching,
+        stop_when=stop_when,
+        settle_when=settle_when,
+        position=position,
+        velocity=velocity,
+        wheel_speeds=wheel_speeds,
+        input=input,
+    )
     args = (system, attitude, omega, spec, seed)
     settings = (float(t_end), float(h), int(nodes), int(samples))
     if client is None:
