@@ -391,3 +391,8 @@ mod tests {
         );
     }
 }
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -83,3 +83,8 @@ pub use subject::{Body, Subject};
 
 #[doc(hidden)]
 pub use lgsvi_mechanics::gyrostat as __gyrostat;
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

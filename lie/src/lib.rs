@@ -68,3 +68,8 @@ pub use error::LieError;
 pub use group::LieGroup;
 pub use se3::SE3;
 pub use so3::SO3;
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

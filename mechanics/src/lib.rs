@@ -122,3 +122,8 @@ pub use settings::{Matching, StepSettings};
 pub use state::State;
 pub use stepper::Stepper;
 pub use system::{Forced, GroupLagrangian, System};
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -41,3 +41,8 @@ pub use dispersion::{Body, Dispersion, DispersionError, Dispersions, Member, Pla
 #[cfg(doctest)]
 #[doc = include_str!("../../docs/guide/montecarlo.md")]
 pub struct GuidePage;
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -550,3 +550,8 @@ fn quadrature(slew: &Slew, settings: StepSettings) -> Result<(Vec<f64>, Vec<f64>
 #[cfg(doctest)]
 #[doc = include_str!("../../docs/optimal.md")]
 pub struct DocsPage;
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

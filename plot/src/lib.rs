@@ -115,3 +115,8 @@ impl Drawing for SphereFigure {
         .map_err(failed(path))
     }
 }
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

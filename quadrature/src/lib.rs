@@ -91,3 +91,8 @@ pub use golub_welsch::golub_welsch;
 pub use kronrod::{gauss_kronrod, gauss_kronrod_jacobi, GaussKronrod};
 pub use rule::{Rule, RuleKind};
 pub use rules::{gauss_legendre, gauss_lobatto, gauss_radau_left, gauss_radau_right};
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

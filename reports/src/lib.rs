@@ -54,3 +54,8 @@ pub mod paper_figures;
 pub mod reproduce;
 pub mod tolerance;
 pub mod trajectory;
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -56,3 +56,8 @@ pub use coefficients::{
 pub use error::SpectralError;
 pub use matrix::Matrix;
 pub use nodes::{chebyshev_first_kind, chebyshev_lobatto};
+
+/// This crate's `README.md`, whose Rust example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
