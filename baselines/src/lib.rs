@@ -16,6 +16,8 @@
 //! free body), `Π = JΩ`, `J Ω̇ = (JΩ) × Ω + m g ρ × Rᵀe₃`. [`so3_problem`] and
 //! [`space_problem`] build a model and its start from a named case of `lgsvi_cases`.
 
+#![warn(missing_docs)]
+
 use nalgebra::{Matrix3, Vector3};
 
 mod cases;

@@ -16,6 +16,8 @@
 //! Everything returns data (`lgsvi_experiments::work_precision::Point` and the structs
 //! here); `lgsvi bench` turns it into tables, plots and files.
 
+#![warn(missing_docs)]
+
 pub mod dispersion;
 mod error;
 pub mod long_run;

@@ -64,14 +64,53 @@ enum Command {
     /// Regenerate the paper's nine figures, their data and a report (the default command).
     Reproduce(reproduce::ReproduceOptions),
     /// Monte Carlo dispersion analysis: many runs of simulate's system with dispersed
-    /// inertia, start and torque, in parallel; members.csv (one row per member) and
-    /// summary.json (final-state statistics, every failure with its seed and cause).
-    /// Exit status 3 when members failed.
+    /// inertia, start, torque, mass and wheels, in parallel; members.csv (one row per
+    /// member) and summary.json (final-state statistics, stop and settling times, every
+    /// failure with its seed and cause). Exit status 3 when members failed.
     Montecarlo(Box<montecarlo::MontecarloOptions>),
-    /// A rigid body's minimum-energy slew in a fixed time, torques bounded per axis:
-    /// sequential quadratic programming with lgsvi's step as the dynamics; JSON with the
-    /// torques and states, figures with --plot.
+    /// A rigid body's slew of least energy in a fixed time (or of least time,
+    /// `--cost time`), torques bounded per axis: sequential quadratic programming with
+    /// lgsvi's step as the dynamics; JSON with the torques and states, figures with --plot.
     Optimize(optimize::OptimizeOptions),
+    /// Print this command line's reference (every command's help) as Markdown: the
+    /// source of docs/reference/cli.md.
+    #[command(hide = true)]
+    CliReference,
+}
+
+/// Every command's long help as Markdown, at a fixed width (docs/reference/cli.md, kept in
+/// sync by a test).
+fn cli_reference() -> String {
+    use clap::CommandFactory;
+    let mut command = Cli::command().term_width(100).max_term_width(100);
+    command.build();
+    let mut text = String::from(
+        "# Command-line reference\n\n\
+         Every command of `lgsvi` with its flags, as `lgsvi COMMAND --help` prints them. This \
+         page is generated (`lgsvi cli-reference > docs/reference/cli.md`) and a test keeps it \
+         in sync with the binary.\n",
+    );
+    let mut section = |title: String, command: &mut clap::Command| {
+        let help = command.render_long_help().to_string();
+        let help: Vec<&str> = help.lines().map(str::trim_end).collect();
+        text.push_str(&format!(
+            "\n## {title}\n\n```text\n{}\n```\n",
+            help.join("\n")
+        ));
+    };
+    section("lgsvi".into(), &mut command.clone());
+    let names: Vec<String> = command
+        .get_subcommands()
+        .filter(|c| !c.is_hide_set() && c.get_name() != "help")
+        .map(|c| c.get_name().to_string())
+        .collect();
+    for name in names {
+        let sub = command
+            .find_subcommand_mut(&name)
+            .expect("a listed command");
+        section(format!("lgsvi {name}"), sub);
+    }
+    text
 }
 
 /// The run the problem describes, recorded; a `--tol` run that failed says what to change.
@@ -303,6 +342,10 @@ fn main() -> ExitCode {
         Some(Command::Linearize(options)) => linearize::run(options),
         Some(Command::Montecarlo(options)) => montecarlo::run(*options),
         Some(Command::Optimize(options)) => optimize::run(options),
+        Some(Command::CliReference) => {
+            print!("{}", cli_reference());
+            Ok(())
+        }
         None => reproduce::run(cli.reproduce),
     };
     match result {

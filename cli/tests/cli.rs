@@ -2143,3 +2143,30 @@ fn optimize_names_scale_failures() {
         );
     }
 }
+
+/// docs/reference/cli.md is `lgsvi cli-reference`'s output: every command's help as the
+/// binary prints it. Regenerate it after changing a flag:
+/// `cargo run --release -p lgsvi-cli -- cli-reference > docs/reference/cli.md`.
+#[test]
+fn the_cli_reference_page_is_the_binarys_help() {
+    let (code, out, err) = lgsvi(&["cli-reference"]);
+    assert_eq!(code, 0, "{err}");
+    let page = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/reference/cli.md");
+    let committed = std::fs::read_to_string(&page).expect("docs/reference/cli.md");
+    for command in [
+        "simulate",
+        "converge",
+        "bench",
+        "linearize",
+        "reproduce",
+        "montecarlo",
+        "optimize",
+    ] {
+        assert!(out.contains(&format!("## lgsvi {command}\n")), "{command}");
+    }
+    assert!(
+        committed == out,
+        "docs/reference/cli.md is not the binary's help: regenerate it with \
+         `cargo run --release -p lgsvi-cli -- cli-reference > docs/reference/cli.md`"
+    );
+}

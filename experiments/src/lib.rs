@@ -65,6 +65,8 @@
 //! # }
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod conserved;
 pub mod convergence;
 mod error;

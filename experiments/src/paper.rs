@@ -77,8 +77,9 @@ pub struct LongRun {
     pub step_angle: Vec<f64>,
     /// Body momentum at each recorded step.
     pub momentum: Vec<Vector3<f64>>,
-    /// `R ρ` (`ρ = e₃`) at each step, and on the Galerkin curves (`(t, Rρ)`).
+    /// `R ρ` (`ρ = e₃`) at each step.
     pub axis: Vec<Vector3<f64>>,
+    /// `R ρ` on the steps' Galerkin curves, `(t, Rρ)`.
     pub curve_axis: Vec<(f64, Vector3<f64>)>,
     /// Why the run stopped early, if it did.
     pub failure: Option<String>,

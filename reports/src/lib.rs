@@ -47,6 +47,8 @@
 //! # }
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod convergence;
 pub mod linearization;
 pub mod paper;

@@ -214,14 +214,26 @@ pub fn unstable_findings(data: &UnstableRuns) -> Vec<(String, f64, f64, Option<S
 /// Everything the claims table needs.
 #[derive(Default)]
 pub struct Findings {
+    /// The free rigid body's error factor per node added, per chart and matching.
     pub rb_factors: Vec<NodeFit>,
+    /// Its fitted order in the step per node count and matching.
     pub rb_orders: Vec<(usize, Matching, Option<f64>)>,
+    /// Its long runs' energy and momentum drifts.
     pub rb_energy: Vec<EnergySummary>,
+    /// The sphere test: per matching, the largest relative drift of `|μ|²` and of the
+    /// energy over all its trajectories.
     pub sphere: Vec<(Matching, f64, f64)>,
+    /// The pendulum's (heavy top's) error factor per node added.
     pub pend_factors: Vec<NodeFit>,
+    /// Its fitted order in the step.
     pub pend_orders: Vec<(usize, Matching, Option<f64>)>,
+    /// Its long runs' energy and momentum drifts.
     pub pend_energy: Vec<EnergySummary>,
+    /// The unstable runs: configuration, largest energy error, largest step rotation
+    /// angle (radians), and why a run stopped, if it did.
     pub unstable: Vec<(String, f64, f64, Option<String>)>,
+    /// The largest energy jumps of the unstable run: time, jump, and the step's rotation
+    /// angle there (radians).
     pub unstable_jumps: Vec<(f64, f64, f64)>,
 }
 
@@ -229,6 +241,7 @@ pub struct Findings {
 /// ratio, max spatial-momentum drift, max Casimir drift, failure.
 pub type EnergySummary = (String, f64, f64, f64, f64, Option<String>);
 
+/// The long runs of `data` summarised for the claims table ([`EnergySummary`]).
 pub fn energy_summary(data: &EnergyRuns) -> Vec<EnergySummary> {
     data.runs
         .iter()
@@ -246,6 +259,8 @@ pub fn energy_summary(data: &EnergyRuns) -> Vec<EnergySummary> {
         .collect()
 }
 
+/// The error factor per node added of chart `c` and matching `m`, as `×q` (`–` where
+/// none was fitted).
 pub fn find_factor(v: &[NodeFit], c: ChartKind, m: Matching) -> String {
     v.iter()
         .find(|x| x.0 == c && x.1 == m)
@@ -254,6 +269,7 @@ pub fn find_factor(v: &[NodeFit], c: ChartKind, m: Matching) -> String {
         .unwrap_or_else(|| "–".into())
 }
 
+/// The fitted orders of matching `m` per node count, as `n=4: 6.0, n=5: 8.1, …`.
 pub fn orders_text(v: &[(usize, Matching, Option<f64>)], m: Matching) -> String {
     v.iter()
         .filter(|x| x.1 == m)
@@ -309,6 +325,7 @@ pub fn order_misses(v: &[(usize, Matching, Option<f64>)], m: Matching) -> Vec<St
         .collect()
 }
 
+/// The verdict on "the order in the step is 2(n − 1)" for matching `m`.
 pub fn orders_verdict(v: &[(usize, Matching, Option<f64>)], m: Matching) -> String {
     let misses = order_misses(v, m);
     if misses.is_empty() {

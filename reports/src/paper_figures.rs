@@ -41,6 +41,7 @@ pub fn n_refinement(data: &NRefinement, title: &str) -> Figure {
     }
 }
 
+/// The n-refinement's rows as CSV (one per node count).
 pub fn n_refinement_csv(data: &NRefinement) -> String {
     study::csv(&data.rows.iter().collect::<Vec<_>>(), "nodes")
 }
@@ -74,6 +75,7 @@ pub fn h_refinement(data: &HRefinement, title: &str) -> Figure {
     }
 }
 
+/// The h-refinement's rows as CSV (one per step length).
 pub fn h_refinement_csv(data: &HRefinement) -> String {
     study::csv(&data.rows.iter().collect::<Vec<_>>(), "step")
 }
@@ -121,6 +123,7 @@ pub fn energy(data: &EnergyRuns, title: &str) -> Figure {
     energy_error_figure(title.into(), &data.runs, stride, Style::Line)
 }
 
+/// The long runs' relative energy errors as CSV: the time, then one column per run.
 pub fn energy_csv(data: &EnergyRuns) -> String {
     let mut csv = String::from("t");
     for (m, _) in &data.runs {
@@ -187,6 +190,7 @@ pub fn sphere(data: &SphereRuns) -> SphereFigure {
     }
 }
 
+/// The sphere test's body momenta as CSV: trajectory, matching, time and `μ`.
 pub fn sphere_csv(data: &SphereRuns) -> String {
     let mut csv = String::from("trajectory,matching,t,mu_x,mu_y,mu_z\n");
     for (matching, runs) in &data.runs {
@@ -245,6 +249,7 @@ pub fn unstable_dynamics(data: &UnstableRuns) -> Figure {
     }
 }
 
+/// The shown unstable run's states as CSV.
 pub fn unstable_dynamics_csv(data: &UnstableRuns) -> String {
     let run = &data.runs[data.shown].1;
     let mut csv = String::from("t,kind,axis_x,axis_y,axis_z\n");
@@ -266,6 +271,7 @@ pub fn unstable_energy(data: &UnstableRuns) -> Figure {
     energy_error_figure(title, &data.runs, 1, Style::LineMarkers)
 }
 
+/// The unstable runs' relative energy errors as CSV: the time, then one column per run.
 pub fn unstable_energy_csv(data: &UnstableRuns) -> String {
     let mut csv = String::from("t");
     for (m, _) in &data.runs {
