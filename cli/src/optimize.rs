@@ -1,6 +1,7 @@
 //! `lgsvi optimize`: a rigid body's slew at the least input energy in a fixed time or in
-//! the least time, torques bounded per axis ([`lgsvi_optimal`]), written as JSON with
-//! optional figures of the torques, the rates and the attitude error.
+//! the least time, or a heavy top's at the least energy (`--gravity`), torques bounded per
+//! axis ([`lgsvi_optimal`]), written as JSON with optional figures of the torques, the
+//! rates and the attitude error.
 
 use crate::error::{CliError, Result};
 use clap::{Args, ValueEnum};
@@ -37,6 +38,20 @@ pub struct OptimizeOptions {
     /// paper's body].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "A,B,C")]
     pub inertia: Option<[f64; 3]>,
+    /// Gravity g ≥ 0: the body becomes a heavy top about its fixed point,
+    /// `ℓ = ½ΩᵀJΩ + m g dᵀRρ` (with --cost energy; the torques also hold it against
+    /// gravity).
+    #[arg(long, allow_hyphen_values = true)]
+    pub gravity: Option<f64>,
+    /// The heavy top's mass m ≥ 0, kg [default: 1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub mass: Option<f64>,
+    /// The heavy top's centre of mass ρ from the fixed point, body frame [default: 0,0,1].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub com: Option<[f64; 3]>,
+    /// The direction d gravity pulls in, world frame [default: 0,0,1].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub gravity_direction: Option<[f64; 3]>,
     /// The start attitude as a rotation vector (radians, body to world) [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub attitude0: Option<[f64; 3]>,
@@ -127,6 +142,15 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
             e.to_string(),
         )
     })?;
+    let gravity = heavy_top(&options)?;
+    if gravity.is_some() && minimum_time {
+        return Err(CliError::invalid(
+            "--cost",
+            "time",
+            "a minimum-time slew rests on the free body's time scaling, which gravity breaks: \
+             give --cost energy with --t-end for a heavy top",
+        ));
+    }
     let start = SO3::exp(&Vector3::from(options.attitude0.unwrap_or([0.0; 3])));
     let target = SO3::exp(&Vector3::from(options.attitude_final));
     let omega0 = Vector3::from(options.omega0.unwrap_or([0.0; 3]));
@@ -163,6 +187,9 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         });
     if let Some(bound) = options.torque_max {
         slew = slew.torque_max(bound);
+    }
+    if let Some(gravity) = gravity {
+        slew = slew.gravity(gravity);
     }
     if let Some(weights) = options.terminal_cost {
         slew = slew.terminal_cost(weights);
@@ -231,6 +258,12 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         "kkt_residuals": solution.statistics.kkt_residuals,
         "time_s": solution.statistics.time_s,
         "torque_max": options.torque_max,
+        "gravity": gravity.map(|g| json!({
+            "mass": g.mass,
+            "g": g.gravity,
+            "com": g.center_of_mass.as_slice(),
+            "gravity_direction": g.direction.as_slice(),
+        })),
         "multipliers": solution.multipliers,
         "t": times,
         "inputs": solution.inputs.iter().map(|u| [u.x, u.y, u.z]).collect::<Vec<_>>(),
@@ -255,6 +288,71 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// The heavy top's gravity from `--gravity` (and `--mass`, `--com`, `--gravity-direction`,
+/// which need it), checked as the heavy top checks them; `None` for a free body.
+fn heavy_top(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Gravity>> {
+    let Some(g) = options.gravity else {
+        for (flag, given) in [
+            ("--mass", options.mass.is_some()),
+            ("--com", options.com.is_some()),
+            ("--gravity-direction", options.gravity_direction.is_some()),
+        ] {
+            if given {
+                return Err(CliError::invalid(
+                    flag,
+                    "given",
+                    "it describes a heavy top: give --gravity G as well (or drop it for a free \
+                     body)",
+                ));
+            }
+        }
+        return Ok(None);
+    };
+    let gravity = lgsvi_optimal::Gravity {
+        mass: options.mass.unwrap_or(1.0),
+        gravity: g,
+        center_of_mass: Vector3::from(options.com.unwrap_or([0.0, 0.0, 1.0])),
+        direction: Vector3::from(options.gravity_direction.unwrap_or([0.0, 0.0, 1.0])),
+    };
+    let inertia = Inertia::from_principal_moments([1.0; 3]).expect("a unit sphere");
+    lgsvi_mechanics::HeavyTop::new(
+        inertia,
+        gravity.mass,
+        gravity.gravity,
+        gravity.center_of_mass,
+        gravity.direction,
+    )
+    .map_err(|error| {
+        let (flag, value) = match &error {
+            lgsvi_mechanics::MechanicsError::InvalidSetting { name: "mass", .. }
+            | lgsvi_mechanics::MechanicsError::NonFinite { what: "mass", .. } => {
+                ("--mass", format!("{:?}", gravity.mass))
+            }
+            lgsvi_mechanics::MechanicsError::InvalidSetting {
+                name: "gravity direction",
+                ..
+            }
+            | lgsvi_mechanics::MechanicsError::NonFinite {
+                what: "gravity direction",
+                ..
+            } => (
+                "--gravity-direction",
+                format!("{:?}", gravity.direction.as_slice()),
+            ),
+            lgsvi_mechanics::MechanicsError::NonFinite {
+                what: "centre of mass",
+                ..
+            } => ("--com", format!("{:?}", gravity.center_of_mass.as_slice())),
+            _ => ("--gravity", format!("{g:?}")),
+        };
+        let reason = error
+            .to_string()
+            .replace("with gravity_direction", "with --gravity-direction");
+        CliError::invalid(flag, value, reason)
+    })?;
+    Ok(Some(gravity))
 }
 
 /// A solver's error naming the flag to change.

@@ -2170,3 +2170,73 @@ fn the_cli_reference_page_is_the_binarys_help() {
          `cargo run --release -p lgsvi-cli -- cli-reference > docs/reference/cli.md`"
     );
 }
+
+/// `lgsvi optimize --gravity`: a heavy top's minimum-energy slew meets the indirect
+/// (Pontryagin) reference of `optimal/tests/data/pontryagin_heavy_top.json` to 1e-9 with
+/// polynomial torques (8 nodes, 10 steps), and the heavy top's flags are checked.
+#[test]
+fn optimize_slews_a_heavy_top_to_pontryagins_optimum() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../optimal/tests/data/pontryagin_heavy_top.json"
+    ))
+    .unwrap();
+    let reference: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let cost = reference["cost"].as_f64().unwrap();
+    let (code, out, err) = lgsvi(&[
+        "optimize",
+        "--inertia",
+        "3,4,5.5",
+        "--attitude-final",
+        "1.5,0.4,-0.9",
+        "--t-end",
+        "30",
+        "--steps",
+        "10",
+        "--nodes",
+        "8",
+        "--inputs",
+        "polynomial",
+        "--gravity",
+        "0.02",
+        "--mass",
+        "1",
+        "--com",
+        "0.1,-0.2,1",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(json["converged"], true);
+    let got = json["cost"].as_f64().unwrap();
+    assert!((got - cost).abs() <= 1e-9 * cost, "{got} against {cost}");
+    assert_eq!(json["gravity"]["g"], 0.02);
+    for (args, words) in [
+        (vec!["--mass", "2"], vec!["--mass", "--gravity"]),
+        (vec!["--gravity", "-1"], vec!["--gravity", "non-negative"]),
+        (
+            vec!["--gravity", "0.1", "--cost", "time", "--torque-max", "1"],
+            vec!["--cost time", "gravity"],
+        ),
+        (
+            vec!["--gravity", "0.1", "--gravity-direction", "0,0,0"],
+            vec!["--gravity-direction", "non-zero"],
+        ),
+    ] {
+        let mut full = vec![
+            "optimize",
+            "--attitude-final",
+            "1,0,0",
+            "--t-end",
+            "10",
+            "--quiet",
+        ];
+        full.extend(args.iter().copied());
+        let (code, _, err) = lgsvi(&full);
+        assert_ne!(code, 0, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        for word in words {
+            assert!(err.contains(word), "{args:?}: {err}");
+        }
+    }
+}

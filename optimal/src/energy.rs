@@ -3,7 +3,7 @@
 use crate::shooting::shoot;
 use crate::tracking::{residuals, Residuals};
 use crate::{qp, quadrature, Inputs, OptimalError, Slew, Solution, Statistics};
-use lgsvi_mechanics::{RigidBody, StepSettings};
+use lgsvi_mechanics::StepSettings;
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::time::Instant;
 
@@ -20,7 +20,7 @@ pub(crate) fn minimum_energy(
 ) -> Result<Solution, OptimalError> {
     let clock = Instant::now();
     let (k_steps, h) = (slew.steps, settings.h());
-    let body = RigidBody::new(slew.inertia);
+    let body = slew.system()?;
     let Start {
         nodes,
         weights,

@@ -1,6 +1,7 @@
 //! Optimal control on the group with lgsvi's variational step as the constraint: slews of
 //! a rigid body from a start `(R₀, Ω₀)` to a target `(R_f, Ω_f)`, the torques bounded per
-//! axis, at the least input energy in a fixed time or in the least time.
+//! axis, at the least input energy in a fixed time or in the least time; and a heavy top's
+//! at the least energy ([`Slew::gravity`]).
 //!
 //! # The problem
 //!
@@ -113,8 +114,9 @@ mod shooting;
 mod time;
 mod tracking;
 
+use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::lie::SO3;
-use lgsvi_mechanics::{Inertia, MechanicsError, State, StepSettings};
+use lgsvi_mechanics::{HeavyTop, Inertia, MechanicsError, RigidBody, State, StepSettings};
 use nalgebra::Vector3;
 
 /// Why a slew was not solved.
@@ -204,10 +206,12 @@ pub fn eigen_axis_time(inertia: &Inertia, rotation: &SO3, torque_max: [f64; 3]) 
     time.is_finite().then_some(time)
 }
 
-/// A slew of a rigid body (crate documentation): built, then [`Slew::solve`]d.
+/// A slew of a rigid body or a heavy top (crate documentation): built, then
+/// [`Slew::solve`]d.
 #[derive(Debug, Clone)]
 pub struct Slew {
     inertia: Inertia,
+    gravity: Option<Gravity>,
     t_end: f64,
     start: (SO3, Vector3<f64>),
     target: (SO3, Vector3<f64>),
@@ -221,6 +225,21 @@ pub struct Slew {
     tolerance: f64,
     max_iterations: usize,
     initial: Option<Vec<Vector3<f64>>>,
+}
+
+/// Gravity on the body: it is then a heavy top, `ℓ = ½ΩᵀJΩ + m g dᵀRρ`
+/// ([`lgsvi_mechanics::HeavyTop`]), whose gravity torque `m g ρ × Rᵀd` the slew's torques
+/// work with or against ([`Slew::gravity`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gravity {
+    /// The mass `m ≥ 0` (kg).
+    pub mass: f64,
+    /// The gravitational acceleration `g ≥ 0`.
+    pub gravity: f64,
+    /// The centre of mass `ρ` from the fixed point, body frame.
+    pub center_of_mass: Vector3<f64>,
+    /// The direction gravity pulls in, `d`, world frame (normalised).
+    pub direction: Vector3<f64>,
 }
 
 /// How the torque varies within a step.
@@ -303,6 +322,7 @@ impl Slew {
     pub fn new(inertia: Inertia, t_end: f64) -> Self {
         Self {
             inertia,
+            gravity: None,
             t_end,
             start: (SO3::identity(), Vector3::zeros()),
             target: (SO3::identity(), Vector3::zeros()),
@@ -317,6 +337,29 @@ impl Slew {
             max_iterations: 100,
             initial: None,
         }
+    }
+
+    /// Puts the body under gravity: a heavy top about its fixed point ([`Gravity`]). For
+    /// [`Cost::Energy`] (the minimum time rests on the free body's time scaling, which
+    /// gravity breaks); the torques then also hold the body against gravity, at the start
+    /// and target as on the way.
+    pub fn gravity(mut self, gravity: Gravity) -> Self {
+        self.gravity = Some(gravity);
+        self
+    }
+
+    /// The system the steps integrate: the free rigid body, or the heavy top.
+    fn system(&self) -> Result<BuiltInSo3, OptimalError> {
+        Ok(match self.gravity {
+            None => BuiltInSo3::Free(RigidBody::new(self.inertia)),
+            Some(g) => BuiltInSo3::Top(HeavyTop::new(
+                self.inertia,
+                g.mass,
+                g.gravity,
+                g.center_of_mass,
+                g.direction,
+            )?),
+        })
     }
 
     /// The start `(R₀, Ω₀)` (body to world; body rates).
@@ -488,6 +531,15 @@ impl Slew {
                 ));
             }
         }
+        if self.cost == Cost::Time && self.gravity.is_some() {
+            return Err(invalid(
+                "cost",
+                "Time".into(),
+                "a minimum-time slew rests on the free body's time scaling (t ↦ ct, Ω ↦ Ω/c, \
+                 u ↦ u/c²), which gravity breaks: give Cost::Energy for a heavy top",
+            ));
+        }
+        self.system()?;
         if self.cost == Cost::Time && (self.tracking.is_some() || self.terminal_cost.is_some()) {
             return Err(invalid(
                 "cost",
@@ -537,12 +589,8 @@ impl Slew {
 
 /// The Gauss points of a step of `settings` (fractions of the step) and their weights.
 fn quadrature(slew: &Slew, settings: StepSettings) -> Result<(Vec<f64>, Vec<f64>), OptimalError> {
-    let it = lgsvi_mechanics::Integrator::new(
-        lgsvi_mechanics::RigidBody::new(slew.inertia),
-        settings,
-        slew.start.0,
-        slew.start.1,
-    )?;
+    let it =
+        lgsvi_mechanics::Integrator::new(slew.system()?, settings, slew.start.0, slew.start.1)?;
     Ok((it.quadrature_nodes(), it.quadrature_weights()))
 }
 

@@ -5,7 +5,8 @@ use crate::energy::minimum_energy;
 use crate::qp::QpSolution;
 use crate::shooting::{shoot, Shot};
 use crate::{qp, Cost, OptimalError, Slew, Solution, Statistics};
-use lgsvi_mechanics::{RigidBody, StepSettings};
+use lgsvi_mechanics::built_in::BuiltInSo3;
+use lgsvi_mechanics::StepSettings;
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::time::Instant;
 
@@ -91,7 +92,7 @@ fn climb(
             slew,
             bound,
             k_steps,
-            body: RigidBody::new(slew.inertia),
+            body: slew.system()?,
         };
         let level_tolerance = if level == 0 {
             tolerance
@@ -131,7 +132,7 @@ struct Problem<'a> {
     slew: &'a Slew,
     bound: Vector3<f64>,
     k_steps: usize,
-    body: RigidBody,
+    body: BuiltInSo3,
 }
 
 impl Problem<'_> {

@@ -30,7 +30,7 @@ fn optimal_error(error: OptimalError) -> PyErr {
 
 /// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None))]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None, gravity=None, mass=1.0, com=None, gravity_direction=None))]
 #[allow(clippy::too_many_arguments)]
 fn _slew<'py>(
     py: Python<'py>,
@@ -50,6 +50,10 @@ fn _slew<'py>(
     inputs: &str,
     track: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>, [f64; 2])>,
     terminal_cost: Option<[f64; 2]>,
+    gravity: Option<f64>,
+    mass: f64,
+    com: Option<&Bound<'py, PyAny>>,
+    gravity_direction: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = match inputs {
         "constant" => Inputs::Constant,
@@ -127,6 +131,25 @@ fn _slew<'py>(
         .inputs(shape);
     if let Some(bound) = bound {
         slew = slew.torque_max([bound.x, bound.y, bound.z]);
+    }
+    match gravity {
+        Some(g) => {
+            slew = slew.gravity(lgsvi_optimal::Gravity {
+                mass,
+                gravity: g,
+                center_of_mass: com.map_or(Ok(Vector3::z()), |c| vector3(c, "com"))?,
+                direction: gravity_direction
+                    .map_or(Ok(Vector3::z()), |d| vector3(d, "gravity_direction"))?,
+            })
+        }
+        None if com.is_some() || gravity_direction.is_some() || mass != 1.0 => {
+            return Err(invalid(
+                "mass, com and gravity_direction describe a heavy top: give gravity as well \
+                 (or drop them for a free body)"
+                    .to_string(),
+            ))
+        }
+        None => {}
     }
     if let Some((attitudes, omegas, weights)) = track {
         let attitudes = crate::convert::rotations(&attitudes, "track attitudes")?;

@@ -80,6 +80,16 @@ def test_minimum_time_errors():
         optimal.slew([3.0, 4.0, 5.0], None, target)
 
 
+def _lands_on(it, result, target):
+    """Drives `it` by the slew's torques at the Gauss points: it ends at rest on `target`
+    to 1e-10."""
+    for u in result.inputs_at_points:
+        it.set_input_at_points(u)
+        it.step()
+    assert np.abs(lie.so3_log(it.state.attitude.T @ target)).max() <= 1e-10
+    assert np.abs(it.state.omega).max() <= 1e-10
+
+
 def test_polynomial_inputs_meet_pontryagins_optimum():
     # The indirect (Pontryagin) reference of optimal/tests/data/pontryagin_slew.py; with the
     # torque a polynomial within each step the cost converges at the integrator's order:
@@ -99,15 +109,35 @@ def test_polynomial_inputs_meet_pontryagins_optimum():
     it = lgsvi.Integrator(lgsvi.RigidBody(reference["inertia"]), result.h, 8)
     assert np.allclose(it.quadrature_nodes, result.quadrature_nodes, rtol=0, atol=1e-15)
     assert abs(it.quadrature_weights.sum() - 1.0) < 1e-14
-    for u in result.inputs_at_points:
-        it.set_input_at_points(u)
-        it.step()
-    assert np.abs(lie.so3_log(it.state.attitude.T @ target)).max() <= 1e-10
-    assert np.abs(it.state.omega).max() <= 1e-10
+    _lands_on(it, result, target)
     with pytest.raises(lgsvi.InvalidInputError, match="inputs"):
         optimal.slew([3.0, 4.0, 5.5], 30.0, target, inputs="quadratic")
     with pytest.raises(lgsvi.InvalidInputError):
         it.set_input_at_points(np.zeros((2, 3)))
+
+
+def test_a_heavy_tops_slew_meets_pontryagins_optimum():
+    # The indirect reference with the gravity torque (optimal/tests/data/pontryagin_slew.py,
+    # pontryagin_heavy_top.json): 8 nodes and 10 steps of polynomial torques meet it to
+    # 1e-9; the torques replay through lgsvi.HeavyTop's integrator onto the target.
+    import json
+    import pathlib
+
+    data = pathlib.Path(__file__).resolve().parents[2] / "optimal/tests/data/pontryagin_heavy_top.json"
+    ref = json.loads(data.read_text())
+    target = lie.so3_exp(ref["attitude_final"])
+    result = optimal.slew(ref["inertia"], ref["t_end"], target, steps=10, nodes=8,
+                          inputs="polynomial", gravity=ref["gravity"], mass=ref["mass"],
+                          com=ref["com"], gravity_direction=ref["gravity_direction"])
+    assert abs(result.cost - ref["cost"]) <= 1e-9 * ref["cost"]
+    top = lgsvi.HeavyTop(ref["inertia"], mass=ref["mass"], gravity=ref["gravity"], com=ref["com"],
+                         gravity_direction=ref["gravity_direction"])
+    it = lgsvi.Integrator(top, result.h, 8)
+    _lands_on(it, result, target)
+    with pytest.raises(lgsvi.InvalidInputError, match="gravity"):
+        optimal.slew(ref["inertia"], 30.0, target, mass=2.0)
+    with pytest.raises(lgsvi.InvalidInputError, match="gravity"):
+        optimal.slew(ref["inertia"], 30.0, target, gravity=0.02, cost="time", torque_max=0.1)
 
 
 def test_tracking_and_a_soft_target():

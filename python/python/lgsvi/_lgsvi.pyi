@@ -273,7 +273,7 @@ def _montecarlo_envelope_from_bytes(data: bytes) -> MonteCarloEnvelope: ...
 
 def _slew(
     inertia: ArrayLike,
-    t_end: float,
+    t_end: Optional[float],
     attitude_final: ArrayLike,
     attitude0: Optional[ArrayLike] = None,
     omega0: Optional[ArrayLike] = None,
@@ -284,4 +284,12 @@ def _slew(
     tolerance: float = 1e-10,
     max_iterations: int = 100,
     warm_start: Optional[ArrayLike] = None,
+    cost: str = "energy",
+    inputs: str = "constant",
+    track: Optional[Tuple[ArrayLike, ArrayLike, Sequence[float]]] = None,
+    terminal_cost: Optional[Sequence[float]] = None,
+    gravity: Optional[float] = None,
+    mass: float = 1.0,
+    com: Optional[ArrayLike] = None,
+    gravity_direction: Optional[ArrayLike] = None,
 ) -> Dict[str, Any]: ...

@@ -117,6 +117,10 @@ def slew(
     inputs: str = "constant",
     track: Optional[Any] = None,
     terminal_cost: Optional[Any] = None,
+    gravity: Optional[float] = None,
+    mass: float = 1.0,
+    com: Optional[Any] = None,
+    gravity_direction: Optional[Any] = None,
 ) -> SlewResult:
     """The slew of the body of principal moments ``inertia`` (3,) to ``attitude_final``
     (3, 3) and ``omega_final`` (default rest), from ``attitude0`` (default identity) and
@@ -137,6 +141,12 @@ def slew(
     q_omega |Omega_k - Omega_ref|^2)``; ``terminal_cost=[q_theta, q_omega]`` replaces the exact
     terminal state by ``q_theta |log(R_f^T R_K)|^2 + q_omega |Omega_K - Omega_f|^2`` (energy
     cost only; Gauss-Newton on the least squares).
+
+    ``gravity=g`` makes the body a heavy top about its fixed point (as
+    :class:`lgsvi.HeavyTop`: ``l = 1/2 Omega^T J Omega + m g d^T R rho``) of ``mass`` (default
+    1), centre of mass ``com`` (body frame, default ``(0, 0, 1)``) and gravity pulling along
+    ``gravity_direction`` (world frame, default ``(0, 0, 1)``); energy cost only. The torques
+    then also hold it against gravity.
 
     Raises
     ------
@@ -164,5 +174,9 @@ def slew(
         inputs=inputs,
         track=track,
         terminal_cost=terminal_cost,
+        gravity=gravity,
+        mass=mass,
+        com=com,
+        gravity_direction=gravity_direction,
     )
     return SlewResult(**fields)
