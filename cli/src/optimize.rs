@@ -79,6 +79,15 @@ pub struct OptimizeOptions {
     /// (a soft target; with --cost energy).
     #[arg(long, value_parser = crate::config::numbers::<2>, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
     pub terminal_cost: Option<[f64; 2]>,
+    /// Track a reference motion: a JSON file with `R` (row-major attitudes) and `omega`
+    /// (body rates) at the K step boundaries after the start (or K + 1 with the start,
+    /// which is then skipped), as `lgsvi simulate --h T/K` and `lgsvi optimize` write them;
+    /// adds Q_THETA |log(R_refᵀ R_k)|² + Q_OMEGA |Ω_k − Ω_ref|² per step (with --cost energy).
+    #[arg(long, value_name = "FILE")]
+    pub track: Option<PathBuf>,
+    /// The tracking weights [default: 1,1].
+    #[arg(long, value_parser = crate::config::numbers::<2>, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
+    pub track_weights: Option<[f64; 2]>,
     /// The largest torque per body axis, N·m: one value for all three, or X,Y,Z.
     #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
     pub torque_max: Option<[f64; 3]>,
@@ -194,6 +203,20 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     if let Some(weights) = options.terminal_cost {
         slew = slew.terminal_cost(weights);
     }
+    match (&options.track, options.track_weights) {
+        (Some(path), weights) => {
+            let reference = reference_motion(path, steps)?;
+            slew = slew.track(reference, weights.unwrap_or([1.0, 1.0]));
+        }
+        (None, Some(_)) => {
+            return Err(CliError::invalid(
+                "--track-weights",
+                "given",
+                "they weigh a tracking cost: give --track FILE as well",
+            ))
+        }
+        (None, None) => {}
+    }
     if options.inputs == Some(InputShape::Polynomial) {
         slew = slew.inputs(lgsvi_optimal::Inputs::Polynomial);
     }
@@ -290,6 +313,67 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     }
 }
 
+/// The reference motion of `--track`: the `steps` states after the start of a JSON file
+/// with `R` (row-major) and `omega` per state, as simulate and optimize write them.
+fn reference_motion(path: &std::path::Path, steps: usize) -> Result<Vec<lgsvi_optimal::Target>> {
+    let refused = |reason: String| CliError::invalid("--track", path.display(), reason);
+    let text =
+        std::fs::read_to_string(path).map_err(|e| refused(format!("cannot be read: {e}")))?;
+    let json: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| refused(format!("not JSON: {e}")))?;
+    let rows = |key: &str, width: usize| -> Result<Vec<Vec<f64>>> {
+        let list = json[key].as_array().ok_or_else(|| {
+            refused(format!(
+                "no \"{key}\" array (the file holds R and omega per state, as simulate's JSON)"
+            ))
+        })?;
+        list.iter()
+            .enumerate()
+            .map(|(k, row)| {
+                let values: Option<Vec<f64>> = row
+                    .as_array()
+                    .map(|r| r.iter().map(serde_json::Value::as_f64).collect())
+                    .and_then(|v: Option<Vec<f64>>| v);
+                match values {
+                    Some(v) if v.len() == width && v.iter().all(|x| x.is_finite()) => Ok(v),
+                    _ => Err(refused(format!("{key}[{k}] is not {width} finite numbers"))),
+                }
+            })
+            .collect()
+    };
+    let (attitudes, rates) = (rows("R", 9)?, rows("omega", 3)?);
+    if attitudes.len() != rates.len() {
+        return Err(refused(format!(
+            "{} attitudes and {} rates: one of each per state",
+            attitudes.len(),
+            rates.len()
+        )));
+    }
+    let skip = match attitudes.len() {
+        n if n == steps => 0,
+        n if n == steps + 1 => 1,
+        n => {
+            return Err(refused(format!(
+                "{n} states for {steps} steps: give K (after the start) or K + 1 (with it); \
+                 a simulate run with --h T/K and --t-end T records K + 1"
+            )))
+        }
+    };
+    attitudes
+        .iter()
+        .zip(&rates)
+        .enumerate()
+        .skip(skip)
+        .map(|(k, (r, w))| {
+            let attitude = SO3::from_matrix_unchecked(nalgebra::Matrix3::from_row_slice(r));
+            if attitude.orthogonality_error() > 1e-9 {
+                return Err(refused(format!("R[{k}] is not a rotation")));
+            }
+            Ok((attitude, Vector3::new(w[0], w[1], w[2])))
+        })
+        .collect()
+}
+
 /// The heavy top's gravity from `--gravity` (and `--mass`, `--com`, `--gravity-direction`,
 /// which need it), checked as the heavy top checks them; `None` for a free body.
 fn heavy_top(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Gravity>> {
@@ -368,6 +452,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "target" => "--attitude-final/--omega-final",
             "inputs" => "--inputs",
             "terminal_cost" => "--terminal-cost",
+            "track" => "--track-weights",
             "cost" => "--cost",
             _ => "--steps",
         },
@@ -399,6 +484,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         "--inertia" => list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
         "--inputs" => "polynomial".into(),
         "--terminal-cost" => options.terminal_cost.map_or(String::new(), |q| list(&q)),
+        "--track-weights" => options.track_weights.map_or(String::new(), |q| list(&q)),
         "--cost" => "time".into(),
         _ => format!(
             "{}, {}, {}",

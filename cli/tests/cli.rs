@@ -2240,3 +2240,144 @@ fn optimize_slews_a_heavy_top_to_pontryagins_optimum() {
         }
     }
 }
+
+/// `lgsvi optimize --track FILE`: a reference motion read from simulate's JSON. On the
+/// reference (the same start, the target its end, torque-free) the optimum is no torque at
+/// all; from a start 0.1 rad off, a soft target, the slew closes on the reference (its
+/// attitude error falls below 1e-3 rad by the tenth step, measured 4.5e-4). Files that do
+/// not hold one state per step are refused naming --track.
+#[test]
+fn optimize_tracks_a_reference_from_simulate() {
+    use lgsvi_mechanics::lie::{LieGroup, SO3};
+    use nalgebra::{Matrix3, Vector3};
+    let dir = temp_dir("track");
+    let reference = dir.join("reference.json");
+    let (code, out, err) = lgsvi(&[
+        "simulate",
+        "--inertia",
+        "3,4,5.5",
+        "--omega0",
+        "0.05,0.02,-0.03",
+        "--h",
+        "0.5",
+        "--nodes",
+        "10",
+        "--t-end",
+        "20",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(&reference, &out).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let numbers = |value: &serde_json::Value| -> Vec<f64> {
+        value
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let attitude = |value: &serde_json::Value| {
+        SO3::from_matrix_unchecked(Matrix3::from_row_slice(&numbers(value)))
+    };
+    let states = json["R"].as_array().unwrap();
+    let end = attitude(states.last().unwrap());
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let (target, rates) = (
+        list(end.log().as_slice()),
+        list(&numbers(json["omega"].as_array().unwrap().last().unwrap())),
+    );
+    let optimize = |extra: &[&str]| {
+        let mut args = vec![
+            "optimize",
+            "--inertia",
+            "3,4,5.5",
+            "--omega0",
+            "0.05,0.02,-0.03",
+            "--t-end",
+            "20",
+            "--steps",
+            "40",
+            "--nodes",
+            "10",
+            "--attitude-final",
+            &target,
+            "--omega-final",
+            &rates,
+            "--track",
+            reference.to_str().unwrap(),
+            "--quiet",
+        ];
+        args.extend(extra);
+        lgsvi(&args)
+    };
+    let (code, out, err) = optimize(&[]);
+    assert_eq!(code, 0, "{err}");
+    let on: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(on["converged"], true);
+    // Measured 3e-31: the reference's own torques (none), to the target's rounding.
+    assert!(on["cost"].as_f64().unwrap() < 1e-20, "{}", on["cost"]);
+    let (code, out, err) = optimize(&[
+        "--attitude0",
+        "0.1,0,0",
+        "--terminal-cost",
+        "100,100",
+        "--track-weights",
+        "10,10",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let off: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(off["converged"], true);
+    let error = |k: usize| {
+        let (a, b) = (attitude(&states[k]), attitude(&off["R"][k]));
+        a.inverse().compose(&b).log().norm()
+    };
+    assert!(
+        (error(0) - 0.1).abs() < 1e-12 && error(10) < 1e-3,
+        "{}",
+        error(10)
+    );
+    assert!(Vector3::from_row_slice(&numbers(&off["omega"][40])).norm() < 1.0);
+    // Refused: a file that is not there, one with too few states, weights without a file.
+    let short = dir.join("short.json");
+    std::fs::write(
+        &short,
+        r#"{"R": [[1,0,0,0,1,0,0,0,1]], "omega": [[0,0,0]]}"#,
+    )
+    .unwrap();
+    for (args, words) in [
+        (
+            vec!["--track", "/nonexistent/ref.json"],
+            vec!["--track", "cannot be read"],
+        ),
+        (
+            vec!["--track", short.to_str().unwrap()],
+            vec!["--track", "1 states for 40 steps"],
+        ),
+        (
+            vec!["--track-weights", "1,1"],
+            vec!["--track-weights", "--track FILE"],
+        ),
+    ] {
+        let mut full = vec![
+            "optimize",
+            "--attitude-final",
+            "1,0,0",
+            "--t-end",
+            "10",
+            "--quiet",
+        ];
+        full.extend(args.iter().copied());
+        let (code, _, err) = lgsvi(&full);
+        assert_ne!(code, 0, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        for word in words {
+            assert!(err.contains(word), "{args:?}: {err}");
+        }
+    }
+}
