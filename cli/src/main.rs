@@ -127,14 +127,7 @@ fn integrate(problem: &Problem) -> Result<Recording> {
     bar.finish_and_clear();
     recorded.map_err(|error| match CliError::from(error).into_mechanics() {
         CliError::Experiment(lgsvi_experiments::ExperimentError::Stop { condition, reason }) => {
-            let settling = problem.watch.settle.map(|c| c.to_string()) == Some(condition.clone())
-                && problem.watch.stop.map(|c| c.to_string()) != Some(condition.clone());
-            let flag = if settling {
-                "--settle-when"
-            } else {
-                "--stop-when"
-            };
-            CliError::invalid(flag, condition, reason)
+            problem.condition_error(condition, reason)
         }
         CliError::Mechanics(
             source @ (MechanicsError::ToleranceNotMet { .. }

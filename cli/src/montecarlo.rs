@@ -208,6 +208,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     nominal_options.out = None;
     nominal_options.quiet = true;
     let (nominal_problem, resolved) = Problem::resolve(nominal_options)?;
+    nominal_problem.check_watch()?;
     let scenario = &nominal_problem.scenario;
     let mut nominal = Body::new(scenario.inertia, scenario.attitude0, scenario.omega0);
     nominal.torque = resolved.torque.map_or(Vector3::zeros(), Vector3::from);

@@ -495,6 +495,30 @@ impl Problem {
         Ok((problem, options))
     }
 
+    /// A refused condition (`ExperimentError::Stop`) as an error naming the flag that gave
+    /// it, `--settle-when` or `--stop-when`.
+    pub fn condition_error(&self, condition: String, reason: String) -> CliError {
+        let flag = if self.watch.names_settle(&condition) {
+            "--settle-when"
+        } else {
+            "--stop-when"
+        };
+        CliError::invalid(flag, condition, reason)
+    }
+
+    /// Refuses a condition on a quantity the system lacks, before any run (a Monte Carlo
+    /// run's members would each fail on it), naming its flag.
+    pub fn check_watch(&self) -> Result<()> {
+        self.scenario
+            .check_watch(&self.watch)
+            .map_err(|error| match error {
+                ExperimentError::Stop { condition, reason } => {
+                    self.condition_error(condition, reason)
+                }
+                other => other.into(),
+            })
+    }
+
     /// The run's settings.
     pub fn settings(&self) -> StepSettings {
         self.scenario.settings

@@ -760,6 +760,36 @@ fn settling_times_per_member_match_simulate_and_are_summarised() {
     assert!(out.join("settle_times.png").exists());
 }
 
+/// A stop or settling condition on a quantity the system lacks is refused before any
+/// member runs, naming its flag (each member used to fail on it, exit status 3).
+#[test]
+fn a_condition_the_system_lacks_is_refused_before_the_members_run() {
+    let dir = temp_dir("lacking-condition");
+    for (flag, condition, words) in [
+        ("--stop-when", "x_1<0", "body in space"),
+        ("--settle-when", "wheel_1<0", "gyrostat"),
+    ] {
+        let out = dir.join(flag.trim_start_matches('-'));
+        let (code, _, err) = lgsvi(
+            &[
+                "montecarlo",
+                "--members",
+                "3",
+                flag,
+                condition,
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(code, 1, "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(flag) && err.contains(words), "{err}");
+        assert!(!out.join("members.csv").exists());
+    }
+}
+
 /// A dispersion the nominal body cannot take: a torque on a gyrostat (its wheels take
 /// the motor torques), a mass on a body without one.
 #[test]

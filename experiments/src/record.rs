@@ -343,22 +343,7 @@ where
     let (start, start_motion, start_wheels) =
         ElementOf::<S, D>::columns(runner.integrator().state());
     let r0 = start.configuration;
-    for (condition, _) in watch.conditions() {
-        if condition
-            .quantity
-            .value(&start, start_motion.as_ref(), start_wheels.as_ref(), &r0)
-            .is_none()
-        {
-            return Err(ExperimentError::Stop {
-                condition: condition.to_string(),
-                reason: format!(
-                    "{} applies to {}",
-                    condition.quantity,
-                    condition.quantity.applies_to()
-                ),
-            });
-        }
-    }
+    watch.check(&start, start_motion.as_ref(), start_wheels.as_ref())?;
     // The stop condition's event first (index 0 where there is one), the settling one's
     // after it.
     let settle_event = usize::from(watch.stop.is_some());

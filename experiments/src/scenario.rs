@@ -465,6 +465,19 @@ impl Scenario {
         })
     }
 
+    /// Refuses a condition of `watch` on a quantity this system lacks ([`Watch::check`] at
+    /// the start), once, before many runs.
+    ///
+    /// # Errors
+    /// [`ExperimentError::Stop`]; the integrator's refusal of the start.
+    pub fn check_watch(&self, watch: &Watch) -> Result<(), ExperimentError> {
+        with_system!(self, (make, _K, _D) => {
+            let it = make(self.settings)?;
+            let (start, motion, wheels) = crate::record::Columns::columns(it.state());
+            watch.check(&start, motion.as_ref(), wheels.as_ref())
+        })
+    }
+
     /// The exact solution of a free rigid body (Jacobi elliptic functions) recorded as
     /// [`Scenario::record`] would record a run with `settings` to `t_end` ([`record_exact`]),
     /// and the motion's regime; `None` for a system without a closed form.

@@ -28,6 +28,7 @@
 //! ```
 
 use crate::record::{MotionRecord, WheelRecord};
+use crate::ExperimentError;
 use lgsvi_mechanics::events::{Direction, Event};
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::State;
@@ -283,6 +284,45 @@ impl Watch {
     /// A watch of the stop condition `stop` alone.
     pub fn stop(stop: Option<StopWhen>) -> Self {
         Self { stop, settle: None }
+    }
+
+    /// Refuses a condition on a quantity the system lacks (a position for a body on
+    /// SO(3), a wheel beyond the gyrostat's count), judged at the start's SO(3) columns and
+    /// the translation or wheels beside them: what [`crate::record::record_until`] checks
+    /// before it runs, for a caller to check once before many runs.
+    ///
+    /// # Errors
+    /// [`ExperimentError::Stop`] naming the condition and the systems it applies to.
+    pub fn check(
+        &self,
+        start: &State,
+        motion: Option<&MotionRecord>,
+        wheels: Option<&WheelRecord>,
+    ) -> Result<(), ExperimentError> {
+        for (condition, _) in self.conditions() {
+            if condition
+                .quantity
+                .value(start, motion, wheels, &start.configuration)
+                .is_none()
+            {
+                return Err(ExperimentError::Stop {
+                    condition: condition.to_string(),
+                    reason: format!(
+                        "{} applies to {}",
+                        condition.quantity,
+                        condition.quantity.applies_to()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether `condition` (as a refusal names it) is the settling condition and not the
+    /// stop one: which of the two a caller's error should name.
+    pub fn names_settle(&self, condition: &str) -> bool {
+        let given = |c: Option<StopWhen>| c.is_some_and(|c| c.to_string() == condition);
+        given(self.settle) && !given(self.stop)
     }
 
     /// The conditions watched, each with whether it is the settling one.

@@ -9,10 +9,10 @@ use crate::errors::{guarded, invalid, mechanics, ConvergenceError};
 use crate::run::{chart_named, each_run, in_pool, matching_named, Options, Run};
 use crate::state::Start;
 use crate::systems::{system_of, InertiaInput, Spec};
-use lgsvi_experiments::record::record_until;
+use lgsvi_experiments::record::{record_until, Columns};
 use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_experiments::ExperimentError;
-use lgsvi_mechanics::{Inertia, State};
+use lgsvi_mechanics::Inertia;
 use lgsvi_montecarlo::statistics::{Envelope, RunEnd, Samples};
 use lgsvi_montecarlo::{Body, Dispersions, Member, Plan};
 use nalgebra::Vector3;
@@ -262,51 +262,14 @@ fn _montecarlo_envelope_from_bytes(data: &[u8]) -> PyResult<MonteCarloEnvelope> 
     Ok(MonteCarloEnvelope { envelope })
 }
 
-/// A condition given as `name=` (`stop_when`, `settle_when`), parsed and checked against
-/// the system at its start (a quantity the system lacks is refused).
-fn condition(
-    text: Option<&str>,
-    name: &str,
-    spec: &Spec,
-    start: &Start,
-) -> PyResult<Option<StopWhen>> {
-    let Some(text) = text else {
-        return Ok(None);
-    };
-    let condition: StopWhen = text
-        .parse()
-        .map_err(|reason| invalid(format!("{name} {text:?}: {reason}")))?;
-    let rotation = State {
-        time: 0.0,
-        configuration: start.attitude,
-        momentum: Vector3::zeros(),
-        velocity: start.omega,
-    };
-    let motion = spec
-        .in_space()
-        .then(|| lgsvi_experiments::record::MotionRecord {
-            position: start.position,
-            velocity: start.velocity,
-            spatial_momentum: nalgebra::SVector::zeros(),
-        });
-    let wheels = (spec.wheels() > 0).then(|| lgsvi_experiments::record::WheelRecord {
-        angles: start.wheel_angles.clone(),
-        speeds: start.wheel_speeds.clone(),
-        momenta: vec![0.0; spec.wheels()],
-    });
-    if condition
-        .quantity
-        .value(&rotation, motion.as_ref(), wheels.as_ref(), &start.attitude)
-        .is_none()
-    {
-        return Err(invalid(format!(
-            "{name} {text:?}: {} applies to {}, not to a {}",
-            condition.quantity,
-            condition.quantity.applies_to(),
-            spec.name()
-        )));
-    }
-    Ok(Some(condition))
+/// A condition given as `name=` (`stop_when`, `settle_when`), parsed (the system's check
+/// of its quantity comes with the nominal integrator, [`Watch::check`]).
+fn condition(text: Option<&str>, name: &str) -> PyResult<Option<StopWhen>> {
+    text.map(|text| {
+        text.parse()
+            .map_err(|reason| invalid(format!("{name} {text:?}: {reason}")))
+    })
+    .transpose()
 }
 
 /// Runs members `first..last` of the plan of `system` from `(attitude, omega)` (and
@@ -373,8 +336,8 @@ fn _montecarlo_chunk<'py>(
         )));
     }
     let watch = Watch {
-        stop: condition(stop_when, "stop_when", &spec, &start)?,
-        settle: condition(settle_when, "settle_when", &spec, &start)?,
+        stop: condition(stop_when, "stop_when")?,
+        settle: condition(settle_when, "settle_when")?,
     };
     let input = input.map(|u| vector(u, "input")).transpose()?;
     let dispersions: Dispersions =
@@ -414,6 +377,27 @@ fn _montecarlo_chunk<'py>(
         max_newton_iterations: None,
     };
     let settings = options.settings()?;
+    // A condition on a quantity the system lacks is refused here, once, as the command
+    // line refuses it, rather than failing every member.
+    let probe = Run::new(spec.build()?, &options, &start)?;
+    each_run!(&probe, it => {
+        let (state, motion, wheels) = Columns::columns(it.state());
+        watch.check(&state, motion.as_ref(), wheels.as_ref())
+    })
+    .map_err(|error| match error {
+        ExperimentError::Stop { condition, reason } => {
+            let name = if watch.names_settle(&condition) {
+                "settle_when"
+            } else {
+                "stop_when"
+            };
+            invalid(format!(
+                "{name} {condition:?}: {reason}, not to a {}",
+                spec.name()
+            ))
+        }
+        other => experiment(other),
+    })?;
     let whole = (t_end / settings.h() + 1e-9).floor();
     if whole > 1e9 {
         return Err(invalid(format!(
