@@ -46,8 +46,8 @@ fn cases() -> Vec<Case> {
 }
 
 /// One timed lgsvi run, on the concrete system type as a library user writes it: through
-/// the [`BuiltInSo3`] enum every call of the Lagrangian's methods takes a
-/// `match` (measured, case A at h = 1, n = 10: 114 µs per run against 108 µs).
+/// the [`BuiltInSo3`] enum every call of the Lagrangian's methods would take a `match`,
+/// a cost that is not the method's.
 fn lgsvi_run(case: &Case, t_end: f64, h: f64, n: usize) -> Result<Matrix3<f64>> {
     let settings = StepSettings::new(h, n)?.with_chart(ChartKind::Exp);
     match lgsvi_system(case)? {
@@ -123,8 +123,7 @@ const LGSVI_SWEEPS: [(f64, std::ops::RangeInclusive<usize>); 5] = [
 /// compositions, the yardsticks of the 30× targets, take four points per octave: on a
 /// dyadic grid a fourth-order method's error falls 16× per point, so the first point
 /// below a target error can overshoot it by up to 16× and overstate the time the method
-/// needs to reach it by up to 2× (measured, case A: 4.7e-11 at 3.8 ms where 1e-10 needs
-/// ~3.2 ms); with four per octave, by at most 19%.
+/// needs to reach it by up to 2×; with four per octave, by at most 19% (`2^{1/4}`).
 const FIXED_SWEEPS: [(&str, &dyn OneStep, usize, u32, u32); 4] = [
     ("LGVI2", &Lgvi2, 20, 11, 1),
     ("splitting", &Splitting, 20, 11, 1),

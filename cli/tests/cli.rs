@@ -1929,7 +1929,7 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
     assert_eq!(json["converged"], true);
     let cost = json["cost"].as_f64().unwrap();
     let continuous = 12.0 * 4.0 * 1.2 * 1.2 / 1000.0;
-    // Measured: 3.906e-5 relative above J* at K = 160 (docs/optimal.md).
+    // Measured: 3.906e-5 relative above J* at K = 160 (docs/guide/optimal.md).
     assert!(
         cost > continuous && (cost - continuous) / continuous < 4e-5,
         "{cost}"
@@ -2047,7 +2047,7 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
 /// `lgsvi optimize --cost time`: Betts's minimum-time reorientation (Fleming, Sekhavat &
 /// Ross 2008, `t_f* = 28.6304077` s) from the command line, the first guess of the time
 /// its own (the eigen-axis bang-bang turn); the discrete optimum at 100 steps lies
-/// 7.5e-5 above the published one (docs/optimal.md), within the 1e-4.
+/// 7.5e-5 above the published one (docs/guide/optimal.md), within the 1e-4.
 #[test]
 fn optimize_finds_bettss_minimum_time() {
     let dir = temp_dir("optimize-time");

@@ -13,11 +13,11 @@ cargo run --release --bin lgsvi -- simulate --quiet --system orbiting-body --h 0
 cargo run --release --bin lgsvi -- simulate --quiet --config configs/forced_rigid_body.toml \
     --t-end 2500 --every 40 --plot docs/samples/forced_energy_balance --out /dev/null
 rm -f docs/samples/orbiting_body_conservation.png docs/samples/forced_energy_balance.png
-# The long run's energy figure (docs/performance.md §4; 10⁶ steps and a 36-member trend
+# The long run's energy figure (docs/notes/performance.md §4; 10⁶ steps and a 36-member trend
 # ensemble, about 5 minutes on 2 cores).
 cargo run --release --bin lgsvi -- bench --long-run --long-run-members 36 --quiet --out "$out/long-run"
 cp "$out/long-run/long_run_energy.svg" docs/samples/
-# Tolerance-driven runs (docs/tolerance.md): the heavy top's estimate against the true
+# Tolerance-driven runs (docs/notes/tolerance.md): the heavy top's estimate against the true
 # local error, its --tol runs at T = 10, and the long run with nodes chosen per step.
 cargo run --release --bin lgsvi -- converge --quiet --study estimate --system heavy-top \
     --plot docs/samples/estimate_vs_truth_heavy_top
@@ -29,7 +29,7 @@ cp "$out/bench/bench_B_T100.svg" docs/samples/
 cargo run --release --bin lgsvi -- bench --long-run --long-run-tol 1e-13 --long-run-members 36 \
     --quiet --out "$out/long-run-tol"
 cp "$out/long-run-tol/long_run_energy.svg" docs/samples/long_run_energy_adaptive.svg
-# Betts's minimum-time reorientation (docs/optimal.md; 100 steps, about 0.2 s).
+# Betts's minimum-time reorientation (docs/guide/optimal.md; 100 steps, about 0.2 s).
 cargo run --release --bin lgsvi -- optimize --quiet --inertia 5621,4547,2364 \
     --attitude-final 2.6179938779914944,0,0 --torque-max 50 --cost time --steps 100 \
     --nodes 8 --plot "$out/betts" --out /dev/null

@@ -18,9 +18,9 @@
 //! term dominates. The integrator's momentum matching uses `J_r` as the exact
 //! differential of `exp`, and a fixed-sign mismatch between the two is a non-variational
 //! perturbation of every step: the energy of the free rigid body then drifts linearly
-//! (measured: case A, `h = 0.5`, `n = 8`, 12 initial conditions × 10⁶ steps, all twelve
-//! ending at −4e-13, a bias of −4e-19 per step; raising the `1/6` of `(θ − sin θ)/θ³` by one
-//! ulp turned the drift to +1e-12 per 5·10⁵ steps). So the first [`HEAD`] coefficients
+//! (case A, `h = 0.5`, `n = 8`: 12 initial conditions × 10⁶ steps all end at −4e-13, a
+//! bias of −4e-19 per step; one ulp more in the `1/6` of `(θ − sin θ)/θ³` turns the drift
+//! to +1e-12 per 5·10⁵ steps). So the first [`HEAD`] coefficients
 //! are carried as two doubles, the rounded value and its rounding error (`*_LOW`, printed
 //! by the generator), and added as `c_k + (low_k + s·rest)`: the result is then rounded
 //! once, with an error that varies erratically with `s` and averages to zero. The
@@ -431,12 +431,12 @@ mod tests {
     /// error of the value and of the first derivative in `s` (as a dual number carries it
     /// into the integrator's gradients) over 2000 values of `s` in `(0, 9)` (`θ` evenly
     /// spaced) against mpmath, per branch, is within `0.02 ε + 4` standard errors of 0. A
-    /// rounded leading coefficient biases a function by up to ε/2 (measured without the
-    /// `*_LOW` terms, for `θ² ∈ [1/4, 4)`: `(θ − sin θ)/θ³` −0.26 ± 0.012 ε, `J_r⁻¹`'s
+    /// rounded leading coefficient biases a function by up to ε/2 (without the `*_LOW`
+    /// terms, for `θ² ∈ [1/4, 4)`: `(θ − sin θ)/θ³` −0.26 ± 0.012 ε, `J_r⁻¹`'s
     /// coefficient −0.24 ± 0.011 ε, the derivative of `(1 − cos θ)/θ²` +0.32 ± 0.013 ε,
-    /// all failing here; with them, at most 0.008 ± 0.005 ε); a bias of
+    /// all of which fail here; with them, at most 0.008 ± 0.005 ε); a bias of
     /// 0.02 ε in `(θ − sin θ)/θ³` drifts the energy of case A by ~6e-14 over 10⁶ steps
-    /// (the measured sensitivity, see the module notes), below the random walk's 1.3e-13.
+    /// (the sensitivity in the module notes), below the random walk's 1.3e-13.
     #[test]
     fn coefficient_functions_have_no_rounding_bias() {
         type Evaluate = fn(Dual2_64) -> Dual2_64;

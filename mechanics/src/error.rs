@@ -6,7 +6,7 @@ use lgsvi_spectral::SpectralError;
 
 /// The condition number of `∂²ℓ/∂ξ²` from which a failed step is put down to it
 /// ([`MechanicsError::IllConditioned`]): the velocity is then recovered from the momentum
-/// to no better than `ε · 10⁶ ≈ 2e-10` of its size. Measured on thin rods `J = (δ, 1, 1)`:
+/// to no better than `ε · 10⁶ ≈ 2e-10` of its size. On thin rods `J = (δ, 1, 1)`,
 /// `δ = 1e-6` steps as any body, `δ ≤ 1e-7` fails Newton at `h = 0.5` and, at shorter
 /// steps, differs between step sizes by about `ε/δ`.
 pub(crate) const ILL_CONDITIONED: f64 = 1e6;

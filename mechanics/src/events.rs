@@ -17,7 +17,7 @@
 //! 3. refines it by the method's own steps: a variational step of length `τ` from the
 //!    step's start lands on the motion to the accuracy of a step's end, which the curve
 //!    between its nodes does not reach (there it is a lower-order approximation: at a
-//!    tolerance run's long steps, 1e-7 inside against 1e-13 at the ends, measured on an
+//!    tolerance run's long steps, 1e-7 inside against 1e-13 at the ends on an
 //!    axisymmetric body); Newton on `τ`, each iterate one such step, until `τ` moves by a
 //!    few ulps (two or three steps);
 //! 4. records an [`EventHit`] (which event, time, configuration and velocity there) and,

@@ -3,15 +3,15 @@
 //! and the body momentum, and taken into the step's chart at the nodes.
 //!
 //! On long steps the last step's Galerkin curve, continued by polynomial extrapolation,
-//! is a poor guess (measured relative residual 0.1 at `h = 1` on the paper's rigid body,
-//! against 3e-4 at `h = 0.5`), and every decade it misses costs a Newton iteration (an
+//! is a poor guess (relative residual 0.1 at `h = 1` on the paper's rigid body, against
+//! 3e-4 at `h = 0.5`), and every decade it misses costs a Newton iteration (an
 //! assembly with Hessians and an LU). A few Runge–Kutta substeps of the equations of
 //! motion cost a few evaluations of `Ω(μ)` and, for a system that depends on the
 //! attitude, of `ℓ`'s gradient.
 //!
 //! The attitude is integrated as a quaternion rather than in the chart: `q̇ = ½ q ⊗ Ω`
 //! needs no chart differential (`A(ξ)⁻¹` of the exp chart costs a `sin_cos` and a series
-//! per evaluation; `docs/performance.md` §6), and the chart enters once per node.
+//! per evaluation), and the chart enters once per node.
 
 use crate::forces::ForceJet;
 use crate::group::{ConfigurationGroup, GroupChart, Rotations};
@@ -106,11 +106,11 @@ fn configuration_force<L: Lagrangian>(
 /// change of velocity the configuration force `p` and the step's force `F` make in unit
 /// time (`√|ΔΩ|` is a pendulum's `√(mgl/J)` at a right angle), plus the rate
 /// `|Ω(F_ξ)|` (Frobenius) at which a velocity-dependent force (damping) relaxes the
-/// motion. Measured on the paper's heavy top at `h = 2`: sized by `|Ω|` alone, the guess's
-/// relative residual was 1e-3 and every step needed a second Newton matrix; with `√|ΔΩ|`
-/// added once, 1.3e-4 to 2e-4, just above the solver's chord threshold (1e-4); added
-/// twice, 2e-5 to 5e-5 and one Newton matrix per step after the first (where the top
-/// starts upright and `p = 0`).
+/// motion. On the paper's heavy top at `h = 2`, substeps sized by `|Ω|` alone leave the
+/// guess's relative residual above the solver's chord threshold (1e-4), and every step
+/// forms a second Newton matrix; with `2√|ΔΩ|` added it falls well below the threshold,
+/// and a step forms one Newton matrix (after the first step, where the top starts upright
+/// and `p = 0`).
 fn frequency<L: Lagrangian>(
     system: &L,
     start: &FlowStart<'_, Rotations, 3>,
@@ -212,9 +212,9 @@ fn continuous_angle(q: &Quaternion<f64>) -> f64 {
 /// Whether a quaternion's [`continuous_angle`] reaches `limit`, with `boundary =
 /// cos(limit/2)`: the half angle `φ = atan2(|v|, w) ∈ [0, π]` has `cos φ = w/|q|`, which
 /// falls as `φ` grows, so where `w/|q|` is above `boundary` by far more than the rounding
-/// of either side (1e-6) the angle is below `limit` and the `atan2` (about 150
-/// instructions, at every substep) is not needed. Near the boundary the angle decides as
-/// before, so every decision is the same.
+/// of either side (1e-6) the angle is below `limit` and the `atan2` (a costly call, at
+/// every substep) is not needed. Near the boundary the angle itself decides, so every
+/// decision is the one the angle alone would make.
 fn reaches(q: &Quaternion<f64>, limit: f64, boundary: f64) -> Option<f64> {
     let size = q.norm();
     if q.w > (boundary + 1e-6) * size {

@@ -47,9 +47,9 @@ fn flatten(m: &Matrix3<f64>) -> SVector<f64, 9> {
 /// Writes `ℓ̃`'s derivatives by the chain rule into `out` (its Hessian only if
 /// `point.with_hessian`, else left as it was), with the force terms of `point.force`;
 /// false (`out` untouched) if the chart has no Rodrigues form. In place: the 90 floats
-/// are written once, not returned and copied (`docs/performance.md` §6). Where
-/// `point.with_configuration` and the point forms `Φ(x)` (an `ℓ` or force that reads the
-/// attitude), `transport` gets `(Φ(x), A(x))` for the exact matching; else `None`.
+/// are written once, not returned and copied. Where `point.with_configuration` and the
+/// point forms `Φ(x)` (an `ℓ` or force that reads the attitude), `transport` gets
+/// `(Φ(x), A(x))` for the exact matching; else `None`.
 pub(crate) fn point_derivatives<L: Lagrangian, C: GroupChart<Rotations, 3>>(
     system: &L,
     chart: &C,

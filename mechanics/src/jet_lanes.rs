@@ -10,9 +10,8 @@
 //! terms ([`crate::point::add_force_terms`]). The chart's coefficients, ℓ's derivatives and
 //! the force's jet are asked point by point (a `sin_cos` or series, trait calls), and
 //! `A(x)`, which `Ω` needs before ℓ is asked, is formed there too; the lanes form it again
-//! from the coefficients rather than read nine more entries a point (measured: reading
-//! them cost 6.6k instructions a step more at `h = 0.5`, `n = 8`). The rest of a point's
-//! arithmetic runs in the lanes.
+//! from the coefficients rather than read nine more entries a point (forming it costs less
+//! than reading it). The rest of a point's arithmetic runs in the lanes.
 //!
 //! **The same bits as point by point.** Every sum and product is taken in the order the
 //! scalar path's nalgebra expressions take it (matrix products by columns, left to right;

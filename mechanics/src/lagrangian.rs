@@ -160,7 +160,7 @@ pub(crate) trait Lagrangian {
     /// `∂ℓ/∂p_k(R, Ω)`, the derivative of [`Lagrangian::lagrangian`] in parameter `k` of
     /// [`Lagrangian::parameter_names`] at the system's own parameters, generic over the
     /// scalar as `ℓ` is (the step's derivative in `p_k` is the step's residual with `ℓ`
-    /// replaced by this, `docs/linearization.md` §8). Must be exact: the linearisation
+    /// replaced by this, `docs/notes/linearization.md` §8). Must be exact: the linearisation
     /// is as accurate as it. Where [`Lagrangian::is_left_invariant`] is true it must not
     /// depend on `R` either. The default (no parameters) is zero.
     fn parameter_lagrangian<T: RealField + Copy>(

@@ -32,7 +32,7 @@
 //! the end state's dependence on `Ξ` in closed form. Exact to rounding: no finite
 //! differences. The velocity coordinates follow from the momentum ones through the
 //! Legendre transform at each end, `δμ = L_ξη θ + L_ξξ ω` with `L(η, ξ) = ℓ(t, g exp(η), ξ)`.
-//! The derivation is in `docs/linearization.md`.
+//! The derivation is in `docs/notes/linearization.md`.
 
 use crate::error::MechanicsError;
 use crate::group::ConfigurationGroup;

@@ -651,7 +651,7 @@ impl OrbitingBody {
             )));
         }
         // The gravity gradient's Hessian forms x xᵀ (xᵀJx) ~ r⁴ |J|, which overflows from
-        // about r = 1e77 (measured: 1e70 runs, 1e80 fails).
+        // about r = 1e77 (a start at 1e70 runs, one at 1e80 fails).
         if r > 1e75 {
             return Err(invalid(format!(
                 "the orbiting body starts at r = {r:e}, where its gravity gradient's terms (of \

@@ -77,19 +77,18 @@ pub const DEFAULT_NODES: usize = 10;
 
 /// The default node range of adaptive runs: below 5 nodes the estimate has no decay to read
 /// (it needs the last four Chebyshev coefficients); 30 nodes reach the rounding floor at
-/// steps up to `h|Ω| ≈ 4` on the reference cases (measured, `lgsvi converge`).
+/// steps up to `h|Ω| ≈ 4` on the reference cases (`lgsvi converge` shows it).
 pub const DEFAULT_ADAPTIVE_NODES: (usize, usize) = (5, 30);
 
 /// Extra Gauss points beyond the number of nodes in the default `m = n + 0`: `n` Gauss
 /// points integrate polynomials of degree `2n − 1` exactly, which covers the product of
 /// two basis polynomials (degree `2n − 2`), the exactness the paper's minimiser theorem
-/// asks of the quadrature. Measured (`lgsvi bench` sweeps, T = 10, exp chart) against
-/// `m = n + 2`, the previous default: on the paper's rigid body (h = 0.5 … 2, n = 4 … 20)
-/// and heavy top the errors agree to within a factor 1.5 down to the rounding floor, at
-/// 10–15% less time per step; `m = n − 1` is as accurate on the free body but up to 3×
-/// less on the heavy top. With the unscaled Cayley chart `m = n` measured 10–16% less
-/// accurate than `n + 1 … n + 4` on the paper's rigid body (h = 0.5), about what its
-/// smaller cost buys.
+/// asks of the quadrature. Against `m = n + 2` (`lgsvi bench` sweeps, T = 10, exp chart),
+/// on the paper's rigid body (h = 0.5 … 2, n = 4 … 20) and heavy top the errors agree to
+/// within a factor 1.5 down to the rounding floor, at less time per step; `m = n − 1` is
+/// as accurate on the free body but up to 3× less on the heavy top. With the unscaled
+/// Cayley chart `m = n` is slightly less accurate than `n + 1 … n + 4` on the paper's
+/// rigid body (h = 0.5), about what its smaller cost buys.
 pub const DEFAULT_EXTRA_QUADRATURE_POINTS: usize = 0;
 
 /// Default cap on Newton iterations per step (converged steps take 3 to 8).
@@ -98,7 +97,7 @@ pub const DEFAULT_MAX_NEWTON_ITERATIONS: usize = 40;
 /// The least error a step's estimate reports, `4ε`: the rounding of one step. A step
 /// composes `R_{k+1} = R_k Φ(ξⁿ)` and solves its equations to their rounding floor, which
 /// moves the attitude by 2–2.5ε in its largest entry and up to three times that in the
-/// Frobenius norm (measured: single steps of the free body at `n ≥ 6`, against the exact
+/// Frobenius norm (single steps of the free body at `n ≥ 6`, against the exact
 /// solution). The spectral estimate alone falls far below it (1e-18 … 1e-27 at many
 /// nodes), and a global estimate summed from it would claim accuracies double precision
 /// cannot deliver; with the floor, `n` steps estimate at least `4nε`, the linear
@@ -258,7 +257,7 @@ impl StepSettings {
     /// Sets the number of Gauss points, `m ≥ n − 1` for the `n` nodes set so far: the
     /// velocity is a polynomial of degree `n − 2`, and with fewer points a nonzero one
     /// vanishes at all of them, so the quadrature gives it no action and the step's
-    /// equations are singular (Newton wanders off; measured: `m ≤ 5` fails at `n = 10`).
+    /// equations are singular (Newton wanders off: at `n = 10`, `m ≤ 5` fails).
     ///
     /// # Errors
     /// [`MechanicsError::InvalidSetting`] for `m < n − 1` (or `m = 0`) or
@@ -318,7 +317,7 @@ impl StepSettings {
     /// never try it. The step is solved to the same rounding floor either way; what
     /// changes is the path to it, so a run differs from one with `false` at the level of
     /// rounding. `false` solves every step from its own Newton matrix, making each step a
-    /// function of its start state alone (`docs/performance.md` §5.12).
+    /// function of its start state alone.
     pub fn with_factor_reuse(mut self, reuse: bool) -> Self {
         self.reuse_factors = reuse;
         self
@@ -391,10 +390,10 @@ impl StepSettings {
     /// they only rise). Cheaper where a run's hard part passes (a slew that settles), but
     /// it costs the long-run energy behaviour: each node count is its own symplectic map
     /// with its own modified energy, and moving between two of them with the state pumps
-    /// the energy. Measured on the heavy top over 10⁵ steps (`docs/tolerance.md` §4,
-    /// `examples/step_changes.rs`): nodes moving between 7 and 8 drift the energy by
-    /// 1.3e-10 per 10⁵ time units, where nodes that only rise (here to 8 after the first
-    /// hard phase) keep it bounded at 1e-14, as with fixed nodes. Momenta stay exact.
+    /// the energy. On the heavy top over 10⁵ steps (`examples/step_changes.rs` runs it),
+    /// nodes moving between 7 and 8 drift the energy by 1.3e-10 per 10⁵ time units, where
+    /// nodes that only rise (here to 8 after the first hard phase) keep it bounded at 1e-14,
+    /// as with fixed nodes. Momenta stay exact.
     pub fn with_falling_nodes(mut self, allowed: bool) -> Self {
         self.falling_nodes = allowed;
         self
@@ -406,11 +405,12 @@ impl StepSettings {
     /// room for twice the step (the local error grows by about `2^(2n−1)`), the next step
     /// doubles, up to the step the run started with. **This costs the
     /// long-run energy behaviour:** a symplectic method keeps a modified energy of its
-    /// *fixed* step, and a step chosen from the state is no longer one map. Measured on the
-    /// heavy top over 10⁵ steps (`docs/tolerance.md` §4): a drift where fixed steps have
-    /// none. Momenta stay exact (every step is still a map of the exact matching). A run
-    /// with step changes has no fixed number of steps: [`Integrator::steps_until`] refuses
-    /// it; step until [`Integrator::state`]'s time reaches the end, or use
+    /// *fixed* step, and a step chosen from the state is no longer one map. On the heavy
+    /// top over 10⁵ steps (`examples/step_changes.rs`) the energy drifts where fixed steps
+    /// keep it bounded. Momenta stay exact (every step is still a map of the exact
+    /// matching). A run with step changes has no fixed number of steps:
+    /// [`Integrator::steps_until`] refuses it; step until [`Integrator::state`]'s time
+    /// reaches the end, or use
     /// [`Integrator::run_until`], which shortens the last step to land on it.
     ///
     /// [`Integrator::steps_until`]: crate::Integrator::steps_until

@@ -77,7 +77,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     /// The run's error as the stepper knows it: a checked run's measured difference from
     /// its companion ([`CheckReport::difference`]), else the sum of the steps' local
     /// estimates ([`Integrator::estimated_global_error`]), which is a model of the error,
-    /// not a bound (`docs/tolerance.md`).
+    /// not a bound (the user guide's page on tolerance-driven runs).
     fn estimated_error(&self) -> f64 {
         self.integrator().estimated_global_error()
     }

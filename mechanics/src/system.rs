@@ -277,7 +277,7 @@ pub trait System<const D: usize> {
     /// `∂ℓ/∂p_k(t, g, ξ)`, the derivative of [`System::lagrangian`] in parameter
     /// `k` of [`System::parameter_names`] at the system's own parameters,
     /// generic over the scalar as `ℓ` is: a step's derivative in `p_k` is its residual
-    /// with `ℓ` replaced by this (the residual is linear in `ℓ`; `docs/linearization.md`
+    /// with `ℓ` replaced by this (the residual is linear in `ℓ`; `docs/notes/linearization.md`
     /// §8). Must be exact: the linearisation is as accurate as it. Where
     /// [`System::is_left_invariant`] is true it must not depend on the
     /// configuration either (the step then takes no configuration derivatives of it). The
@@ -298,11 +298,11 @@ pub trait System<const D: usize> {
     /// [`System::parameter_lagrangian`] of parameter `index` (no force: the
     /// point's force is `None`): a faster path for the step's parameter columns, or
     /// `false` (the default) for the generic chain rule by dual numbers through `∂ℓ/∂p`
-    /// (the chart's derivatives from [`GroupChart::with_derivatives`]). The built-in SE(3) bodies take the rotation–translation chart's
-    /// 3 × 3 blocks with `∂ℓ/∂p`'s local derivatives in closed form (five times faster
-    /// on the orbiting body; `docs/linearization.md` §8). On SO(3) the generic rule was
-    /// measured faster than the Rodrigues form with `∂ℓ/∂p`'s derivatives by dual
-    /// numbers, and is kept.
+    /// (the chart's derivatives from [`GroupChart::with_derivatives`]). The built-in SE(3)
+    /// bodies take the rotation–translation chart's 3 × 3 blocks with `∂ℓ/∂p`'s local
+    /// derivatives in closed form (far cheaper than the generic rule's 6 × 6 products). On
+    /// SO(3) the generic rule is faster than the Rodrigues form with `∂ℓ/∂p`'s derivatives
+    /// by dual numbers, and is kept.
     fn parameter_point_derivatives<C: GroupChart<Self::Group, D>>(
         &self,
         index: usize,
@@ -728,9 +728,9 @@ mod tests {
             // The same equations solved to the same tolerance; only the rounding of the
             // rotated vectors differs: 2e-16 after the first step, which this asymmetric
             // top's motion amplifies (with g = 9.81 it is chaotic: ×10 every 10 steps, O(1)
-            // after 200). At g = 0.3, measured 1.9e-13 … 1.4e-12 after 200 steps across the
-            // charts; 1e-11 leaves that growth room (rotating by Φ instead of Φᵀ, tried,
-            // fails it by 2.2).
+            // after 200). At g = 0.3, 1.9e-13 … 1.4e-12 after 200 steps across the
+            // charts; 1e-11 leaves that growth room (rotating by Φ instead of Φᵀ fails it
+            // by 2.2×).
             let iterations = |s: &crate::integrator::Statistics| s.newton_iterations;
             let (i_fast, i_reference) = (
                 iterations(fast.statistics()),
@@ -742,7 +742,7 @@ mod tests {
             assert!(largest <= 1e-11, "{chart}: {largest:e}");
             // The predictor rotates the same vector: its guesses, and so the iterations,
             // agree up to decisions at the rounding edge (589 against 591, exp chart); the
-            // predictor's gravity torque with the wrong sign, tried, costs 12% (661).
+            // predictor's gravity torque with the wrong sign costs 12% (661) and fails it.
             assert!(i_fast.abs_diff(i_reference) * 50 <= i_reference, "{chart}");
         }
     }

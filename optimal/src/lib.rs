@@ -27,7 +27,7 @@
 //! with the QP subproblems solved by `clarabel`. Each iteration linearises every step
 //! exactly ([`Integrator::step_linearized`](lgsvi_mechanics::Integrator::step_linearized): `A_k = ∂x_{k+1}/∂x_k`,
 //! `B_k = ∂x_{k+1}/∂u_k` in the body-frame coordinates `(θ, ω)` of
-//! `docs/linearization.md`) and chains them into the terminal state's sensitivity
+//! `docs/notes/linearization.md`) and chains them into the terminal state's sensitivity
 //! `M = ∂x_K/∂u`; the subproblem is
 //!
 //! ```text
@@ -55,7 +55,7 @@
 //!   cheap, and Newton's convergence is quadratic (to the differences' 1e-8). The
 //!   derivative in the step length, `∂x_{k+1}/∂h`, comes from the same `A_k`, `B_k` by
 //!   the rigid body's time scaling (`h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)`; derived in
-//!   `docs/optimal.md`). The subproblem's solution is made exact on its active set (the
+//!   `docs/guide/optimal.md`). The subproblem's solution is made exact on its active set (the
 //!   interior-point method meets it only to its tolerance), a step the merit refuses gets
 //!   a second-order correction before it is halved, and the solve climbs a ladder of step
 //!   counts (`K` halved down to about 20 steps, each level started from the one below),
@@ -77,7 +77,7 @@
 //! ([`lgsvi_mechanics::Integrator::set_input_at_points`], whose per-point input Jacobians
 //! the SQP chains), and the minimum-energy cost converges at the integrator's order
 //! `2(n − 1)`: 8 nodes and 10 steps meet an independent Pontryagin solution to 7e-14
-//! (measured in `optimal/tests/slews.rs` and `docs/optimal.md`).
+//! (measured in `optimal/tests/slews.rs` and `docs/guide/optimal.md`).
 //!
 //! ```
 //! use lgsvi_mechanics::lie::{LieGroup, SO3};
@@ -594,9 +594,9 @@ fn quadrature(slew: &Slew, settings: StepSettings) -> Result<(Vec<f64>, Vec<f64>
     Ok((it.quadrature_nodes(), it.quadrature_weights()))
 }
 
-/// The page `docs/optimal.md`, whose Rust example is compiled and run as a doctest.
+/// The page `docs/guide/optimal.md`, whose Rust example is compiled and run as a doctest.
 #[cfg(doctest)]
-#[doc = include_str!("../../docs/optimal.md")]
+#[doc = include_str!("../../docs/guide/optimal.md")]
 pub struct DocsPage;
 
 /// This crate's `README.md`, whose Rust example is compiled and run as a doctest.

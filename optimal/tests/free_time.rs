@@ -49,7 +49,7 @@ fn the_step_is_invariant_under_time_scaling() {
 /// x axis, `t_f* = 28.6304077` s. The torques are constant over each step, so a switch of
 /// the bang-bang optimum falls inside a step whose torque takes an intermediate value:
 /// the discrete optimum's final time lies above the continuous one by `O(h²)` (measured
-/// in `docs/optimal.md`: 7.5e-5 relative at K = 100, 2.0e-5 at K = 200).
+/// in `docs/guide/optimal.md`: 7.5e-5 relative at K = 100, 2.0e-5 at K = 200).
 #[test]
 fn betts_reorientation_meets_its_published_minimum_time() {
     let reference = 28.6304077;

@@ -1,7 +1,7 @@
 //! Minimum-energy slews against references that do not come from the solver: the exact
 //! optimum of the discrete problem for a spherical body (a double integrator about a fixed
 //! axis, whose least-norm torques follow from two linear conditions), the continuous
-//! optimum `J* = 12 j²θ²/T³` (the single-axis cubic, derived in `docs/optimal.md`) and its
+//! optimum `J* = 12 j²θ²/T³` (the single-axis cubic, derived in `docs/guide/optimal.md`) and its
 //! second-order convergence under constant torques per step, the replay of a solution by
 //! the integrator, the bounds, and the errors.
 

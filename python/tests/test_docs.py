@@ -1,4 +1,4 @@
-"""The Python code of the README and of the guide's Python, Monte Carlo, events and optimal-control pages runs: each page's blocks in
+"""The Python code of the README and of the guide's pages (getting started, Python, Monte Carlo, events, optimal control) runs: each page's blocks in
 order, in one namespace, as a reader would paste them."""
 
 import pathlib
@@ -9,10 +9,11 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PAGES = [
     ROOT / "README.md",
+    ROOT / "docs" / "guide" / "getting-started.md",
     ROOT / "docs" / "guide" / "python.md",
     ROOT / "docs" / "guide" / "montecarlo.md",
     ROOT / "docs" / "guide" / "events.md",
-    ROOT / "docs" / "optimal.md",
+    ROOT / "docs" / "guide" / "optimal.md",
 ]
 
 

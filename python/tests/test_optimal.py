@@ -17,7 +17,7 @@ def test_single_axis_turn_converges_at_second_order():
         (optimal.slew([j] * 3, t_end, target, steps=k, nodes=6).cost - continuous) / continuous
         for k in (20, 40)
     ]
-    # Measured 2.506e-3 and 6.254e-4 (docs/optimal.md): the ratio is 4 to 1%.
+    # Measured 2.506e-3 and 6.254e-4 (docs/guide/optimal.md): the ratio is 4 to 1%.
     assert errors[0] > 0 and abs(np.log2(errors[0] / errors[1]) - 2) < 0.02
 
 
@@ -53,7 +53,7 @@ def test_errors():
 def test_minimum_time_matches_the_published_reorientation():
     # Betts's problem (Fleming, Sekhavat & Ross 2008): t_f* = 28.6304077 s; the discrete
     # optimum with the torque constant per step lies above it by O(h^2): 7.5e-5 relative
-    # at 100 steps (docs/optimal.md). The first guess of the time is the library's own.
+    # at 100 steps (docs/guide/optimal.md). The first guess of the time is the library's own.
     target = lie.so3_exp([np.radians(150.0), 0.0, 0.0])
     result = optimal.slew([5621.0, 4547.0, 2364.0], None, target, steps=100, nodes=8,
                           torque_max=50.0, cost="time")
@@ -93,7 +93,7 @@ def _lands_on(it, result, target):
 def test_polynomial_inputs_meet_pontryagins_optimum():
     # The indirect (Pontryagin) reference of optimal/tests/data/pontryagin_slew.py; with the
     # torque a polynomial within each step the cost converges at the integrator's order:
-    # 8 nodes and 10 steps meet it to 7e-14 (docs/optimal.md), here to 1e-9.
+    # 8 nodes and 10 steps meet it to 7e-14 (docs/guide/optimal.md), here to 1e-9.
     import json
     import pathlib
 

@@ -129,7 +129,7 @@ pub fn gauss_kronrod(n: usize) -> Result<GaussKronrod, QuadratureError> {
 /// `∫ (1 − x)^α (1 + x)^β f(x) dx` and `|K − G|`. The Gegenbauer weights `α = β ∈ (−½, 3/2]`
 /// have one for every `n` (Gautschi & Notaris 1988; the Chebyshev weight of the second kind
 /// among them; the first kind's puts nodes on `±1`, refused here); other
-/// exponents for some `n` or none (measured against the reference: `(2, 1)` and `(3, 3)`
+/// exponents for some `n` or none (checked against the reference: `(2, 1)` and `(3, 3)`
 /// up to `n = 20`; `(½, −½)` puts a node on an end for every `n`). Laguerre and Hermite
 /// weights have none for most `n`, which is why this crate offers none.
 ///

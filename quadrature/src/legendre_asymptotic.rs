@@ -158,7 +158,7 @@ fn upper_half(m: usize, k: usize) -> (f64, f64) {
 }
 
 /// From this many points on, [`crate::gauss_legendre`] uses the expansions (below it
-/// they lose accuracy: 47ε in the nodes at `m = 40`, measured).
+/// they lose accuracy: 47ε in the nodes at `m = 40`).
 pub(crate) const ASYMPTOTIC_FROM: usize = 100;
 
 /// The `m`-point Gauss–Legendre nodes (ascending, exactly symmetric, `0` exactly for odd
@@ -199,8 +199,8 @@ mod tests {
     }
 
     /// Against the Golub–Welsch rules polished by Newton in double-double (within 4ε and
-    /// 8ε of the 60-digit reference, `tests/reference.rs`) from the switch on: measured
-    /// ≤ 2.6ε in the nodes and ≤ 4.9ε in the weights up to m = 4000, so the asymptotic
+    /// 8ε of the 60-digit reference, `tests/reference.rs`) from the switch on: within
+    /// 2.6ε in the nodes and 4.9ε in the weights up to m = 4000, so the asymptotic
     /// rules keep the crate's contract (4ε, 8ε) with the polished rules' own error added.
     /// Below the switch the expansions lose accuracy (m = 40: 47ε, 185ε), which is why
     /// the rules there stay Golub–Welsch.

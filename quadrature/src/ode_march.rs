@@ -359,7 +359,7 @@ pub(crate) fn march(
         // would do.
         // δ to second order: y + y'δ + y''δ²/2 = 0, y'' = −(Q y' + R y)/P. Near an end
         // y''/y' ~ 1/(1 ∓ x) makes the second-order term 4e-8 of δ at 10⁵ points (16ε
-        // in the weight, measured), the third 1e-15 of that.
+        // in the weight), the third 1e-15 of that.
         let first = y.div(dy).mul_f64(-1.0);
         let (p_x, _, q_x) = ode.at(x);
         let curvature = -(q_x + ode.r.to_f64() * (y.to_f64() / dy.to_f64())) / p_x;

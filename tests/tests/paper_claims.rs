@@ -247,11 +247,11 @@ fn heavy_top_with_a_large_step() {
 /// the body's own flow over the step (RK4 substeps sized by the rotation; relative
 /// residual 4e-6 to 8e-6 at h = 0.5 and h = 1), so one exact Newton step reaches ~2e-11
 /// and the factored matrix is kept for chord steps until the predicted remainder is below
-/// 1e-20: measured exactly one factorization and three iterations per step (the Newton
-/// step and two chord steps) for all five settings. The bound 3.5 allows a third chord
-/// step on every other step (it was needed at h = 1 when the guess's residual was 2e-5).
-/// The continued Galerkin curve the predictor used before (residual 3e-4 at h = 0.5, 0.1
-/// at h = 1) needed 2–4 Newton matrices per step and fails the factorization bound.
+/// 1e-20: exactly one factorization and three iterations per step (the Newton step and
+/// two chord steps) for all five settings. The bound 3.5 allows a third chord step on
+/// every other step (which a guess of relative residual 2e-5 at h = 1 needs). The
+/// continued Galerkin curve as the predictor (residual 3e-4 at h = 0.5, 0.1 at h = 1)
+/// needs 2–4 Newton matrices per step and fails the factorization bound.
 #[test]
 fn newton_iterations_are_pinned() {
     let a = case("A");

@@ -47,9 +47,9 @@ fn a_body_in_a_user_potential_conserves_its_symmetry() {
         .map(|s| (s.energy(it.system()) - e0).abs())
         .fold(0.0, f64::max);
     println!("dipole: e₃·Rμ drift {pi_z:.1e}, energy error {de:.1e} over 400 steps");
-    // Noether to rounding (400 steps of a few ulps of |μ| ~ 2: 2.9e-15 measured, 1.1e-13
-    // with earlier solver variants); the energy error is bounded and at n = 8, h = 0.25
-    // near rounding too (6.0e-15 measured, 1.7e-13 earlier).
+    // Noether to rounding (400 steps of a few ulps of |μ| ~ 2: 2.9e-15 here; the bound
+    // leaves room for a solver that stops less close to its floor); the energy error is
+    // bounded and at n = 8, h = 0.25 near rounding too (6.0e-15 here).
     assert!(pi_z <= 1e-12, "{pi_z:e}");
     assert!(de <= 1e-11 * e0.abs().max(1.0), "{de:e}");
 }

@@ -13,8 +13,8 @@ const ALIASED_DISTANCE: f64 = 0.5;
 /// After a step had to be solved again with more nodes, the nodes stay up for this many
 /// steps before they may fall, twice as long after each fall that failed (up to
 /// [`NODES_HOLD_MAX`]): where the error varies along the motion (the heavy top), lowering
-/// them at once had every sixth step solved twice (measured, case B, h = 0.5, 6e-13 per
-/// unit time: 321 of 2000 steps).
+/// them at once would solve about every sixth step twice (case B at `h = 0.5` and 6e-13
+/// per unit time).
 pub(super) const NODES_HOLD: usize = 8;
 pub(super) const NODES_HOLD_MAX: usize = 1024;
 
@@ -417,7 +417,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
         outcome: &StepOutcome<ElementOf<S, D>, D>,
     ) -> Result<State<ElementOf<S, D>, D>, MechanicsError> {
         // g_k Φ(ξⁿ) is on the group up to the rounding of the product, which would
-        // accumulate over millions of steps (measured ‖RᵀR − I‖ 1e-12 after 10⁶ steps);
+        // accumulate over millions of steps (‖RᵀR − I‖ 1e-12 after 10⁶ steps without it);
         // one polar Newton step R(I + ½(I − RᵀR)) squares that deviation away.
         let configuration =
             <S::Group as ConfigurationGroup<D>>::renormalise(&outcome.configuration);

@@ -504,17 +504,17 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// of its chart curve (0 before the first step): about the error of the step's end
     /// configuration and velocity (max norm, in the chart's coordinates: radians and
     /// radians per unit time on SO(3); SE(3) adds the units of the position). Calibrated on
-    /// the free body and the heavy top: near the true local error on average, between 25×
-    /// below and 30× above it on the steps measured (`docs/tolerance.md` §2), and never
-    /// below the rounding of one step, [`crate::settings::ROUNDING_FLOOR`] (`4ε`). Costs `4nD`
-    /// multiplications per step.
+    /// the free body and the heavy top to lie near the true local error on average (within
+    /// a factor 30 either way on single steps), and never below the rounding of one step,
+    /// [`crate::settings::ROUNDING_FLOOR`] (`4ε`). Costs `4nD` multiplications per step.
     pub fn error_estimate(&self) -> f64 {
         self.ledger.estimate
     }
 
     /// The sum of the steps' local error estimates since the start (or the last reset):
-    /// an estimate of the global error where local errors accumulate linearly (the
-    /// reference cases: `docs/tolerance.md` says how well it predicted).
+    /// an estimate of the global error where local errors accumulate linearly. It is a
+    /// model, not a bound: errors that grow along the motion escape it, which a checked run
+    /// measures instead (the user guide's page on tolerance-driven runs).
     pub fn estimated_global_error(&self) -> f64 {
         self.ledger.estimates.value()
     }

@@ -10,13 +10,13 @@ use super::*;
 pub(super) const PREDICTOR_GOOD_ENOUGH: f64 = 1e-3;
 
 /// A continued curve whose relative residual is at or below this is taken instead of the
-/// flow in the chart ([`crate::chart_flow::chart_flow`]): the flow's guess is typically 1e-6 to
-/// 1e-5 (measured on the orbiting body), so below it the continued curve needs no more
+/// flow in the chart ([`crate::chart_flow::chart_flow`]): the flow's guess is typically
+/// 1e-6 to 1e-5 (on the orbiting body), so below it the continued curve needs no more
 /// Newton work.
 pub(super) const CONTINUED_BEATS_FLOW: f64 = 1e-6;
 
 /// While the flow in the chart wins, the continued curve is tried again every this many
-/// steps (one assembly wasted when it loses: about 1.5% of the steps' work).
+/// steps (one assembly in this many steps wasted when it loses).
 pub(super) const PROBE_CONTINUED: usize = 16;
 
 impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, D> {
@@ -31,7 +31,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
     /// The predictor. When the system has a flow predictor (the SO(3) systems with `Ω(μ)`
     /// in closed form, under their forces and the control input): the system's own flow
     /// over the step
-    /// ([`System::flow_guess`]; measured relative residual 3e-6 at `h = 0.5`
+    /// ([`System::flow_guess`]; relative residual 3e-6 at `h = 0.5`
     /// and 2e-5 at `h = 1` on the paper's rigid body, against 3e-4 and 0.1 for the
     /// continued curve). Otherwise, after the first step: the last step's Galerkin curve
     /// continued ([`Integrator::extrapolate`]); if its relative residual exceeds
@@ -52,10 +52,9 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Integrator<S, C, 
             self.predictor.flow_end = None;
             let mut guess = self.predict_by_flow(false);
             if guess == FlowGuess::Unavailable {
-                // Without a flow of its own: the flow in the chart (measured on the
-                // orbiting body O1, h = 2, n = 8: 3.0 iterations and 1.0 Newton matrices
-                // per step against 4.0 and 2.0 for the continued curve; on a free body in
-                // space spinning as case A, h = 0.5: 1.0 matrices per step against 2.0),
+                // Without a flow of its own: the flow in the chart (on the orbiting body
+                // and on a free body in space it saves about one Newton matrix a step
+                // against the continued curve, and an iteration on long steps),
                 // unless the continued curve is already as good (a uniformly accelerated
                 // body, where it is exact): it is tried first while it wins, and every
                 // PROBE_CONTINUED steps while it does not.

@@ -428,8 +428,8 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
             first..n,
         );
         // The interior rows, written down the Newton matrix's columns (its storage
-        // order): row by row, strided stores took a quarter of this function's perf
-        // samples on the orbiting body (docs/performance.md §5.6).
+        // order): row by row the stores would be strided, each entry to another cache
+        // line.
         let jac = work.jacobian.as_mut_slice();
         if by_unknown {
             let interior = unknowns - D;
@@ -528,8 +528,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
 /// nodes, so that it vectorises (node by node, `D` = 3 components left it to scalar code);
 /// compiled for the x86-64 baseline and with AVX2 (chosen at run time, once an
 /// assembly), element-wise products and sums in the same order in both: bit-identical
-/// (test `the_gradient_kernel_is_the_point_by_point_sum_bit_for_bit`; measured in
-/// `docs/performance.md` §5.8).
+/// (test `the_gradient_kernel_is_the_point_by_point_sum_bit_for_bit`).
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 pub(super) fn accumulate_gradient<const D: usize>(
     gradient: &mut [f64],

@@ -96,7 +96,7 @@ type Hyper<const D: usize> = num_dual::HyperDualSVec64<D, D>;
 /// [`System::parameter_lagrangian`], with no force: a step's residual is linear
 /// in `ℓ`, so this system's residual at the converged unknowns, with `μ_k = 0`, is the
 /// step's residual's derivative in that parameter (and its `w` the explicit part of the
-/// matching's; `docs/linearization.md` §8). Its Gauss points go through the generic
+/// matching's; `docs/notes/linearization.md` §8). Its Gauss points go through the generic
 /// dual-number chain rule.
 pub(crate) struct ParameterDerivative<'a, S> {
     pub system: &'a S,
@@ -238,7 +238,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         // F_P, columns θ (0..D), μ_k (D..2D), u (2D..3D), column-major. The θ and u blocks
         // of every node's rows, `Σ_j h b_j [φ_i M^x_j + φ_i' M^v_j]` and
         // `Σ_j h b_j φ_i A(x_j)ᵀ`, are one product of the points' terms with the weighted
-        // basis (`docs/linearization.md` §4).
+        // basis (`docs/notes/linearization.md` §4).
         let dd = D * D;
         let mut dw_theta = SMatrix::<f64, D, D>::zeros();
         let mut dw_u = SMatrix::<f64, D, D>::zeros();
@@ -292,8 +292,8 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         add_rows(f_p, unknowns, last, 0, &(transport * dw_theta - last_theta));
         add_rows(f_p, unknowns, last, D, &transport);
         add_rows(f_p, unknowns, last, 2 * D, &(transport * dw_u - last_u));
-        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P with the fresh factors, the 3D columns solved together
-        // (`docs/performance.md` §5.4).
+        // ∂Ξ/∂P = −F_Ξ⁻¹ F_P with the fresh factors, the 3D columns solved together (one
+        // pass over the factors for all of them).
         let solution = &mut work.sensitivity;
         for (row, &p) in solution.iter_mut().zip(&work.perm) {
             for (family, part) in row.iter_mut().enumerate() {

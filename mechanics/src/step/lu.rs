@@ -9,10 +9,9 @@
 //!
 //! Why not faer's `lu_in_place`: at these sizes its blocked recursion spends much of its
 //! time in dispatch (a `matmul` call per column of its unblocked kernel, the kernels'
-//! thread-local selection) rather than arithmetic (`docs/performance.md` §5.5). Both
-//! versions here do the same operations in the same order, a product and a subtraction
-//! each (no fused multiply-add): a step's result does not depend on the processor it ran
-//! on.
+//! thread-local selection) rather than arithmetic. Both versions here do the same
+//! operations in the same order, a product and a subtraction each (no fused multiply-add):
+//! a step's result does not depend on the processor it ran on.
 
 use nalgebra::DMatrix;
 
@@ -119,9 +118,9 @@ pub(super) fn rank_two_update(x: &mut [f64], l1: &[f64], l2: &[f64], u1: f64, u2
 
 /// [`rank_two_update`] four elements at a time in AVX registers, at most three left for a
 /// scalar loop. Left to itself the compiler unrolls to eight and leaves up to seven, which
-/// on a step's columns (27 entries on average at 42 unknowns, 13 at 21) cost about as much as the
-/// vector part (`docs/performance.md` §5.7). The same products, sum and difference in the
-/// same order: bit-identical to the baseline.
+/// on a step's short columns (27 entries on average at 42 unknowns, 13 at 21) costs about
+/// as much as the vector part. The same products, sum and difference in the same order:
+/// bit-identical to the baseline.
 ///
 /// # Safety
 /// The processor must support AVX.
@@ -148,8 +147,7 @@ pub(super) unsafe fn rank_two_update_avx(x: &mut [f64], l1: &[f64], l2: &[f64], 
         i += 4;
     }
     // Written out rather than a call of `rank_two_update`: inlined here, the compiler
-    // vectorises that loop again, overlap checks and all, for at most three entries (the
-    // call measured 54.1k → 60.1k instructions per orbiting-body LU).
+    // vectorises that loop again, overlap checks and all, for at most three entries.
     for j in i..len {
         x[j] -= l1[j] * u1 + l2[j] * u2;
     }

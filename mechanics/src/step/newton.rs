@@ -23,7 +23,7 @@ mod line_search;
 /// [`super::lu::lu_in_place`] left in `lu` (the row permutation already applied to `b`):
 /// forward and back substitution down the columns of `lu`'s contiguous storage. For one
 /// right-hand side of the sizes a step has (`3(n − 1)` ≤ ~70), faer's blocked triangular
-/// solves spend more in dispatch than in arithmetic (`docs/performance.md` §6).
+/// solves spend more in dispatch than in arithmetic.
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma"))]
 pub(super) fn substitute(lu: &DMatrix<f64>, b: &mut [f64]) {
     let size = b.len();

@@ -35,8 +35,8 @@
 //! Every derivative of the chart comes from [`GroupChart::with_derivatives`] (closed form
 //! from the Rodrigues jets for this crate's charts, small dual numbers in `x` alone, `D`
 //! variables, for others), and the Lagrangian is differentiated once: far cheaper than one
-//! second-order dual number over all `3D` variables through `ℓ̃` (`docs/performance.md`
-//! §6), which the tests keep as the independent reference.
+//! second-order dual number over all `3D` variables through `ℓ̃`, which the tests keep as
+//! the independent reference.
 
 use crate::forces::ForceJet;
 use crate::group::{ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction};

@@ -4,18 +4,15 @@
 //! for the x86-64 baseline and with AVX2 (chosen at run time by `multiversion`, as the LU
 //! in [`super::lu`]).
 //!
-//! Why not faer's `matmul`: at these sizes, on this project's machines (Intel Xeon with
-//! AVX-512), its calls took far more time than their instructions say. Measured with the
-//! Newton matrix's fill evaluated twice per factorisation (case A, `h = 1`, `n = 10`,
-//! criterion, five alternating runs): the second fill added 9.0 µs to a 21.0 µs step, 43%
-//! of it, for 19% of its instructions; other settings gained less from this module (the
-//! free body at `h = 0.5`, `n = 8`, 5–24%; the heavy top nothing). The cause was not
-//! found (`docs/performance.md` §5.16). Products above [`FAER_ABOVE`] multiply-adds still
-//! go to faer, whose kernels win there.
+//! Why not faer's `matmul`: at these sizes a call costs more in dispatch and setup than in
+//! arithmetic, and takes far more time than its instructions suggest, so a product written
+//! for the shapes at hand is faster (the measurements are in the lab notebook,
+//! `docs/notes/performance.md`). Products above [`FAER_ABOVE`] multiply-adds still go to
+//! faer, whose kernels win there.
 //!
 //! Each output column is a combination of the left factor's columns, accumulated in
 //! order of the terms. On the AVX2 path each term is a fused multiply-add, on the
-//! baseline path a product and a sum: as with faer's product before, the Newton matrix can
+//! baseline path a product and a sum: as with faer's product, the Newton matrix can
 //! differ at rounding between processors with and without FMA (the LU, [`super::lu`],
 //! uses none). The residual does not read this product, so a step's converged result
 //! moves with it at rounding at most; a linearisation's `A`, `B` are formed from it.
@@ -28,11 +25,9 @@ use std::ops::Range;
 /// Rows accumulated together in registers (four AVX2 vectors).
 const BLOCK: usize = 16;
 
-/// Products of more multiply-adds than this go to faer's `matmul`. Measured
-/// (`docs/performance.md` §5.16): the hand product won at 15k (SO(3), `n = 10`) and lost
-/// at 28k (the orbiting body's fill, 1–3% of its step) and at 230k (SO(3), `n = 24`);
-/// between them, the SO(3) fill at `n = 11` (20k) takes the hand product and at `n = 12`
-/// (26k) faer's, unmeasured either way.
+/// Products of more multiply-adds than this go to faer's `matmul`: below it a call's
+/// fixed cost dominates and the hand product is faster, above it faer's blocked kernels
+/// are. The SO(3) fill takes the hand product up to `n = 11` and faer's from `n = 12`.
 const FAER_ABOVE: usize = 25_000;
 
 /// `out[rows, out_cols.start + k] = Σ_p lhs[rows, p] · rhs[p, rhs_cols.start + k]` for
@@ -159,8 +154,8 @@ fn combine_blocks<const FMA: bool, const STRIDE: usize>(
 ) {
     let rows = target.len();
     // Nine rows (`D²` for SO(3): the matching's `∂w/∂ξ` of an attitude-dependent `ℓ`) in
-    // one block: by fours it took three passes over the terms, and the loop over the terms
-    // is what a block costs (docs/performance.md §5.17).
+    // one block: by fours it would take three passes over the terms, and the loop over the
+    // terms is what a block costs.
     if rows == 9 {
         block::<9, FMA, STRIDE>(target, lhs, offset, coefficients, 0);
         return;
@@ -193,7 +188,7 @@ fn combine_blocks<const FMA: bool, const STRIDE: usize>(
 
 /// Rows `start..start + R` of [`combine`]'s sum over every `STRIDE`-th term (one or
 /// two), accumulated in registers. The two strides are two loops: one loop for both, by
-/// `step_by`, cost the free body's Newton matrix 1.5k instructions a step.
+/// `step_by`, costs more per term than a plain loop.
 #[inline(always)]
 fn block<const R: usize, const FMA: bool, const STRIDE: usize>(
     target: &mut [f64],
@@ -236,9 +231,8 @@ fn add_term<const R: usize, const FMA: bool>(acc: &mut [f64; R], c: f64, column:
 /// order as nalgebra's product (each entry `Σ_p a_ip b_pk` accumulated from `p = 0`, a
 /// product and a sum per term), so the same values bit for bit (test
 /// `the_fixed_product_is_nalgebras_bit_for_bit`). nalgebra's generic product is not
-/// inlined at `6 × 6`: on the orbiting body the matching's products (the Gauss points'
-/// `∂q` and the matching rows) took 19k of a step's 321k instructions as calls, 14k
-/// inlined (`docs/performance.md` §5.17).
+/// inlined at `6 × 6`, and as calls the matching's products (the Gauss points' `∂q` and
+/// the matching rows on the orbiting body) cost noticeably more than inlined.
 #[inline(always)]
 pub(crate) fn fixed_product<const R: usize, const K: usize, const C: usize>(
     a: &SMatrix<f64, R, K>,

@@ -29,8 +29,7 @@
 //! `ξ_u = Pᵀv_u` (`X_uu = m I`, `X_ωu = X_uω = 0`, `μ_u = m ξ_u`): as `|Pᵀv_u| = |v_u|` it
 //! does not depend on `ω`, so `J_Pᵀμ_u`, `J_PᵀT_u + ⟨v_u μ_uᵀ, ∂²P⟩` and `T_uᵀPᵀ + M_ωu`
 //! are exactly zero and `P X_uu Pᵀ = m I`. Where a point's derivatives show that structure
-//! those terms are not computed (they would be rounding noise; `docs/performance.md`
-//! §5.18). The tests compare it with
+//! those terms are not computed (they would be rounding noise). The tests compare it with
 //! dual numbers through the whole point (`step::tests::whole_point`).
 
 use super::points::{chain_rule_with, EllTilde};

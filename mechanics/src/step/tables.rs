@@ -69,10 +69,10 @@ pub(crate) struct Discretisation {
 impl Discretisation {
     /// The tables of `settings`' `(h, n, m)`, built once per process and shared by every
     /// integrator with the same three numbers: Golub–Welsch, the barycentric basis and the
-    /// continuation matrix cost about as much as a step (`docs/performance.md` §6), and a
-    /// user integrating many short trajectories would pay them at every
-    /// `Integrator::new`. The tables depend on nothing else, so sharing them changes no
-    /// result. A poisoned lock (a panic elsewhere while holding it) only skips the cache.
+    /// continuation matrix cost about as much as a step, and a user integrating many short
+    /// trajectories would pay them at every `Integrator::new`. The tables depend on nothing
+    /// else, so sharing them changes no result. A poisoned lock (a panic elsewhere while
+    /// holding it) only skips the cache.
     pub fn shared(settings: &StepSettings) -> Result<Arc<Self>, MechanicsError> {
         let key = (
             settings.h().to_bits(),

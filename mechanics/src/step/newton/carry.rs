@@ -8,8 +8,8 @@
 //! assemblies solve it. Carried factors save the matrix and the LU but contract only by
 //! how far the matrix has moved since they were formed, so the step takes more assemblies
 //! (four from the predictor's 1e-9 at a contraction of 4e-4). That pays while the
-//! contraction stays below a few 1e-3 (break-even near 8e-3 on the free body, measured in
-//! `docs/performance.md` §5.12). The matrix of a step is a function of its unknowns `Ξ`
+//! contraction stays below a few 1e-3, where the extra assemblies cost less than the
+//! matrix and the LU they save. The matrix of a step is a function of its unknowns `Ξ`
 //! (and, through a potential or a force, of where the step starts): how far the new step's
 //! guess lies from the `Ξ` the carried matrix was formed at ([`DRIFT`]) decides whether to
 //! try it, and a checked chord step that contracts less than [`CONTRACTION`] ends the try.
@@ -23,10 +23,11 @@ pub(super) const CONTRACTION: f64 = 5e-3;
 
 /// Carried factors are tried only when every entry of the step's guess `Ξ` lies within
 /// this of the `Ξ` they were formed at. The matrix moves with `Ξ` through the chart's
-/// `A(x)` and the Lagrangian's Hessians, about linearly: measured at short steps, the
-/// contraction is 0.03–0.6 times this distance (`docs/performance.md` §5.12). The test is
-/// absolute: on SE(3) it reads the translation's entries in the user's length unit, so
-/// a body whose centre moves far in those units per step tries the factors less often.
+/// `A(x)` and the Lagrangian's Hessians, about linearly: at short steps the contraction
+/// is a fraction of this distance, so a guess within it passes [`CONTRACTION`]'s check.
+/// The test is absolute: on SE(3) it reads the translation's entries in the user's length
+/// unit, so a body whose centre moves far in those units per step tries the factors less
+/// often.
 /// What the distance cannot see (a new step size, a changed system) forgets the factors
 /// instead (`Integrator::reset`, the step's and the nodes' changes, `system_mut`, a failed
 /// solve); an input changed between steps is left to the contraction check.

@@ -4,8 +4,9 @@
 /// A Newton matrix factored at an iterate with relative residual `r_f` at or below this is
 /// kept for the rest of the step: each chord step with it (an assembly without Hessians
 /// and two triangular solves, no LU) multiplies the error by ~`r_f` (the matrices differ
-/// by ~`r_f`), and `r₁ ≈ 0.1 r_f²` after the Newton step (measured). Two or three chord
-/// steps then cost less than one more Newton step (measured, case A, n = 10).
+/// by ~`r_f`), and `r₁ ≈ 0.1 r_f²` after the Newton step (quadratic convergence). Two or
+/// three chord steps then cost less than one more Newton step, which forms the Hessians
+/// and a new LU.
 pub(super) const CHORD_EXPECTED: f64 = 1e-4;
 
 /// Chord steps continue until their predicted remainder (the product of `r_f` and the

@@ -920,7 +920,7 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
 /// (its attitude term) and a potential of `R`, in every chart, with and without Hessians;
 /// never without the configuration rows, nor by the free SO(3) body, which forms no
 /// `Φ(x)`, nor by the SE(3) systems, whose points do not hand them back (forming the 6 × 6
-/// pair cost what it saved: `docs/performance.md` §5.19).
+/// pair costs about what it saves).
 #[test]
 fn points_hand_back_the_charts_transport() {
     use crate::system::ElementOf;
