@@ -13,6 +13,22 @@ fn lgsvi_in(dir: &std::path::Path, args: &[&str]) -> (i32, String, String) {
     common::run_in(dir, args, &[])
 }
 
+/// Runs `lgsvi` with `args` and checks that it is refused as bad input must be: a non-zero
+/// exit, one line on standard error containing every one of `words`, and no panic. Returns
+/// the message.
+#[track_caller]
+fn assert_refused(args: &[&str], words: &[&str]) -> String {
+    let (code, out, err) = lgsvi(args);
+    let shown: String = out.chars().take(200).collect();
+    assert_ne!(code, 0, "{args:?} succeeded: {shown}");
+    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    for word in words {
+        assert!(err.contains(word), "{args:?}: {word:?} not in {err}");
+    }
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+    err
+}
+
 /// `lgsvi` alone is the main job: `lgsvi reproduce` into `./lgsvi-reproduce`.
 #[test]
 fn main_job_reproduces_the_nine_figures() {
@@ -329,10 +345,7 @@ fn config_files_and_flags_over_them() {
     assert_eq!(v["description"]["settings"]["h"], 0.25); // the file fills in
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, "system = \"rigid-body\"\nnode = 8\n").unwrap();
-    let (code, _, err) = lgsvi(&["simulate", "--config", bad.to_str().unwrap()]);
-    assert_ne!(code, 0);
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.contains("node"), "{err}");
+    assert_refused(&["simulate", "--config", bad.to_str().unwrap()], &["node"]);
     // A value of the wrong type or length names its key.
     for (text, needle) in [
         ("nodes = 8.0\n", "nodes: invalid type"),
@@ -343,10 +356,7 @@ fn config_files_and_flags_over_them() {
         ("check = true\ntol = 1e-8\n", "checked anyway"),
     ] {
         std::fs::write(&bad, text).unwrap();
-        let (code, _, err) = lgsvi(&["simulate", "--config", bad.to_str().unwrap()]);
-        assert_ne!(code, 0);
-        assert_eq!(err.trim().lines().count(), 1, "{err}");
-        assert!(err.contains(needle), "{text}: {err}");
+        assert_refused(&["simulate", "--config", bad.to_str().unwrap()], &[needle]);
     }
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -423,21 +433,14 @@ fn bad_input_is_one_line_naming_the_value() {
             "--inertia",
         ),
     ] {
-        let (code, out, err) = lgsvi(&args);
-        assert_ne!(code, 0, "{args:?} succeeded: {out}");
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-        assert!(err.contains(needle), "{args:?}: {err}");
-        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_refused(&args, &[needle]);
     }
 }
 
 #[test]
 fn a_too_large_step_names_the_step_and_what_to_change() {
     // h = 8 with |Ω| ≈ 2.9 rad/s asks one step to turn by ~23 rad, past the exp chart's 2π.
-    let (code, _, err) = lgsvi(&["simulate", "--h", "8", "--t-end", "16"]);
-    assert_ne!(code, 0);
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.contains("step 0"), "{err}");
+    let err = assert_refused(&["simulate", "--h", "8", "--t-end", "16"], &["step 0"]);
     assert!(
         err.contains("shorter step") || err.contains("smaller step"),
         "{err}"
@@ -905,16 +908,7 @@ fn adversarial_inputs_are_refused_in_one_line() {
             "--quaternion0",
         ),
     ] {
-        let (code, out, err) = lgsvi(&args);
-        assert_ne!(
-            code,
-            0,
-            "{args:?} succeeded: {}",
-            &out[..out.len().min(200)]
-        );
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-        assert!(err.contains(needle), "{args:?}: {err}");
-        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        let err = assert_refused(&args, &[needle]);
         assert!(!err.contains("from_matrix"), "{args:?}: {err}");
     }
 }
@@ -1654,12 +1648,7 @@ fn the_remaining_cli_errors_name_what_to_change() {
             vec!["cannot create", "a-file/sub"],
         ),
     ] {
-        let (code, _, err) = lgsvi(&args);
-        assert_ne!(code, 0, "{args:?}");
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-        for needle in needles {
-            assert!(err.contains(needle), "{args:?}: {err}");
-        }
+        assert_refused(&args, &needles);
     }
     // Standard output that takes nothing (a full device): said, not a panic.
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
@@ -1760,13 +1749,7 @@ fn bad_conditions_name_the_flag() {
     ] {
         let mut args = AXISYMMETRIC.to_vec();
         args.extend(["--stop-when", condition]);
-        let (code, _, err) = lgsvi(&args);
-        assert_ne!(code, 0, "{condition}");
-        assert!(
-            err.contains("--stop-when") && err.contains(words),
-            "{condition}: {err}"
-        );
-        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert_refused(&args, &["--stop-when", words]);
     }
     let (code, _, err) = lgsvi(&["simulate", "--exact", "--stop-when", "omega_1<0"]);
     assert_ne!(code, 0);
@@ -1847,13 +1830,7 @@ fn bad_settling_conditions_name_the_flag() {
     for (condition, words) in [("x_1<0", "body in space"), ("omega_1=0", "QUANTITY<VALUE")] {
         let mut args = AXISYMMETRIC.to_vec();
         args.extend(["--settle-when", condition]);
-        let (code, _, err) = lgsvi(&args);
-        assert_ne!(code, 0, "{condition}");
-        assert!(
-            err.contains("--settle-when") && err.contains(words),
-            "{condition}: {err}"
-        );
-        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert_refused(&args, &["--settle-when", words]);
     }
     for command in [
         vec!["simulate", "--exact"],
@@ -2037,10 +2014,7 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
     ] {
         let mut all = vec!["optimize", "--quiet"];
         all.extend(args);
-        let (code, _, err) = lgsvi(&all);
-        assert_ne!(code, 0, "{all:?}");
-        assert!(err.contains(flag), "{all:?}: {err}");
-        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert_refused(&all, &[flag]);
     }
 }
 
@@ -2232,12 +2206,7 @@ fn optimize_slews_a_heavy_top_to_pontryagins_optimum() {
             "--quiet",
         ];
         full.extend(args.iter().copied());
-        let (code, _, err) = lgsvi(&full);
-        assert_ne!(code, 0, "{args:?}");
-        assert_eq!(err.trim().lines().count(), 1, "{err}");
-        for word in words {
-            assert!(err.contains(word), "{args:?}: {err}");
-        }
+        assert_refused(&full, &words);
     }
 }
 
@@ -2373,11 +2342,6 @@ fn optimize_tracks_a_reference_from_simulate() {
             "--quiet",
         ];
         full.extend(args.iter().copied());
-        let (code, _, err) = lgsvi(&full);
-        assert_ne!(code, 0, "{args:?}");
-        assert_eq!(err.trim().lines().count(), 1, "{err}");
-        for word in words {
-            assert!(err.contains(word), "{args:?}: {err}");
-        }
+        assert_refused(&full, &words);
     }
 }
