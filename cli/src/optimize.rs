@@ -1,7 +1,8 @@
 //! `lgsvi optimize`: a rigid body's slew at the least input energy in a fixed time or in
-//! the least time, or a heavy top's at the least energy (`--gravity`), torques bounded per
-//! axis ([`lgsvi_optimal`]), written as JSON with optional figures of the torques, the
-//! rates and the attitude error.
+//! the least time, a heavy top's at the least energy (`--gravity`), or a spacecraft's by
+//! its three reaction wheels at the least motor-torque energy (`--wheels`), torques bounded
+//! per axis or wheel ([`lgsvi_optimal`]), written as JSON with optional figures of the
+//! torques, the rates and the attitude error.
 
 use crate::error::{CliError, Result};
 use clap::{Args, ValueEnum};
@@ -52,6 +53,22 @@ pub struct OptimizeOptions {
     /// The direction d gravity pulls in, world frame [default: 0,0,1].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub gravity_direction: Option<[f64; 3]>,
+    /// Slew by three reaction wheels: the torques solved for (and bounded by --torque-max)
+    /// are the wheels' motor torques, J (--inertia) the spacecraft's with its wheels locked
+    /// (with --cost energy).
+    #[arg(long)]
+    pub wheels: bool,
+    /// With --wheels: the three wheel axes in the body frame [default: the body axes x, y, z].
+    #[arg(long, value_parser = crate::config::numbers::<9>, allow_hyphen_values = true, value_name = "X1,Y1,Z1,X2,Y2,Z2,X3,Y3,Z3")]
+    pub wheel_axes: Option<[f64; 9]>,
+    /// With --wheels: each wheel's axial inertia I_i > 0, kg·m² (one value for all three, or
+    /// three) [default: 0.05].
+    #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "I or I1,I2,I3")]
+    pub wheel_inertia: Option<[f64; 3]>,
+    /// With --wheels: the wheels' rates relative to the body at the start, rad/s (their
+    /// final rates are free) [default: 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "W1,W2,W3")]
+    pub wheel_speeds0: Option<[f64; 3]>,
     /// The start attitude as a rotation vector (radians, body to world) [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub attitude0: Option<[f64; 3]>,
@@ -114,7 +131,7 @@ pub struct OptimizeOptions {
     pub quiet: bool,
 }
 
-/// `--torque-max`: one bound for every axis, or three.
+/// `--torque-max`, `--wheel-inertia`: one value for all three, or three.
 fn torque_bound(text: &str) -> std::result::Result<[f64; 3], String> {
     if text.contains(',') {
         crate::config::numbers::<3>(text)
@@ -199,6 +216,10 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     }
     if let Some(gravity) = gravity {
         slew = slew.gravity(gravity);
+    }
+    let wheels = reaction_wheels(&options, &inertia)?;
+    if let Some(wheels) = wheels {
+        slew = slew.wheels(wheels);
     }
     if let Some(weights) = options.terminal_cost {
         slew = slew.terminal_cost(weights);
@@ -287,6 +308,12 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
             "com": g.center_of_mass.as_slice(),
             "gravity_direction": g.direction.as_slice(),
         })),
+        "wheels": wheels.map(|w| json!({
+            "axes": w.axes.iter().map(|a| [a.x, a.y, a.z]).collect::<Vec<_>>(),
+            "inertia": w.inertia,
+            "speeds0": w.speeds.as_slice(),
+        })),
+        "wheel_speeds": solution.wheel_speeds.iter().map(|w| [w.x, w.y, w.z]).collect::<Vec<_>>(),
         "multipliers": solution.multipliers,
         "t": times,
         "inputs": solution.inputs.iter().map(|u| [u.x, u.y, u.z]).collect::<Vec<_>>(),
@@ -437,6 +464,98 @@ fn heavy_top(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Gravity>
         CliError::invalid(flag, value, reason)
     })?;
     Ok(Some(gravity))
+}
+
+/// The reaction wheels of `--wheels` (and `--wheel-axes`, `--wheel-inertia`,
+/// `--wheel-speeds0`, refused without it; and with `--gravity` or `--cost time`, which the
+/// solver does not take with wheels yet).
+fn reaction_wheels(
+    options: &OptimizeOptions,
+    inertia: &Inertia,
+) -> Result<Option<lgsvi_optimal::Wheels>> {
+    if !options.wheels {
+        for (flag, given) in [
+            ("--wheel-axes", options.wheel_axes.is_some()),
+            ("--wheel-inertia", options.wheel_inertia.is_some()),
+            ("--wheel-speeds0", options.wheel_speeds0.is_some()),
+        ] {
+            if given {
+                return Err(CliError::invalid(
+                    flag,
+                    "given",
+                    "it describes reaction wheels: give --wheels as well",
+                ));
+            }
+        }
+        return Ok(None);
+    }
+    if options.gravity.is_some() {
+        return Err(CliError::invalid(
+            "--wheels",
+            "with --gravity",
+            "a spacecraft with reaction wheels is slewed without gravity: drop one of the two",
+        ));
+    }
+    if options.cost == Some(Cost::Time) {
+        return Err(CliError::invalid(
+            "--cost",
+            "time",
+            "a minimum-time slew by reaction wheels is not solved yet: give --cost energy \
+             with --t-end (and --torque-max for the motors' limits)",
+        ));
+    }
+    let axes = options
+        .wheel_axes
+        .unwrap_or([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+    let wheels = lgsvi_optimal::Wheels {
+        axes: std::array::from_fn(|i| Vector3::new(axes[3 * i], axes[3 * i + 1], axes[3 * i + 2])),
+        inertia: options.wheel_inertia.unwrap_or([0.05; 3]),
+        speeds: Vector3::from(options.wheel_speeds0.unwrap_or([0.0; 3])),
+    };
+    // The spacecraft's own checks, named by the flag that sets what they refuse.
+    if let Err(error) =
+        lgsvi_mechanics::gyrostat::Gyrostat::new(inertia.matrix(), wheels.axes, wheels.inertia)
+    {
+        let list = |v: &[f64]| {
+            v.iter()
+                .map(|x| format!("{x:?}"))
+                .collect::<Vec<_>>()
+                .join(",")
+        };
+        let (flag, value) = match &error {
+            lgsvi_mechanics::MechanicsError::InvalidSetting {
+                name: "wheel axis", ..
+            }
+            | lgsvi_mechanics::MechanicsError::NonFinite {
+                what: "wheel axis", ..
+            } => ("--wheel-axes", list(&axes)),
+            lgsvi_mechanics::MechanicsError::InvalidSetting {
+                name: "wheel inertia",
+                ..
+            }
+            | lgsvi_mechanics::MechanicsError::NonFinite {
+                what: "wheel inertia",
+                ..
+            } => ("--wheel-inertia", list(&wheels.inertia)),
+            _ => (
+                "--inertia/--wheel-inertia",
+                format!(
+                    "{}; {}",
+                    list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
+                    list(&wheels.inertia)
+                ),
+            ),
+        };
+        return Err(CliError::invalid(flag, value, error.to_string()));
+    }
+    if !wheels.speeds.iter().all(|x| x.is_finite()) {
+        return Err(CliError::invalid(
+            "--wheel-speeds0",
+            format!("{:?}", wheels.speeds.as_slice()),
+            "not finite",
+        ));
+    }
+    Ok(Some(wheels))
 }
 
 /// A solver's error naming the flag to change.

@@ -2345,3 +2345,85 @@ fn optimize_tracks_a_reference_from_simulate() {
         assert_refused(&full, &words);
     }
 }
+
+/// `lgsvi optimize --wheels`: a spacecraft slewed by its reaction wheels. With the wheels
+/// along the body axes and `J − I = 2I`, everything at rest, the body turns as a spherical
+/// rigid body of inertia 2 under minus the motor torques (`optimal/tests/wheels.rs`), so
+/// polynomial motor torques meet `J* = 12 j²θ²/T³` to rounding (1e-12 relative); bad
+/// wheel flags are refused in one line naming the flag.
+#[test]
+fn optimize_slews_by_reaction_wheels() {
+    let (code, out, err) = lgsvi(&[
+        "optimize",
+        "--wheels",
+        "--inertia",
+        "2.25,2.25,2.25",
+        "--wheel-inertia",
+        "0.25",
+        "--attitude-final",
+        "0.4,0.8,0.8",
+        "--t-end",
+        "10",
+        "--steps",
+        "5",
+        "--nodes",
+        "6",
+        "--inputs",
+        "polynomial",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(json["converged"], true);
+    let (j, theta, t): (f64, f64, f64) = (2.0, 1.2, 10.0);
+    let exact = 12.0 * j * j * theta * theta / t.powi(3);
+    let got = json["cost"].as_f64().unwrap();
+    assert!(
+        (got - exact).abs() <= 1e-12 * exact,
+        "{got} against {exact}"
+    );
+    assert_eq!(json["wheel_speeds"].as_array().unwrap().len(), 6);
+    assert_eq!(json["wheels"]["inertia"][0], 0.25);
+    let slew = [
+        "optimize",
+        "--attitude-final",
+        "0,0,1",
+        "--t-end",
+        "10",
+        "--quiet",
+    ];
+    for (extra, words) in [
+        (
+            vec!["--wheel-axes", "1,0,0,0,1,0,0,0,1"],
+            vec!["--wheel-axes", "--wheels"],
+        ),
+        (
+            vec!["--wheel-speeds0", "1,2,3"],
+            vec!["--wheel-speeds0", "--wheels"],
+        ),
+        (
+            vec!["--wheels", "--gravity", "1"],
+            vec!["--wheels", "gravity"],
+        ),
+        (
+            vec!["--wheels", "--cost", "time", "--torque-max", "0.1"],
+            vec!["--cost", "not solved yet"],
+        ),
+        (
+            vec!["--wheels", "--wheel-inertia", "0"],
+            vec!["--wheel-inertia", "positive"],
+        ),
+        (
+            vec!["--wheels", "--wheel-axes", "0,0,0,0,1,0,0,0,1"],
+            vec!["--wheel-axes", "non-zero"],
+        ),
+        (
+            vec!["--wheels", "--wheel-inertia", "3"],
+            vec!["--inertia/--wheel-inertia", "positive definite"],
+        ),
+    ] {
+        let mut args = slew.to_vec();
+        args.extend(extra);
+        assert_refused(&args, &words);
+    }
+}

@@ -155,6 +155,7 @@ pub(crate) fn minimum_energy(
     Ok(Solution {
         cost: cost(&inputs, fit.as_ref()),
         states: run.states,
+        wheel_speeds: run.wheel_speeds,
         inputs: means,
         inputs_at_points: at_points,
         quadrature_nodes: nodes,

@@ -115,9 +115,11 @@ mod time;
 mod tracking;
 
 use lgsvi_mechanics::built_in::BuiltInSo3;
+use lgsvi_mechanics::gyrostat::Gyrostat;
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{HeavyTop, Inertia, MechanicsError, RigidBody, State, StepSettings};
 use nalgebra::Vector3;
+use shooting::Plant;
 
 /// Why a slew was not solved.
 #[derive(Debug, thiserror::Error)]
@@ -206,12 +208,14 @@ pub fn eigen_axis_time(inertia: &Inertia, rotation: &SO3, torque_max: [f64; 3]) 
     time.is_finite().then_some(time)
 }
 
-/// A slew of a rigid body or a heavy top (crate documentation): built, then
+/// A slew of a rigid body, a heavy top ([`Slew::gravity`]) or a spacecraft by its reaction
+/// wheels ([`Slew::wheels`]) (crate documentation): built, then
 /// [`Slew::solve`]d.
 #[derive(Debug, Clone)]
 pub struct Slew {
     inertia: Inertia,
     gravity: Option<Gravity>,
+    wheels: Option<Wheels>,
     t_end: f64,
     start: (SO3, Vector3<f64>),
     target: (SO3, Vector3<f64>),
@@ -240,6 +244,23 @@ pub struct Gravity {
     pub center_of_mass: Vector3<f64>,
     /// The direction gravity pulls in, `d`, world frame (normalised).
     pub direction: Vector3<f64>,
+}
+
+/// Three reaction wheels on the body: the slew's inputs are then the wheels' motor torques
+/// (`τ_i` between the body and wheel `i`), not a body torque, and the body is a gyrostat
+/// ([`lgsvi_mechanics::gyrostat::Gyrostat`]): `ℓ = ½ΩᵀJΩ + Σ I_i (a_iᵀΩ) φ̇_i + ½ Σ I_i φ̇_i²`
+/// with `J` the inertia given to [`Slew::new`], that of the whole spacecraft with its wheels
+/// locked ([`Slew::wheels`]). The total angular momentum is conserved: the motors move
+/// momentum between the body and the wheels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wheels {
+    /// The wheels' spin axes (body frame; normalised).
+    pub axes: [Vector3<f64>; 3],
+    /// Their axial inertias `I_i > 0` (kg·m²), part of `J`.
+    pub inertia: [f64; 3],
+    /// Their rates `φ̇_i` relative to the body at the start (rad/s); the final rates are
+    /// free.
+    pub speeds: Vector3<f64>,
 }
 
 /// How the torque varies within a step.
@@ -288,8 +309,12 @@ pub struct Statistics {
 /// A solved slew.
 #[derive(Debug, Clone)]
 pub struct Solution {
-    /// The states at the step boundaries, `x_0 … x_K`.
+    /// The states at the step boundaries, `x_0 … x_K` (with reaction wheels, the
+    /// attitude, the body rates and the total angular momentum in the body frame).
     pub states: Vec<State>,
+    /// With reaction wheels ([`Slew::wheels`]), their rates `φ̇` relative to the body at
+    /// `x_0 … x_K`; empty otherwise.
+    pub wheel_speeds: Vec<Vector3<f64>>,
     /// The torque of each step, `u_0 … u_{K−1}` (body frame, N·m); with
     /// [`Inputs::Polynomial`], each step's mean `Σ_j b_j u_kj` (the constant torque of
     /// the same impulse).
@@ -323,6 +348,7 @@ impl Slew {
         Self {
             inertia,
             gravity: None,
+            wheels: None,
             t_end,
             start: (SO3::identity(), Vector3::zeros()),
             target: (SO3::identity(), Vector3::zeros()),
@@ -348,9 +374,22 @@ impl Slew {
         self
     }
 
-    /// The system the steps integrate: the free rigid body, or the heavy top.
-    fn system(&self) -> Result<BuiltInSo3, OptimalError> {
-        Ok(match self.gravity {
+    /// Puts three reaction wheels on the body ([`Wheels`]): the torques solved for, bounded
+    /// by [`Slew::torque_max`] per wheel, are then the motors'. For [`Cost::Energy`];
+    /// without gravity.
+    pub fn wheels(mut self, wheels: Wheels) -> Self {
+        self.wheels = Some(wheels);
+        self
+    }
+
+    /// The system the steps integrate: the free rigid body, the heavy top, or the
+    /// spacecraft with its reaction wheels.
+    pub(crate) fn system(&self) -> Result<Plant, OptimalError> {
+        if let Some(w) = self.wheels {
+            let craft = Gyrostat::new(self.inertia.matrix(), w.axes, w.inertia)?;
+            return Ok(Plant::Wheels(craft, w.speeds));
+        }
+        Ok(Plant::Body(match self.gravity {
             None => BuiltInSo3::Free(RigidBody::new(self.inertia)),
             Some(g) => BuiltInSo3::Top(HeavyTop::new(
                 self.inertia,
@@ -359,7 +398,7 @@ impl Slew {
                 g.center_of_mass,
                 g.direction,
             )?),
-        })
+        }))
     }
 
     /// The start `(R₀, Ω₀)` (body to world; body rates).
@@ -539,6 +578,31 @@ impl Slew {
                  u ↦ u/c²), which gravity breaks: give Cost::Energy for a heavy top",
             ));
         }
+        if let Some(w) = &self.wheels {
+            if self.gravity.is_some() {
+                return Err(invalid(
+                    "wheels",
+                    "with gravity".into(),
+                    "a spacecraft with reaction wheels is slewed without gravity: give one \
+                     of the two",
+                ));
+            }
+            if self.cost == Cost::Time {
+                return Err(invalid(
+                    "cost",
+                    "Time".into(),
+                    "a minimum-time slew with reaction wheels is not solved yet: give \
+                     Cost::Energy with a final time and torque_max",
+                ));
+            }
+            if !w.speeds.iter().all(|x| x.is_finite()) {
+                return Err(invalid(
+                    "wheel speeds",
+                    format!("{:?}", w.speeds.as_slice()),
+                    "not finite",
+                ));
+            }
+        }
         self.system()?;
         if self.cost == Cost::Time && (self.tracking.is_some() || self.terminal_cost.is_some()) {
             return Err(invalid(
@@ -589,9 +653,7 @@ impl Slew {
 
 /// The Gauss points of a step of `settings` (fractions of the step) and their weights.
 fn quadrature(slew: &Slew, settings: StepSettings) -> Result<(Vec<f64>, Vec<f64>), OptimalError> {
-    let it =
-        lgsvi_mechanics::Integrator::new(slew.system()?, settings, slew.start.0, slew.start.1)?;
-    Ok((it.quadrature_nodes(), it.quadrature_weights()))
+    slew.system()?.quadrature(settings, slew.start)
 }
 
 /// The page `docs/guide/optimal.md`, whose Rust example is compiled and run as a doctest.

@@ -3,40 +3,107 @@
 
 use crate::OptimalError;
 use lgsvi_mechanics::built_in::BuiltInSo3;
+use lgsvi_mechanics::group::GroupChart;
+use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{LieGroup, SO3};
 use lgsvi_mechanics::linearization::Coordinates;
-use lgsvi_mechanics::{Integrator, State, StepSettings};
-use nalgebra::{DMatrix, DVector, Vector3};
+use lgsvi_mechanics::system::ElementOf;
+use lgsvi_mechanics::{Integrator, State, StepSettings, System};
+use nalgebra::{DMatrix, DVector, SVector, Vector3};
+
+/// What the slew's steps integrate: a rigid body or heavy top on SO(3) driven by a body
+/// torque, or a spacecraft with three reaction wheels (SO(3) × ℝ³) driven by the wheels'
+/// motor torques, its wheels starting at the given rates (relative to the body).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Plant {
+    Body(BuiltInSo3),
+    Wheels(Gyrostat<3>, Vector3<f64>),
+}
+
+impl Plant {
+    /// An integrator of the plant from the attitude and body rates `start`, and the
+    /// integrator's Gauss points and weights (fractions of a step).
+    pub fn quadrature(
+        &self,
+        settings: StepSettings,
+        start: (SO3, Vector3<f64>),
+    ) -> Result<(Vec<f64>, Vec<f64>), OptimalError> {
+        Ok(match *self {
+            Plant::Body(body) => {
+                let it = Integrator::new(body, settings, start.0, start.1)?;
+                (it.quadrature_nodes(), it.quadrature_weights())
+            }
+            Plant::Wheels(craft, speeds) => {
+                let (g, xi) = wheel_start(start, speeds);
+                let it = Integrator::new(craft, settings, g, xi)?;
+                (it.quadrature_nodes(), it.quadrature_weights())
+            }
+        })
+    }
+}
+
+/// The gyrostat's start: the attitude with its wheel angles at zero, the velocity
+/// `(Ω, φ̇)`.
+fn wheel_start(
+    start: (SO3, Vector3<f64>),
+    speeds: Vector3<f64>,
+) -> (BodyWheels<f64, 3>, SVector<f64, 6>) {
+    let g = BodyWheels {
+        attitude: start.0,
+        wheels: Vector3::zeros(),
+    };
+    (
+        g,
+        SVector::<f64, 6>::from_iterator(start.1.iter().chain(speeds.iter()).copied()),
+    )
+}
 
 /// One run of the torques: its states, the terminal state's sensitivity and miss.
 pub(crate) struct Shot {
-    /// `x_0 … x_K`.
+    /// `x_0 … x_K`: attitude, body rates and (for a gyrostat, the total angular momentum
+    /// in the body frame) body momentum.
     pub states: Vec<State>,
+    /// With reaction wheels, their rates `φ̇` at `x_0 … x_K`; empty otherwise.
+    pub wheel_speeds: Vec<Vector3<f64>>,
     /// `M = ∂x_K/∂u` (`6 × 3K` per input of a step) in the body-frame coordinates `(θ, ω)`.
     pub sensitivity: DMatrix<f64>,
     /// `∂x_K/∂h` (6), the step length shared by every step.
     pub time_sensitivity: DVector<f64>,
     /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`.
     pub miss: DVector<f64>,
-    /// Each step's `A_k` and input Jacobians `B_kj` (velocity coordinates).
+    /// The dimension `D` of the plant's algebra: its linearisation's state is
+    /// `(θ, ω) ∈ ℝ^{2D}`, whose rows `0..3` and `D..D + 3` are the attitude and the body
+    /// rates.
+    dimension: usize,
+    /// Each step's `A_k` and input Jacobians `B_kj` (velocity coordinates, the torques'
+    /// three columns).
     a: Vec<DMatrix<f64>>,
     b: Vec<Vec<DMatrix<f64>>>,
 }
 
 impl Shot {
-    /// `∂x_k/∂u` for `k = 1 … K` (`6 × n` each), chained forwards:
+    /// The rows of the attitude and the body rates in the plant's state.
+    fn observed(&self, full: &DMatrix<f64>) -> DMatrix<f64> {
+        let d = self.dimension;
+        DMatrix::from_fn(6, full.ncols(), |i, j| {
+            full[(if i < 3 { i } else { d + i - 3 }, j)]
+        })
+    }
+
+    /// `∂x_k/∂u` for `k = 1 … K` (`6 × n` each, attitude and rates), chained forwards:
     /// `S_{k+1} = A_k S_k + [B_kj in step k's columns]`.
     pub fn state_sensitivities(&self) -> Vec<DMatrix<f64>> {
         let columns = self.sensitivity.ncols();
         let per_step = columns / self.a.len().max(1);
         let mut out = Vec::with_capacity(self.a.len());
-        let mut s = DMatrix::<f64>::zeros(6, columns);
+        let mut s = DMatrix::<f64>::zeros(2 * self.dimension, columns);
         for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
             s = a * &s;
             for (j, bj) in b.iter().enumerate() {
-                s.view_mut((0, per_step * k + 3 * j), (6, 3)).copy_from(bj);
+                s.view_mut((0, per_step * k + 3 * j), (2 * self.dimension, 3))
+                    .copy_from(bj);
             }
-            out.push(s.clone());
+            out.push(self.observed(&s));
         }
         out
     }
@@ -60,76 +127,135 @@ impl Shot {
 ///
 /// with `A_ω` the columns of `A` in the start's rates; `optimal/tests/free_time.rs`
 /// checks both the scaling and this derivative against finite differences. The law is the
-/// free body's: for a heavy top (gravity does not scale so) `∂x_K/∂h` is not meaningful,
-/// and no minimum-time slew of one is solved.
+/// free body's (and a gyrostat's, whose kinetic energy is quadratic in `(Ω, φ̇)` too): for
+/// a heavy top (gravity does not scale so) `∂x_K/∂h` is not meaningful, and no
+/// minimum-time slew of one is solved.
 pub(crate) fn shoot(
-    body: BuiltInSo3,
+    plant: Plant,
     settings: StepSettings,
     start: (SO3, Vector3<f64>),
     target: (SO3, Vector3<f64>),
     inputs: &[Vector3<f64>],
     per_step: usize,
 ) -> Result<Shot, OptimalError> {
-    let h = settings.h();
-    let mut it = Integrator::new(body, settings, start.0, start.1)?;
-    let mut states = vec![*it.state()];
+    match plant {
+        Plant::Body(body) => {
+            let it = Integrator::new(body, settings, start.0, start.1)?;
+            shoot_with(it, target, inputs, per_step, 0, |s| (*s, None))
+        }
+        Plant::Wheels(craft, speeds) => {
+            let (g, xi) = wheel_start(start, speeds);
+            let it = Integrator::new(craft, settings, g, xi)?;
+            shoot_with(it, target, inputs, per_step, 3, |s| {
+                let state = State {
+                    time: s.time,
+                    configuration: s.configuration.attitude,
+                    momentum: s.momentum.fixed_rows::<3>(0).into_owned(),
+                    velocity: s.velocity.fixed_rows::<3>(0).into_owned(),
+                };
+                (state, Some(s.velocity.fixed_rows::<3>(3).into_owned()))
+            })
+        }
+    }
+}
+
+/// [`shoot`] for one integrator: the torques enter its input at `offset` (0: a body
+/// torque; 3: a gyrostat's motor torques), and `observe` reads the attitude, rates and
+/// momentum of a state (and a gyrostat's wheel rates).
+fn shoot_with<S, C, const D: usize>(
+    mut it: Integrator<S, C, D>,
+    target: (SO3, Vector3<f64>),
+    inputs: &[Vector3<f64>],
+    per_step: usize,
+    offset: usize,
+    observe: impl Fn(&State<ElementOf<S, D>, D>) -> (State, Option<Vector3<f64>>),
+) -> Result<Shot, OptimalError>
+where
+    S: System<D>,
+    C: GroupChart<S::Group, D>,
+{
+    let h = it.settings().h();
+    let widen = |u: &Vector3<f64>| {
+        let mut full = SVector::<f64, D>::zeros();
+        full.fixed_rows_mut::<3>(offset).copy_from(u);
+        full
+    };
+    let record =
+        |it: &Integrator<S, C, D>, states: &mut Vec<State>, speeds: &mut Vec<Vector3<f64>>| {
+            let (state, wheels) = observe(it.state());
+            states.push(state);
+            speeds.extend(wheels);
+        };
+    let (mut states, mut wheel_speeds) = (Vec::new(), Vec::new());
+    record(&it, &mut states, &mut wheel_speeds);
     let k_steps = inputs.len() / per_step;
     let mut a = Vec::with_capacity(k_steps);
     let mut b = Vec::with_capacity(k_steps);
     let mut d = Vec::with_capacity(k_steps);
     for step_inputs in inputs.chunks(per_step) {
-        let omega = it.state().velocity;
+        let velocity = it.state().velocity;
         if per_step == 1 {
-            it.set_input(step_inputs[0])?;
+            it.set_input(widen(&step_inputs[0]))?;
         } else {
-            it.set_input_at_points(step_inputs)?;
+            let wide: Vec<SVector<f64, D>> = step_inputs.iter().map(widen).collect();
+            it.set_input_at_points(&wide)?;
         }
         let step = it.step_linearized()?;
         let ak = step.a(Coordinates::Velocity).clone();
         let bk: Vec<DMatrix<f64>> = match step.b_points(Coordinates::Velocity) {
-            Some(points) => points.to_vec(),
-            None => vec![step.b(Coordinates::Velocity).clone()],
+            Some(points) => points
+                .iter()
+                .map(|p| p.columns(offset, 3).into_owned())
+                .collect(),
+            None => vec![step
+                .b(Coordinates::Velocity)
+                .columns(offset, 3)
+                .into_owned()],
         };
         let end = it.state().velocity;
-        let mut dk = ak.view((0, 3), (6, 3)) * omega;
+        let mut dk = ak.view((0, D), (2 * D, D)) * velocity;
         for (bj, u) in bk.iter().zip(step_inputs) {
             dk += 2.0 * (bj * u);
         }
-        for i in 0..3 {
-            dk[3 + i] -= end[i];
+        for i in 0..D {
+            dk[D + i] -= end[i];
         }
         d.push(dk / h);
         a.push(ak);
         b.push(bk);
-        states.push(*it.state());
+        record(&it, &mut states, &mut wheel_speeds);
     }
     // M_kj = A_{K−1} ⋯ A_{k+1} B_kj and ∂x_K/∂h = Σ_k A_{K−1} ⋯ A_{k+1} d_k, chained
-    // backwards.
+    // backwards in the plant's state, then read in the attitude and rates.
     let columns = 3 * per_step;
-    let mut sensitivity = DMatrix::<f64>::zeros(6, columns * k_steps);
-    let mut time_sensitivity = DVector::<f64>::zeros(6);
-    let mut chain = DMatrix::<f64>::identity(6, 6);
+    let mut full = DMatrix::<f64>::zeros(2 * D, columns * k_steps);
+    let mut time_full = DMatrix::<f64>::zeros(2 * D, 1);
+    let mut chain = DMatrix::<f64>::identity(2 * D, 2 * D);
     for k in (0..k_steps).rev() {
         for (j, bj) in b[k].iter().enumerate() {
-            sensitivity
-                .view_mut((0, columns * k + 3 * j), (6, 3))
+            full.view_mut((0, columns * k + 3 * j), (2 * D, 3))
                 .copy_from(&(&chain * bj));
         }
-        time_sensitivity += &chain * &d[k];
+        time_full += &chain * &d[k];
         chain = &chain * &a[k];
     }
     let last = states[k_steps];
     let rotation = last.configuration.inverse().compose(&target.0).log();
     let rates = target.1 - last.velocity;
     let miss = DVector::from_iterator(6, rotation.iter().chain(rates.iter()).copied());
-    Ok(Shot {
+    let mut shot = Shot {
         states,
-        sensitivity,
-        time_sensitivity,
+        wheel_speeds,
+        sensitivity: DMatrix::zeros(0, 0),
+        time_sensitivity: DVector::zeros(0),
         miss,
+        dimension: D,
         a,
         b,
-    })
+    };
+    shot.sensitivity = shot.observed(&full);
+    shot.time_sensitivity = shot.observed(&time_full).column(0).into_owned();
+    Ok(shot)
 }
 
 #[cfg(test)]
@@ -143,18 +269,19 @@ mod tests {
     /// its rounding `~1e-16/δ·|x| ≈ 1e-11`, so they agree to about 1e-7 relative.
     #[test]
     fn the_time_derivative_matches_central_differences() {
-        let body = BuiltInSo3::Free(lgsvi_mechanics::RigidBody::new(
+        let body = Plant::Body(BuiltInSo3::Free(lgsvi_mechanics::RigidBody::new(
             Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap(),
-        ));
+        )));
         let start = (
             SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
             Vector3::new(0.3, -0.2, 0.5),
         );
         let target = (SO3::identity(), Vector3::zeros());
         let h = 0.4;
-        let points = Integrator::new(body, StepSettings::new(h, 8).unwrap(), start.0, start.1)
+        let points = body
+            .quadrature(StepSettings::new(h, 8).unwrap(), start)
             .unwrap()
-            .quadrature_nodes()
+            .0
             .len();
         for per_step in [1, points] {
             let inputs: Vec<Vector3<f64>> = (0..6 * per_step)

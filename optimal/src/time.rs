@@ -3,9 +3,8 @@
 
 use crate::energy::minimum_energy;
 use crate::qp::QpSolution;
-use crate::shooting::{shoot, Shot};
+use crate::shooting::{shoot, Plant, Shot};
 use crate::{qp, Cost, OptimalError, Slew, Solution, Statistics};
-use lgsvi_mechanics::built_in::BuiltInSo3;
 use lgsvi_mechanics::StepSettings;
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::time::Instant;
@@ -66,6 +65,7 @@ pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, Opti
     Ok(Solution {
         cost: t_end,
         states: last.shot.states,
+        wheel_speeds: last.shot.wheel_speeds,
         inputs,
         inputs_at_points: Vec::new(),
         quadrature_nodes: crate::quadrature(slew, settings)?.0,
@@ -132,7 +132,7 @@ struct Problem<'a> {
     slew: &'a Slew,
     bound: Vector3<f64>,
     k_steps: usize,
-    body: BuiltInSo3,
+    body: Plant,
 }
 
 impl Problem<'_> {

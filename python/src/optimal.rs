@@ -1,5 +1,6 @@
 //! `lgsvi.optimal`'s compiled core: a rigid body's slew at the least energy or in the
-//! least time ([`lgsvi_optimal::Slew`]), solved with the GIL released.
+//! least time, a heavy top's or a spacecraft's by its reaction wheels at the least energy
+//! ([`lgsvi_optimal::Slew`]), solved with the GIL released.
 
 use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3};
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError, LgsviError};
@@ -30,7 +31,7 @@ fn optimal_error(error: OptimalError) -> PyErr {
 
 /// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None, gravity=None, mass=1.0, com=None, gravity_direction=None))]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None, gravity=None, mass=1.0, com=None, gravity_direction=None, wheels=None, wheel_inertia=None, wheel_speeds0=None))]
 #[allow(clippy::too_many_arguments)]
 fn _slew<'py>(
     py: Python<'py>,
@@ -54,6 +55,9 @@ fn _slew<'py>(
     mass: f64,
     com: Option<&Bound<'py, PyAny>>,
     gravity_direction: Option<&Bound<'py, PyAny>>,
+    wheels: Option<&Bound<'py, PyAny>>,
+    wheel_inertia: Option<&Bound<'py, PyAny>>,
+    wheel_speeds0: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = match inputs {
         "constant" => Inputs::Constant,
@@ -151,6 +155,37 @@ fn _slew<'py>(
         }
         None => {}
     }
+    match wheels {
+        Some(axes) => {
+            let axes = vectors3(axes, "wheels")?;
+            let [a, b, c] = axes.as_slice() else {
+                return Err(invalid(format!(
+                    "wheels: {} axes; give three wheel axes (body frame), one per row",
+                    axes.len()
+                )));
+            };
+            let inertia = match wheel_inertia {
+                None => Vector3::repeat(0.05),
+                Some(i) => match crate::convert::shape_of(i, "wheel_inertia")?.as_slice() {
+                    [] => Vector3::repeat(i.extract::<f64>()?),
+                    _ => vector3(i, "wheel_inertia")?,
+                },
+            };
+            slew = slew.wheels(lgsvi_optimal::Wheels {
+                axes: [*a, *b, *c],
+                inertia: [inertia.x, inertia.y, inertia.z],
+                speeds: vector_or_zero(wheel_speeds0, "wheel_speeds0")?,
+            });
+        }
+        None if wheel_inertia.is_some() || wheel_speeds0.is_some() => {
+            return Err(invalid(
+                "wheel_inertia and wheel_speeds0 describe reaction wheels: give wheels (their \
+                 three axes) as well"
+                    .to_string(),
+            ))
+        }
+        None => {}
+    }
     if let Some((attitudes, omegas, weights)) = track {
         let attitudes = crate::convert::rotations(&attitudes, "track attitudes")?;
         let omegas = vectors3(&omegas, "track omegas")?;
@@ -223,6 +258,19 @@ fn _slew<'py>(
                 .iter()
                 .flatten()
                 .flat_map(|u| [u.x, u.y, u.z])
+                .collect(),
+        ),
+    )?;
+    d.set_item(
+        "wheel_speeds",
+        array2(
+            py,
+            solution.wheel_speeds.len(),
+            3,
+            solution
+                .wheel_speeds
+                .iter()
+                .flat_map(|w| [w.x, w.y, w.z])
                 .collect(),
         ),
     )?;

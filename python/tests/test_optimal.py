@@ -159,3 +159,38 @@ def test_tracking_and_a_soft_target():
     with pytest.raises(lgsvi.InvalidInputError, match="track"):
         optimal.slew([2.0, 2.0, 2.0], t_end, target, steps=k,
                      track=(attitudes[:3], omegas[:3], [1.0, 1.0]))
+
+
+def test_a_slew_by_reaction_wheels_replays_onto_its_target():
+    # Wheels along the body axes with J_b = J - I = 2 I: at rest the body turns as a
+    # spherical rigid body of inertia 2 under minus the motor torques, so polynomial motor
+    # torques meet the single-axis optimum 12 j^2 theta^2 / T^3 to rounding.
+    j, i, theta, t_end = 2.0, 0.25, 1.2, 10.0
+    target = lie.so3_exp(np.array([1.0, 2.0, 2.0]) / 3 * theta)
+    result = optimal.slew([j + i] * 3, t_end, target, steps=5, nodes=6, inputs="polynomial",
+                          wheels=np.eye(3), wheel_inertia=i)
+    assert result.cost == pytest.approx(12 * j * j * theta**2 / t_end**3, rel=1e-12)
+    assert result.wheel_speeds.shape == (6, 3)
+    # A biased, bounded slew of an asymmetric craft, replayed by the integrator.
+    axes = np.array([[1.0, 0.2, 0.0], [0.0, 1.0, 0.3], [0.2, 0.0, 1.0]])
+    target = lie.so3_exp([0.6, -0.4, 0.9])
+    result = optimal.slew([8.0, 10.0, 6.0], 30.0, target, steps=30, nodes=8, inputs="polynomial",
+                          torque_max=0.05, wheels=axes, wheel_inertia=[0.05] * 3,
+                          wheel_speeds0=[20.0, -10.0, 5.0])
+    assert result.converged and np.abs(result.inputs_at_points).max() <= 0.05 * (1 + 1e-9)
+    craft = lgsvi.Gyrostat(np.diag([8.0, 10.0, 6.0]), axes, [0.05] * 3)
+    it = lgsvi.Integrator(craft, result.h, 8, wheel_speeds=[20.0, -10.0, 5.0])
+    for step in result.inputs_at_points:
+        it.set_input_at_points(np.hstack([np.zeros_like(step), step]))
+        it.step()
+    # The replay takes the solver's steps: it meets the target to the KKT tolerance.
+    assert np.abs(lie.so3_log(it.state.attitude.T @ target)).max() <= 1e-9
+    assert np.abs(it.state.omega).max() <= 1e-9
+    assert np.abs(it.state.wheel_speeds - result.wheel_speeds[-1]).max() <= 1e-9
+    with pytest.raises(lgsvi.InvalidInputError, match="wheels"):
+        optimal.slew([8.0, 10.0, 6.0], 30.0, target, wheel_inertia=0.05)
+    with pytest.raises(lgsvi.InvalidInputError, match="three wheel axes"):
+        optimal.slew([8.0, 10.0, 6.0], 30.0, target, wheels=np.eye(3)[:2])
+    with pytest.raises(lgsvi.InvalidInputError, match="cost"):
+        optimal.slew([8.0, 10.0, 6.0], 30.0, target, wheels=np.eye(3), cost="time",
+                     torque_max=0.1)

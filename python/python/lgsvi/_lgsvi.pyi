@@ -292,4 +292,7 @@ def _slew(
     mass: float = 1.0,
     com: Optional[ArrayLike] = None,
     gravity_direction: Optional[ArrayLike] = None,
+    wheels: Optional[ArrayLike] = None,
+    wheel_inertia: Optional[ArrayLike] = None,
+    wheel_speeds0: Optional[ArrayLike] = None,
 ) -> Dict[str, Any]: ...

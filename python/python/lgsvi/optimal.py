@@ -1,6 +1,7 @@
 """Optimal control on SO(3) with lgsvi's variational step as the dynamics: a rigid body's
 slew at the least input energy in a fixed time, or in the least time, the torques bounded
-per axis.
+per axis; a heavy top's, or a spacecraft's by its three reaction wheels, at the least
+energy.
 
 The problem: ``K`` steps of a common length ``h`` (each one lgsvi step of ``nodes``
 nodes), the body torque ``u_k`` held over step ``k``; from ``(attitude0, omega0)`` to
@@ -59,6 +60,9 @@ class SlewResult:
         ``R_k``, body to world.
     omega : ndarray (K+1, 3)
         The body rates at the step boundaries.
+    wheel_speeds : ndarray (K+1, 3)
+        With ``wheels``, the wheels' rates relative to the body at the step boundaries;
+        ``(0, 3)`` otherwise.
     inputs : ndarray (K, 3)
         The torque of each step (body frame, N m); with ``inputs="polynomial"`` each step's
         mean over its Gauss points (the constant torque of the same impulse).
@@ -83,7 +87,7 @@ class SlewResult:
     """
 
     __slots__ = (
-        "cost", "t", "attitude", "omega", "inputs", "inputs_at_points", "quadrature_nodes",
+        "cost", "t", "attitude", "omega", "wheel_speeds", "inputs", "inputs_at_points", "quadrature_nodes",
         "multipliers", "h", "t_end",
         "converged", "iterations", "kkt_residuals", "time_s",
     )
@@ -121,6 +125,9 @@ def slew(
     mass: float = 1.0,
     com: Optional[Any] = None,
     gravity_direction: Optional[Any] = None,
+    wheels: Optional[Any] = None,
+    wheel_inertia: Optional[Any] = None,
+    wheel_speeds0: Optional[Any] = None,
 ) -> SlewResult:
     """The slew of the body of principal moments ``inertia`` (3,) to ``attitude_final``
     (3, 3) and ``omega_final`` (default rest), from ``attitude0`` (default identity) and
@@ -147,6 +154,13 @@ def slew(
     1), centre of mass ``com`` (body frame, default ``(0, 0, 1)``) and gravity pulling along
     ``gravity_direction`` (world frame, default ``(0, 0, 1)``); energy cost only. The torques
     then also hold it against gravity.
+
+    ``wheels`` (3, 3), three wheel axes in the body frame (one per row), slews a spacecraft
+    by its reaction wheels (as :class:`lgsvi.Gyrostat`): the torques solved for (and bounded
+    by ``torque_max``) are then the wheels' motor torques, ``inertia`` the spacecraft's with
+    its wheels locked, ``wheel_inertia`` the wheels' axial inertias (one for all or three;
+    default 0.05) and ``wheel_speeds0`` their rates relative to the body at the start
+    (default rest; the final rates are free). Energy cost only, without gravity.
 
     Raises
     ------
@@ -178,5 +192,8 @@ def slew(
         mass=mass,
         com=com,
         gravity_direction=gravity_direction,
+        wheels=wheels,
+        wheel_inertia=wheel_inertia,
+        wheel_speeds0=wheel_speeds0,
     )
     return SlewResult(**fields)
