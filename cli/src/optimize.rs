@@ -54,8 +54,7 @@ pub struct OptimizeOptions {
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub gravity_direction: Option<[f64; 3]>,
     /// Slew by three reaction wheels: the torques solved for (and bounded by --torque-max)
-    /// are the wheels' motor torques, J (--inertia) the spacecraft's with its wheels locked
-    /// (with --cost energy).
+    /// are the wheels' motor torques, J (--inertia) the spacecraft's with its wheels locked.
     #[arg(long)]
     pub wheels: bool,
     /// With --wheels: the three wheel axes in the body frame [default: the body axes x, y, z].
@@ -467,8 +466,7 @@ fn heavy_top(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Gravity>
 }
 
 /// The reaction wheels of `--wheels` (and `--wheel-axes`, `--wheel-inertia`,
-/// `--wheel-speeds0`, refused without it; and with `--gravity` or `--cost time`, which the
-/// solver does not take with wheels yet).
+/// `--wheel-speeds0`, refused without it; and with `--gravity`).
 fn reaction_wheels(
     options: &OptimizeOptions,
     inertia: &Inertia,
@@ -494,14 +492,6 @@ fn reaction_wheels(
             "--wheels",
             "with --gravity",
             "a spacecraft with reaction wheels is slewed without gravity: drop one of the two",
-        ));
-    }
-    if options.cost == Some(Cost::Time) {
-        return Err(CliError::invalid(
-            "--cost",
-            "time",
-            "a minimum-time slew by reaction wheels is not solved yet: give --cost energy \
-             with --t-end (and --torque-max for the motors' limits)",
         ));
     }
     let axes = options
@@ -688,10 +678,14 @@ fn figures(
         (
             "_torques",
             figure(
-                if solution.inputs_at_points.is_empty() {
-                    "optimal torques (held over each step)"
-                } else {
-                    "optimal torques (at each step's Gauss points)"
+                match (
+                    solution.wheel_speeds.is_empty(),
+                    solution.inputs_at_points.is_empty(),
+                ) {
+                    (true, true) => "optimal torques (held over each step)",
+                    (true, false) => "optimal torques (at each step's Gauss points)",
+                    (false, true) => "optimal wheel motor torques (held over each step)",
+                    (false, false) => "optimal wheel motor torques (at each step's Gauss points)",
                 },
                 "u (N·m)",
                 torque,

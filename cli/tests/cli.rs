@@ -2406,10 +2406,6 @@ fn optimize_slews_by_reaction_wheels() {
             vec!["--wheels", "gravity"],
         ),
         (
-            vec!["--wheels", "--cost", "time", "--torque-max", "0.1"],
-            vec!["--cost", "not solved yet"],
-        ),
-        (
             vec!["--wheels", "--wheel-inertia", "0"],
             vec!["--wheel-inertia", "positive"],
         ),

@@ -375,8 +375,9 @@ impl Slew {
     }
 
     /// Puts three reaction wheels on the body ([`Wheels`]): the torques solved for, bounded
-    /// by [`Slew::torque_max`] per wheel, are then the motors'. For [`Cost::Energy`];
-    /// without gravity.
+    /// by [`Slew::torque_max`] per wheel, are then the motors'. Without gravity. The
+    /// minimum time holds too: the gyrostat's kinetic energy is quadratic in `(Ω, φ̇)`, so
+    /// its steps scale in time as the rigid body's do.
     pub fn wheels(mut self, wheels: Wheels) -> Self {
         self.wheels = Some(wheels);
         self
@@ -585,14 +586,6 @@ impl Slew {
                     "with gravity".into(),
                     "a spacecraft with reaction wheels is slewed without gravity: give one \
                      of the two",
-                ));
-            }
-            if self.cost == Cost::Time {
-                return Err(invalid(
-                    "cost",
-                    "Time".into(),
-                    "a minimum-time slew with reaction wheels is not solved yet: give \
-                     Cost::Energy with a final time and torque_max",
                 ));
             }
             if !w.speeds.iter().all(|x| x.is_finite()) {

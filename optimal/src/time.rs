@@ -397,7 +397,9 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
     let bound = slew
         .torque_max
         .unwrap_or_else(|| Vector3::repeat(f64::INFINITY));
-    if slew.start.1 == Vector3::zeros() && slew.target.1 == Vector3::zeros() {
+    // Rest to rest (the wheels too: their rates would scale with the time).
+    let wheels_at_rest = slew.wheels.is_none_or(|w| w.speeds == Vector3::zeros());
+    if slew.start.1 == Vector3::zeros() && slew.target.1 == Vector3::zeros() && wheels_at_rest {
         let free = Slew {
             cost: Cost::Energy,
             torque_max: None,

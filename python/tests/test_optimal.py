@@ -191,6 +191,9 @@ def test_a_slew_by_reaction_wheels_replays_onto_its_target():
         optimal.slew([8.0, 10.0, 6.0], 30.0, target, wheel_inertia=0.05)
     with pytest.raises(lgsvi.InvalidInputError, match="three wheel axes"):
         optimal.slew([8.0, 10.0, 6.0], 30.0, target, wheels=np.eye(3)[:2])
-    with pytest.raises(lgsvi.InvalidInputError, match="cost"):
-        optimal.slew([8.0, 10.0, 6.0], 30.0, target, wheels=np.eye(3), cost="time",
-                     torque_max=0.1)
+    # The least time by the same wheels, at rest, is the spherical rigid body's (J - I = 2 I).
+    turn = lie.so3_exp([1.2, -0.5, 0.4])
+    rigid = optimal.slew([2.0] * 3, None, turn, steps=40, nodes=8, torque_max=0.1, cost="time")
+    by_wheels = optimal.slew([2.25] * 3, None, turn, steps=40, nodes=8, torque_max=0.1,
+                             cost="time", wheels=np.eye(3), wheel_inertia=0.25)
+    assert by_wheels.t_end == pytest.approx(rigid.t_end, rel=1e-8)

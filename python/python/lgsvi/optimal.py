@@ -160,7 +160,7 @@ def slew(
     by ``torque_max``) are then the wheels' motor torques, ``inertia`` the spacecraft's with
     its wheels locked, ``wheel_inertia`` the wheels' axial inertias (one for all or three;
     default 0.05) and ``wheel_speeds0`` their rates relative to the body at the start
-    (default rest; the final rates are free). Energy cost only, without gravity.
+    (default rest; the final rates are free). Without gravity.
 
     Raises
     ------
