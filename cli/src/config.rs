@@ -483,8 +483,16 @@ pub(crate) fn node_count(text: &str) -> Result<usize, String> {
 /// `lgsvi converge`: the system and integrator flags of `simulate`, plus the study's.
 #[derive(Debug, Clone, Default, Args, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
-// simulate's `--exact` and `--every` do not apply to a study (they are refused if given).
-#[command(mut_arg("exact", |a| a.hide(true)), mut_arg("every", |a| a.hide(true)))]
+// simulate's `--exact`, `--every`, `--check`, `--no-check`, `--stop-when` and
+// `--settle-when` do not apply to a study: not listed in its help, and refused if given.
+#[command(
+    mut_arg("exact", |a| a.hide(true)),
+    mut_arg("every", |a| a.hide(true)),
+    mut_arg("check", |a| a.hide(true)),
+    mut_arg("no_check", |a| a.hide(true)),
+    mut_arg("stop_when", |a| a.hide(true)),
+    mut_arg("settle_when", |a| a.hide(true))
+)]
 pub struct ConvergeOptions {
     /// System, initial state, chart, matching, `--h` (the step of the n-refinement),
     /// `--t-end` (default 10), `--format`, `--out` (the data), `--config`. A config file may

@@ -11,8 +11,21 @@ use lgsvi_reports::linearization::linearize;
 use lgsvi_reports::trajectory::settings_json;
 use serde_json::json;
 
-/// The options of `lgsvi linearize`: simulate's system, initial state and step flags.
+/// The options of `lgsvi linearize`: simulate's system, initial state and step flags (its
+/// run, output and check flags are not listed in the help, and refused if given).
 #[derive(Debug, Args)]
+#[command(
+    mut_arg("t_end", |a| a.hide(true)),
+    mut_arg("every", |a| a.hide(true)),
+    mut_arg("format", |a| a.hide(true)),
+    mut_arg("plot", |a| a.hide(true)),
+    mut_arg("exact", |a| a.hide(true)),
+    mut_arg("check", |a| a.hide(true)),
+    mut_arg("no_check", |a| a.hide(true)),
+    mut_arg("tol", |a| a.hide(true)),
+    mut_arg("stop_when", |a| a.hide(true)),
+    mut_arg("settle_when", |a| a.hide(true))
+)]
 pub struct LinearizeOptions {
     #[command(flatten)]
     pub base: SimulateOptions,

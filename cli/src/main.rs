@@ -69,8 +69,10 @@ enum Command {
     /// failure with its seed and cause). Exit status 3 when members failed.
     Montecarlo(Box<montecarlo::MontecarloOptions>),
     /// A rigid body's slew of least energy in a fixed time (or of least time,
-    /// `--cost time`), torques bounded per axis: sequential quadratic programming with
-    /// lgsvi's step as the dynamics; JSON with the torques and states, figures with --plot.
+    /// `--cost time`), torques bounded per axis; a heavy top's (`--gravity`) or a
+    /// spacecraft's by its three reaction wheels (`--wheels`): sequential quadratic
+    /// programming with lgsvi's step as the dynamics; JSON with the torques and states,
+    /// figures with --plot.
     Optimize(optimize::OptimizeOptions),
     /// Print this command line's reference (every command's help) as Markdown: the
     /// source of docs/reference/cli.md.

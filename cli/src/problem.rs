@@ -64,13 +64,19 @@ pub fn whole_steps(t_end: f64, h: f64) -> Result<usize> {
         return Err(CliError::NotWholeSteps {
             t_end,
             h,
-            below: ratio.floor() * h,
-            above: ratio.ceil() * h,
-            fitted: t_end / ratio.ceil(),
+            below: decimal(ratio.floor() * h),
+            above: decimal(ratio.ceil() * h),
+            fitted: decimal(t_end / ratio.ceil()),
             steps: ratio.ceil(),
         });
     }
     Ok(steps as usize)
+}
+
+/// `x` to 12 significant digits, as a suggestion to type back: `3 × 0.3` is printed `0.9`,
+/// not `0.8999999999999999`, and the whole-step check's slack (1e-9 of a step) accepts it.
+fn decimal(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
 }
 
 /// The step settings of `options` over `[0, t_end]`; with `--tol`, the library's policy

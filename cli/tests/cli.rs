@@ -712,6 +712,16 @@ fn adversarial_inputs_are_refused_in_one_line() {
             vec!["simulate", "--t-end", "1.3", "--h", "0.5"],
             "end at 1.0 or 1.5",
         ),
+        // Suggestions printed as one would type them (3 × 0.3 is not 0.8999999999999999),
+        // and accepted when typed back (below).
+        (
+            vec!["simulate", "--t-end", "1", "--h", "0.3"],
+            "end at 0.9 or 1.2, or take h = 0.25",
+        ),
+        (
+            vec!["simulate", "--t-end", "1", "--h", "0.4"],
+            "take h = 0.333333333333 (3 steps)",
+        ),
         // Counts that panicked ("capacity overflow", faer's AllocError) or never ended.
         (vec!["simulate", "--nodes", huge], "at most 100 nodes"),
         (vec!["simulate", "--nodes", "5000"], "at most 100 nodes"),
@@ -2421,5 +2431,21 @@ fn optimize_slews_by_reaction_wheels() {
         let mut args = slew.to_vec();
         args.extend(extra);
         assert_refused(&args, &words);
+    }
+}
+
+/// The horizons and steps a refusal suggests run when typed back: the suggestions are
+/// printed to 12 significant digits, within the whole-step check's slack of 1e-9 a step.
+#[test]
+fn a_suggested_horizon_or_step_runs_as_typed() {
+    for args in [
+        ["--t-end", "0.9", "--h", "0.3"],
+        ["--t-end", "1.2", "--h", "0.3"],
+        ["--t-end", "1", "--h", "0.333333333333"],
+    ] {
+        let mut all = vec!["simulate", "--quiet", "--out", "/dev/null"];
+        all.extend(args);
+        let (code, _, err) = lgsvi(&all);
+        assert_eq!(code, 0, "{args:?}: {err}");
     }
 }
