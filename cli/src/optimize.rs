@@ -1,7 +1,6 @@
-//! `lgsvi optimize`: a rigid body's slew at the least input energy in a fixed time or in
-//! the least time, a heavy top's at the least energy (`--gravity`), or a spacecraft's by
-//! its three reaction wheels at the least motor-torque energy (`--wheels`), torques bounded
-//! per axis or wheel ([`lgsvi_optimal`]), written as JSON with optional figures of the
+//! `lgsvi optimize`: the slew of a rigid body, a heavy top (`--gravity`) or a spacecraft by
+//! its three reaction wheels (`--wheels`) at the least input energy in a fixed time or in
+//! the least time, torques bounded per axis or wheel ([`lgsvi_optimal`]), written as JSON with optional figures of the
 //! torques, the rates and the attitude error.
 
 use crate::error::{CliError, Result};
@@ -40,8 +39,7 @@ pub struct OptimizeOptions {
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "A,B,C")]
     pub inertia: Option<[f64; 3]>,
     /// Gravity g ≥ 0: the body becomes a heavy top about its fixed point,
-    /// `ℓ = ½ΩᵀJΩ + m g dᵀRρ` (with --cost energy; the torques also hold it against
-    /// gravity).
+    /// `ℓ = ½ΩᵀJΩ + m g dᵀRρ` (the torques also hold it against gravity).
     #[arg(long, allow_hyphen_values = true)]
     pub gravity: Option<f64>,
     /// The heavy top's mass m ≥ 0, kg [default: 1].
@@ -168,14 +166,6 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         )
     })?;
     let gravity = heavy_top(&options)?;
-    if gravity.is_some() && minimum_time {
-        return Err(CliError::invalid(
-            "--cost",
-            "time",
-            "a minimum-time slew rests on the free body's time scaling, which gravity breaks: \
-             give --cost energy with --t-end for a heavy top",
-        ));
-    }
     let start = SO3::exp(&Vector3::from(options.attitude0.unwrap_or([0.0; 3])));
     let target = SO3::exp(&Vector3::from(options.attitude_final));
     let omega0 = Vector3::from(options.omega0.unwrap_or([0.0; 3]));

@@ -2199,10 +2199,6 @@ fn optimize_slews_a_heavy_top_to_pontryagins_optimum() {
         (vec!["--mass", "2"], vec!["--mass", "--gravity"]),
         (vec!["--gravity", "-1"], vec!["--gravity", "non-negative"]),
         (
-            vec!["--gravity", "0.1", "--cost", "time", "--torque-max", "1"],
-            vec!["--cost time", "gravity"],
-        ),
-        (
             vec!["--gravity", "0.1", "--gravity-direction", "0,0,0"],
             vec!["--gravity-direction", "non-zero"],
         ),

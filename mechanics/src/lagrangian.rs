@@ -388,6 +388,16 @@ impl HeavyTop {
         self.mass * self.gravity
     }
 
+    /// The mass `m`.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// The gravitational acceleration `g`.
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
     /// `ρ`.
     pub fn center_of_mass(&self) -> &Vector3<f64> {
         &self.center_of_mass

@@ -41,7 +41,8 @@ pub(crate) fn minimum_energy(
     let mut multipliers = DVector::<f64>::zeros(if exact_target { 6 } else { 0 });
     let n = 3 * inputs.len();
     let mut bound_duals = DVector::<f64>::zeros(n);
-    let shot = |u: &[Vector3<f64>]| shoot(body, settings, slew.start, slew.target, u, per_step);
+    let shot =
+        |u: &[Vector3<f64>]| shoot(body, settings, slew.start, slew.target, u, per_step, false);
     let mut run = shot(&inputs)?;
     let mut fit = residuals(slew, h, &run);
     let diagonal: Vec<f64> = (0..n).map(|j| 2.0 * weight(j / 3)).collect();

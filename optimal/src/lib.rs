@@ -365,10 +365,11 @@ impl Slew {
         }
     }
 
-    /// Puts the body under gravity: a heavy top about its fixed point ([`Gravity`]). For
-    /// [`Cost::Energy`] (the minimum time rests on the free body's time scaling, which
-    /// gravity breaks); the torques then also hold the body against gravity, at the start
-    /// and target as on the way.
+    /// Puts the body under gravity: a heavy top about its fixed point ([`Gravity`]); the
+    /// torques then also hold the body against gravity, at the start and target as on the
+    /// way. For [`Cost::Time`] the bound must exceed the gravity torque there; the step's
+    /// derivative in its length takes the step's exact derivative in the mass
+    /// (`crate::shooting`'s time law).
     pub fn gravity(mut self, gravity: Gravity) -> Self {
         self.gravity = Some(gravity);
         self
@@ -570,14 +571,6 @@ impl Slew {
                     "weights finite and not negative",
                 ));
             }
-        }
-        if self.cost == Cost::Time && self.gravity.is_some() {
-            return Err(invalid(
-                "cost",
-                "Time".into(),
-                "a minimum-time slew rests on the free body's time scaling (t ↦ ct, Ω ↦ Ω/c, \
-                 u ↦ u/c²), which gravity breaks: give Cost::Energy for a heavy top",
-            ));
         }
         if let Some(w) = &self.wheels {
             if self.gravity.is_some() {

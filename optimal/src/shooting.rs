@@ -127,9 +127,13 @@ impl Shot {
 ///
 /// with `A_ω` the columns of `A` in the start's rates; `optimal/tests/free_time.rs`
 /// checks both the scaling and this derivative against finite differences. The law is the
-/// free body's (and a gyrostat's, whose kinetic energy is quadratic in `(Ω, φ̇)` too): for
-/// a heavy top (gravity does not scale so) `∂x_K/∂h` is not meaningful, and no
-/// minimum-time slew of one is solved.
+/// free body's, and a gyrostat's, whose kinetic energy is quadratic in `(Ω, φ̇)` too. A
+/// potential does not scale so: the heavy top's action over `ch`,
+/// `∫ (½ΩᵀJΩ + m g dᵀRρ) dt`, is `1/c` times the action over `h` of the top of mass `c²m`
+/// (`t = cs`), so its step of length `ch` is the step of length `h` of the top of mass
+/// `c² m`, and the law gains `2m ∂x₊/∂m`, the step's exact derivative in its mass
+/// ([`Integrator::step_linearized_with_parameters`], the same implicit function theorem);
+/// it is formed where `with_time` asks for `∂x_K/∂h`.
 pub(crate) fn shoot(
     plant: Plant,
     settings: StepSettings,
@@ -137,16 +141,24 @@ pub(crate) fn shoot(
     target: (SO3, Vector3<f64>),
     inputs: &[Vector3<f64>],
     per_step: usize,
+    with_time: bool,
 ) -> Result<Shot, OptimalError> {
     match plant {
         Plant::Body(body) => {
             let it = Integrator::new(body, settings, start.0, start.1)?;
-            shoot_with(it, target, inputs, per_step, 0, |s| (*s, None))
+            // The mass's parameter column (after the inertia tensor's six) and the mass.
+            let potential = match body {
+                BuiltInSo3::Top(top) if with_time && top.mass_times_gravity() != 0.0 => {
+                    Some((6, top.mass()))
+                }
+                _ => None,
+            };
+            shoot_with(it, target, inputs, per_step, 0, potential, |s| (*s, None))
         }
         Plant::Wheels(craft, speeds) => {
             let (g, xi) = wheel_start(start, speeds);
             let it = Integrator::new(craft, settings, g, xi)?;
-            shoot_with(it, target, inputs, per_step, 3, |s| {
+            shoot_with(it, target, inputs, per_step, 3, None, |s| {
                 let state = State {
                     time: s.time,
                     configuration: s.configuration.attitude,
@@ -160,14 +172,17 @@ pub(crate) fn shoot(
 }
 
 /// [`shoot`] for one integrator: the torques enter its input at `offset` (0: a body
-/// torque; 3: a gyrostat's motor torques), and `observe` reads the attitude, rates and
-/// momentum of a state (and a gyrostat's wheel rates).
+/// torque; 3: a gyrostat's motor torques), `potential` is the parameter column and value
+/// of a mass that multiplies the potential (the heavy top's, for `∂x₊/∂h`), and `observe`
+/// reads the attitude, rates and momentum of a state (and a gyrostat's wheel rates).
+#[allow(clippy::too_many_arguments)]
 fn shoot_with<S, C, const D: usize>(
     mut it: Integrator<S, C, D>,
     target: (SO3, Vector3<f64>),
     inputs: &[Vector3<f64>],
     per_step: usize,
     offset: usize,
+    potential: Option<(usize, f64)>,
     observe: impl Fn(&State<ElementOf<S, D>, D>) -> (State, Option<Vector3<f64>>),
 ) -> Result<Shot, OptimalError>
 where
@@ -200,7 +215,11 @@ where
             let wide: Vec<SVector<f64, D>> = step_inputs.iter().map(widen).collect();
             it.set_input_at_points(&wide)?;
         }
-        let step = it.step_linearized()?;
+        let step = if potential.is_some() {
+            it.step_linearized_with_parameters()?
+        } else {
+            it.step_linearized()?
+        };
         let ak = step.a(Coordinates::Velocity).clone();
         let bk: Vec<DMatrix<f64>> = match step.b_points(Coordinates::Velocity) {
             Some(points) => points
@@ -219,6 +238,9 @@ where
         }
         for i in 0..D {
             dk[D + i] -= end[i];
+        }
+        if let (Some((column, mass)), Some(p)) = (potential, step.p(Coordinates::Velocity)) {
+            dk += p.column(column) * (2.0 * mass);
         }
         d.push(dk / h);
         a.push(ak);
@@ -263,53 +285,82 @@ mod tests {
     use super::*;
     use lgsvi_mechanics::Inertia;
 
-    /// `∂x_K/∂h` from the time scaling against central differences of whole runs, with
-    /// torques held over each step and with torques at the Gauss points: with
+    /// `∂x_K/∂h` from the time scaling against central differences of whole runs, for a
+    /// free body, a heavy top (the law's mass term) and a gyrostat with spinning wheels,
+    /// with torques held over each step and with torques at the Gauss points: with
     /// `δ = 1e-4 h` the difference's truncation error is `~δ² |x‴| ≈ 1e-8` relative and
     /// its rounding `~1e-16/δ·|x| ≈ 1e-11`, so they agree to about 1e-7 relative.
     #[test]
     fn the_time_derivative_matches_central_differences() {
-        let body = Plant::Body(BuiltInSo3::Free(lgsvi_mechanics::RigidBody::new(
-            Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap(),
-        )));
+        let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
+        let top = lgsvi_mechanics::HeavyTop::new(
+            inertia,
+            2.0,
+            1.5,
+            Vector3::new(0.1, -0.2, 1.0),
+            Vector3::new(0.3, 0.0, 1.0),
+        )
+        .unwrap();
+        let craft = Gyrostat::new(
+            inertia.matrix(),
+            [Vector3::x(), Vector3::y(), Vector3::z()],
+            [0.05; 3],
+        )
+        .unwrap();
+        let plants = [
+            (
+                "free body",
+                Plant::Body(BuiltInSo3::Free(lgsvi_mechanics::RigidBody::new(inertia))),
+            ),
+            ("heavy top", Plant::Body(BuiltInSo3::Top(top))),
+            (
+                "gyrostat",
+                Plant::Wheels(craft, Vector3::new(3.0, -2.0, 1.0)),
+            ),
+        ];
         let start = (
             SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
             Vector3::new(0.3, -0.2, 0.5),
         );
         let target = (SO3::identity(), Vector3::zeros());
         let h = 0.4;
-        let points = body
-            .quadrature(StepSettings::new(h, 8).unwrap(), start)
-            .unwrap()
-            .0
-            .len();
-        for per_step in [1, points] {
-            let inputs: Vec<Vector3<f64>> = (0..6 * per_step)
-                .map(|k| {
-                    let t = k as f64 / per_step as f64;
-                    Vector3::new(0.1 * t, -0.2, 0.05 * t.sin())
-                })
-                .collect();
-            let at = |h: f64| {
-                shoot(
-                    body,
-                    StepSettings::new(h, 8).unwrap(),
-                    start,
-                    target,
-                    &inputs,
-                    per_step,
-                )
+        for (name, plant) in plants {
+            let points = plant
+                .quadrature(StepSettings::new(h, 8).unwrap(), start)
                 .unwrap()
-            };
-            let shot = at(h);
-            let delta = 1e-4 * h;
-            let (plus, minus) = (at(h + delta), at(h - delta));
-            let (p, m) = (plus.states[6], minus.states[6]);
-            let theta = m.configuration.inverse().compose(&p.configuration).log() / (2.0 * delta);
-            let omega = (p.velocity - m.velocity) / (2.0 * delta);
-            let difference = DVector::from_iterator(6, theta.iter().chain(omega.iter()).copied());
-            let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
-            assert!(error < 1e-7, "{per_step} inputs a step: {error:e}");
+                .0
+                .len();
+            for per_step in [1, points] {
+                let inputs: Vec<Vector3<f64>> = (0..6 * per_step)
+                    .map(|k| {
+                        let t = k as f64 / per_step as f64;
+                        Vector3::new(0.1 * t, -0.2, 0.05 * t.sin())
+                    })
+                    .collect();
+                let at = |h: f64| {
+                    shoot(
+                        plant,
+                        StepSettings::new(h, 8).unwrap(),
+                        start,
+                        target,
+                        &inputs,
+                        per_step,
+                        true,
+                    )
+                    .unwrap()
+                };
+                let shot = at(h);
+                let delta = 1e-4 * h;
+                let (plus, minus) = (at(h + delta), at(h - delta));
+                let (p, m) = (plus.states[6], minus.states[6]);
+                let theta =
+                    m.configuration.inverse().compose(&p.configuration).log() / (2.0 * delta);
+                let omega = (p.velocity - m.velocity) / (2.0 * delta);
+                let difference =
+                    DVector::from_iterator(6, theta.iter().chain(omega.iter()).copied());
+                let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
+                assert!(error < 1e-7, "{name}, {per_step} inputs a step: {error:e}");
+            }
         }
     }
 }

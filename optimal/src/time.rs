@@ -23,7 +23,31 @@ const QP_TOLERANCE: f64 = 1e-12;
 /// the coarsest of a ladder of step counts (halving `K` while at least `2 ×`
 /// [`COARSEST`]) up to `K`, each level started from the one below (its torques sampled
 /// at the finer steps' midpoints).
+///
+/// A heavy top without a warm start is started from the same slew without gravity (its
+/// least time and torques): gravity does not scale with the time, so the rest-to-rest
+/// start of [`feasible_start`] does not hold for it, and the bounded minimum-energy start
+/// it falls back on can lead to a worse local minimum. Where that continuation fails, the
+/// fallback is taken.
 pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
+    if slew.gravity.is_some() && slew.initial.is_none() {
+        let free = Slew {
+            gravity: None,
+            ..slew.clone()
+        };
+        if let Ok(weightless) = minimum_time(&free, tolerance) {
+            let continued = Slew {
+                t_end: weightless.t_end,
+                initial: Some(weightless.inputs),
+                ..slew.clone()
+            };
+            if let Ok(mut solution) = minimum_time(&continued, tolerance) {
+                solution.statistics.iterations += weightless.statistics.iterations;
+                solution.statistics.time_s += weightless.statistics.time_s;
+                return Ok(solution);
+            }
+        }
+    }
     let clock = Instant::now();
     let bound = slew
         .torque_max
@@ -199,6 +223,7 @@ impl Problem<'_> {
             self.slew.target,
             &self.torques(z),
             1,
+            true,
         )?;
         Ok(Scaled::of(
             shot,
@@ -397,9 +422,14 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
     let bound = slew
         .torque_max
         .unwrap_or_else(|| Vector3::repeat(f64::INFINITY));
-    // Rest to rest (the wheels too: their rates would scale with the time).
+    // Rest to rest (the wheels too: their rates would scale with the time), and without
+    // gravity (which does not scale with it).
     let wheels_at_rest = slew.wheels.is_none_or(|w| w.speeds == Vector3::zeros());
-    if slew.start.1 == Vector3::zeros() && slew.target.1 == Vector3::zeros() && wheels_at_rest {
+    if slew.start.1 == Vector3::zeros()
+        && slew.target.1 == Vector3::zeros()
+        && wheels_at_rest
+        && slew.gravity.is_none()
+    {
         let free = Slew {
             cost: Cost::Energy,
             torque_max: None,

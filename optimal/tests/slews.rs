@@ -378,23 +378,68 @@ fn a_heavy_tops_slew_meets_pontryagins_optimum() {
 
 /// A minimum-time slew of a heavy top is refused, naming the cost: its derivative in the
 /// step length rests on the free body's time scaling, which gravity breaks.
+/// A heavy top's minimum-time slew, checked by a route that does not use the step's
+/// derivative in its length: below the least time `T*` no torques within the bounds reach
+/// the target, and in any longer time some do. So the fixed-time minimum-energy solver
+/// (the same steps, no time variable), started from the minimum-time torques, must find
+/// bounded torques that reach the target at `T*(1 + 1e-3)` on the same step count, and
+/// find the target out of reach at `T*(1 − 1e-3)` (its subproblem infeasible near the
+/// optimum: a local certificate, the one a Newton-type method gives).
 #[test]
-fn a_heavy_top_has_no_minimum_time_slew() {
+fn a_heavy_tops_minimum_time_is_the_edge_of_feasibility() {
     let (inertia, gravity, _) = heavy_top_reference();
-    let error = Slew::new(inertia, 30.0)
+    let target = SO3::exp(&Vector3::new(1.0, 0.0, 0.0));
+    let slew = Slew::new(inertia, 30.0)
         .gravity(gravity)
-        .to(SO3::exp(&Vector3::new(1.0, 0.0, 0.0)), Vector3::zeros())
-        .torque_max([0.1; 3])
+        .to(target, Vector3::zeros())
+        .steps(40)
+        .nodes(8)
+        .torque_max([0.1; 3]);
+    let fastest = slew
+        .clone()
         .cost(lgsvi_optimal::Cost::Time)
         .solve()
-        .unwrap_err();
-    match &error {
-        OptimalError::InvalidSetting { name, reason, .. } => {
-            assert_eq!(*name, "cost");
-            assert!(reason.contains("gravity"), "{reason}");
-        }
-        other => panic!("{other:?}"),
+        .unwrap();
+    assert!(fastest.converged);
+    let t_star = fastest.t_end;
+    let at = |t: f64| {
+        Slew::new(inertia, t)
+            .gravity(gravity)
+            .to(target, Vector3::zeros())
+            .steps(40)
+            .nodes(8)
+            .torque_max([0.1; 3])
+            .warm_start(fastest.inputs.clone())
+            .solve()
+    };
+    let longer = at(t_star * (1.0 + 1e-3)).unwrap();
+    assert!(longer.converged);
+    match at(t_star * (1.0 - 1e-3)) {
+        Err(OptimalError::Infeasible { bounded: true, .. }) => {}
+        other => panic!("T* = {t_star}: shorter time {other:?}"),
     }
+    // The torques replay through the heavy top's integrator onto the target.
+    let top = lgsvi_mechanics::HeavyTop::new(
+        inertia,
+        gravity.mass,
+        gravity.gravity,
+        gravity.center_of_mass,
+        gravity.direction,
+    )
+    .unwrap();
+    let mut it = Integrator::new(
+        top,
+        StepSettings::new(fastest.h, 8).unwrap(),
+        SO3::identity(),
+        Vector3::zeros(),
+    )
+    .unwrap();
+    for u in &fastest.inputs {
+        it.set_input(*u).unwrap();
+        it.step().unwrap();
+    }
+    let miss = it.state().attitude().inverse().compose(&target).log();
+    assert!(miss.amax() < 1e-8, "{miss}");
     // Gravity of a negative mass is the heavy top's own refusal, naming the mass.
     let bad = lgsvi_optimal::Gravity {
         mass: -1.0,

@@ -136,8 +136,17 @@ def test_a_heavy_tops_slew_meets_pontryagins_optimum():
     _lands_on(it, result, target)
     with pytest.raises(lgsvi.InvalidInputError, match="gravity"):
         optimal.slew(ref["inertia"], 30.0, target, mass=2.0)
-    with pytest.raises(lgsvi.InvalidInputError, match="gravity"):
-        optimal.slew(ref["inertia"], 30.0, target, gravity=0.02, cost="time", torque_max=0.1)
+    # The least time: below it the fixed-time solver finds the target out of reach (started
+    # from the least-time torques), above it within reach.
+    turn = lie.so3_exp([1.0, 0.0, 0.0])
+    heavy = dict(gravity=ref["gravity"], mass=ref["mass"], com=ref["com"],
+                 gravity_direction=ref["gravity_direction"], steps=40, nodes=8, torque_max=0.1)
+    fastest = optimal.slew(ref["inertia"], 30.0, turn, cost="time", **heavy)
+    assert fastest.converged
+    optimal.slew(ref["inertia"], fastest.t_end * 1.001, turn, warm_start=fastest.inputs, **heavy)
+    with pytest.raises(optimal.InfeasibleError):
+        optimal.slew(ref["inertia"], fastest.t_end * 0.999, turn, warm_start=fastest.inputs,
+                     **heavy)
 
 
 def test_tracking_and_a_soft_target():

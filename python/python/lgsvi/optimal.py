@@ -1,7 +1,6 @@
 """Optimal control on SO(3) with lgsvi's variational step as the dynamics: a rigid body's
 slew at the least input energy in a fixed time, or in the least time, the torques bounded
-per axis; a heavy top's, or a spacecraft's by its three reaction wheels, at the least
-energy.
+per axis; a heavy top's, or a spacecraft's by its three reaction wheels, likewise.
 
 The problem: ``K`` steps of a common length ``h`` (each one lgsvi step of ``nodes``
 nodes), the body torque ``u_k`` held over step ``k``; from ``(attitude0, omega0)`` to
@@ -152,7 +151,7 @@ def slew(
     ``gravity=g`` makes the body a heavy top about its fixed point (as
     :class:`lgsvi.HeavyTop`: ``l = 1/2 Omega^T J Omega + m g d^T R rho``) of ``mass`` (default
     1), centre of mass ``com`` (body frame, default ``(0, 0, 1)``) and gravity pulling along
-    ``gravity_direction`` (world frame, default ``(0, 0, 1)``); energy cost only. The torques
+    ``gravity_direction`` (world frame, default ``(0, 0, 1)``). The torques
     then also hold it against gravity.
 
     ``wheels`` (3, 3), three wheel axes in the body frame (one per row), slews a spacecraft
