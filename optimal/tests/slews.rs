@@ -291,7 +291,6 @@ fn heavy_top_reference() -> (Inertia, lgsvi_optimal::Gravity, serde_json::Value)
 /// heavy top's integrator onto the target.
 #[test]
 fn a_heavy_tops_slew_meets_pontryagins_optimum() {
-    use lgsvi_mechanics::HeavyTop;
     let (inertia, gravity, reference) = heavy_top_reference();
     let cost = reference["cost"].as_f64().unwrap();
     let t_end = reference["t_end"].as_f64().unwrap();
@@ -342,21 +341,7 @@ fn a_heavy_tops_slew_meets_pontryagins_optimum() {
     );
     // Replayed through the heavy top's own integrator, the torques at the points land on
     // the target (to the solver's tolerance on the miss).
-    let top = HeavyTop::new(
-        inertia,
-        gravity.mass,
-        gravity.gravity,
-        gravity.center_of_mass,
-        gravity.direction,
-    )
-    .unwrap();
-    let mut it = Integrator::new(
-        top,
-        StepSettings::new(solution.h, 8).unwrap(),
-        SO3::identity(),
-        Vector3::zeros(),
-    )
-    .unwrap();
+    let mut it = heavy_top_integrator(inertia, gravity, solution.h);
     for points in &solution.inputs_at_points {
         it.set_input_at_points(points).unwrap();
         it.step().unwrap();
@@ -419,21 +404,7 @@ fn a_heavy_tops_minimum_time_is_the_edge_of_feasibility() {
         other => panic!("T* = {t_star}: shorter time {other:?}"),
     }
     // The torques replay through the heavy top's integrator onto the target.
-    let top = lgsvi_mechanics::HeavyTop::new(
-        inertia,
-        gravity.mass,
-        gravity.gravity,
-        gravity.center_of_mass,
-        gravity.direction,
-    )
-    .unwrap();
-    let mut it = Integrator::new(
-        top,
-        StepSettings::new(fastest.h, 8).unwrap(),
-        SO3::identity(),
-        Vector3::zeros(),
-    )
-    .unwrap();
+    let mut it = heavy_top_integrator(inertia, gravity, fastest.h);
     for u in &fastest.inputs {
         it.set_input(*u).unwrap();
         it.step().unwrap();
@@ -447,4 +418,28 @@ fn a_heavy_tops_minimum_time_is_the_edge_of_feasibility() {
     };
     let error = Slew::new(inertia, 30.0).gravity(bad).solve().unwrap_err();
     assert!(error.to_string().contains("mass"), "{error}");
+}
+
+/// The heavy top of `gravity` at rest at the identity, stepped by `h` with 8 nodes (the
+/// slews' own steps), to replay a solution's torques.
+fn heavy_top_integrator(
+    inertia: Inertia,
+    gravity: lgsvi_optimal::Gravity,
+    h: f64,
+) -> Integrator<lgsvi_mechanics::HeavyTop, lgsvi_mechanics::lie::ChartKind, 3> {
+    let top = lgsvi_mechanics::HeavyTop::new(
+        inertia,
+        gravity.mass,
+        gravity.gravity,
+        gravity.center_of_mass,
+        gravity.direction,
+    )
+    .unwrap();
+    Integrator::new(
+        top,
+        StepSettings::new(h, 8).unwrap(),
+        SO3::identity(),
+        Vector3::zeros(),
+    )
+    .unwrap()
 }
