@@ -273,6 +273,16 @@ fn tolerance_message(error: &MechanicsError, h: f64) -> String {
 /// The command line's result.
 pub type Result<T, E = CliError> = std::result::Result<T, E>;
 
+/// Refuses the first of `flags` that was given: `(flag, given, why)`, `why` what the command
+/// does instead ([`CliError::SimulateOnly`]). The commands that share simulate's flags
+/// (`converge`, `linearize`, `montecarlo`) list the ones that do not apply to them.
+pub fn refuse_simulate_only(flags: &[(&'static str, bool, &'static str)]) -> Result<()> {
+    match flags.iter().find(|(_, given, _)| *given) {
+        Some(&(flag, _, why)) => Err(CliError::SimulateOnly { flag, why }),
+        None => Ok(()),
+    }
+}
+
 impl CliError {
     /// [`CliError::Invalid`]: `flag`'s `value` refused, and why.
     pub fn invalid(flag: &'static str, value: impl ToString, reason: impl Into<String>) -> Self {

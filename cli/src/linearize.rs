@@ -40,7 +40,7 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
     let fixed = "linearize takes one step of fixed --h and --nodes";
     let measures = "linearize takes one step and measures nothing";
     let integrator = "linearize linearises the integrator's step";
-    for (flag, given, why) in [
+    crate::error::refuse_simulate_only(&[
         (
             "--t-end",
             b.t_end.is_some(),
@@ -63,11 +63,7 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
             b.settle_when.is_some(),
             "linearize takes one step",
         ),
-    ] {
-        if given {
-            return Err(CliError::SimulateOnly { flag, why });
-        }
-    }
+    ])?;
     let out = b.out.clone();
     let momentum = options.momentum;
     let (problem, _) = Problem::resolve(options.base)?;

@@ -181,7 +181,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
     };
     let base = &options.base;
     let row = "montecarlo writes one row per member (see --replay)";
-    for (flag, given, why) in [
+    crate::error::refuse_simulate_only(&[
         ("--every", base.every.is_some(), row),
         ("--format", base.format.is_some(), row),
         (
@@ -190,11 +190,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
             "montecarlo draws no figure yet",
         ),
         ("--exact", base.exact, "montecarlo integrates every member"),
-    ] {
-        if given {
-            return Err(CliError::SimulateOnly { flag, why });
-        }
-    }
+    ])?;
     let members = options.members.unwrap_or(DEFAULT_MEMBERS);
     if members == 0 || members > MAX_MEMBERS {
         return Err(CliError::invalid(

@@ -20,7 +20,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
     let base = &options.base;
     let measures = "converge measures every run's error against a reference itself";
     let exact = "converge always measures against the exact solution when there is one";
-    for (flag, given, why) in [
+    crate::error::refuse_simulate_only(&[
         ("--check", base.check, measures),
         ("--no-check", base.no_check, measures),
         ("--exact", base.exact, exact),
@@ -39,11 +39,7 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             base.settle_when.is_some(),
             "converge measures errors, not settling times",
         ),
-    ] {
-        if given {
-            return Err(CliError::SimulateOnly { flag, why });
-        }
-    }
+    ])?;
     if let Some(samples) = options.curve_samples {
         if !(1..=MAX_CURVE_SAMPLES).contains(&samples) {
             return Err(CliError::invalid(
