@@ -102,7 +102,8 @@ pub struct OptimizeOptions {
     /// The tracking weights [default: 1,1].
     #[arg(long, value_parser = crate::config::numbers::<2>, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
     pub track_weights: Option<[f64; 2]>,
-    /// The largest torque per body axis, N·m: one value for all three, or X,Y,Z.
+    /// The largest torque per body axis (with --wheels, per wheel), N·m: one value for all
+    /// three, or X,Y,Z.
     #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
     pub torque_max: Option<[f64; 3]>,
     /// Steps K (the torque is constant over each) [default: 40].
@@ -477,7 +478,7 @@ fn reaction_wheels(
         }
         return Ok(None);
     }
-    if options.gravity.is_some() {
+    if options.gravity.is_some_and(|g| g != 0.0) {
         return Err(CliError::invalid(
             "--wheels",
             "with --gravity",
@@ -553,6 +554,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "terminal_cost" => "--terminal-cost",
             "track" => "--track-weights",
             "cost" => "--cost",
+            "wheels" => "--wheel-axes",
             _ => "--steps",
         },
         OptimalError::Infeasible { bounded: true, .. } => "--torque-max",
@@ -585,6 +587,11 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         "--terminal-cost" => options.terminal_cost.map_or(String::new(), |q| list(&q)),
         "--track-weights" => options.track_weights.map_or(String::new(), |q| list(&q)),
         "--cost" => "time".into(),
+        "--wheel-axes" => list(
+            &options
+                .wheel_axes
+                .unwrap_or([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]),
+        ),
         _ => format!(
             "{}, {}, {}",
             options

@@ -1,7 +1,8 @@
 //! Optimal control on the group with lgsvi's variational step as the constraint: slews of
 //! a rigid body from a start `(R₀, Ω₀)` to a target `(R_f, Ω_f)`, the torques bounded per
-//! axis, at the least input energy in a fixed time or in the least time; and a heavy top's
-//! at the least energy ([`Slew::gravity`]).
+//! axis, at the least input energy in a fixed time or in the least time; likewise a heavy
+//! top's ([`Slew::gravity`]) and a spacecraft's by its three reaction wheels, the motor
+//! torques bounded per wheel ([`Slew::wheels`]).
 //!
 //! # The problem
 //!
@@ -54,8 +55,8 @@
 //!   bang-bang: all torques but a few on their bounds, so few are free and the Hessian is
 //!   cheap, and Newton's convergence is quadratic (to the differences' 1e-8). The
 //!   derivative in the step length, `∂x_{k+1}/∂h`, comes from the same `A_k`, `B_k` by
-//!   the rigid body's time scaling (`h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)`; derived in
-//!   `docs/guide/optimal.md`). The subproblem's solution is made exact on its active set (the
+//!   the time scaling of the kinetic energy (`h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)`, plus
+//!   `2m ∂x₊/∂m` for a heavy top's potential; derived in `docs/guide/optimal.md`). The subproblem's solution is made exact on its active set (the
 //!   interior-point method meets it only to its tolerance), a step the merit refuses gets
 //!   a second-order correction before it is halved, and the solve climbs a ladder of step
 //!   counts (`K` halved down to about 20 steps, each level started from the one below),
@@ -140,7 +141,8 @@ pub enum OptimalError {
         "infeasible: {} (the closest iterate misses it by {residual:.3e}): {}",
         if *bounded { "no torques within the bounds reach the target in the time" }
         else { "the QP finds no torques that reach the target" },
-        if *bounded { "raise the torque bound or the final time" }
+        if *bounded { "raise the torque bound or the final time (for a minimum-time slew, its \
+                      first guess), or give more steps" }
         else { "the problem's numbers are too far apart for the QP (give the time, inertia \
                and torques units that make them comparable) or too few steps" }
     )]
@@ -254,7 +256,8 @@ pub struct Gravity {
 /// momentum between the body and the wheels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wheels {
-    /// The wheels' spin axes (body frame; normalised).
+    /// The wheels' spin axes (body frame; any length: the solver normalises them). They
+    /// span the three body axes.
     pub axes: [Vector3<f64>; 3],
     /// Their axial inertias `I_i > 0` (kg·m²), part of `J`.
     pub inertia: [f64; 3],
@@ -315,7 +318,8 @@ pub struct Solution {
     /// With reaction wheels ([`Slew::wheels`]), their rates `φ̇` relative to the body at
     /// `x_0 … x_K`; empty otherwise.
     pub wheel_speeds: Vec<Vector3<f64>>,
-    /// The torque of each step, `u_0 … u_{K−1}` (body frame, N·m); with
+    /// The torque of each step, `u_0 … u_{K−1}` (body frame, N·m; with [`Slew::wheels`],
+    /// the three motor torques); with
     /// [`Inputs::Polynomial`], each step's mean `Σ_j b_j u_kj` (the constant torque of
     /// the same impulse).
     pub inputs: Vec<Vector3<f64>>,
@@ -366,10 +370,11 @@ impl Slew {
     }
 
     /// Puts the body under gravity: a heavy top about its fixed point ([`Gravity`]); the
-    /// torques then also hold the body against gravity, at the start and target as on the
-    /// way. For [`Cost::Time`] the bound must exceed the gravity torque there; the step's
+    /// torques then work with or against gravity on the way. For [`Cost::Time`] the step's
     /// derivative in its length takes the step's exact derivative in the mass
-    /// (`crate::shooting`'s time law).
+    /// (`crate::shooting`'s time law), and the solve starts from the weightless slew: a
+    /// bound well below the gravity torque (a swing-up) is a problem the solver may not
+    /// converge on.
     pub fn gravity(mut self, gravity: Gravity) -> Self {
         self.gravity = Some(gravity);
         self
@@ -388,6 +393,7 @@ impl Slew {
     /// spacecraft with its reaction wheels.
     pub(crate) fn system(&self) -> Result<Plant, OptimalError> {
         if let Some(w) = self.wheels {
+            // (Gravity with m g = 0 beside wheels, which `check` lets through, is none.)
             let craft = Gyrostat::new(self.inertia.matrix(), w.axes, w.inertia)?;
             return Ok(Plant::Wheels(craft, w.speeds));
         }
@@ -427,7 +433,8 @@ impl Slew {
         self
     }
 
-    /// The largest torque per body axis.
+    /// The largest torque per body axis (with [`Slew::wheels`], per wheel: the motors'
+    /// limits).
     pub fn torque_max(mut self, bound: [f64; 3]) -> Self {
         self.torque_max = Some(Vector3::from(bound));
         self
@@ -573,12 +580,26 @@ impl Slew {
             }
         }
         if let Some(w) = &self.wheels {
-            if self.gravity.is_some() {
+            if self.gravity.is_some_and(|g| g.mass * g.gravity != 0.0) {
                 return Err(invalid(
                     "wheels",
                     "with gravity".into(),
                     "a spacecraft with reaction wheels is slewed without gravity: give one \
                      of the two",
+                ));
+            }
+            // (A zero axis is the gyrostat's own refusal, below.)
+            let unit = w.axes.map(|a| a / a.norm());
+            let volume = unit[0].dot(&unit[1].cross(&unit[2])).abs();
+            if w.axes.iter().all(|a| a.norm() > 0.0) && (volume.is_nan() || volume < 1e-6) {
+                return Err(invalid(
+                    "wheels",
+                    format!(
+                        "axes {:?}",
+                        w.axes.iter().map(|a| [a.x, a.y, a.z]).collect::<Vec<_>>()
+                    ),
+                    "the three wheel axes must span the body's three axes (|a₁·(a₂ × a₃)| of \
+                     the unit axes is below 1e-6: two are parallel, or all three in a plane)",
                 ));
             }
             if !w.speeds.iter().all(|x| x.is_finite()) {

@@ -30,24 +30,41 @@ const QP_TOLERANCE: f64 = 1e-12;
 /// it falls back on can lead to a worse local minimum. Where that continuation fails, the
 /// fallback is taken.
 pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
+    let mut continuation = None;
     if slew.gravity.is_some() && slew.initial.is_none() {
         let free = Slew {
             gravity: None,
             ..slew.clone()
         };
         if let Ok(weightless) = minimum_time(&free, tolerance) {
+            // The two stages share the iteration budget; the statistics cover both.
+            let used = weightless.statistics.iterations;
             let continued = Slew {
                 t_end: weightless.t_end,
                 initial: Some(weightless.inputs),
+                max_iterations: slew.max_iterations.saturating_sub(used),
                 ..slew.clone()
             };
-            if let Ok(mut solution) = minimum_time(&continued, tolerance) {
-                solution.statistics.iterations += weightless.statistics.iterations;
-                solution.statistics.time_s += weightless.statistics.time_s;
-                return Ok(solution);
+            match minimum_time(&continued, tolerance) {
+                Ok(mut solution) => {
+                    let (first, then) = (weightless.statistics, &mut solution.statistics);
+                    then.iterations += first.iterations;
+                    then.time_s += first.time_s;
+                    then.kkt_residuals.splice(0..0, first.kkt_residuals);
+                    then.terminal_misses.splice(0..0, first.terminal_misses);
+                    return Ok(solution);
+                }
+                Err(error) => continuation = Some(error),
             }
         }
     }
+    // Where the continuation failed and so does this, its error is the one to report (the
+    // fallback's own start works to a looser tolerance than the one asked for).
+    fallback(slew, tolerance).map_err(|error| continuation.unwrap_or(error))
+}
+
+/// [`minimum_time`] from the ladder's own start.
+fn fallback(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
     let clock = Instant::now();
     let bound = slew
         .torque_max

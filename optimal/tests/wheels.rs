@@ -292,3 +292,82 @@ fn wheels_with_gravity_are_refused() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Tracking and terminal costs with wheels go through the gyrostat's state sensitivities
+/// (its 12-dimensional chain read in the attitude and rate rows). Tracking the optimum's own
+/// states leaves the optimum where it is (the tracking residuals vanish there, and their
+/// Gauss–Newton term does not move it), and a soft target's miss falls as `1/q` with its
+/// weight (the quadratic penalty's: the miss is the multiplier over `2q`).
+#[test]
+fn wheels_track_and_take_soft_targets() {
+    let locked = Inertia::from_principal_moments([8.0, 10.0, 6.0]).unwrap();
+    let wheels = Wheels {
+        speeds: Vector3::new(20.0, -10.0, 5.0),
+        ..body_axis_wheels(0.05)
+    };
+    let target = SO3::exp(&Vector3::new(0.6, -0.4, 0.9));
+    let slew = Slew::new(locked, 30.0)
+        .wheels(wheels)
+        .to(target, Vector3::zeros())
+        .steps(20)
+        .nodes(8);
+    let exact = slew.clone().solve().unwrap();
+    let reference: Vec<lgsvi_optimal::Target> = exact.states[1..]
+        .iter()
+        .map(|s| (s.configuration, s.velocity))
+        .collect();
+    let tracked = slew.clone().track(reference, [1.0, 1.0]).solve().unwrap();
+    let moved = tracked
+        .inputs
+        .iter()
+        .zip(&exact.inputs)
+        .map(|(a, b)| (a - b).amax())
+        .fold(0.0, f64::max);
+    assert!(moved < 1e-9, "{moved}");
+    let miss = |q: f64| {
+        let soft = slew.clone().terminal_cost([q, q]).solve().unwrap();
+        let last = soft.states.last().unwrap();
+        let e = last.configuration.inverse().compose(&target).log();
+        e.amax().max(last.velocity.amax())
+    };
+    let (loose, tight) = (miss(1e2), miss(1e4));
+    // 1/q: a hundredfold weight, a hundredfold smaller miss (within 20%: the penalty's
+    // miss is 1/q only to first order).
+    assert!(
+        (loose / tight - 100.0).abs() < 20.0,
+        "{loose:e} → {tight:e}"
+    );
+}
+
+#[test]
+fn wheel_axes_that_do_not_span_space_are_refused() {
+    let inertia = Inertia::from_principal_moments([8.0, 10.0, 6.0]).unwrap();
+    let flat = Wheels {
+        axes: [Vector3::x(), Vector3::new(2.0, 0.0, 0.0), Vector3::z()],
+        ..body_axis_wheels(0.05)
+    };
+    match Slew::new(inertia, 10.0).wheels(flat).solve() {
+        Err(OptimalError::InvalidSetting {
+            name: "wheels",
+            reason,
+            ..
+        }) => {
+            assert!(reason.contains("span"), "{reason}")
+        }
+        other => panic!("{other:?}"),
+    }
+    // A weightless "gravity" beside wheels is no gravity.
+    let none = Gravity {
+        mass: 1.0,
+        gravity: 0.0,
+        center_of_mass: Vector3::z(),
+        direction: Vector3::z(),
+    };
+    let solution = Slew::new(inertia, 10.0)
+        .wheels(body_axis_wheels(0.05))
+        .gravity(none)
+        .to(SO3::exp(&Vector3::new(0.0, 0.0, 0.3)), Vector3::zeros())
+        .solve()
+        .unwrap();
+    assert!(solution.converged);
+}

@@ -1,5 +1,5 @@
-//! `lgsvi.optimal`'s compiled core: a rigid body's slew at the least energy or in the
-//! least time, a heavy top's or a spacecraft's by its reaction wheels at the least energy
+//! `lgsvi.optimal`'s compiled core: the slew of a rigid body, a heavy top or a spacecraft
+//! by its reaction wheels at the least energy or in the least time
 //! ([`lgsvi_optimal::Slew`]), solved with the GIL released.
 
 use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3};
@@ -82,6 +82,7 @@ fn _slew<'py>(
     let moments = vector3(inertia, "inertia")?;
     let inertia = Inertia::from_principal_moments([moments.x, moments.y, moments.z])
         .map_err(|e| invalid(format!("inertia: {e}")))?;
+    let slew_inertia = inertia;
     let vector_or_zero =
         |v: Option<&Bound<'py, PyAny>>, name| v.map_or(Ok(Vector3::zeros()), |v| vector3(v, name));
     let start = match attitude0 {
@@ -171,11 +172,38 @@ fn _slew<'py>(
                     _ => vector3(i, "wheel_inertia")?,
                 },
             };
-            slew = slew.wheels(lgsvi_optimal::Wheels {
+            let wheels = lgsvi_optimal::Wheels {
                 axes: [*a, *b, *c],
                 inertia: [inertia.x, inertia.y, inertia.z],
                 speeds: vector_or_zero(wheel_speeds0, "wheel_speeds0")?,
-            });
+            };
+            // The spacecraft's own checks, named by the argument that sets what they refuse.
+            if let Err(error) = lgsvi_mechanics::gyrostat::Gyrostat::new(
+                slew_inertia.matrix(),
+                wheels.axes,
+                wheels.inertia,
+            ) {
+                use lgsvi_mechanics::MechanicsError as M;
+                let name = match &error {
+                    M::InvalidSetting {
+                        name: "wheel axis", ..
+                    }
+                    | M::NonFinite {
+                        what: "wheel axis", ..
+                    } => "wheels",
+                    M::InvalidSetting {
+                        name: "wheel inertia",
+                        ..
+                    }
+                    | M::NonFinite {
+                        what: "wheel inertia",
+                        ..
+                    } => "wheel_inertia",
+                    _ => "inertia and wheel_inertia",
+                };
+                return Err(invalid(format!("{name}: {error}")));
+            }
+            slew = slew.wheels(wheels);
         }
         None if wheel_inertia.is_some() || wheel_speeds0.is_some() => {
             return Err(invalid(

@@ -206,3 +206,16 @@ def test_a_slew_by_reaction_wheels_replays_onto_its_target():
     by_wheels = optimal.slew([2.25] * 3, None, turn, steps=40, nodes=8, torque_max=0.1,
                              cost="time", wheels=np.eye(3), wheel_inertia=0.25)
     assert by_wheels.t_end == pytest.approx(rigid.t_end, rel=1e-8)
+
+
+def test_wheel_errors_name_the_argument():
+    target = lie.so3_exp([0.0, 0.0, 0.5])
+    for kwargs, name in [
+        (dict(wheels=[[1, 0, 0], [0, 1, 0], [0, 0, 0]]), "wheels"),
+        (dict(wheels=np.eye(3), wheel_inertia=0.0), "wheel_inertia"),
+        (dict(wheels=np.eye(3), wheel_inertia=float("nan")), "wheel_inertia"),
+        (dict(wheels=np.eye(3), wheel_inertia=3.0), "inertia and wheel_inertia"),
+        (dict(wheels=[[1, 0, 0], [2, 0, 0], [0, 0, 1]]), "span"),
+    ]:
+        with pytest.raises(lgsvi.InvalidInputError, match=name):
+            optimal.slew([3.0, 4.0, 5.0], 10.0, target, **kwargs)

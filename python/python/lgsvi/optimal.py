@@ -1,6 +1,7 @@
 """Optimal control on SO(3) with lgsvi's variational step as the dynamics: a rigid body's
 slew at the least input energy in a fixed time, or in the least time, the torques bounded
-per axis; a heavy top's, or a spacecraft's by its three reaction wheels, likewise.
+per axis (per wheel for the motor torques of a spacecraft's three reaction wheels); a
+heavy top's, or a spacecraft's by its wheels, likewise.
 
 The problem: ``K`` steps of a common length ``h`` (each one lgsvi step of ``nodes``
 nodes), the body torque ``u_k`` held over step ``k``; from ``(attitude0, omega0)`` to
@@ -63,7 +64,8 @@ class SlewResult:
         With ``wheels``, the wheels' rates relative to the body at the step boundaries;
         ``(0, 3)`` otherwise.
     inputs : ndarray (K, 3)
-        The torque of each step (body frame, N m); with ``inputs="polynomial"`` each step's
+        The torque of each step (body frame, N m; with ``wheels``, the three motor torques);
+        with ``inputs="polynomial"`` each step's
         mean over its Gauss points (the constant torque of the same impulse).
     inputs_at_points : ndarray (K, m, 3)
         With ``inputs="polynomial"``, each step's torques at its ``m`` Gauss points, which
