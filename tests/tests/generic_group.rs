@@ -83,21 +83,12 @@ impl ConfigurationGroup<2> for Torus {
     fn exp<T: RealField + Copy>(zeta: &Vector2<T>) -> Angles<T> {
         Angles(*zeta)
     }
-    fn angular_speed(_xi: &Vector2<f64>) -> f64 {
-        0.0
-    }
-    fn rotation_angle(_g: &Angles<f64>) -> f64 {
-        0.0
-    }
-    fn renormalise(g: &Angles<f64>) -> Angles<f64> {
-        *g
-    }
     fn is_finite(g: &Angles<f64>) -> bool {
         g.0.iter().all(|x| x.is_finite())
     }
-    fn coadjoint_generator(_p: &Vector2<f64>) -> SMatrix<f64, 2, 2> {
-        SMatrix::zeros()
-    }
+    // The rest has defaults that fit an abelian group without rotation: no rotation angle
+    // or angular speed to check a step against, nothing to renormalise, and the coadjoint
+    // generator from `small_adjoint` (zero here).
 }
 
 /// The identity chart `Φ(ξ) = ξ`, `A = I`.

@@ -235,14 +235,24 @@ pub trait ConfigurationGroup<const D: usize>:
         Self::exp(zeta)
     }
     /// The rotation angle of `g`'s rotational part (for the checks that a step stays in
-    /// its chart; `0` for a group without one).
-    fn rotation_angle(g: &Self::Element<f64>) -> f64;
+    /// its chart). The default, `0`, is a group without one: no step is then refused for
+    /// turning too far.
+    fn rotation_angle(g: &Self::Element<f64>) -> f64 {
+        let _ = g;
+        0.0
+    }
     /// The angular speed `|Ω|` of a body velocity (its rotational part), which bounds
-    /// how far a step turns the body.
-    fn angular_speed(xi: &SVector<f64, D>) -> f64;
+    /// how far a step turns the body. The default, `0`, is a group without rotation.
+    fn angular_speed(xi: &SVector<f64, D>) -> f64 {
+        let _ = xi;
+        0.0
+    }
     /// `g` with the rounding of its products removed (one polar Newton step on a rotation
-    /// block), so that millions of steps do not drift off the group.
-    fn renormalise(g: &Self::Element<f64>) -> Self::Element<f64>;
+    /// block), so that millions of steps do not drift off the group. The default keeps `g`:
+    /// a group whose elements cannot drift off it (angles, translations).
+    fn renormalise(g: &Self::Element<f64>) -> Self::Element<f64> {
+        *g
+    }
     /// Whether every entry of `g` is finite.
     fn is_finite(g: &Self::Element<f64>) -> bool;
     /// Checks that `g` lies on the group to the group's tolerance (a starting state that
@@ -258,8 +268,24 @@ pub trait ConfigurationGroup<const D: usize>:
         Ok(())
     }
     /// The matrix of `η ↦ ad_ηᵀ p`: the coadjoint term of the Euler–Poincaré equations
-    /// (`μ̇ = ad_ξᵀ μ + p`) and of the derivative of `Ad_{Φ(x)⁻¹}ᵀ p` in `x`.
-    fn coadjoint_generator(p: &SVector<f64, D>) -> SMatrix<f64, D, D>;
+    /// (`μ̇ = ad_ξᵀ μ + p`) and of the derivative of `Ad_{Φ(x)⁻¹}ᵀ p` in `x`. The default
+    /// builds it from the element's [`LieGroup::small_adjoint`], one basis vector a column
+    /// ([`coadjoint_generator_of`]); the built-in groups give it in closed form.
+    fn coadjoint_generator(p: &SVector<f64, D>) -> SMatrix<f64, D, D> {
+        coadjoint_generator_of::<Self::Element<f64>, D>(p)
+    }
+}
+
+/// The matrix of `η ↦ ad_ηᵀ p` from a group's small adjoint: column `i` is
+/// `ad_{e_i}ᵀ p` ([`ConfigurationGroup::coadjoint_generator`]'s default).
+pub fn coadjoint_generator_of<E, const D: usize>(p: &SVector<f64, D>) -> SMatrix<f64, D, D>
+where
+    E: LieGroup<Scalar = f64, Tangent = SVector<f64, D>, Jacobian = SMatrix<f64, D, D>>,
+{
+    SMatrix::<f64, D, D>::from_fn(|row, column| {
+        let basis = SVector::<f64, D>::from_fn(|i, _| if i == column { 1.0 } else { 0.0 });
+        (E::small_adjoint(&basis).transpose() * p)[row]
+    })
 }
 
 /// SO(3), `D = 3`, elements [`SO3`]: the rigid body's attitude.
@@ -689,5 +715,27 @@ impl ChartDerivatives<3> for RotationDerivatives {
     }
     fn second(&self, mu: &Vector3<f64>, v: &Vector3<f64>) -> Matrix3<f64> {
         self.a.second_contracted(&(mu * v.transpose()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default coadjoint generator, built from the small adjoint, is the closed form
+    /// SO(3) and SE(3) give (`p̂`, and SE(3)'s blocks): exactly, the columns being sums of
+    /// one or two products of `p`'s entries with ±1.
+    #[test]
+    fn the_default_coadjoint_generator_is_the_closed_form() {
+        let p3 = Vector3::new(0.3, -1.7, 2.2);
+        assert_eq!(
+            coadjoint_generator_of::<SO3, 3>(&p3),
+            Rotations::coadjoint_generator(&p3)
+        );
+        let p6 = SVector::<f64, 6>::new(0.3, -1.7, 2.2, -0.4, 0.9, 1.3);
+        assert_eq!(
+            coadjoint_generator_of::<SE3, 6>(&p6),
+            RigidMotions::coadjoint_generator(&p6)
+        );
     }
 }
