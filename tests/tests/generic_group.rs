@@ -118,16 +118,8 @@ impl GroupChart<Torus, 2> for AngleChart {
     ) -> Result<Vector2<f64>, LieError> {
         Ok(g.0)
     }
-    fn check_domain(&self, xi: &Vector2<f64>) -> Result<(), LieError> {
-        if xi.iter().all(|x| x.is_finite()) {
-            Ok(())
-        } else {
-            Err(LieError::NonFinite { what: "angles" })
-        }
-    }
-    fn max_rotation_angle(&self) -> f64 {
-        f64::INFINITY
-    }
+    // The domain check (every finite ξ) and the reach (no rotation: unbounded) are the
+    // defaults.
 }
 
 const G: f64 = 9.81;

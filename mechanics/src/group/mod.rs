@@ -547,14 +547,26 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
         g: &G::Element<f64>,
         near: &SVector<f64, D>,
     ) -> Result<SVector<f64, D>, LieError>;
-    /// Finite and where `Φ` is a local diffeomorphism.
+    /// Finite and where `Φ` is a local diffeomorphism. The default accepts every finite
+    /// `ξ`: a chart that is a diffeomorphism everywhere (angles, translations).
     ///
     /// # Errors
     /// [`LieError::NonFinite`] or [`LieError::OutsideChart`].
-    fn check_domain(&self, xi: &SVector<f64, D>) -> Result<(), LieError>;
+    fn check_domain(&self, xi: &SVector<f64, D>) -> Result<(), LieError> {
+        if xi.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(LieError::NonFinite {
+                what: "chart coordinates",
+            })
+        }
+    }
     /// The largest rotation angle a curve from the identity can reach in this chart
-    /// ([`So3Chart::max_rotation_angle`]); infinite for a group without rotations.
-    fn max_rotation_angle(&self) -> f64;
+    /// ([`So3Chart::max_rotation_angle`]). The default is infinite: a group without
+    /// rotations.
+    fn max_rotation_angle(&self) -> f64 {
+        f64::INFINITY
+    }
     /// Advice beside "take a smaller step" when a step outruns the chart.
     fn advice(&self) -> &'static str {
         ""
