@@ -207,7 +207,7 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     if let Some(gravity) = gravity {
         slew = slew.gravity(gravity);
     }
-    let wheels = reaction_wheels(&options, &inertia)?;
+    let wheels = reaction_wheels(&options)?;
     if let Some(wheels) = wheels {
         slew = slew.wheels(wheels);
     }
@@ -457,11 +457,8 @@ fn heavy_top(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Gravity>
 }
 
 /// The reaction wheels of `--wheels` (and `--wheel-axes`, `--wheel-inertia`,
-/// `--wheel-speeds0`, refused without it; and with `--gravity`).
-fn reaction_wheels(
-    options: &OptimizeOptions,
-    inertia: &Inertia,
-) -> Result<Option<lgsvi_optimal::Wheels>> {
+/// `--wheel-speeds0`, refused without it).
+fn reaction_wheels(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Wheels>> {
     if !options.wheels {
         for (flag, given) in [
             ("--wheel-axes", options.wheel_axes.is_some()),
@@ -478,65 +475,15 @@ fn reaction_wheels(
         }
         return Ok(None);
     }
-    if options.gravity.is_some_and(|g| g != 0.0) {
-        return Err(CliError::invalid(
-            "--wheels",
-            "with --gravity",
-            "a spacecraft with reaction wheels is slewed without gravity: drop one of the two",
-        ));
-    }
     let axes = options
         .wheel_axes
         .unwrap_or([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
-    let wheels = lgsvi_optimal::Wheels {
+    // The solver checks the wheels (`named` maps its settings to these flags).
+    Ok(Some(lgsvi_optimal::Wheels {
         axes: std::array::from_fn(|i| Vector3::new(axes[3 * i], axes[3 * i + 1], axes[3 * i + 2])),
         inertia: options.wheel_inertia.unwrap_or([0.05; 3]),
         speeds: Vector3::from(options.wheel_speeds0.unwrap_or([0.0; 3])),
-    };
-    // The spacecraft's own checks, named by the flag that sets what they refuse.
-    if let Err(error) =
-        lgsvi_mechanics::gyrostat::Gyrostat::new(inertia.matrix(), wheels.axes, wheels.inertia)
-    {
-        let list = |v: &[f64]| {
-            v.iter()
-                .map(|x| format!("{x:?}"))
-                .collect::<Vec<_>>()
-                .join(",")
-        };
-        let (flag, value) = match &error {
-            lgsvi_mechanics::MechanicsError::InvalidSetting {
-                name: "wheel axis", ..
-            }
-            | lgsvi_mechanics::MechanicsError::NonFinite {
-                what: "wheel axis", ..
-            } => ("--wheel-axes", list(&axes)),
-            lgsvi_mechanics::MechanicsError::InvalidSetting {
-                name: "wheel inertia",
-                ..
-            }
-            | lgsvi_mechanics::MechanicsError::NonFinite {
-                what: "wheel inertia",
-                ..
-            } => ("--wheel-inertia", list(&wheels.inertia)),
-            _ => (
-                "--inertia/--wheel-inertia",
-                format!(
-                    "{}; {}",
-                    list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
-                    list(&wheels.inertia)
-                ),
-            ),
-        };
-        return Err(CliError::invalid(flag, value, error.to_string()));
-    }
-    if !wheels.speeds.iter().all(|x| x.is_finite()) {
-        return Err(CliError::invalid(
-            "--wheel-speeds0",
-            format!("{:?}", wheels.speeds.as_slice()),
-            "not finite",
-        ));
-    }
-    Ok(Some(wheels))
+    }))
 }
 
 /// A solver's error naming the flag to change.
@@ -554,7 +501,11 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "terminal_cost" => "--terminal-cost",
             "track" => "--track-weights",
             "cost" => "--cost",
-            "wheels" => "--wheel-axes",
+            "wheels" => "--wheels",
+            "wheel axes" => "--wheel-axes",
+            "wheel inertia" => "--wheel-inertia",
+            "inertia and wheel inertia" => "--inertia/--wheel-inertia",
+            "wheel speeds" => "--wheel-speeds0",
             _ => "--steps",
         },
         OptimalError::Infeasible { bounded: true, .. } => "--torque-max",
@@ -592,6 +543,14 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
                 .wheel_axes
                 .unwrap_or([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]),
         ),
+        "--wheels" => "with --gravity".into(),
+        "--wheel-inertia" => list(&options.wheel_inertia.unwrap_or([0.05; 3])),
+        "--inertia/--wheel-inertia" => format!(
+            "{}; {}",
+            list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
+            list(&options.wheel_inertia.unwrap_or([0.05; 3]))
+        ),
+        "--wheel-speeds0" => list(&options.wheel_speeds0.unwrap_or([0.0; 3])),
         _ => format!(
             "{}, {}, {}",
             options

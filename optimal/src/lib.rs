@@ -593,7 +593,7 @@ impl Slew {
             let volume = unit[0].dot(&unit[1].cross(&unit[2])).abs();
             if w.axes.iter().all(|a| a.norm() > 0.0) && (volume.is_nan() || volume < 1e-6) {
                 return Err(invalid(
-                    "wheels",
+                    "wheel axes",
                     format!(
                         "axes {:?}",
                         w.axes.iter().map(|a| [a.x, a.y, a.z]).collect::<Vec<_>>()
@@ -601,6 +601,38 @@ impl Slew {
                     "the three wheel axes must span the body's three axes (|a₁·(a₂ × a₃)| of \
                      the unit axes is below 1e-6: two are parallel, or all three in a plane)",
                 ));
+            }
+            // The spacecraft's own checks, named by the setting that holds what they refuse.
+            if let Err(error) = Gyrostat::new(self.inertia.matrix(), w.axes, w.inertia) {
+                use lgsvi_mechanics::MechanicsError as M;
+                let list = |v: &[f64]| format!("{v:?}");
+                let flat: Vec<f64> = w.axes.iter().flat_map(|a| [a.x, a.y, a.z]).collect();
+                let (name, value) = match &error {
+                    M::InvalidSetting {
+                        name: "wheel axis", ..
+                    }
+                    | M::NonFinite {
+                        what: "wheel axis", ..
+                    } => ("wheel axes", list(&flat)),
+                    M::InvalidSetting {
+                        name: "wheel inertia",
+                        ..
+                    }
+                    | M::NonFinite {
+                        what: "wheel inertia",
+                        ..
+                    } => ("wheel inertia", list(&w.inertia)),
+                    _ => (
+                        "inertia and wheel inertia",
+                        format!("{:?}; {}", self.inertia.matrix(), list(&w.inertia)),
+                    ),
+                };
+                let reason = match error {
+                    M::InvalidSetting { reason, .. } => reason.to_string(),
+                    M::NonFinite { .. } => "not finite".to_string(),
+                    other => other.to_string(),
+                };
+                return Err(invalid(name, value, &reason));
             }
             if !w.speeds.iter().all(|x| x.is_finite()) {
                 return Err(invalid(

@@ -146,10 +146,10 @@ pub(crate) fn shoot(
     match plant {
         Plant::Body(body) => {
             let it = Integrator::new(body, settings, start.0, start.1)?;
-            // The mass's parameter column (after the inertia tensor's six) and the mass.
+            // The mass that multiplies the potential.
             let potential = match body {
                 BuiltInSo3::Top(top) if with_time && top.mass_times_gravity() != 0.0 => {
-                    Some((6, top.mass()))
+                    Some(top.mass())
                 }
                 _ => None,
             };
@@ -172,8 +172,9 @@ pub(crate) fn shoot(
 }
 
 /// [`shoot`] for one integrator: the torques enter its input at `offset` (0: a body
-/// torque; 3: a gyrostat's motor torques), `potential` is the parameter column and value
-/// of a mass that multiplies the potential (the heavy top's, for `∂x₊/∂h`), and `observe`
+/// torque; 3: a gyrostat's motor torques), `potential` is the value of a mass that
+/// multiplies the potential (the heavy top's, for `∂x₊/∂h`; its parameter column is the
+/// one the linearisation names "mass"), and `observe`
 /// reads the attitude, rates and momentum of a state (and a gyrostat's wheel rates).
 #[allow(clippy::too_many_arguments)]
 fn shoot_with<S, C, const D: usize>(
@@ -182,7 +183,7 @@ fn shoot_with<S, C, const D: usize>(
     inputs: &[Vector3<f64>],
     per_step: usize,
     offset: usize,
-    potential: Option<(usize, f64)>,
+    potential: Option<f64>,
     observe: impl Fn(&State<ElementOf<S, D>, D>) -> (State, Option<Vector3<f64>>),
 ) -> Result<Shot, OptimalError>
 where
@@ -239,8 +240,12 @@ where
         for i in 0..D {
             dk[D + i] -= end[i];
         }
-        if let (Some((column, mass)), Some(p)) = (potential, step.p(Coordinates::Velocity)) {
-            dk += p.column(column) * (2.0 * mass);
+        if let (Some(mass), Some(p)) = (potential, step.p(Coordinates::Velocity)) {
+            let column = step
+                .parameter_names()
+                .iter()
+                .position(|name| name == "mass");
+            dk += p.column(column.expect("a heavy top's parameters name its mass")) * (2.0 * mass);
         }
         d.push(dk / h);
         a.push(ak);

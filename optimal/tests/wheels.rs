@@ -348,7 +348,7 @@ fn wheel_axes_that_do_not_span_space_are_refused() {
     };
     match Slew::new(inertia, 10.0).wheels(flat).solve() {
         Err(OptimalError::InvalidSetting {
-            name: "wheels",
+            name: "wheel axes",
             reason,
             ..
         }) => {

@@ -21,7 +21,14 @@ pyo3::create_exception!(
 /// The exception for a solver's error.
 fn optimal_error(error: OptimalError) -> PyErr {
     match error {
-        OptimalError::InvalidSetting { .. } => invalid(error.to_string()),
+        // The solver's names of the wheels' settings, as this function's arguments.
+        OptimalError::InvalidSetting { name, .. } => match name {
+            "wheel axes" => invalid(format!("wheels: {error}")),
+            "wheel inertia" => invalid(format!("wheel_inertia: {error}")),
+            "inertia and wheel inertia" => invalid(format!("inertia and wheel_inertia: {error}")),
+            "wheel speeds" => invalid(format!("wheel_speeds0: {error}")),
+            _ => invalid(error.to_string()),
+        },
         OptimalError::Infeasible { .. } => InfeasibleError::new_err(error.to_string()),
         OptimalError::NotConverged { .. } => ConvergenceError::new_err(error.to_string()),
         OptimalError::Mechanics(inner) => mechanics(inner),
@@ -82,7 +89,6 @@ fn _slew<'py>(
     let moments = vector3(inertia, "inertia")?;
     let inertia = Inertia::from_principal_moments([moments.x, moments.y, moments.z])
         .map_err(|e| invalid(format!("inertia: {e}")))?;
-    let slew_inertia = inertia;
     let vector_or_zero =
         |v: Option<&Bound<'py, PyAny>>, name| v.map_or(Ok(Vector3::zeros()), |v| vector3(v, name));
     let start = match attitude0 {
@@ -177,32 +183,6 @@ fn _slew<'py>(
                 inertia: [inertia.x, inertia.y, inertia.z],
                 speeds: vector_or_zero(wheel_speeds0, "wheel_speeds0")?,
             };
-            // The spacecraft's own checks, named by the argument that sets what they refuse.
-            if let Err(error) = lgsvi_mechanics::gyrostat::Gyrostat::new(
-                slew_inertia.matrix(),
-                wheels.axes,
-                wheels.inertia,
-            ) {
-                use lgsvi_mechanics::MechanicsError as M;
-                let name = match &error {
-                    M::InvalidSetting {
-                        name: "wheel axis", ..
-                    }
-                    | M::NonFinite {
-                        what: "wheel axis", ..
-                    } => "wheels",
-                    M::InvalidSetting {
-                        name: "wheel inertia",
-                        ..
-                    }
-                    | M::NonFinite {
-                        what: "wheel inertia",
-                        ..
-                    } => "wheel_inertia",
-                    _ => "inertia and wheel_inertia",
-                };
-                return Err(invalid(format!("{name}: {error}")));
-            }
             slew = slew.wheels(wheels);
         }
         None if wheel_inertia.is_some() || wheel_speeds0.is_some() => {
