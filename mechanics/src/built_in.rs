@@ -29,6 +29,18 @@ crate::system::so3_system! {
     impl[] for BuiltInSo3;
 }
 
+impl From<RigidBody> for BuiltInSo3 {
+    fn from(body: RigidBody) -> Self {
+        BuiltInSo3::Free(body)
+    }
+}
+
+impl From<HeavyTop> for BuiltInSo3 {
+    fn from(top: HeavyTop) -> Self {
+        BuiltInSo3::Top(top)
+    }
+}
+
 impl Lagrangian for BuiltInSo3 {
     fn lagrangian<T: RealField + Copy>(&self, r: &Matrix3<T>, w: &Vector3<T>) -> T {
         match self {
@@ -108,6 +120,18 @@ pub enum BuiltInSe3 {
     Free(FreeBody),
     /// The rigid body orbiting a point mass (MacCullagh's potential).
     Orbit(OrbitingBody),
+}
+
+impl From<FreeBody> for BuiltInSe3 {
+    fn from(body: FreeBody) -> Self {
+        BuiltInSe3::Free(body)
+    }
+}
+
+impl From<OrbitingBody> for BuiltInSe3 {
+    fn from(body: OrbitingBody) -> Self {
+        BuiltInSe3::Orbit(body)
+    }
 }
 
 /// `$body` with the variant's system bound to `s`.

@@ -1,10 +1,10 @@
 //! The minimum-energy slew: Gauss–Newton SQP over the torques at a fixed final time.
 
-use crate::shooting::shoot;
+use crate::shooting::{shoot, Shot};
 use crate::tracking::{residuals, Residuals};
 use crate::{qp, quadrature, Inputs, OptimalError, Slew, Solution, Statistics};
 use lgsvi_mechanics::StepSettings;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, SVector, Vector3};
 use std::time::Instant;
 
 /// Solves `slew` for the least `∫|u|² dt` (the crate documentation's iteration): with
@@ -21,142 +21,39 @@ pub(crate) fn minimum_energy(
     let clock = Instant::now();
     let (k_steps, h) = (slew.steps, settings.h());
     let body = slew.system()?;
-    let Start {
-        nodes,
-        weights,
-        step_weights,
-        mut inputs,
-    } = Start::of(slew, settings)?;
-    let per_step = step_weights.len();
-    let exact_target = slew.terminal_cost.is_none();
-    let weight = |i: usize| step_weights[i % per_step];
-    let cost = |u: &[Vector3<f64>], r: Option<&Residuals>| {
-        u.iter()
-            .enumerate()
-            .map(|(i, u)| weight(i) * u.norm_squared())
-            .sum::<f64>()
-            + r.map_or(0.0, |(r, _)| r.norm_squared())
-    };
-    let mut statistics = Statistics::default();
-    let mut multipliers = DVector::<f64>::zeros(if exact_target { 6 } else { 0 });
-    let n = 3 * inputs.len();
-    let mut bound_duals = DVector::<f64>::zeros(n);
-    let shot =
+    let (nodes, weights) = quadrature(slew, settings)?;
+    let start = Start::of(
+        slew.inputs,
+        h,
+        k_steps,
+        &weights,
+        slew.initial.as_deref(),
+        slew.torque_max,
+    );
+    let per_step = start.step_weights.len();
+    let shoot =
         |u: &[Vector3<f64>]| shoot(body, settings, slew.start, slew.target, u, per_step, false);
-    let mut run = shot(&inputs)?;
-    let mut fit = residuals(slew, h, &run);
-    let diagonal: Vec<f64> = (0..n).map(|j| 2.0 * weight(j / 3)).collect();
-    let (no_rows, no_miss) = (DMatrix::<f64>::zeros(0, n), DVector::<f64>::zeros(0));
-    loop {
-        let miss = run.miss.amax();
-        let mut gradient = DVector::from_iterator(
-            n,
-            inputs.iter().enumerate().flat_map(|(i, u)| {
-                let w = 2.0 * weight(i);
-                [w * u.x, w * u.y, w * u.z]
-            }),
-        );
-        if let Some((r, g)) = &fit {
-            gradient += 2.0 * g.transpose() * r;
-        }
-        let (rows, e) = if exact_target {
-            (&run.sensitivity, &run.miss)
-        } else {
-            (&no_rows, &no_miss)
-        };
-        let stationarity = (&gradient + rows.transpose() * &multipliers + &bound_duals).amax()
-            / (1.0 + gradient.amax());
-        let residual = if exact_target {
-            stationarity.max(miss)
-        } else {
-            stationarity
-        };
-        statistics.kkt_residuals.push(residual);
-        statistics.terminal_misses.push(miss);
-        if residual <= tolerance && statistics.iterations > 0 {
-            break;
-        }
-        if statistics.iterations >= slew.max_iterations {
-            return Err(OptimalError::NotConverged {
-                iterations: statistics.iterations,
-                residual,
-                tolerance,
-            });
-        }
-        statistics.iterations += 1;
-        // ½ δᵀ H δ + gᵀ δ: the cost up to a constant (exact in δ for the energy, the
-        // Gauss–Newton model of the residuals); the bounds |u + δu| ≤ u_max.
-        let hessian = match &fit {
-            None => qp::diagonal(&diagonal),
-            Some((_, g)) => {
-                let mut dense = 2.0 * g.transpose() * g;
-                for (j, d) in diagonal.iter().enumerate() {
-                    dense[(j, j)] += d;
-                }
-                qp::upper_triangle(&dense)
-            }
-        };
-        let flat: Vec<f64> = inputs.iter().flat_map(|u| [u.x, u.y, u.z]).collect();
-        let (lower, upper): (Vec<f64>, Vec<f64>) = match slew.torque_max {
-            Some(bound) => (0..n)
-                .map(|j| (-bound[j % 3] - flat[j], bound[j % 3] - flat[j]))
-                .unzip(),
-            None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
-        };
-        let solution = qp::solve(hessian, gradient.as_slice(), rows, e, &lower, &upper, 1e-13)?
-            .ok_or(OptimalError::Infeasible {
-                residual: miss,
-                bounded: slew.torque_max.is_some(),
-            })?;
-        let (step, lambda) = (&solution.step, &solution.lambda);
-        // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target is
-        // exact): halve the step until it falls.
-        let rho = 2.0 * lambda.amax() + 1.0;
-        let merit = |c: f64, e: &DVector<f64>| {
-            c + if exact_target {
-                rho * e.iter().map(|x| x.abs()).sum::<f64>()
-            } else {
-                0.0
-            }
-        };
-        let before = merit(cost(&inputs, fit.as_ref()), &run.miss);
-        let mut alpha = 1.0;
-        let (next_inputs, next_run, next_fit) = loop {
-            let trial: Vec<Vector3<f64>> = inputs
-                .iter()
-                .enumerate()
-                .map(|(i, u)| {
-                    u + alpha * Vector3::new(step[3 * i], step[3 * i + 1], step[3 * i + 2])
-                })
-                .collect();
-            match shot(&trial) {
-                Ok(r) => {
-                    let f = residuals(slew, h, &r);
-                    if merit(cost(&trial, f.as_ref()), &r.miss) <= before || alpha < 1e-3 {
-                        break (trial, r, f);
-                    }
-                    alpha *= 0.5;
-                }
-                Err(error) if alpha < 1e-3 => return Err(error),
-                Err(_) => alpha *= 0.5,
-            }
-        };
-        inputs = next_inputs;
-        run = next_run;
-        fit = next_fit;
-        multipliers = solution.lambda;
-        bound_duals = solution.nu;
-    }
-    statistics.time_s = clock.elapsed().as_secs_f64();
+    let fit = |run: &Shot| residuals(slew, h, run);
+    let problem = Problem {
+        step_weights: &start.step_weights,
+        bound: slew.torque_max,
+        exact_target: slew.terminal_cost.is_none(),
+        max_iterations: slew.max_iterations,
+        shoot: &shoot,
+        residuals: &fit,
+    };
+    let solved = problem.solve(start.inputs, tolerance)?;
     let mut terminal = [0.0; 6];
-    if exact_target {
-        terminal.copy_from_slice(multipliers.as_slice());
+    if problem.exact_target {
+        terminal.copy_from_slice(solved.multipliers.as_slice());
     }
-    let (means, at_points) = by_step(&inputs, per_step, &weights);
+    let (means, at_points) = by_step(&solved.inputs, per_step, &weights);
+    let mut statistics = solved.statistics;
+    statistics.time_s = clock.elapsed().as_secs_f64();
     Ok(Solution {
-        cost: cost(&inputs, fit.as_ref()),
-        states: run.states,
-        wheel_speeds: run.wheel_speeds,
+        cost: solved.cost,
+        states: solved.run.states,
+        wheel_speeds: solved.run.wheel_speeds,
         inputs: means,
         inputs_at_points: at_points,
         quadrature_nodes: nodes,
@@ -168,63 +65,235 @@ pub(crate) fn minimum_energy(
     })
 }
 
-/// The torques a minimum-energy iteration starts from, with the step's quadrature.
-pub(crate) struct Start {
-    /// The Gauss points as fractions of a step.
-    pub nodes: Vec<f64>,
-    /// Their weights `b_j`.
-    pub weights: Vec<f64>,
-    /// The quadrature weight of each input of a step: `h` for a held torque, `h b_j` at
+/// A minimum-energy problem over inputs of `M` entries, as the Gauss–Newton SQP sees it:
+/// the cost `Σ_i w_i |u_i|²` plus the squared residuals where there are any, the terminal
+/// state exact or not, each entry bounded or not.
+pub(crate) struct Problem<'a, St, const M: usize> {
+    /// The quadrature weight of each input of a step: `h` for a held input, `h b_j` at
+    /// the Gauss points.
+    pub step_weights: &'a [f64],
+    /// The largest magnitude of each entry of an input.
+    pub bound: Option<SVector<f64, M>>,
+    /// Whether the terminal state is a constraint (else a cost among the residuals).
+    pub exact_target: bool,
+    /// The most iterations.
+    pub max_iterations: usize,
+    /// A run of the integrator under the inputs.
+    pub shoot: &'a Shooter<'a, St, M>,
+    /// The tracking and terminal residuals of a run and their Jacobian, if any.
+    pub residuals: &'a dyn Fn(&Shot<St>) -> Option<Residuals>,
+}
+
+/// A run of the integrator under inputs of `M` entries.
+pub(crate) type Shooter<'a, St, const M: usize> =
+    dyn Fn(&[SVector<f64, M>]) -> Result<Shot<St>, OptimalError> + 'a;
+
+/// What [`Problem::solve`] found: the inputs, their run, the cost, the terminal
+/// multipliers (empty without an exact target) and the record (its time not set).
+pub(crate) struct Solved<St, const M: usize> {
+    pub inputs: Vec<SVector<f64, M>>,
+    pub run: Shot<St>,
+    pub cost: f64,
+    pub multipliers: DVector<f64>,
+    pub statistics: Statistics,
+}
+
+impl<St, const M: usize> Problem<'_, St, M> {
+    /// The cost of inputs and their residuals.
+    fn cost(&self, u: &[SVector<f64, M>], r: Option<&Residuals>) -> f64 {
+        let per_step = self.step_weights.len();
+        u.iter()
+            .enumerate()
+            .map(|(i, u)| self.step_weights[i % per_step] * u.norm_squared())
+            .sum::<f64>()
+            + r.map_or(0.0, |(r, _)| r.norm_squared())
+    }
+
+    /// The Gauss–Newton SQP from `inputs` (the crate documentation's iteration).
+    pub(crate) fn solve(
+        &self,
+        mut inputs: Vec<SVector<f64, M>>,
+        tolerance: f64,
+    ) -> Result<Solved<St, M>, OptimalError> {
+        let per_step = self.step_weights.len();
+        let weight = |i: usize| self.step_weights[i % per_step];
+        let exact_target = self.exact_target;
+        let mut statistics = Statistics::default();
+        let mut run = (self.shoot)(&inputs)?;
+        let mut fit = (self.residuals)(&run);
+        let rows_eq = if exact_target { run.miss.len() } else { 0 };
+        let mut multipliers = DVector::<f64>::zeros(rows_eq);
+        let n = M * inputs.len();
+        let mut bound_duals = DVector::<f64>::zeros(n);
+        let diagonal: Vec<f64> = (0..n).map(|j| 2.0 * weight(j / M)).collect();
+        let (no_rows, no_miss) = (DMatrix::<f64>::zeros(0, n), DVector::<f64>::zeros(0));
+        loop {
+            let miss = run.miss.amax();
+            let mut gradient = DVector::from_iterator(
+                n,
+                inputs
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(i, u)| (u * (2.0 * weight(i))).data.0[0]),
+            );
+            if let Some((r, g)) = &fit {
+                gradient += 2.0 * g.transpose() * r;
+            }
+            let (rows, e) = if exact_target {
+                (&run.sensitivity, &run.miss)
+            } else {
+                (&no_rows, &no_miss)
+            };
+            let stationarity = (&gradient + rows.transpose() * &multipliers + &bound_duals).amax()
+                / (1.0 + gradient.amax());
+            let residual = if exact_target {
+                stationarity.max(miss)
+            } else {
+                stationarity
+            };
+            statistics.kkt_residuals.push(residual);
+            statistics.terminal_misses.push(miss);
+            if residual <= tolerance && statistics.iterations > 0 {
+                break;
+            }
+
+            if statistics.iterations >= self.max_iterations {
+                return Err(OptimalError::NotConverged {
+                    iterations: statistics.iterations,
+                    residual,
+                    tolerance,
+                });
+            }
+            statistics.iterations += 1;
+            // ½ δᵀ H δ + gᵀ δ: the cost up to a constant (exact in δ for the energy, the
+            // Gauss–Newton model of the residuals); the bounds |u + δu| ≤ u_max.
+            let hessian = match &fit {
+                None => qp::diagonal(&diagonal),
+                Some((_, g)) => {
+                    let mut dense = 2.0 * g.transpose() * g;
+                    for (j, d) in diagonal.iter().enumerate() {
+                        dense[(j, j)] += d;
+                    }
+                    qp::upper_triangle(&dense)
+                }
+            };
+            let flat: Vec<f64> = inputs.iter().flat_map(|u| u.iter().copied()).collect();
+            let (lower, upper): (Vec<f64>, Vec<f64>) = match self.bound {
+                Some(bound) => (0..n)
+                    .map(|j| (-bound[j % M] - flat[j], bound[j % M] - flat[j]))
+                    .unzip(),
+                None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
+            };
+            let solution = qp::solve(hessian, gradient.as_slice(), rows, e, &lower, &upper, 1e-13)?
+                .ok_or(OptimalError::Infeasible {
+                    residual: miss,
+                    bounded: self.bound.is_some(),
+                })?;
+            let (step, lambda) = (&solution.step, &solution.lambda);
+            // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target
+            // is exact): halve the step until it falls.
+            let rho = 2.0 * lambda.amax() + 1.0;
+            let merit = |c: f64, e: &DVector<f64>| {
+                c + if exact_target {
+                    rho * e.iter().map(|x| x.abs()).sum::<f64>()
+                } else {
+                    0.0
+                }
+            };
+            let before = merit(self.cost(&inputs, fit.as_ref()), &run.miss);
+            let mut alpha = 1.0;
+            let (next_inputs, next_run, next_fit) = loop {
+                let trial: Vec<SVector<f64, M>> = inputs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, u)| u + alpha * step.fixed_rows::<M>(M * i))
+                    .collect();
+                match (self.shoot)(&trial) {
+                    Ok(r) => {
+                        let f = (self.residuals)(&r);
+                        if merit(self.cost(&trial, f.as_ref()), &r.miss) <= before || alpha < 1e-3 {
+                            break (trial, r, f);
+                        }
+                        alpha *= 0.5;
+                    }
+                    Err(error) if alpha < 1e-3 => return Err(error),
+                    Err(_) => alpha *= 0.5,
+                }
+            };
+            inputs = next_inputs;
+            run = next_run;
+            fit = next_fit;
+            multipliers = solution.lambda;
+            bound_duals = solution.nu;
+        }
+        Ok(Solved {
+            cost: self.cost(&inputs, fit.as_ref()),
+            inputs,
+            run,
+            multipliers,
+            statistics,
+        })
+    }
+}
+
+/// The inputs a minimum-energy iteration starts from, with each input's quadrature
+/// weight.
+pub(crate) struct Start<const M: usize> {
+    /// The quadrature weight of each input of a step: `h` for a held input, `h b_j` at
     /// the Gauss points.
     pub step_weights: Vec<f64>,
     /// The warm start (one per step spread over the points, or one per point), else rest,
     /// clamped to the bounds.
-    pub inputs: Vec<Vector3<f64>>,
+    pub inputs: Vec<SVector<f64, M>>,
 }
 
-impl Start {
-    pub(crate) fn of(slew: &Slew, settings: StepSettings) -> Result<Self, OptimalError> {
-        let (k_steps, h) = (slew.steps, settings.h());
-        let (nodes, weights) = quadrature(slew, settings)?;
-        let step_weights: Vec<f64> = match slew.inputs {
+impl<const M: usize> Start<M> {
+    /// For `k_steps` steps of length `h` whose Gauss weights are `weights`.
+    pub(crate) fn of(
+        shape: Inputs,
+        h: f64,
+        k_steps: usize,
+        weights: &[f64],
+        initial: Option<&[SVector<f64, M>]>,
+        bound: Option<SVector<f64, M>>,
+    ) -> Self {
+        let step_weights: Vec<f64> = match shape {
             Inputs::Constant => vec![h],
             _ => weights.iter().map(|b| h * b).collect(),
         };
         let per_step = step_weights.len();
-        let mut inputs: Vec<Vector3<f64>> = match &slew.initial {
-            Some(initial) if initial.len() == k_steps * per_step => initial.clone(),
+        let mut inputs: Vec<SVector<f64, M>> = match initial {
+            Some(initial) if initial.len() == k_steps * per_step => initial.to_vec(),
             Some(initial) => initial
                 .iter()
                 .flat_map(|u| std::iter::repeat_n(*u, per_step))
                 .collect(),
-            None => vec![Vector3::zeros(); k_steps * per_step],
+            None => vec![SVector::zeros(); k_steps * per_step],
         };
-        if let Some(bound) = slew.torque_max {
+        if let Some(bound) = bound {
             for u in &mut inputs {
                 *u = u.zip_map(&bound, |x, b| x.clamp(-b, b));
             }
         }
-        Ok(Self {
-            nodes,
-            weights,
+        Self {
             step_weights,
             inputs,
-        })
+        }
     }
 }
 
 /// Each step's torque (its mean `Σ_j b_j u_kj` at the Gauss points) and, with inputs at the
 /// points, each step's values there.
 #[allow(clippy::type_complexity)]
-pub(crate) fn by_step(
-    inputs: &[Vector3<f64>],
+pub(crate) fn by_step<const M: usize>(
+    inputs: &[SVector<f64, M>],
     per_step: usize,
     weights: &[f64],
-) -> (Vec<Vector3<f64>>, Vec<Vec<Vector3<f64>>>) {
+) -> (Vec<SVector<f64, M>>, Vec<Vec<SVector<f64, M>>>) {
     if per_step == 1 {
         return (inputs.to_vec(), Vec::new());
     }
-    let steps: Vec<Vec<Vector3<f64>>> = inputs.chunks(per_step).map(|c| c.to_vec()).collect();
+    let steps: Vec<Vec<SVector<f64, M>>> = inputs.chunks(per_step).map(|c| c.to_vec()).collect();
     let means = steps
         .iter()
         .map(|c| c.iter().zip(weights).map(|(u, b)| u * *b).sum())

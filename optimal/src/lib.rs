@@ -2,7 +2,8 @@
 //! a rigid body from a start `(R₀, Ω₀)` to a target `(R_f, Ω_f)`, the torques bounded per
 //! axis, at the least input energy in a fixed time or in the least time; likewise a heavy
 //! top's ([`Slew::gravity`]) and a spacecraft's by its three reaction wheels, the motor
-//! torques bounded per wheel ([`Slew::wheels`]).
+//! torques bounded per wheel ([`Slew::wheels`]); and manoeuvres of a body in space (SE(3),
+//! a body wrench bounded per axis) at the least input energy ([`Manoeuvre`]).
 //!
 //! # The problem
 //!
@@ -110,6 +111,7 @@
 #![warn(missing_docs)]
 
 mod energy;
+mod motion;
 mod qp;
 mod shooting;
 mod time;
@@ -121,6 +123,8 @@ use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{HeavyTop, Inertia, MechanicsError, RigidBody, State, StepSettings};
 use nalgebra::Vector3;
 use shooting::Plant;
+
+pub use motion::{Manoeuvre, ManoeuvreSolution};
 
 /// Why a slew was not solved.
 #[derive(Debug, thiserror::Error)]
@@ -136,15 +140,15 @@ pub enum OptimalError {
         /// Why, and what to give.
         reason: String,
     },
-    /// No torques (within the bounds, where there are any) reach the target in the time.
+    /// No inputs (within the bounds, where there are any) reach the target in the time.
     #[error(
         "infeasible: {} (the closest iterate misses it by {residual:.3e}): {}",
-        if *bounded { "no torques within the bounds reach the target in the time" }
-        else { "the QP finds no torques that reach the target" },
-        if *bounded { "raise the torque bound or the final time (for a minimum-time slew, its \
-                      first guess), or give more steps" }
+        if *bounded { "no inputs within the bounds reach the target in the time" }
+        else { "the QP finds no inputs that reach the target" },
+        if *bounded { "raise the torque (or force) bound or the final time (for a minimum-time \
+                      slew, its first guess), or give more steps" }
         else { "the problem's numbers are too far apart for the QP (give the time, inertia \
-               and torques units that make them comparable) or too few steps" }
+               and inputs units that make them comparable) or too few steps" }
     )]
     Infeasible {
         /// The terminal miss of the last iterate.

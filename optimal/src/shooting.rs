@@ -2,14 +2,14 @@
 //! terminal state's exact sensitivity to every torque and to the common step length.
 
 use crate::OptimalError;
-use lgsvi_mechanics::built_in::BuiltInSo3;
+use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
 use lgsvi_mechanics::group::GroupChart;
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
-use lgsvi_mechanics::lie::{LieGroup, SO3};
+use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
 use lgsvi_mechanics::linearization::Coordinates;
 use lgsvi_mechanics::system::ElementOf;
 use lgsvi_mechanics::{Integrator, State, StepSettings, System};
-use nalgebra::{DMatrix, DVector, SVector, Vector3};
+use nalgebra::{DMatrix, DVector, SVector, Vector3, Vector6};
 
 /// What the slew's steps integrate: a rigid body or heavy top on SO(3) driven by a body
 /// torque, or a spacecraft with three reaction wheels (SO(3) × ℝ³) driven by the wheels'
@@ -58,49 +58,53 @@ fn wheel_start(
     )
 }
 
-/// One run of the torques: its states, the terminal state's sensitivity and miss.
-pub(crate) struct Shot {
+/// One run of the inputs: its states, the terminal state's sensitivity and miss. `St` is
+/// the state recorded at each step boundary: an SO(3) [`State`] for a slew, the body's own
+/// `State<SE3, 6>` for a manoeuvre in space.
+pub(crate) struct Shot<St = State> {
     /// `x_0 … x_K`: attitude, body rates and (for a gyrostat, the total angular momentum
-    /// in the body frame) body momentum.
-    pub states: Vec<State>,
+    /// in the body frame) body momentum; on SE(3) the pose and the body velocity.
+    pub states: Vec<St>,
     /// With reaction wheels, their rates `φ̇` at `x_0 … x_K`; empty otherwise.
     pub wheel_speeds: Vec<Vector3<f64>>,
-    /// `M = ∂x_K/∂u` (`6 × 3K` per input of a step) in the body-frame coordinates `(θ, ω)`.
+    /// `M = ∂x_K/∂u` (the observed rows, `m` columns per input of a step) in the
+    /// body-frame coordinates `(θ, ω)`.
     pub sensitivity: DMatrix<f64>,
-    /// `∂x_K/∂h` (6), the step length shared by every step.
+    /// `∂x_K/∂h` (the observed rows), the step length shared by every step.
     pub time_sensitivity: DVector<f64>,
-    /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`.
+    /// The terminal miss in the observed coordinates: on SO(3)
+    /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`, on SE(3) `(log(g_K⁻¹ g_f), ξ_f − ξ_K)`.
     pub miss: DVector<f64>,
-    /// The dimension `D` of the plant's algebra: its linearisation's state is
-    /// `(θ, ω) ∈ ℝ^{2D}`, whose rows `0..3` and `D..D + 3` are the attitude and the body
-    /// rates.
-    dimension: usize,
-    /// Each step's `A_k` and input Jacobians `B_kj` (velocity coordinates, the torques'
-    /// three columns).
+    /// The rows of the plant's linearisation state `(θ, ω) ∈ ℝ^{2D}` that the problem
+    /// observes: on a slew the attitude's and the body rates' (`0..3` and `D..D + 3`), on
+    /// SE(3) all twelve.
+    rows: Vec<usize>,
+    /// The entries of one input, `m`.
+    width: usize,
+    /// Each step's `A_k` and input Jacobians `B_kj` (velocity coordinates, the inputs'
+    /// `m` columns).
     a: Vec<DMatrix<f64>>,
     b: Vec<Vec<DMatrix<f64>>>,
 }
 
-impl Shot {
-    /// The rows of the attitude and the body rates in the plant's state.
+impl<St> Shot<St> {
+    /// The observed rows of a matrix in the plant's state.
     fn observed(&self, full: &DMatrix<f64>) -> DMatrix<f64> {
-        let d = self.dimension;
-        DMatrix::from_fn(6, full.ncols(), |i, j| {
-            full[(if i < 3 { i } else { d + i - 3 }, j)]
-        })
+        full.select_rows(&self.rows)
     }
 
-    /// `∂x_k/∂u` for `k = 1 … K` (`6 × n` each, attitude and rates), chained forwards:
+    /// `∂x_k/∂u` for `k = 1 … K` (the observed rows, `n` columns each), chained forwards:
     /// `S_{k+1} = A_k S_k + [B_kj in step k's columns]`.
     pub fn state_sensitivities(&self) -> Vec<DMatrix<f64>> {
         let columns = self.sensitivity.ncols();
         let per_step = columns / self.a.len().max(1);
+        let size = self.a.first().map_or(0, |a| a.nrows());
         let mut out = Vec::with_capacity(self.a.len());
-        let mut s = DMatrix::<f64>::zeros(2 * self.dimension, columns);
+        let mut s = DMatrix::<f64>::zeros(size, columns);
         for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
             s = a * &s;
             for (j, bj) in b.iter().enumerate() {
-                s.view_mut((0, per_step * k + 3 * j), (2 * self.dimension, 3))
+                s.view_mut((0, per_step * k + self.width * j), (size, self.width))
                     .copy_from(bj);
             }
             out.push(self.observed(&s));
@@ -143,6 +147,12 @@ pub(crate) fn shoot(
     per_step: usize,
     with_time: bool,
 ) -> Result<Shot, OptimalError> {
+    // The attitude's and the rates' miss at the last state.
+    let miss = |last: &State| {
+        let rotation = last.configuration.inverse().compose(&target.0).log();
+        let rates = target.1 - last.velocity;
+        DVector::from_iterator(6, rotation.iter().chain(rates.iter()).copied())
+    };
     match plant {
         Plant::Body(body) => {
             let it = Integrator::new(body, settings, start.0, start.1)?;
@@ -153,12 +163,24 @@ pub(crate) fn shoot(
                 }
                 _ => None,
             };
-            shoot_with(it, target, inputs, per_step, 0, potential, |s| (*s, None))
+            let plan = Plan {
+                per_step,
+                offset: 0,
+                potential,
+                rows: vec![0, 1, 2, 3, 4, 5],
+            };
+            shoot_with(it, inputs, plan, |s| (*s, None), miss)
         }
         Plant::Wheels(craft, speeds) => {
             let (g, xi) = wheel_start(start, speeds);
             let it = Integrator::new(craft, settings, g, xi)?;
-            shoot_with(it, target, inputs, per_step, 3, None, |s| {
+            let plan = Plan {
+                per_step,
+                offset: 3,
+                potential: None,
+                rows: vec![0, 1, 2, 6, 7, 8],
+            };
+            let observe = |s: &State<BodyWheels<f64, 3>, 6>| {
                 let state = State {
                     time: s.time,
                     configuration: s.configuration.attitude,
@@ -166,38 +188,82 @@ pub(crate) fn shoot(
                     velocity: s.velocity.fixed_rows::<3>(0).into_owned(),
                 };
                 (state, Some(s.velocity.fixed_rows::<3>(3).into_owned()))
-            })
+            };
+            shoot_with(it, inputs, plan, observe, miss)
         }
     }
 }
 
-/// [`shoot`] for one integrator: the torques enter its input at `offset` (0: a body
-/// torque; 3: a gyrostat's motor torques), `potential` is the value of a mass that
-/// multiplies the potential (the heavy top's, for `∂x₊/∂h`; its parameter column is the
-/// one the linearisation names "mass"), and `observe`
-/// reads the attitude, rates and momentum of a state (and a gyrostat's wheel rates).
-#[allow(clippy::too_many_arguments)]
-fn shoot_with<S, C, const D: usize>(
-    mut it: Integrator<S, C, D>,
-    target: (SO3, Vector3<f64>),
-    inputs: &[Vector3<f64>],
+/// The run of a body in space ([`BuiltInSe3`]) from the pose and body velocity `start`
+/// under the body wrenches `inputs` (`per_step` a step, as in [`shoot`]), against
+/// `target`: every row of its linearisation is observed, and the miss is
+/// `(log(g_K⁻¹ g_f), ξ_f − ξ_K)` in the linearisation's native coordinates
+/// (`g = ḡ exp(θ)`, `ξ = ξ̄ + ω`).
+pub(crate) fn shoot_motion(
+    body: BuiltInSe3,
+    settings: StepSettings,
+    start: (SE3, Vector6<f64>),
+    target: (SE3, Vector6<f64>),
+    inputs: &[Vector6<f64>],
     per_step: usize,
+) -> Result<Shot<State<SE3, 6>>, OptimalError> {
+    let it = Integrator::new(body, settings, start.0, start.1)?;
+    let plan = Plan {
+        per_step,
+        offset: 0,
+        potential: None,
+        rows: (0..12).collect(),
+    };
+    let miss = |last: &State<SE3, 6>| {
+        let pose = last.configuration.inverse().compose(&target.0).log();
+        let velocity = target.1 - last.velocity;
+        DVector::from_iterator(12, pose.iter().chain(velocity.iter()).copied())
+    };
+    shoot_with(it, inputs, plan, |s| (*s, None), miss)
+}
+
+/// How a run's inputs enter its integrator and what of its state the problem sees.
+struct Plan {
+    /// Inputs a step: one held over it, or one at each Gauss point.
+    per_step: usize,
+    /// Where the inputs enter the system's input (0: a body torque or wrench; 3: a
+    /// gyrostat's motor torques).
     offset: usize,
+    /// A mass that multiplies the potential (the heavy top's, for `∂x₊/∂h`; its
+    /// parameter column is the one the linearisation names "mass").
     potential: Option<f64>,
-    observe: impl Fn(&State<ElementOf<S, D>, D>) -> (State, Option<Vector3<f64>>),
-) -> Result<Shot, OptimalError>
+    /// The observed rows of the linearisation's state ([`Shot`]).
+    rows: Vec<usize>,
+}
+
+/// [`shoot`] for one integrator, inputs of `M` entries: `observe` reads the recorded
+/// state of a state (and a gyrostat's wheel rates), `miss` the terminal miss of the last
+/// recorded state.
+fn shoot_with<S, C, St, const D: usize, const M: usize>(
+    mut it: Integrator<S, C, D>,
+    inputs: &[SVector<f64, M>],
+    plan: Plan,
+    observe: impl Fn(&State<ElementOf<S, D>, D>) -> (St, Option<Vector3<f64>>),
+    miss: impl Fn(&St) -> DVector<f64>,
+) -> Result<Shot<St>, OptimalError>
 where
     S: System<D>,
     C: GroupChart<S::Group, D>,
 {
+    let Plan {
+        per_step,
+        offset,
+        potential,
+        rows,
+    } = plan;
     let h = it.settings().h();
-    let widen = |u: &Vector3<f64>| {
+    let widen = |u: &SVector<f64, M>| {
         let mut full = SVector::<f64, D>::zeros();
-        full.fixed_rows_mut::<3>(offset).copy_from(u);
+        full.fixed_rows_mut::<M>(offset).copy_from(u);
         full
     };
     let record =
-        |it: &Integrator<S, C, D>, states: &mut Vec<State>, speeds: &mut Vec<Vector3<f64>>| {
+        |it: &Integrator<S, C, D>, states: &mut Vec<St>, speeds: &mut Vec<Vector3<f64>>| {
             let (state, wheels) = observe(it.state());
             states.push(state);
             speeds.extend(wheels);
@@ -225,11 +291,11 @@ where
         let bk: Vec<DMatrix<f64>> = match step.b_points(Coordinates::Velocity) {
             Some(points) => points
                 .iter()
-                .map(|p| p.columns(offset, 3).into_owned())
+                .map(|p| p.columns(offset, M).into_owned())
                 .collect(),
             None => vec![step
                 .b(Coordinates::Velocity)
-                .columns(offset, 3)
+                .columns(offset, M)
                 .into_owned()],
         };
         let end = it.state().velocity;
@@ -253,36 +319,33 @@ where
         record(&it, &mut states, &mut wheel_speeds);
     }
     // M_kj = A_{K−1} ⋯ A_{k+1} B_kj and ∂x_K/∂h = Σ_k A_{K−1} ⋯ A_{k+1} d_k, chained
-    // backwards in the plant's state, then read in the attitude and rates.
-    let columns = 3 * per_step;
+    // backwards in the plant's state, then read in the observed rows.
+    let columns = M * per_step;
     let mut full = DMatrix::<f64>::zeros(2 * D, columns * k_steps);
     let mut time_full = DMatrix::<f64>::zeros(2 * D, 1);
     let mut chain = DMatrix::<f64>::identity(2 * D, 2 * D);
     for k in (0..k_steps).rev() {
         for (j, bj) in b[k].iter().enumerate() {
-            full.view_mut((0, columns * k + 3 * j), (2 * D, 3))
+            full.view_mut((0, columns * k + M * j), (2 * D, M))
                 .copy_from(&(&chain * bj));
         }
         time_full += &chain * &d[k];
         chain = &chain * &a[k];
     }
-    let last = states[k_steps];
-    let rotation = last.configuration.inverse().compose(&target.0).log();
-    let rates = target.1 - last.velocity;
-    let miss = DVector::from_iterator(6, rotation.iter().chain(rates.iter()).copied());
-    let mut shot = Shot {
+    let miss = miss(&states[k_steps]);
+    let sensitivity = full.select_rows(&rows);
+    let time_sensitivity = time_full.select_rows(&rows).column(0).into_owned();
+    Ok(Shot {
         states,
         wheel_speeds,
-        sensitivity: DMatrix::zeros(0, 0),
-        time_sensitivity: DVector::zeros(0),
+        sensitivity,
+        time_sensitivity,
         miss,
-        dimension: D,
+        rows,
+        width: M,
         a,
         b,
-    };
-    shot.sensitivity = shot.observed(&full);
-    shot.time_sensitivity = shot.observed(&time_full).column(0).into_owned();
-    Ok(shot)
+    })
 }
 
 #[cfg(test)]

@@ -1,0 +1,371 @@
+//! Manoeuvres of a body in space (SE(3)): the pose and the body velocity driven from a
+//! start to a target by a body wrench `(τ, f)`, at the least input energy in a fixed time.
+
+use crate::energy::{by_step, Problem, Solved, Start};
+use crate::shooting::shoot_motion;
+use crate::{Inputs, OptimalError, Statistics};
+use lgsvi_mechanics::built_in::BuiltInSe3;
+use lgsvi_mechanics::lie::SE3;
+use lgsvi_mechanics::{Integrator, State, StepSettings};
+use nalgebra::{Vector3, Vector6};
+use std::time::Instant;
+
+/// A state of a body in space.
+type SE3State = State<SE3, 6>;
+
+/// A manoeuvre of a rigid body in space: from a start `(g₀, ξ₀)` to a target `(g_f, ξ_f)`
+/// in the fixed time `T`, driven by a body wrench `u = (τ, f)` (the torque and the force,
+/// both in the body frame, as [`Integrator::set_input`] takes them), at the least
+/// `∫ |u|² dt = ∫ (|τ|² + |f|²) dt` (no ½), the torque and the force bounded per axis
+/// where bounds are given.
+///
+/// A pose is `g = (R, x)`: the attitude (body to world) and the centre of mass in the
+/// world frame; a velocity is the body velocity `ξ = (Ω, v)`, the body rates and the
+/// centre of mass's velocity in the body frame (`ẋ = R v`), as
+/// [`lgsvi_mechanics::FreeBody`]'s states hold them. The body is a
+/// [`BuiltInSe3`]: the free body in space or the body orbiting a point mass.
+///
+/// The problem is the slew's ([`crate::Slew`], crate documentation) on SE(3): `K` of
+/// lgsvi's steps, the wrench held over each step or a polynomial given at its Gauss points
+/// ([`Inputs`]), the terminal pose and velocity exact (twelve conditions, the pose's miss
+/// taken by SE(3)'s log), solved by the same Gauss–Newton SQP with the steps' exact
+/// linearisations in their native coordinates (`g = ḡ exp(θ)`, `ξ = ξ̄ + ω`).
+///
+/// ```
+/// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
+/// use lgsvi_mechanics::{FreeBody, Inertia};
+/// use lgsvi_optimal::Manoeuvre;
+/// use nalgebra::{Vector3, Vector6};
+///
+/// // Move a 10 kg body 2 m along x and turn it 90° about z, rest to rest, in 20 s,
+/// // at most 0.05 N·m and 0.25 N per axis.
+/// let body = FreeBody::new(Inertia::from_principal_moments([1.0, 1.5, 2.0])?, 10.0)?;
+/// let target = SE3::new(
+///     SO3::exp(&Vector3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2)),
+///     Vector3::new(2.0, 0.0, 0.0),
+/// );
+/// let solution = Manoeuvre::new(body, 20.0)
+///     .to(target, Vector6::zeros())
+///     .torque_max([0.05; 3])
+///     .force_max([0.25; 3])
+///     .solve()?;
+/// assert!(solution.converged);
+/// let last = solution.states.last().unwrap();
+/// assert!((last.position() - Vector3::new(2.0, 0.0, 0.0)).amax() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Manoeuvre {
+    body: BuiltInSe3,
+    t_end: f64,
+    start: (SE3, Vector6<f64>),
+    target: (SE3, Vector6<f64>),
+    steps: usize,
+    nodes: usize,
+    torque_max: Option<Vector3<f64>>,
+    force_max: Option<Vector3<f64>>,
+    inputs: Inputs,
+    tolerance: f64,
+    max_iterations: usize,
+    initial: Option<Vec<Vector6<f64>>>,
+}
+
+/// A solved [`Manoeuvre`].
+#[derive(Debug, Clone)]
+pub struct ManoeuvreSolution {
+    /// The states at the step boundaries, `x_0 … x_K`: pose, body velocity `(Ω, v)` and
+    /// body momentum.
+    pub states: Vec<State<SE3, 6>>,
+    /// The body wrench `(τ, f)` of each step, `u_0 … u_{K−1}` (N·m, N); with
+    /// [`Inputs::Polynomial`], each step's mean `Σ_j b_j u_kj`.
+    pub inputs: Vec<Vector6<f64>>,
+    /// With [`Inputs::Polynomial`], each step's wrenches at its Gauss points
+    /// ([`ManoeuvreSolution::quadrature_nodes`]), which replay the solution through
+    /// [`Integrator::set_input_at_points`]; empty otherwise.
+    pub inputs_at_points: Vec<Vec<Vector6<f64>>>,
+    /// The Gauss points of a step as fractions of its length, `c_j`.
+    pub quadrature_nodes: Vec<f64>,
+    /// The cost `∫ |u|² dt` (the steps' quadrature of it).
+    pub cost: f64,
+    /// The terminal constraint's multipliers (`∂J*/∂e`, in `(θ, ω)` at the target: the
+    /// pose's six, then the velocity's).
+    pub multipliers: [f64; 12],
+    /// The step `h = T/K`.
+    pub h: f64,
+    /// The final time `T`.
+    pub t_end: f64,
+    /// Whether the scaled KKT residual reached the tolerance.
+    pub converged: bool,
+    /// The solver's record.
+    pub statistics: Statistics,
+}
+
+impl Manoeuvre {
+    /// A manoeuvre of `body` in time `t_end`, by default rest to rest from the identity
+    /// pose to the identity pose, 20 steps of 10 nodes, no bounds, tolerance 1e-10, at
+    /// most 100 iterations, from no wrench (with bounds, from the unbounded optimum
+    /// clamped to them).
+    pub fn new(body: impl Into<BuiltInSe3>, t_end: f64) -> Self {
+        Self {
+            body: body.into(),
+            t_end,
+            start: (SE3::identity(), Vector6::zeros()),
+            target: (SE3::identity(), Vector6::zeros()),
+            steps: 20,
+            nodes: 10,
+            torque_max: None,
+            force_max: None,
+            inputs: Inputs::Constant,
+            tolerance: 1e-10,
+            max_iterations: 100,
+            initial: None,
+        }
+    }
+
+    /// The start: pose `(R₀, x₀)` and body velocity `(Ω₀, v₀)`.
+    pub fn from(mut self, pose: SE3, velocity: Vector6<f64>) -> Self {
+        self.start = (pose, velocity);
+        self
+    }
+
+    /// The target: pose `(R_f, x_f)` and body velocity `(Ω_f, v_f)`.
+    pub fn to(mut self, pose: SE3, velocity: Vector6<f64>) -> Self {
+        self.target = (pose, velocity);
+        self
+    }
+
+    /// `K` steps.
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.steps = steps;
+        self
+    }
+
+    /// `n` nodes per step.
+    pub fn nodes(mut self, nodes: usize) -> Self {
+        self.nodes = nodes;
+        self
+    }
+
+    /// The largest torque per body axis (N·m).
+    pub fn torque_max(mut self, bound: [f64; 3]) -> Self {
+        self.torque_max = Some(Vector3::from(bound));
+        self
+    }
+
+    /// The largest force per body axis (N).
+    pub fn force_max(mut self, bound: [f64; 3]) -> Self {
+        self.force_max = Some(Vector3::from(bound));
+        self
+    }
+
+    /// How the wrench varies within a step: constant (the default) or a polynomial given
+    /// at the step's Gauss points ([`Inputs`]).
+    pub fn inputs(mut self, inputs: Inputs) -> Self {
+        self.inputs = inputs;
+        self
+    }
+
+    /// The scaled KKT residual to reach.
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
+    /// The most SQP iterations.
+    pub fn max_iterations(mut self, iterations: usize) -> Self {
+        self.max_iterations = iterations;
+        self
+    }
+
+    /// Start the iteration from these wrenches (a warm start: one per step, or with
+    /// [`Inputs::Polynomial`] one per Gauss point of each step) instead of none.
+    pub fn warm_start(mut self, inputs: Vec<Vector6<f64>>) -> Self {
+        self.initial = Some(inputs);
+        self
+    }
+
+    /// The bound on each entry of the wrench: infinite where the torque or the force has
+    /// none; `None` where neither has one.
+    fn bound(&self) -> Option<Vector6<f64>> {
+        if self.torque_max.is_none() && self.force_max.is_none() {
+            return None;
+        }
+        let free = Vector3::repeat(f64::INFINITY);
+        let (t, f) = (
+            self.torque_max.unwrap_or(free),
+            self.force_max.unwrap_or(free),
+        );
+        Some(Vector6::new(t.x, t.y, t.z, f.x, f.y, f.z))
+    }
+
+    /// The settings' steps, after the manoeuvre's settings are checked.
+    fn check(&self) -> Result<StepSettings, OptimalError> {
+        let invalid = |name, value: String, reason: &str| OptimalError::InvalidSetting {
+            name,
+            value,
+            reason: reason.into(),
+        };
+        if !(self.t_end.is_finite() && self.t_end > 0.0) {
+            return Err(invalid(
+                "t_end",
+                format!("{:?}", self.t_end),
+                "the final time is positive and finite",
+            ));
+        }
+        if self.steps < 2 || self.steps > 100_000 {
+            return Err(invalid(
+                "steps",
+                self.steps.to_string(),
+                "from 2 to 100000 steps (the terminal pose and velocity are twelve \
+                 conditions; one step has six inputs)",
+            ));
+        }
+        for (name, bound) in [
+            ("torque_max", self.torque_max),
+            ("force_max", self.force_max),
+        ] {
+            if let Some(bound) = bound {
+                if bound.iter().any(|b| !(b.is_finite() && *b > 0.0)) {
+                    return Err(invalid(
+                        name,
+                        format!("{:?}", bound.as_slice()),
+                        "each axis's bound is positive and finite",
+                    ));
+                }
+            }
+        }
+        if !(self.tolerance.is_finite() && self.tolerance >= 1e-14 && self.tolerance < 1.0) {
+            return Err(invalid(
+                "tolerance",
+                format!("{:?}", self.tolerance),
+                "a scaled KKT residual from 1e-14 to below 1",
+            ));
+        }
+        for (name, (g, xi)) in [("start", self.start), ("target", self.target)] {
+            let finite = g.rotation().matrix().iter().all(|x| x.is_finite())
+                && g.translation().iter().all(|x| x.is_finite())
+                && xi.iter().all(|x| x.is_finite());
+            if !finite {
+                return Err(invalid(
+                    name,
+                    format!(
+                        "R {:?}, x {:?}, velocity {:?}",
+                        g.rotation().matrix().as_slice(),
+                        g.translation().as_slice(),
+                        xi.as_slice()
+                    ),
+                    "not finite",
+                ));
+            }
+        }
+        let settings = StepSettings::new(self.t_end / self.steps as f64, self.nodes)?;
+        if let Some(initial) = &self.initial {
+            let points = match self.inputs {
+                Inputs::Constant => 1,
+                _ => self.quadrature(settings)?.0.len(),
+            };
+            if initial.len() != self.steps && initial.len() != self.steps * points {
+                return Err(invalid(
+                    "warm_start",
+                    format!("{} wrenches", initial.len()),
+                    "one wrench per step (or, with polynomial inputs, one per Gauss point of \
+                     each step)",
+                ));
+            }
+        }
+        Ok(settings)
+    }
+
+    /// The Gauss points of a step (fractions of the step) and their weights.
+    fn quadrature(&self, settings: StepSettings) -> Result<(Vec<f64>, Vec<f64>), OptimalError> {
+        let it = Integrator::new(self.body, settings, self.start.0, self.start.1)?;
+        Ok((it.quadrature_nodes(), it.quadrature_weights()))
+    }
+
+    /// Solves the manoeuvre (the type's documentation).
+    ///
+    /// # Errors
+    /// [`OptimalError::InvalidSetting`] for a setting out of range;
+    /// [`OptimalError::Infeasible`] when the bounds leave the target out of reach;
+    /// [`OptimalError::NotConverged`] when the iterations run out;
+    /// [`OptimalError::Mechanics`] for a step that fails (a start off the group, a body
+    /// falling onto its attracting mass, a manoeuvre too fast for its steps).
+    pub fn solve(&self) -> Result<ManoeuvreSolution, OptimalError> {
+        let clock = Instant::now();
+        let settings = self.check()?;
+        let (k_steps, h) = (self.steps, settings.h());
+        let (nodes, weights) = self.quadrature(settings)?;
+        let bound = self.bound();
+        let attempt = |initial: Option<&[Vector6<f64>]>| {
+            let start = Start::of(self.inputs, h, k_steps, &weights, initial, bound);
+            self.solve_from(settings, start, bound)
+        };
+        let solved = match attempt(self.initial.as_deref()) {
+            // Bounded without a warm start, the first subproblem (linearised about the
+            // unforced drift) can find no wrench within the bounds where the manoeuvre
+            // has one: then from the unbounded optimum clamped to the bounds, and where
+            // that fails too, the first verdict stands.
+            Err(infeasible @ OptimalError::Infeasible { .. }) if self.initial.is_none() => {
+                let unbounded = Manoeuvre {
+                    torque_max: None,
+                    force_max: None,
+                    ..self.clone()
+                }
+                .solve();
+                match unbounded {
+                    Ok(free) => {
+                        let inputs = if free.inputs_at_points.is_empty() {
+                            free.inputs
+                        } else {
+                            free.inputs_at_points.concat()
+                        };
+                        attempt(Some(&inputs)).map_err(|_| infeasible)?
+                    }
+                    Err(_) => return Err(infeasible),
+                }
+            }
+            other => other?,
+        };
+        let per_step = solved.0;
+        let solved = solved.1;
+        let mut multipliers = [0.0; 12];
+        multipliers.copy_from_slice(solved.multipliers.as_slice());
+        let (means, at_points) = by_step(&solved.inputs, per_step, &weights);
+        let mut statistics = solved.statistics;
+        statistics.time_s = clock.elapsed().as_secs_f64();
+        Ok(ManoeuvreSolution {
+            states: solved.run.states,
+            inputs: means,
+            inputs_at_points: at_points,
+            quadrature_nodes: nodes,
+            cost: solved.cost,
+            multipliers,
+            h,
+            t_end: h * k_steps as f64,
+            converged: true,
+            statistics,
+        })
+    }
+
+    /// The Gauss–Newton SQP from `start`: the inputs a step and what it found.
+    fn solve_from(
+        &self,
+        settings: StepSettings,
+        start: Start<6>,
+        bound: Option<Vector6<f64>>,
+    ) -> Result<(usize, Solved<SE3State, 6>), OptimalError> {
+        let per_step = start.step_weights.len();
+        let shoot = |u: &[Vector6<f64>]| {
+            shoot_motion(self.body, settings, self.start, self.target, u, per_step)
+        };
+        let problem = Problem {
+            step_weights: &start.step_weights,
+            bound,
+            exact_target: true,
+            max_iterations: self.max_iterations,
+            shoot: &shoot,
+            residuals: &|_| None,
+        };
+        Ok((per_step, problem.solve(start.inputs, self.tolerance)?))
+    }
+}
