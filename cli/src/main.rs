@@ -9,6 +9,7 @@ mod config;
 mod error;
 mod files;
 mod linearize;
+mod manoeuvre;
 mod montecarlo;
 mod optimize;
 mod plot;
@@ -70,9 +71,9 @@ enum Command {
     Montecarlo(Box<montecarlo::MontecarloOptions>),
     /// A rigid body's slew of least energy in a fixed time (or of least time,
     /// `--cost time`), torques bounded per axis; a heavy top's (`--gravity`) or a
-    /// spacecraft's by its three reaction wheels (`--wheels`): sequential quadratic
-    /// programming with lgsvi's step as the dynamics; JSON with the torques and states,
-    /// figures with --plot.
+    /// spacecraft's by its three reaction wheels (`--wheels`); a body in space's manoeuvre by
+    /// a body wrench (`--space`): sequential quadratic programming with lgsvi's step as the
+    /// dynamics; JSON with the inputs and states, figures with --plot.
     Optimize(optimize::OptimizeOptions),
     /// Print this command line's reference (every command's help) as Markdown: the
     /// source of docs/reference/cli.md.

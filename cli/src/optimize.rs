@@ -42,7 +42,7 @@ pub struct OptimizeOptions {
     /// `ℓ = ½ΩᵀJΩ + m g dᵀRρ` (the torques also hold it against gravity).
     #[arg(long, allow_hyphen_values = true)]
     pub gravity: Option<f64>,
-    /// The heavy top's mass m ≥ 0, kg [default: 1].
+    /// The heavy top's mass m ≥ 0, or with --space the body's m > 0, kg [default: 1].
     #[arg(long, allow_hyphen_values = true)]
     pub mass: Option<f64>,
     /// The heavy top's centre of mass ρ from the fixed point, body frame [default: 0,0,1].
@@ -66,6 +66,34 @@ pub struct OptimizeOptions {
     /// final rates are free) [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "W1,W2,W3")]
     pub wheel_speeds0: Option<[f64; 3]>,
+    /// Manoeuvre a body in space (SE(3)): the free body of --inertia and --mass (with --mu,
+    /// the body orbiting a point mass at the origin), its attitude, centre of mass and
+    /// their rates driven by a body wrench (torque and force, body frame) at the least
+    /// ∫(|τ|² + |f|²) dt in --t-end, bounded by --torque-max and --force-max.
+    #[arg(long)]
+    pub space: bool,
+    /// With --space: the gravitational parameter μ = GM ≥ 0 of a point mass at the origin
+    /// that the body orbits (MacCullagh's potential).
+    #[arg(long, allow_hyphen_values = true)]
+    pub mu: Option<f64>,
+    /// With --space: the start's centre of mass, world frame, m [default: 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub position0: Option<[f64; 3]>,
+    /// With --space: the target centre of mass, world frame, m [default: the start's].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub position_final: Option<[f64; 3]>,
+    /// With --space: the start's centre-of-mass velocity ẋ, world frame, m/s [default:
+    /// 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub velocity0: Option<[f64; 3]>,
+    /// With --space: the target centre-of-mass velocity ẋ, world frame, m/s [default:
+    /// 0,0,0].
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub velocity_final: Option<[f64; 3]>,
+    /// With --space: the largest force per body axis, N: one value for all three, or
+    /// X,Y,Z.
+    #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "F or X,Y,Z")]
+    pub force_max: Option<[f64; 3]>,
     /// The start attitude as a rotation vector (radians, body to world) [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub attitude0: Option<[f64; 3]>,
@@ -141,6 +169,10 @@ fn torque_bound(text: &str) -> std::result::Result<[f64; 3], String> {
 
 /// Runs `lgsvi optimize`.
 pub fn run(options: OptimizeOptions) -> Result<()> {
+    if options.space {
+        return crate::manoeuvre::run(&options);
+    }
+    crate::manoeuvre::refuse_space_only(&options)?;
     let minimum_time = options.cost == Some(Cost::Time);
     if minimum_time && options.torque_max.is_none() {
         return Err(CliError::invalid(
@@ -252,18 +284,10 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     }
     let solution = slew.solve().map_err(|error| named(error, &options))?;
     if !options.quiet {
-        eprintln!(
-            "optimize: cost {:.12e}{} after {} iterations, scaled KKT residual {:.1e}, {:.1} ms",
+        report(
             solution.cost,
             if minimum_time { " s" } else { "" },
-            solution.statistics.iterations,
-            solution
-                .statistics
-                .kkt_residuals
-                .last()
-                .copied()
-                .unwrap_or(f64::NAN),
-            1e3 * solution.statistics.time_s
+            &solution.statistics,
         );
     }
     let times: Vec<f64> = solution.states.iter().map(|s| s.time).collect();
@@ -313,14 +337,28 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         "omega": solution.states.iter().map(|s| [s.velocity.x, s.velocity.y, s.velocity.z]).collect::<Vec<_>>(),
         "attitude_error_deg": error_deg,
     });
+    let drawn = match options.plot {
+        Some(_) => figures(&solution, &times, &error_deg),
+        None => Vec::new(),
+    };
+    write(&options, &output, drawn)
+}
+
+/// Writes a solve's figures to `--plot`'s base name with their suffixes and its JSON to
+/// `--out` (or standard output).
+pub fn write(
+    options: &OptimizeOptions,
+    output: &serde_json::Value,
+    figures: Vec<(&'static str, lgsvi_plot::Figure)>,
+) -> Result<()> {
     if let Some(base) = &options.plot {
-        for (suffix, figure) in figures(&solution, &times, &error_deg) {
+        for (suffix, figure) in figures {
             let mut path = base.clone().into_os_string();
             path.push(suffix);
             crate::plot::save(&figure, &PathBuf::from(path))?;
         }
     }
-    let text = serde_json::to_string_pretty(&output)? + "\n";
+    let text = serde_json::to_string_pretty(output)? + "\n";
     match &options.out {
         Some(path) => crate::files::write(path, text.as_bytes()),
         None => {
@@ -328,6 +366,18 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// The progress line of a solve that ended: the cost (with its `unit`), the iterations,
+/// the last scaled KKT residual and the time.
+pub fn report(cost: f64, unit: &str, statistics: &lgsvi_optimal::Statistics) {
+    eprintln!(
+        "optimize: cost {cost:.12e}{unit} after {} iterations, scaled KKT residual {:.1e}, \
+         {:.1} ms",
+        statistics.iterations,
+        statistics.kkt_residuals.last().copied().unwrap_or(f64::NAN),
+        1e3 * statistics.time_s
+    );
 }
 
 /// The reference motion of `--track`: the `steps` states after the start of a JSON file
@@ -405,7 +455,7 @@ fn heavy_top(options: &OptimizeOptions) -> Result<Option<lgsvi_optimal::Gravity>
                     flag,
                     "given",
                     "it describes a heavy top: give --gravity G as well (or drop it for a free \
-                     body)",
+                     body, or give --space for a body in space)",
                 ));
             }
         }
@@ -563,6 +613,45 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
     CliError::invalid(flag, value, error.to_string())
 }
 
+/// Entry `entry` of the optimal inputs over time, labelled `{name}_{color + 1}`: held over
+/// each step, a staircase; polynomial within a step, its values at the Gauss points
+/// (`nodes`, fractions of the step `h`) joined.
+#[allow(clippy::too_many_arguments)]
+pub fn input_series<const M: usize>(
+    inputs: &[nalgebra::SVector<f64, M>],
+    at_points: &[Vec<nalgebra::SVector<f64, M>>],
+    nodes: &[f64],
+    h: f64,
+    times: &[f64],
+    entry: usize,
+    color: usize,
+    name: &str,
+) -> lgsvi_plot::Series {
+    let points = if at_points.is_empty() {
+        inputs
+            .iter()
+            .enumerate()
+            .flat_map(|(k, u)| [(times[k], u[entry]), (times[k + 1], u[entry])])
+            .collect()
+    } else {
+        at_points
+            .iter()
+            .enumerate()
+            .flat_map(|(k, step)| {
+                step.iter()
+                    .zip(nodes)
+                    .map(move |(u, c)| (times[k] + c * h, u[entry]))
+            })
+            .collect()
+    };
+    lgsvi_plot::Series {
+        label: format!("{name}_{}", color + 1),
+        points,
+        style: lgsvi_plot::Style::Line,
+        color,
+    }
+}
+
 /// The torques, rates and attitude error over time.
 fn figures(
     solution: &lgsvi_optimal::Solution,
@@ -584,30 +673,18 @@ fn figures(
         series,
         hlines: vec![],
     };
-    // Each torque held over its step: drawn as a staircase; polynomial within a step: its
-    // values at the Gauss points, joined.
     let torque = (0..3)
         .map(|i| {
-            let points = if solution.inputs_at_points.is_empty() {
-                solution
-                    .inputs
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(k, u)| [(times[k], u[i]), (times[k + 1], u[i])])
-                    .collect()
-            } else {
-                solution
-                    .inputs_at_points
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(k, step)| {
-                        step.iter()
-                            .zip(&solution.quadrature_nodes)
-                            .map(move |(u, c)| (times[k] + c * solution.h, u[i]))
-                    })
-                    .collect()
-            };
-            axis(points, i, "u")
+            input_series(
+                &solution.inputs,
+                &solution.inputs_at_points,
+                &solution.quadrature_nodes,
+                solution.h,
+                times,
+                i,
+                i,
+                "u",
+            )
         })
         .collect();
     let rates = (0..3)

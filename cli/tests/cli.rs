@@ -2505,3 +2505,113 @@ fn optimize_finds_the_least_time_with_wheels_and_with_gravity() {
         "{top} against {weightless}"
     );
 }
+
+/// `lgsvi optimize --space`: a spherical body turned and moved rest to rest meets the
+/// split optimum `12 (j²θ² + m²|d|²)/T³` (`optimal/tests/manoeuvres.rs`) with polynomial
+/// wrenches to 1e-12, lands on the target, writes its four figures; the slew's flags are
+/// refused with it, the space flags without it, and bad values name their flags.
+#[test]
+fn optimize_manoeuvres_a_body_in_space() {
+    let dir = temp_dir("optimize-space");
+    let plot = dir.join("space");
+    let (code, out, err) = lgsvi(&[
+        "optimize",
+        "--space",
+        "--inertia",
+        "2,2,2",
+        "--mass",
+        "5",
+        "--attitude-final",
+        "0.4,0.8,0.8",
+        "--position-final",
+        "0.6,-0.3,0.2",
+        "--t-end",
+        "10",
+        "--steps",
+        "5",
+        "--nodes",
+        "6",
+        "--inputs",
+        "polynomial",
+        "--plot",
+        plot.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(json["converged"], true);
+    assert_eq!(json["system"], "se3-body");
+    let (j, theta, m, t): (f64, f64, f64, f64) = (2.0, 1.2, 5.0, 10.0);
+    let exact = 12.0 * (j * j * theta * theta + m * m * 0.49) / t.powi(3);
+    let got = json["cost"].as_f64().unwrap();
+    assert!(
+        (got - exact).abs() <= 1e-12 * exact,
+        "{got} against {exact}"
+    );
+    assert_eq!(json["inputs"][0].as_array().unwrap().len(), 6);
+    let last = |key: &str| -> Vec<f64> {
+        json[key]
+            .as_array()
+            .unwrap()
+            .last()
+            .unwrap()
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let x = last("x");
+    for (got, want) in x.iter().zip([0.6, -0.3, 0.2]) {
+        assert!((got - want).abs() < 1e-9, "{x:?}");
+    }
+    assert!(last("velocity").iter().all(|v| v.abs() < 1e-9));
+    for name in ["torques", "forces", "position", "attitude_error"] {
+        assert!(dir.join(format!("space_{name}.png")).exists(), "{name}");
+    }
+    let space = [
+        "optimize",
+        "--space",
+        "--attitude-final",
+        "0,0,1",
+        "--t-end",
+        "10",
+        "--quiet",
+    ];
+    for (extra, words) in [
+        (vec!["--cost", "time"], vec!["--cost", "--space"]),
+        (vec!["--wheels"], vec!["--wheels", "--space"]),
+        (vec!["--gravity", "1"], vec!["--gravity", "--space"]),
+        (vec!["--mass", "0"], vec!["--mass", "positive"]),
+        (vec!["--mu", "-1"], vec!["--mu", "non-negative"]),
+        (vec!["--mu", "1"], vec!["--position0", "attracting"]),
+        (vec!["--force-max", "0"], vec!["--force-max", "positive"]),
+        (
+            vec!["--force-max", "1e-6", "--position-final", "5,0,0"],
+            vec!["--torque-max/--force-max", "infeasible"],
+        ),
+    ] {
+        let mut args = space.to_vec();
+        args.extend(extra);
+        assert_refused(&args, &words);
+    }
+    let mut args = space.to_vec();
+    args.retain(|a| *a != "--t-end" && *a != "10");
+    assert_refused(&args, &["--t-end"]);
+    for extra in [
+        ["--force-max", "1"],
+        ["--position-final", "1,0,0"],
+        ["--mu", "1"],
+    ] {
+        let mut args = vec![
+            "optimize",
+            "--attitude-final",
+            "0,0,1",
+            "--t-end",
+            "10",
+            "--quiet",
+        ];
+        args.extend(extra);
+        assert_refused(&args, &[extra[0], "--space"]);
+    }
+}

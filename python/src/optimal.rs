@@ -1,6 +1,7 @@
 //! `lgsvi.optimal`'s compiled core: the slew of a rigid body, a heavy top or a spacecraft
 //! by its reaction wheels at the least energy or in the least time
-//! ([`lgsvi_optimal::Slew`]), solved with the GIL released.
+//! ([`lgsvi_optimal::Slew`]), and a body in space's manoeuvre at the least energy
+//! ([`lgsvi_optimal::Manoeuvre`]), solved with the GIL released.
 
 use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3};
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError, LgsviError};
@@ -66,16 +67,7 @@ fn _slew<'py>(
     wheel_inertia: Option<&Bound<'py, PyAny>>,
     wheel_speeds0: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let shape = match inputs {
-        "constant" => Inputs::Constant,
-        "polynomial" => Inputs::Polynomial,
-        other => {
-            return Err(invalid(format!(
-                "inputs = {other:?}: \"constant\" (held over each step) or \"polynomial\" \
-                 (given at each step's Gauss points)"
-            )))
-        }
-    };
+    let shape = input_shape(inputs)?;
     let cost = match cost {
         "energy" => Cost::Energy,
         "time" => Cost::Time,
@@ -96,18 +88,7 @@ fn _slew<'py>(
         None => lgsvi_mechanics::lie::SO3::identity(),
     };
     let target = rotation(attitude_final, "attitude_final")?;
-    let bound = match torque_max {
-        Some(bound) => Some(
-            match crate::convert::shape_of(bound, "torque_max")?.as_slice() {
-                [] => {
-                    let u: f64 = bound.extract()?;
-                    Vector3::new(u, u, u)
-                }
-                _ => vector3(bound, "torque_max")?,
-            },
-        ),
-        None => None,
-    };
+    let bound = torque_max.map(|b| bound3(b, "torque_max")).transpose()?;
     let t_end = match (t_end, cost, bound) {
         (Some(t), _, _) => t,
         (None, Cost::Time, Some(b)) => {
@@ -215,60 +196,19 @@ fn _slew<'py>(
     let solution = py.detach(|| guarded(|| slew.solve().map_err(optimal_error)))?;
     let k = solution.inputs.len();
     let d = PyDict::new(py);
-    d.set_item("cost", solution.cost)?;
-    d.set_item("t_end", solution.t_end)?;
-    d.set_item("h", solution.h)?;
-    d.set_item("converged", solution.converged)?;
-    d.set_item("iterations", solution.statistics.iterations)?;
-    d.set_item(
-        "kkt_residuals",
-        array1(py, solution.statistics.kkt_residuals.clone()),
-    )?;
-    d.set_item("time_s", solution.statistics.time_s)?;
-    d.set_item("multipliers", array1(py, solution.multipliers.to_vec()))?;
-    d.set_item(
-        "t",
-        array1(py, solution.states.iter().map(|s| s.time).collect()),
-    )?;
-    d.set_item(
-        "inputs",
-        array2(
-            py,
-            k,
-            3,
-            solution
-                .inputs
-                .iter()
-                .flat_map(|u| [u.x, u.y, u.z])
-                .collect(),
-        ),
-    )?;
-    let points = solution.quadrature_nodes.len();
-    d.set_item(
-        "quadrature_nodes",
-        array1(py, solution.quadrature_nodes.clone()),
-    )?;
-    d.set_item(
-        "inputs_at_points",
-        array3(
-            py,
-            (
-                solution.inputs_at_points.len(),
-                if solution.inputs_at_points.is_empty() {
-                    0
-                } else {
-                    points
-                },
-                3,
-            ),
-            solution
-                .inputs_at_points
-                .iter()
-                .flatten()
-                .flat_map(|u| [u.x, u.y, u.z])
-                .collect(),
-        ),
-    )?;
+    Common {
+        cost: solution.cost,
+        t_end: solution.t_end,
+        h: solution.h,
+        converged: solution.converged,
+        statistics: &solution.statistics,
+        multipliers: &solution.multipliers,
+        times: solution.states.iter().map(|s| s.time).collect(),
+        inputs: &solution.inputs,
+        inputs_at_points: &solution.inputs_at_points,
+        quadrature_nodes: &solution.quadrature_nodes,
+    }
+    .set(&d)?;
     d.set_item(
         "wheel_speeds",
         array2(
@@ -310,9 +250,241 @@ fn _slew<'py>(
     Ok(d)
 }
 
-/// Registers the slew solver and its exception.
+/// Solves a manoeuvre of a body in space; the Python layer's `lgsvi.optimal.manoeuvre`
+/// wraps it (its documentation).
+#[pyfunction]
+#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, inputs="constant"))]
+#[allow(clippy::too_many_arguments)]
+fn _manoeuvre<'py>(
+    py: Python<'py>,
+    inertia: &Bound<'py, PyAny>,
+    mass: f64,
+    t_end: f64,
+    attitude_final: Option<&Bound<'py, PyAny>>,
+    position_final: Option<&Bound<'py, PyAny>>,
+    attitude0: Option<&Bound<'py, PyAny>>,
+    position0: Option<&Bound<'py, PyAny>>,
+    omega0: Option<&Bound<'py, PyAny>>,
+    velocity0: Option<&Bound<'py, PyAny>>,
+    omega_final: Option<&Bound<'py, PyAny>>,
+    velocity_final: Option<&Bound<'py, PyAny>>,
+    mu: Option<f64>,
+    steps: usize,
+    nodes: usize,
+    torque_max: Option<&Bound<'py, PyAny>>,
+    force_max: Option<&Bound<'py, PyAny>>,
+    tolerance: f64,
+    max_iterations: usize,
+    warm_start: Option<&Bound<'py, PyAny>>,
+    inputs: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    use lgsvi_mechanics::built_in::BuiltInSe3;
+    use lgsvi_mechanics::lie::{SE3, SO3};
+    use nalgebra::Vector6;
+    let shape = input_shape(inputs)?;
+    let moments = vector3(inertia, "inertia")?;
+    let inertia = Inertia::from_principal_moments([moments.x, moments.y, moments.z])
+        .map_err(|e| invalid(format!("inertia: {e}")))?;
+    let vector_or =
+        |v: Option<&Bound<'py, PyAny>>, name, default| v.map_or(Ok(default), |v| vector3(v, name));
+    let attitude0 = attitude0.map_or(Ok(SO3::identity()), |r| rotation(r, "attitude0"))?;
+    let attitude_final = attitude_final.map_or(Ok(attitude0), |r| rotation(r, "attitude_final"))?;
+    let position0 = vector_or(position0, "position0", Vector3::zeros())?;
+    let position_final = vector_or(position_final, "position_final", position0)?;
+    let body: BuiltInSe3 = match mu {
+        None => lgsvi_mechanics::FreeBody::new(inertia, mass)
+            .map_err(mechanics)?
+            .into(),
+        Some(mu) => {
+            let body = lgsvi_mechanics::OrbitingBody::new(inertia, mass, mu).map_err(mechanics)?;
+            for (name, position) in [("position0", position0), ("position_final", position_final)] {
+                body.check_position(&position)
+                    .map_err(|e| invalid(format!("{name}: {e}")))?;
+            }
+            body.into()
+        }
+    };
+    // The body velocity (Ω, v), v = Rᵀ ẋ, from the world-frame ẋ given.
+    let body_velocity = |attitude: &SO3, omega: Vector3<f64>, velocity: Vector3<f64>| {
+        let v = attitude.matrix().transpose() * velocity;
+        Vector6::new(omega.x, omega.y, omega.z, v.x, v.y, v.z)
+    };
+    let start = body_velocity(
+        &attitude0,
+        vector_or(omega0, "omega0", Vector3::zeros())?,
+        vector_or(velocity0, "velocity0", Vector3::zeros())?,
+    );
+    let target = body_velocity(
+        &attitude_final,
+        vector_or(omega_final, "omega_final", Vector3::zeros())?,
+        vector_or(velocity_final, "velocity_final", Vector3::zeros())?,
+    );
+    let mut manoeuvre = lgsvi_optimal::Manoeuvre::new(body, t_end)
+        .from(SE3::new(attitude0, position0), start)
+        .to(SE3::new(attitude_final, position_final), target)
+        .steps(steps)
+        .nodes(nodes)
+        .tolerance(tolerance)
+        .max_iterations(max_iterations)
+        .inputs(shape);
+    if let Some(bound) = torque_max {
+        manoeuvre = manoeuvre.torque_max(bound3(bound, "torque_max")?.into());
+    }
+    if let Some(bound) = force_max {
+        manoeuvre = manoeuvre.force_max(bound3(bound, "force_max")?.into());
+    }
+    if let Some(initial) = warm_start {
+        let rows = crate::convert::matrix(initial, "warm_start")?;
+        if rows.ncols() != 6 {
+            return Err(invalid(format!(
+                "warm_start must have shape (M, 6), got ({}, {})",
+                rows.nrows(),
+                rows.ncols()
+            )));
+        }
+        manoeuvre = manoeuvre.warm_start(
+            rows.row_iter()
+                .map(|r| Vector6::from_iterator(r.iter().copied()))
+                .collect(),
+        );
+    }
+    let solution = py.detach(|| guarded(|| manoeuvre.solve().map_err(optimal_error)))?;
+    let k = solution.inputs.len();
+    let d = PyDict::new(py);
+    Common {
+        cost: solution.cost,
+        t_end: solution.t_end,
+        h: solution.h,
+        converged: solution.converged,
+        statistics: &solution.statistics,
+        multipliers: &solution.multipliers,
+        times: solution.states.iter().map(|s| s.time).collect(),
+        inputs: &solution.inputs,
+        inputs_at_points: &solution.inputs_at_points,
+        quadrature_nodes: &solution.quadrature_nodes,
+    }
+    .set(&d)?;
+    let states = &solution.states;
+    d.set_item(
+        "attitude",
+        array3(
+            py,
+            (k + 1, 3, 3),
+            states
+                .iter()
+                .flat_map(|s| rows3(s.attitude().matrix()))
+                .collect(),
+        ),
+    )?;
+    let triples = |f: &dyn Fn(&lgsvi_mechanics::State<SE3, 6>) -> Vector3<f64>| {
+        array2(
+            py,
+            k + 1,
+            3,
+            states
+                .iter()
+                .flat_map(|s| f(s).iter().copied().collect::<Vec<_>>())
+                .collect(),
+        )
+    };
+    d.set_item("position", triples(&|s| s.position()))?;
+    d.set_item("omega", triples(&|s| s.angular_velocity()))?;
+    d.set_item("velocity", triples(&|s| s.linear_velocity()))?;
+    Ok(d)
+}
+
+/// What a slew's and a manoeuvre's results share, inputs of `M` entries.
+struct Common<'a, const M: usize> {
+    cost: f64,
+    t_end: f64,
+    h: f64,
+    converged: bool,
+    statistics: &'a lgsvi_optimal::Statistics,
+    multipliers: &'a [f64],
+    times: Vec<f64>,
+    inputs: &'a [nalgebra::SVector<f64, M>],
+    inputs_at_points: &'a [Vec<nalgebra::SVector<f64, M>>],
+    quadrature_nodes: &'a [f64],
+}
+
+impl<const M: usize> Common<'_, M> {
+    /// Puts the fields into the result's dictionary.
+    fn set(self, d: &Bound<'_, PyDict>) -> PyResult<()> {
+        let py = d.py();
+        d.set_item("cost", self.cost)?;
+        d.set_item("t_end", self.t_end)?;
+        d.set_item("h", self.h)?;
+        d.set_item("converged", self.converged)?;
+        d.set_item("iterations", self.statistics.iterations)?;
+        d.set_item(
+            "kkt_residuals",
+            array1(py, self.statistics.kkt_residuals.clone()),
+        )?;
+        d.set_item("time_s", self.statistics.time_s)?;
+        d.set_item("multipliers", array1(py, self.multipliers.to_vec()))?;
+        d.set_item("t", array1(py, self.times))?;
+        let flat = |u: &nalgebra::SVector<f64, M>| u.iter().copied().collect::<Vec<_>>();
+        d.set_item(
+            "inputs",
+            array2(
+                py,
+                self.inputs.len(),
+                M,
+                self.inputs.iter().flat_map(flat).collect(),
+            ),
+        )?;
+        d.set_item(
+            "quadrature_nodes",
+            array1(py, self.quadrature_nodes.to_vec()),
+        )?;
+        let points = if self.inputs_at_points.is_empty() {
+            0
+        } else {
+            self.quadrature_nodes.len()
+        };
+        d.set_item(
+            "inputs_at_points",
+            array3(
+                py,
+                (self.inputs_at_points.len(), points, M),
+                self.inputs_at_points
+                    .iter()
+                    .flatten()
+                    .flat_map(flat)
+                    .collect(),
+            ),
+        )?;
+        Ok(())
+    }
+}
+
+/// `"constant"` or `"polynomial"`.
+fn input_shape(inputs: &str) -> PyResult<Inputs> {
+    match inputs {
+        "constant" => Ok(Inputs::Constant),
+        "polynomial" => Ok(Inputs::Polynomial),
+        other => Err(invalid(format!(
+            "inputs = {other:?}: \"constant\" (held over each step) or \"polynomial\" \
+             (given at each step's Gauss points)"
+        ))),
+    }
+}
+
+/// A bound for every axis (a number) or one per axis (three).
+fn bound3(bound: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector3<f64>> {
+    match crate::convert::shape_of(bound, name)?.as_slice() {
+        [] => {
+            let u: f64 = bound.extract()?;
+            Ok(Vector3::new(u, u, u))
+        }
+        _ => vector3(bound, name),
+    }
+}
+
+/// Registers the slew and manoeuvre solvers and their exception.
 pub fn register(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("InfeasibleError", module.py().get_type::<InfeasibleError>())?;
     module.add_function(wrap_pyfunction!(_slew, module)?)?;
+    module.add_function(wrap_pyfunction!(_manoeuvre, module)?)?;
     Ok(())
 }

@@ -219,3 +219,49 @@ def test_wheel_errors_name_the_argument():
     ]:
         with pytest.raises(lgsvi.InvalidInputError, match=name):
             optimal.slew([3.0, 4.0, 5.0], 10.0, target, **kwargs)
+
+
+def test_a_manoeuvre_in_space_meets_the_split_optimum_and_replays():
+    # A spherical body turned and moved rest to rest: the optimum splits into the two
+    # single-axis cubics, 12 (j^2 theta^2 + m^2 |d|^2) / T^3, which polynomial wrenches meet
+    # to rounding (optimal/tests/manoeuvres.rs derives it).
+    j, m, theta, t_end = 2.0, 5.0, 1.2, 10.0
+    d = np.array([0.6, -0.3, 0.2])
+    target = lie.so3_exp(np.array([1.0, 2.0, 2.0]) / 3 * theta)
+    result = optimal.manoeuvre([j] * 3, m, t_end, attitude_final=target, position_final=d,
+                               steps=5, nodes=6, inputs="polynomial")
+    exact = 12 * (j * j * theta**2 + m * m * d @ d) / t_end**3
+    assert result.cost == pytest.approx(exact, rel=1e-12)
+    assert result.inputs.shape == (5, 6) and result.inputs_at_points.shape == (5, 6, 6)
+    assert np.abs(result.position[-1] - d).max() <= 1e-9
+    # Bounded, between moving states, replayed by the integrator with its held wrenches.
+    body = lgsvi.FreeBody([1.0, 1.5, 2.0], mass=10.0)
+    start_velocity = np.array([0.05, 0.0, 0.0])
+    result = optimal.manoeuvre([1.0, 1.5, 2.0], 10.0, 30.0, attitude_final=lie.so3_exp([0, 0, 1.5]),
+                               position_final=[2.0, 0.0, 0.5], velocity0=start_velocity,
+                               steps=30, nodes=6, torque_max=0.05, force_max=0.2)
+    assert result.converged and np.abs(result.inputs[:, 3:]).max() <= 0.2 * (1 + 1e-9)
+    it = lgsvi.Integrator(body, result.h, 6, velocity=start_velocity)
+    for u in result.inputs:
+        it.set_input(u)
+        it.step()
+    assert np.abs(it.state.position - [2.0, 0.0, 0.5]).max() <= 1e-9
+    assert np.abs(it.state.velocity).max() <= 1e-9
+    assert np.abs(lie.so3_log(it.state.attitude.T @ lie.so3_exp([0, 0, 1.5]))).max() <= 1e-9
+
+
+def test_manoeuvre_errors_name_the_argument():
+    for kwargs, error, name in [
+        (dict(mass=0.0), lgsvi.InvalidInputError, "mass"),
+        (dict(force_max=-1.0), lgsvi.InvalidInputError, "force_max"),
+        (dict(torque_max=[1.0, 0.0, 1.0]), lgsvi.InvalidInputError, "torque_max"),
+        (dict(mu=1.0), lgsvi.InvalidInputError, "position0"),
+        (dict(inputs="cubic"), lgsvi.InvalidInputError, "inputs"),
+        (dict(warm_start=np.zeros((3, 3))), lgsvi.InvalidInputError, "warm_start"),
+        (dict(force_max=1e-6, position_final=[5.0, 0, 0]), optimal.InfeasibleError, "infeasible"),
+    ]:
+        args = dict(mass=1.0, position_final=[1.0, 0.0, 0.0])
+        args.update(kwargs)
+        mass = args.pop("mass")
+        with pytest.raises(error, match=name):
+            optimal.manoeuvre([1.0, 1.5, 2.0], mass, 10.0, **args)

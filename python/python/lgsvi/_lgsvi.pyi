@@ -296,3 +296,26 @@ def _slew(
     wheel_inertia: Optional[ArrayLike] = None,
     wheel_speeds0: Optional[ArrayLike] = None,
 ) -> Dict[str, Any]: ...
+
+def _manoeuvre(
+    inertia: ArrayLike,
+    mass: float,
+    t_end: float,
+    attitude_final: Optional[ArrayLike] = None,
+    position_final: Optional[ArrayLike] = None,
+    attitude0: Optional[ArrayLike] = None,
+    position0: Optional[ArrayLike] = None,
+    omega0: Optional[ArrayLike] = None,
+    velocity0: Optional[ArrayLike] = None,
+    omega_final: Optional[ArrayLike] = None,
+    velocity_final: Optional[ArrayLike] = None,
+    mu: Optional[float] = None,
+    steps: int = 40,
+    nodes: int = 10,
+    torque_max: Optional[ArrayLike] = None,
+    force_max: Optional[ArrayLike] = None,
+    tolerance: float = 1e-10,
+    max_iterations: int = 100,
+    warm_start: Optional[ArrayLike] = None,
+    inputs: str = "constant",
+) -> Dict[str, Any]: ...

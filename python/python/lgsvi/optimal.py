@@ -1,7 +1,9 @@
-"""Optimal control on SO(3) with lgsvi's variational step as the dynamics: a rigid body's
-slew at the least input energy in a fixed time, or in the least time, the torques bounded
-per axis (per wheel for the motor torques of a spacecraft's three reaction wheels); a
-heavy top's, or a spacecraft's by its wheels, likewise.
+"""Optimal control on the group with lgsvi's variational step as the dynamics: a rigid
+body's slew at the least input energy in a fixed time, or in the least time, the torques
+bounded per axis (per wheel for the motor torques of a spacecraft's three reaction wheels);
+a heavy top's, or a spacecraft's by its wheels, likewise (:func:`slew`); and a body in
+space's manoeuvre, its attitude and centre of mass driven by a body wrench at the least
+input energy (:func:`manoeuvre`).
 
 The problem: ``K`` steps of a common length ``h`` (each one lgsvi step of ``nodes``
 nodes), the body torque ``u_k`` held over step ``k``; from ``(attitude0, omega0)`` to
@@ -42,7 +44,7 @@ import numpy as np
 
 from . import _lgsvi
 
-__all__ = ["InfeasibleError", "SlewResult", "slew"]
+__all__ = ["InfeasibleError", "ManoeuvreResult", "SlewResult", "manoeuvre", "slew"]
 
 InfeasibleError = _lgsvi.InfeasibleError
 
@@ -198,3 +200,135 @@ def slew(
         wheel_speeds0=wheel_speeds0,
     )
     return SlewResult(**fields)
+
+
+class ManoeuvreResult:
+    """A solved manoeuvre of a body in space.
+
+    Attributes
+    ----------
+    cost : float
+        ``sum_k h |u_k|^2``, the integral of ``|tau|^2 + |f|^2`` (no 1/2).
+    t : ndarray (K+1,)
+        The step boundaries' times.
+    attitude : ndarray (K+1, 3, 3)
+        ``R_k``, body to world.
+    position : ndarray (K+1, 3)
+        The centre of mass, world frame.
+    omega : ndarray (K+1, 3)
+        The body rates.
+    velocity : ndarray (K+1, 3)
+        The centre of mass's velocity, world frame.
+    inputs : ndarray (K, 6)
+        Each step's body wrench ``(tau, f)`` (body frame, N m and N); with
+        ``inputs="polynomial"`` its mean over the step's Gauss points.
+    inputs_at_points : ndarray (K, m, 6)
+        With ``inputs="polynomial"``, each step's wrenches at its ``m`` Gauss points, which
+        replay through :meth:`lgsvi.Integrator.set_input_at_points`; ``(0, 0, 6)`` otherwise.
+    quadrature_nodes : ndarray (m,)
+        The Gauss points as fractions of a step.
+    multipliers : ndarray (12,)
+        The terminal constraint's multipliers (pose, then velocity, in the body-frame
+        coordinates of the linearisation at the target).
+    h, t_end : float
+        The step and the duration.
+    converged : bool
+    iterations : int
+        SQP iterations.
+    kkt_residuals : ndarray
+        The scaled KKT residual at each iterate.
+    time_s : float
+        The solve's wall time.
+    """
+
+    __slots__ = (
+        "cost", "t", "attitude", "position", "omega", "velocity", "inputs", "inputs_at_points",
+        "quadrature_nodes", "multipliers", "h", "t_end", "converged", "iterations",
+        "kkt_residuals", "time_s",
+    )
+
+    def __init__(self, **fields: Any) -> None:
+        for name in self.__slots__:
+            setattr(self, name, fields[name])
+
+    def __repr__(self) -> str:
+        return (
+            f"ManoeuvreResult(cost={self.cost:.6e}, steps={len(self.inputs)}, "
+            f"iterations={self.iterations}, converged={self.converged})"
+        )
+
+
+def manoeuvre(
+    inertia: Any,
+    mass: float,
+    t_end: float,
+    *,
+    attitude_final: Optional[Any] = None,
+    position_final: Optional[Any] = None,
+    attitude0: Optional[Any] = None,
+    position0: Optional[Any] = None,
+    omega0: Optional[Any] = None,
+    velocity0: Optional[Any] = None,
+    omega_final: Optional[Any] = None,
+    velocity_final: Optional[Any] = None,
+    mu: Optional[float] = None,
+    steps: int = 40,
+    nodes: int = 10,
+    torque_max: Optional[Any] = None,
+    force_max: Optional[Any] = None,
+    tolerance: float = 1e-10,
+    max_iterations: int = 100,
+    warm_start: Optional[Any] = None,
+    inputs: str = "constant",
+) -> ManoeuvreResult:
+    """The manoeuvre of a rigid body in space of principal moments ``inertia`` (3,) and
+    ``mass``, in the time ``t_end`` (s), at the least ``integral of |tau|^2 + |f|^2 dt``:
+    driven by a body wrench ``(tau, f)`` (torque and force, both in the body frame) from
+    ``attitude0`` (3, 3; default identity), ``position0`` (world frame; default the origin),
+    ``omega0`` (body rates) and ``velocity0`` (the centre of mass's, world frame; both
+    default rest) to ``attitude_final`` (default the start's), ``position_final`` (default
+    the start's), ``omega_final`` and ``velocity_final`` (default rest). ``mu`` makes the
+    body orbit a point mass of gravitational parameter ``mu`` at the origin (as
+    :class:`lgsvi.OrbitingBody`); without it the body is free (:class:`lgsvi.FreeBody`).
+
+    ``steps`` steps of ``nodes`` nodes; ``torque_max`` and ``force_max`` bound each body
+    axis (one number for all three, or three); ``inputs="polynomial"`` makes the wrench a
+    polynomial within each step (given at its Gauss points), ``"constant"`` holds it over
+    each step; ``warm_start`` (K, 6) or (K m, 6) wrenches to start from.
+
+    Solved by the slew's Gauss-Newton SQP: its convergence is linear, slower as the
+    translation's share of the cost grows (the force's direction turns with the attitude);
+    raise ``max_iterations`` where the error says so.
+
+    Raises
+    ------
+    InvalidInputError
+        A setting out of range, named.
+    InfeasibleError
+        No wrenches within the bounds reach the target in the time.
+    ConvergenceError
+        The iterations ran out (the message gives the residual reached).
+    """
+    fields = _lgsvi._manoeuvre(
+        inertia,
+        mass,
+        t_end,
+        attitude_final=attitude_final,
+        position_final=position_final,
+        attitude0=attitude0,
+        position0=position0,
+        omega0=omega0,
+        velocity0=velocity0,
+        omega_final=omega_final,
+        velocity_final=velocity_final,
+        mu=mu,
+        steps=steps,
+        nodes=nodes,
+        torque_max=torque_max,
+        force_max=force_max,
+        tolerance=tolerance,
+        max_iterations=max_iterations,
+        warm_start=warm_start,
+        inputs=inputs,
+    )
+    return ManoeuvreResult(**fields)
