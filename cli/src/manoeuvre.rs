@@ -251,7 +251,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         ),
         OptimalError::NotConverged { .. } => (
             "--max-iterations",
-            options.max_iterations.unwrap_or(100).to_string(),
+            options.max_iterations.unwrap_or(500).to_string(),
         ),
         OptimalError::Mechanics(MechanicsError::InvalidSetting { name: "nodes", .. }) => {
             ("--nodes", options.nodes.unwrap_or(10).to_string())

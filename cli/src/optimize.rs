@@ -143,7 +143,7 @@ pub struct OptimizeOptions {
     /// The scaled KKT residual to reach [default: 1e-10].
     #[arg(long)]
     pub tolerance: Option<f64>,
-    /// The most SQP iterations [default: 100].
+    /// The most SQP iterations [default: 100; 500 with --space].
     #[arg(long)]
     pub max_iterations: Option<usize>,
     /// Output file (JSON) [default: standard output].

@@ -103,7 +103,8 @@ pub struct ManoeuvreSolution {
 impl Manoeuvre {
     /// A manoeuvre of `body` in time `t_end`, by default rest to rest from the identity
     /// pose to the identity pose, 20 steps of 10 nodes, no bounds, tolerance 1e-10, at
-    /// most 100 iterations, from no wrench (with bounds, from the unbounded optimum
+    /// most 500 iterations (a manoeuvre whose translation dominates its cost takes
+    /// hundreds: the guide's "How fast it converges"), from no wrench (with bounds, from the unbounded optimum
     /// clamped to them).
     pub fn new(body: impl Into<BuiltInSe3>, t_end: f64) -> Self {
         Self {
@@ -117,7 +118,7 @@ impl Manoeuvre {
             force_max: None,
             inputs: Inputs::Constant,
             tolerance: 1e-10,
-            max_iterations: 100,
+            max_iterations: 500,
             initial: None,
         }
     }

@@ -253,7 +253,7 @@ fn _slew<'py>(
 /// Solves a manoeuvre of a body in space; the Python layer's `lgsvi.optimal.manoeuvre`
 /// wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, inputs="constant"))]
+#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant"))]
 #[allow(clippy::too_many_arguments)]
 fn _manoeuvre<'py>(
     py: Python<'py>,

@@ -315,7 +315,7 @@ def _manoeuvre(
     torque_max: Optional[ArrayLike] = None,
     force_max: Optional[ArrayLike] = None,
     tolerance: float = 1e-10,
-    max_iterations: int = 100,
+    max_iterations: int = 500,
     warm_start: Optional[ArrayLike] = None,
     inputs: str = "constant",
 ) -> Dict[str, Any]: ...

@@ -277,7 +277,7 @@ def manoeuvre(
     torque_max: Optional[Any] = None,
     force_max: Optional[Any] = None,
     tolerance: float = 1e-10,
-    max_iterations: int = 100,
+    max_iterations: int = 500,
     warm_start: Optional[Any] = None,
     inputs: str = "constant",
 ) -> ManoeuvreResult:
