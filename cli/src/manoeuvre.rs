@@ -54,7 +54,9 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
         }
     };
     let attitude0 = SO3::exp(&Vector3::from(options.attitude0.unwrap_or([0.0; 3])));
-    let attitude_final = SO3::exp(&Vector3::from(options.attitude_final));
+    let attitude_final = options
+        .attitude_final
+        .map_or(attitude0, |a| SO3::exp(&Vector3::from(a)));
     // The body velocity (Ω, v) with v = Rᵀ ẋ from the world-frame ẋ the flags give.
     let body_velocity = |attitude: &SO3, omega: Option<[f64; 3]>, velocity: Option<[f64; 3]>| {
         let v = attitude.matrix().transpose() * Vector3::from(velocity.unwrap_or([0.0; 3]));
@@ -162,7 +164,7 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
 /// The slew's flags, which a manoeuvre in space does not take.
 fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
     let given = [
-        ("--cost", options.cost.is_some()),
+        ("--cost", options.cost == Some(crate::optimize::Cost::Time)),
         ("--gravity", options.gravity.is_some()),
         ("--com", options.com.is_some()),
         ("--gravity-direction", options.gravity_direction.is_some()),
@@ -212,7 +214,7 @@ pub fn refuse_space_only(options: &OptimizeOptions) -> Result<()> {
 /// A solver's error naming the flag to change.
 fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
     let list = |v: Option<[f64; 3]>| {
-        v.map_or(String::new(), |v| {
+        v.map_or("(none)".to_string(), |v| {
             v.iter()
                 .map(|x| format!("{x:?}"))
                 .collect::<Vec<_>>()

@@ -97,9 +97,10 @@ pub struct OptimizeOptions {
     /// The start attitude as a rotation vector (radians, body to world) [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub attitude0: Option<[f64; 3]>,
-    /// The target attitude as a rotation vector (radians, body to world).
+    /// The target attitude as a rotation vector (radians, body to world); needed for a
+    /// slew [with --space, default: the start's].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
-    pub attitude_final: [f64; 3],
+    pub attitude_final: Option<[f64; 3]>,
     /// The start body rates, rad/s [default: 0,0,0].
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub omega0: Option<[f64; 3]>,
@@ -149,7 +150,8 @@ pub struct OptimizeOptions {
     /// Output file (JSON) [default: standard output].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Also draw the torques, the rates and the attitude error to PLOT_*.svg and .png.
+    /// Also draw the torques, the rates and the attitude error to PLOT_*.svg and .png (with
+    /// --space: the torques, the forces, the centre of mass and the attitude error).
     #[arg(long, value_name = "PLOT")]
     pub plot: Option<PathBuf>,
     /// No progress line.
@@ -200,7 +202,13 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     })?;
     let gravity = heavy_top(&options)?;
     let start = SO3::exp(&Vector3::from(options.attitude0.unwrap_or([0.0; 3])));
-    let target = SO3::exp(&Vector3::from(options.attitude_final));
+    let attitude_final = options.attitude_final.ok_or(CliError::invalid(
+        "--attitude-final",
+        "(none)",
+        "a slew needs its target attitude: give --attitude-final X,Y,Z (a rotation vector, \
+         radians, body to world)",
+    ))?;
+    let target = SO3::exp(&Vector3::from(attitude_final));
     let omega0 = Vector3::from(options.omega0.unwrap_or([0.0; 3]));
     let omega_final = Vector3::from(options.omega_final.unwrap_or([0.0; 3]));
     let (steps, nodes) = (options.steps.unwrap_or(40), options.nodes.unwrap_or(10));
@@ -218,7 +226,7 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         )
         .ok_or(CliError::invalid(
             "--attitude-final",
-            options.attitude_final.map(|x| format!("{x:?}")).join(","),
+            attitude_final.map(|x| format!("{x:?}")).join(","),
             "the target attitude is the start's: give another target, or --t-end as the \
              first guess of the time",
         ))?,

@@ -2566,6 +2566,67 @@ fn optimize_manoeuvres_a_body_in_space() {
         assert!((got - want).abs() < 1e-9, "{x:?}");
     }
     assert!(last("velocity").iter().all(|v| v.abs() < 1e-9));
+    // Moving states, given in the world frame, are reached in the world frame; the target
+    // attitude defaults to the start's.
+    let (code, out, err) = lgsvi(&[
+        "optimize",
+        "--space",
+        "--attitude0",
+        "0.3,-0.2,0.5",
+        "--velocity0",
+        "0.02,0,0",
+        "--position-final",
+        "1,1,0",
+        "--velocity-final",
+        "0.05,-0.02,0.01",
+        "--omega-final",
+        "0,0,0.01",
+        "--t-end",
+        "20",
+        "--steps",
+        "10",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let moving: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let end = |key: &str| -> Vec<f64> {
+        moving[key]
+            .as_array()
+            .unwrap()
+            .last()
+            .unwrap()
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    for (key, want) in [
+        ("velocity", [0.05, -0.02, 0.01]),
+        ("x", [1.0, 1.0, 0.0]),
+        ("omega", [0.0, 0.0, 0.01]),
+    ] {
+        let got = end(key);
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-9),
+            "{key}: {got:?}"
+        );
+    }
+    let first = moving["velocity"][0].as_array().unwrap();
+    assert!(
+        (first[0].as_f64().unwrap() - 0.02).abs() < 1e-12,
+        "{first:?}"
+    );
+    assert!(
+        moving["attitude_error_deg"]
+            .as_array()
+            .unwrap()
+            .last()
+            .unwrap()
+            .as_f64()
+            .unwrap()
+            < 1e-7
+    );
     for name in ["torques", "forces", "position", "attitude_error"] {
         assert!(dir.join(format!("space_{name}.png")).exists(), "{name}");
     }
@@ -2580,6 +2641,17 @@ fn optimize_manoeuvres_a_body_in_space() {
     ];
     for (extra, words) in [
         (vec!["--cost", "time"], vec!["--cost", "--space"]),
+        (
+            vec![
+                "--torque-max",
+                "1e-7",
+                "--force-max",
+                "1e-7",
+                "--position-final",
+                "5,0,0",
+            ],
+            vec!["--torque-max/--force-max", "infeasible"],
+        ),
         (vec!["--wheels"], vec!["--wheels", "--space"]),
         (vec!["--gravity", "1"], vec!["--gravity", "--space"]),
         (vec!["--mass", "0"], vec!["--mass", "positive"]),

@@ -41,6 +41,7 @@ pub(crate) fn minimum_energy(
         max_iterations: slew.max_iterations,
         shoot: &shoot,
         residuals: &fit,
+        equilibrate: false,
     };
     let solved = problem.solve(start.inputs, tolerance)?;
     let mut terminal = [0.0; 6];
@@ -82,6 +83,9 @@ pub(crate) struct Problem<'a, St, const M: usize> {
     pub shoot: &'a Shooter<'a, St, M>,
     /// The tracking and terminal residuals of a run and their Jacobian, if any.
     pub residuals: &'a dyn Fn(&Shot<St>) -> Option<Residuals>,
+    /// Whether the subproblem sees its equality rows scaled to a largest entry of 1 (for
+    /// rows of very different sizes, as a body in space's attitude and position).
+    pub equilibrate: bool,
 }
 
 /// A run of the integrator under inputs of `M` entries.
@@ -184,11 +188,36 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     .unzip(),
                 None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
             };
-            let solution = qp::solve(hessian, gradient.as_slice(), rows, e, &lower, &upper, 1e-13)?
-                .ok_or(OptimalError::Infeasible {
-                    residual: miss,
-                    bounded: self.bound.is_some(),
-                })?;
+            // The equality rows scaled to a largest entry of 1 for the subproblem (the
+            // same constraints, better conditioned); its multipliers scaled back.
+            let row_scale: Vec<f64> = (0..rows.nrows())
+                .map(|i| {
+                    let largest = rows.row(i).amax();
+                    if self.equilibrate && largest > 0.0 {
+                        1.0 / largest
+                    } else {
+                        1.0
+                    }
+                })
+                .collect();
+            let scaled_rows = DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * row_scale[i]);
+            let scaled_e = DVector::from_fn(e.len(), |i, _| e[i] * row_scale[i]);
+            let mut solution = qp::solve(
+                hessian,
+                gradient.as_slice(),
+                &scaled_rows,
+                &scaled_e,
+                &lower,
+                &upper,
+                1e-13,
+            )?
+            .ok_or(OptimalError::Infeasible {
+                residual: miss,
+                bounded: self.bound.is_some(),
+            })?;
+            for (l, s) in solution.lambda.iter_mut().zip(&row_scale) {
+                *l *= s;
+            }
             let (step, lambda) = (&solution.step, &solution.lambda);
             // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target
             // is exact): halve the step until it falls.

@@ -655,6 +655,13 @@ impl Slew {
             ));
         }
         if let Some(initial) = &self.initial {
+            if initial.iter().any(|u| !u.iter().all(|x| x.is_finite())) {
+                return Err(invalid(
+                    "warm_start",
+                    format!("{} torques", initial.len()),
+                    "not finite",
+                ));
+            }
             let points = self.points_per_step(settings)?;
             if initial.len() != self.steps && initial.len() != self.steps * points {
                 return Err(invalid(

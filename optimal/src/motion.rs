@@ -29,7 +29,10 @@ type SE3State = State<SE3, 6>;
 /// lgsvi's steps, the wrench held over each step or a polynomial given at its Gauss points
 /// ([`Inputs`]), the terminal pose and velocity exact (twelve conditions, the pose's miss
 /// taken by SE(3)'s log), solved by the same Gauss–Newton SQP with the steps' exact
-/// linearisations in their native coordinates (`g = ḡ exp(θ)`, `ξ = ξ̄ + ω`).
+/// linearisations in their native coordinates (`g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). The terminal
+/// miss that the tolerance bounds has its position measured in units of
+/// `L = max(1, |x₀|, |x_f|)` and its velocity in units of `V = max(1, |v₀|, |v_f|)`, so
+/// that a body far from the origin converges to its own precision.
 ///
 /// ```
 /// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
@@ -104,8 +107,9 @@ impl Manoeuvre {
     /// A manoeuvre of `body` in time `t_end`, by default rest to rest from the identity
     /// pose to the identity pose, 20 steps of 10 nodes, no bounds, tolerance 1e-10, at
     /// most 500 iterations (a manoeuvre whose translation dominates its cost takes
-    /// hundreds: the guide's "How fast it converges"), from no wrench (with bounds, from the unbounded optimum
-    /// clamped to them).
+    /// hundreds: the guide's "How fast it converges"), from no wrench (with bounds, if a
+    /// subproblem finds none within them, again from the unbounded optimum clamped to
+    /// them).
     pub fn new(body: impl Into<BuiltInSe3>, t_end: f64) -> Self {
         Self {
             body: body.into(),
@@ -250,8 +254,8 @@ impl Manoeuvre {
                 return Err(invalid(
                     name,
                     format!(
-                        "R {:?}, x {:?}, velocity {:?}",
-                        g.rotation().matrix().as_slice(),
+                        "R {:?} (row-major), x {:?}, body velocity {:?}",
+                        g.rotation().to_row_major(),
                         g.translation().as_slice(),
                         xi.as_slice()
                     ),
@@ -265,6 +269,13 @@ impl Manoeuvre {
                 Inputs::Constant => 1,
                 _ => self.quadrature(settings)?.0.len(),
             };
+            if initial.iter().any(|u| !u.iter().all(|x| x.is_finite())) {
+                return Err(invalid(
+                    "warm_start",
+                    format!("{} wrenches", initial.len()),
+                    "not finite",
+                ));
+            }
             if initial.len() != self.steps && initial.len() != self.steps * points {
                 return Err(invalid(
                     "warm_start",
@@ -297,31 +308,42 @@ impl Manoeuvre {
         let (k_steps, h) = (self.steps, settings.h());
         let (nodes, weights) = self.quadrature(settings)?;
         let bound = self.bound();
-        let attempt = |initial: Option<&[Vector6<f64>]>| {
+        let scale = self.scale();
+        let attempt = |initial: Option<&[Vector6<f64>]>, bound: Option<Vector6<f64>>| {
             let start = Start::of(self.inputs, h, k_steps, &weights, initial, bound);
-            self.solve_from(settings, start, bound)
+            self.solve_from(settings, start, bound, &scale)
         };
-        let solved = match attempt(self.initial.as_deref()) {
-            // Bounded without a warm start, the first subproblem (linearised about the
-            // unforced drift) can find no wrench within the bounds where the manoeuvre
-            // has one: then from the unbounded optimum clamped to the bounds, and where
-            // that fails too, the first verdict stands.
-            Err(infeasible @ OptimalError::Infeasible { .. }) if self.initial.is_none() => {
-                let unbounded = Manoeuvre {
-                    torque_max: None,
-                    force_max: None,
-                    ..self.clone()
-                }
-                .solve();
-                match unbounded {
-                    Ok(free) => {
-                        let inputs = if free.inputs_at_points.is_empty() {
-                            free.inputs
-                        } else {
-                            free.inputs_at_points.concat()
-                        };
-                        attempt(Some(&inputs)).map_err(|_| infeasible)?
+        let solved = match attempt(self.initial.as_deref(), bound) {
+            // Bounded without a warm start, a subproblem (linearised about an iterate far
+            // from the solution, at first the unforced drift) can find no wrench within
+            // the bounds where the manoeuvre has one: then again from the unbounded
+            // optimum clamped to the bounds. Where the restart runs out of iterations,
+            // that is the verdict; where it fails otherwise (infeasible too, a step that
+            // fails on the way) or the unbounded manoeuvre has no solution, the first
+            // verdict stands.
+            Err(infeasible @ OptimalError::Infeasible { bounded: true, .. })
+                if self.initial.is_none() =>
+            {
+                let Ok((per_step, free)) = attempt(None, None) else {
+                    return Err(infeasible);
+                };
+                let (means, at_points) = by_step(&free.inputs, per_step, &weights);
+                let inputs = if at_points.is_empty() {
+                    means
+                } else {
+                    at_points.concat()
+                };
+                match attempt(Some(&inputs), bound) {
+                    Ok((per_step, mut found)) => {
+                        // The record covers both solves.
+                        let first = free.statistics;
+                        let then = &mut found.statistics;
+                        then.iterations += first.iterations;
+                        then.kkt_residuals.splice(0..0, first.kkt_residuals);
+                        then.terminal_misses.splice(0..0, first.terminal_misses);
+                        (per_step, found)
                     }
+                    Err(ran_out @ OptimalError::NotConverged { .. }) => return Err(ran_out),
                     Err(_) => return Err(infeasible),
                 }
             }
@@ -329,8 +351,11 @@ impl Manoeuvre {
         };
         let per_step = solved.0;
         let solved = solved.1;
+        // The multipliers of the scaled rows, in the unscaled miss.
         let mut multipliers = [0.0; 12];
-        multipliers.copy_from_slice(solved.multipliers.as_slice());
+        for (i, m) in multipliers.iter_mut().enumerate() {
+            *m = solved.multipliers[i] / scale[i];
+        }
         let (means, at_points) = by_step(&solved.inputs, per_step, &weights);
         let mut statistics = solved.statistics;
         statistics.time_s = clock.elapsed().as_secs_f64();
@@ -348,16 +373,50 @@ impl Manoeuvre {
         })
     }
 
-    /// The Gauss–Newton SQP from `start`: the inputs a step and what it found.
+    /// The lengths that the miss's rows are measured in: 1 for the attitude's and the
+    /// rates', `L = max(1, |x₀|, |x_f|)` for the position's and `V = max(1, |v₀|, |v_f|)`
+    /// for the velocity's, so that the tolerance on the miss is relative to the
+    /// manoeuvre's own size (a body 7000 km from the origin has its position to ~1e-9 m
+    /// only, in double precision).
+    fn scale(&self) -> [f64; 12] {
+        let length = self
+            .start
+            .0
+            .translation()
+            .norm()
+            .max(self.target.0.translation().norm())
+            .max(1.0);
+        let speed = self
+            .start
+            .1
+            .fixed_rows::<3>(3)
+            .norm()
+            .max(self.target.1.fixed_rows::<3>(3).norm())
+            .max(1.0);
+        std::array::from_fn(|i| match i {
+            3..=5 => length,
+            9..=11 => speed,
+            _ => 1.0,
+        })
+    }
+
+    /// The Gauss–Newton SQP from `start`, the miss's rows measured in `scale`: the inputs
+    /// a step and what it found.
     fn solve_from(
         &self,
         settings: StepSettings,
         start: Start<6>,
         bound: Option<Vector6<f64>>,
+        scale: &[f64; 12],
     ) -> Result<(usize, Solved<SE3State, 6>), OptimalError> {
         let per_step = start.step_weights.len();
         let shoot = |u: &[Vector6<f64>]| {
-            shoot_motion(self.body, settings, self.start, self.target, u, per_step)
+            let mut shot = shoot_motion(self.body, settings, self.start, self.target, u, per_step)?;
+            for (i, l) in scale.iter().enumerate() {
+                shot.miss[i] /= l;
+                shot.sensitivity.row_mut(i).unscale_mut(*l);
+            }
+            Ok(shot)
         };
         let problem = Problem {
             step_weights: &start.step_weights,
@@ -366,6 +425,7 @@ impl Manoeuvre {
             max_iterations: self.max_iterations,
             shoot: &shoot,
             residuals: &|_| None,
+            equilibrate: true,
         };
         Ok((per_step, problem.solve(start.inputs, self.tolerance)?))
     }

@@ -219,7 +219,11 @@ pub(crate) fn shoot_motion(
         let velocity = target.1 - last.velocity;
         DVector::from_iterator(12, pose.iter().chain(velocity.iter()).copied())
     };
-    shoot_with(it, inputs, plan, |s| (*s, None), miss)
+    let mut shot = shoot_with(it, inputs, plan, |s| (*s, None), miss)?;
+    // No time law for a body in space (an orbiting body's potential does not scale with
+    // the time, and the least time is not built for it): no `∂x_K/∂h`.
+    shot.time_sensitivity.fill(0.0);
+    Ok(shot)
 }
 
 /// How a run's inputs enter its integrator and what of its state the problem sees.

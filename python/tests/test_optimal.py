@@ -250,6 +250,21 @@ def test_a_manoeuvre_in_space_meets_the_split_optimum_and_replays():
     assert np.abs(lie.so3_log(it.state.attitude.T @ lie.so3_exp([0, 0, 1.5]))).max() <= 1e-9
 
 
+def test_a_manoeuvre_between_moving_states_takes_world_velocities():
+    # Velocities are given and reported in the world frame; a turned target with a moving
+    # centre of mass is reached as given (a wrong frame would miss it by the rotation).
+    attitude_final = lie.so3_exp([0.4, 0.8, 0.8])
+    result = optimal.manoeuvre([1.0, 1.5, 2.0], 3.0, 20.0, attitude0=lie.so3_exp([0.3, -0.2, 0.5]),
+                               velocity0=[0.02, 0.0, 0.0], attitude_final=attitude_final,
+                               position_final=[1.0, 1.0, 0.0], velocity_final=[0.05, -0.02, 0.01],
+                               omega_final=[0.0, 0.0, 0.01], steps=10, nodes=6)
+    assert np.abs(result.velocity[0] - [0.02, 0.0, 0.0]).max() <= 1e-12
+    assert np.abs(result.velocity[-1] - [0.05, -0.02, 0.01]).max() <= 1e-9
+    assert np.abs(result.position[-1] - [1.0, 1.0, 0.0]).max() <= 1e-9
+    assert np.abs(result.omega[-1] - [0.0, 0.0, 0.01]).max() <= 1e-9
+    assert np.abs(lie.so3_log(result.attitude[-1].T @ attitude_final)).max() <= 1e-9
+
+
 def test_manoeuvre_errors_name_the_argument():
     for kwargs, error, name in [
         (dict(mass=0.0), lgsvi.InvalidInputError, "mass"),
