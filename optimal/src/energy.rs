@@ -188,25 +188,32 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     .unzip(),
                 None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
             };
-            // The equality rows scaled to a largest entry of 1 for the subproblem (the
-            // same constraints, better conditioned); its multipliers scaled back.
-            let row_scale: Vec<f64> = (0..rows.nrows())
-                .map(|i| {
-                    let largest = rows.row(i).amax();
-                    if self.equilibrate && largest > 0.0 {
-                        1.0 / largest
-                    } else {
-                        1.0
-                    }
-                })
-                .collect();
-            let scaled_rows = DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * row_scale[i]);
-            let scaled_e = DVector::from_fn(e.len(), |i, _| e[i] * row_scale[i]);
+            // With `equilibrate`, the equality rows scaled to a largest entry of 1 for the
+            // subproblem (the same constraints, better conditioned); its multipliers
+            // scaled back.
+            let row_scale: Option<Vec<f64>> = self.equilibrate.then(|| {
+                (0..rows.nrows())
+                    .map(|i| match rows.row(i).amax() {
+                        largest if largest > 0.0 => 1.0 / largest,
+                        _ => 1.0,
+                    })
+                    .collect()
+            });
+            let scaled = row_scale.as_ref().map(|s| {
+                (
+                    DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * s[i]),
+                    DVector::from_fn(e.len(), |i, _| e[i] * s[i]),
+                )
+            });
+            let (qp_rows, qp_e) = match &scaled {
+                Some((m, f)) => (m, f),
+                None => (rows, e),
+            };
             let mut solution = qp::solve(
                 hessian,
                 gradient.as_slice(),
-                &scaled_rows,
-                &scaled_e,
+                qp_rows,
+                qp_e,
                 &lower,
                 &upper,
                 1e-13,
@@ -215,8 +222,10 @@ impl<St, const M: usize> Problem<'_, St, M> {
                 residual: miss,
                 bounded: self.bound.is_some(),
             })?;
-            for (l, s) in solution.lambda.iter_mut().zip(&row_scale) {
-                *l *= s;
+            if let Some(s) = &row_scale {
+                for (l, s) in solution.lambda.iter_mut().zip(s) {
+                    *l *= s;
+                }
             }
             let (step, lambda) = (&solution.step, &solution.lambda);
             // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target

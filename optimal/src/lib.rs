@@ -110,6 +110,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod checks;
 mod energy;
 mod motion;
 mod qp;
@@ -504,42 +505,14 @@ impl Slew {
     }
 
     fn check(&self) -> Result<StepSettings, OptimalError> {
-        let invalid = |name, value: String, reason: &str| OptimalError::InvalidSetting {
-            name,
-            value,
-            reason: reason.into(),
-        };
-        if !(self.t_end.is_finite() && self.t_end > 0.0) {
-            return Err(invalid(
-                "t_end",
-                format!("{:?}", self.t_end),
-                "the final time is positive and finite",
-            ));
-        }
-        if self.steps < 2 || self.steps > 100_000 {
-            return Err(invalid(
-                "steps",
-                self.steps.to_string(),
-                "from 2 to 100000 steps (the terminal attitude and rates are six conditions; \
-                 one step has three torques)",
-            ));
-        }
-        if let Some(bound) = self.torque_max {
-            if bound.iter().any(|b| !(b.is_finite() && *b > 0.0)) {
-                return Err(invalid(
-                    "torque_max",
-                    format!("{:?}", bound.as_slice()),
-                    "each axis's bound is positive and finite",
-                ));
-            }
-        }
-        if !(self.tolerance.is_finite() && self.tolerance >= 1e-14 && self.tolerance < 1.0) {
-            return Err(invalid(
-                "tolerance",
-                format!("{:?}", self.tolerance),
-                "a scaled KKT residual from 1e-14 to below 1",
-            ));
-        }
+        use checks::invalid;
+        checks::horizon(
+            self.t_end,
+            self.steps,
+            "the terminal attitude and rates are six conditions; one step has three torques",
+        )?;
+        checks::bound("torque_max", self.torque_max)?;
+        checks::tolerance(self.tolerance)?;
         for (name, (r, w)) in [("start", self.start), ("target", self.target)] {
             if !(r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite())) {
                 return Err(invalid(
@@ -655,22 +628,12 @@ impl Slew {
             ));
         }
         if let Some(initial) = &self.initial {
-            if initial.iter().any(|u| !u.iter().all(|x| x.is_finite())) {
-                return Err(invalid(
-                    "warm_start",
-                    format!("{} torques", initial.len()),
-                    "not finite",
-                ));
-            }
-            let points = self.points_per_step(settings)?;
-            if initial.len() != self.steps && initial.len() != self.steps * points {
-                return Err(invalid(
-                    "warm_start",
-                    format!("{} torques", initial.len()),
-                    "one torque per step (or, with polynomial inputs, one per Gauss point of \
-                     each step)",
-                ));
-            }
+            checks::warm_start(
+                initial,
+                self.steps,
+                || self.points_per_step(settings),
+                ["torque", "torques"],
+            )?;
         }
         Ok(settings)
     }

@@ -205,47 +205,15 @@ impl Manoeuvre {
 
     /// The settings' steps, after the manoeuvre's settings are checked.
     fn check(&self) -> Result<StepSettings, OptimalError> {
-        let invalid = |name, value: String, reason: &str| OptimalError::InvalidSetting {
-            name,
-            value,
-            reason: reason.into(),
-        };
-        if !(self.t_end.is_finite() && self.t_end > 0.0) {
-            return Err(invalid(
-                "t_end",
-                format!("{:?}", self.t_end),
-                "the final time is positive and finite",
-            ));
-        }
-        if self.steps < 2 || self.steps > 100_000 {
-            return Err(invalid(
-                "steps",
-                self.steps.to_string(),
-                "from 2 to 100000 steps (the terminal pose and velocity are twelve \
-                 conditions; one step has six inputs)",
-            ));
-        }
-        for (name, bound) in [
-            ("torque_max", self.torque_max),
-            ("force_max", self.force_max),
-        ] {
-            if let Some(bound) = bound {
-                if bound.iter().any(|b| !(b.is_finite() && *b > 0.0)) {
-                    return Err(invalid(
-                        name,
-                        format!("{:?}", bound.as_slice()),
-                        "each axis's bound is positive and finite",
-                    ));
-                }
-            }
-        }
-        if !(self.tolerance.is_finite() && self.tolerance >= 1e-14 && self.tolerance < 1.0) {
-            return Err(invalid(
-                "tolerance",
-                format!("{:?}", self.tolerance),
-                "a scaled KKT residual from 1e-14 to below 1",
-            ));
-        }
+        use crate::checks::{self, invalid};
+        checks::horizon(
+            self.t_end,
+            self.steps,
+            "the terminal pose and velocity are twelve conditions; one step has six inputs",
+        )?;
+        checks::bound("torque_max", self.torque_max)?;
+        checks::bound("force_max", self.force_max)?;
+        checks::tolerance(self.tolerance)?;
         for (name, (g, xi)) in [("start", self.start), ("target", self.target)] {
             let finite = g.rotation().matrix().iter().all(|x| x.is_finite())
                 && g.translation().iter().all(|x| x.is_finite())
@@ -265,25 +233,13 @@ impl Manoeuvre {
         }
         let settings = StepSettings::new(self.t_end / self.steps as f64, self.nodes)?;
         if let Some(initial) = &self.initial {
-            let points = match self.inputs {
-                Inputs::Constant => 1,
-                _ => self.quadrature(settings)?.0.len(),
+            let points = || {
+                Ok(match self.inputs {
+                    Inputs::Constant => 1,
+                    _ => self.quadrature(settings)?.0.len(),
+                })
             };
-            if initial.iter().any(|u| !u.iter().all(|x| x.is_finite())) {
-                return Err(invalid(
-                    "warm_start",
-                    format!("{} wrenches", initial.len()),
-                    "not finite",
-                ));
-            }
-            if initial.len() != self.steps && initial.len() != self.steps * points {
-                return Err(invalid(
-                    "warm_start",
-                    format!("{} wrenches", initial.len()),
-                    "one wrench per step (or, with polynomial inputs, one per Gauss point of \
-                     each step)",
-                ));
-            }
+            checks::warm_start(initial, self.steps, points, ["wrench", "wrenches"])?;
         }
         Ok(settings)
     }

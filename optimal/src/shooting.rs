@@ -70,7 +70,8 @@ pub(crate) struct Shot<St = State> {
     /// `M = ∂x_K/∂u` (the observed rows, `m` columns per input of a step) in the
     /// body-frame coordinates `(θ, ω)`.
     pub sensitivity: DMatrix<f64>,
-    /// `∂x_K/∂h` (the observed rows), the step length shared by every step.
+    /// `∂x_K/∂h` (the observed rows), the step length shared by every step; zero unless
+    /// the run was asked for it.
     pub time_sensitivity: DVector<f64>,
     /// The terminal miss in the observed coordinates: on SO(3)
     /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`, on SE(3) `(log(g_K⁻¹ g_f), ξ_f − ξ_K)`.
@@ -136,8 +137,8 @@ impl<St> Shot<St> {
 /// `∫ (½ΩᵀJΩ + m g dᵀRρ) dt`, is `1/c` times the action over `h` of the top of mass `c²m`
 /// (`t = cs`), so its step of length `ch` is the step of length `h` of the top of mass
 /// `c² m`, and the law gains `2m ∂x₊/∂m`, the step's exact derivative in its mass
-/// ([`Integrator::step_linearized_with_parameters`], the same implicit function theorem);
-/// it is formed where `with_time` asks for `∂x_K/∂h`.
+/// ([`Integrator::step_linearized_with_parameters`], the same implicit function theorem).
+/// `∂x_K/∂h` is formed only where `with_time` asks for it (the minimum time).
 pub(crate) fn shoot(
     plant: Plant,
     settings: StepSettings,
@@ -168,6 +169,7 @@ pub(crate) fn shoot(
                 offset: 0,
                 potential,
                 rows: vec![0, 1, 2, 3, 4, 5],
+                with_time,
             };
             shoot_with(it, inputs, plan, |s| (*s, None), miss)
         }
@@ -179,6 +181,7 @@ pub(crate) fn shoot(
                 offset: 3,
                 potential: None,
                 rows: vec![0, 1, 2, 6, 7, 8],
+                with_time,
             };
             let observe = |s: &State<BodyWheels<f64, 3>, 6>| {
                 let state = State {
@@ -213,17 +216,16 @@ pub(crate) fn shoot_motion(
         offset: 0,
         potential: None,
         rows: (0..12).collect(),
+        // No time law for a body in space (an orbiting body's potential does not scale
+        // with the time, and the least time is not built for it).
+        with_time: false,
     };
     let miss = |last: &State<SE3, 6>| {
         let pose = last.configuration.inverse().compose(&target.0).log();
         let velocity = target.1 - last.velocity;
         DVector::from_iterator(12, pose.iter().chain(velocity.iter()).copied())
     };
-    let mut shot = shoot_with(it, inputs, plan, |s| (*s, None), miss)?;
-    // No time law for a body in space (an orbiting body's potential does not scale with
-    // the time, and the least time is not built for it): no `∂x_K/∂h`.
-    shot.time_sensitivity.fill(0.0);
-    Ok(shot)
+    shoot_with(it, inputs, plan, |s| (*s, None), miss)
 }
 
 /// How a run's inputs enter its integrator and what of its state the problem sees.
@@ -238,6 +240,8 @@ struct Plan {
     potential: Option<f64>,
     /// The observed rows of the linearisation's state ([`Shot`]).
     rows: Vec<usize>,
+    /// Whether to form `∂x_K/∂h` (else [`Shot::time_sensitivity`] is zero).
+    with_time: bool,
 }
 
 /// [`shoot`] for one integrator, inputs of `M` entries: `observe` reads the recorded
@@ -259,6 +263,7 @@ where
         offset,
         potential,
         rows,
+        with_time,
     } = plan;
     let h = it.settings().h();
     let widen = |u: &SVector<f64, M>| {
@@ -302,6 +307,12 @@ where
                 .columns(offset, M)
                 .into_owned()],
         };
+        if !with_time {
+            a.push(ak);
+            b.push(bk);
+            record(&it, &mut states, &mut wheel_speeds);
+            continue;
+        }
         let end = it.state().velocity;
         let mut dk = ak.view((0, D), (2 * D, D)) * velocity;
         for (bj, u) in bk.iter().zip(step_inputs) {
@@ -333,7 +344,9 @@ where
             full.view_mut((0, columns * k + M * j), (2 * D, M))
                 .copy_from(&(&chain * bj));
         }
-        time_full += &chain * &d[k];
+        if let Some(dk) = d.get(k) {
+            time_full += &chain * dk;
+        }
         chain = &chain * &a[k];
     }
     let miss = miss(&states[k_steps]);
