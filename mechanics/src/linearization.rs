@@ -75,9 +75,11 @@ pub struct StepLinearization<E, const D: usize> {
     b_velocity: DMatrix<f64>,
     parameters: Option<ParameterColumns>,
     points: Option<PointColumns>,
+    configurations: PointColumns,
 }
 
-/// `∂x₊/∂u_j` per Gauss point in both coordinates.
+/// `∂x₊/∂u_j` per Gauss point in both coordinates (or, for the configurations at the
+/// points, `∂θ_j/∂(x, u)`).
 #[derive(Debug, Clone)]
 struct PointColumns {
     momentum: Vec<DMatrix<f64>>,
@@ -118,6 +120,24 @@ impl<E, const D: usize> StepLinearization<E, D> {
             Coordinates::Velocity => p.velocity.as_slice(),
             Coordinates::Momentum => p.momentum.as_slice(),
         })
+    }
+
+    /// The configuration at each Gauss point of the step and its derivative in the start
+    /// and the input: the step's curve passes through `g_j = g(t + c_j h)` at the step's
+    /// Gauss points ([`crate::Integrator::quadrature_nodes`]), and a perturbation moves it to
+    /// `g_j exp(θ_j)` (in the body frame at the point, as the end state's `θ₊`). Matrix `j`
+    /// is `∂θ_j/∂(x, u)`, `D` rows: `2D` columns in the start state in `coordinates`, then
+    /// the input's `D` (held over the step), or `D` per Gauss point in the order of the
+    /// points (inputs at the points, [`crate::Integrator::set_input_at_points`]).
+    ///
+    /// What a cost or a constraint on the motion within a step differentiates by (a
+    /// body-frame force's direction in the world, a pointing constraint at the points);
+    /// `θ₊`'s rows of `A` and `B` are the same derivative at the step's end.
+    pub fn point_configurations(&self, coordinates: Coordinates) -> &[DMatrix<f64>] {
+        match coordinates {
+            Coordinates::Velocity => &self.configurations.velocity,
+            Coordinates::Momentum => &self.configurations.momentum,
+        }
     }
 
     /// `∂x₊/∂p` (`2D × P`) in `coordinates`: the end state's derivative in the system's
@@ -235,10 +255,41 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
                 velocity,
             }
         });
+        // The configurations at the points: the start's columns as A's, the input's
+        // (held or at each point) as they are (the start is held in either coordinates).
+        let inputs = points.as_ref().map_or(1, Vec::len);
+        let (momentum, velocity) = j
+            .points
+            .iter()
+            .enumerate()
+            .map(|(q, [theta, mu, u])| {
+                let mut momentum = DMatrix::zeros(D, (2 + inputs) * D);
+                momentum.view_mut((0, 0), (D, D)).copy_from(theta);
+                momentum.view_mut((0, D), (D, D)).copy_from(mu);
+                match &points {
+                    Some(columns) => {
+                        for (i, column) in columns.iter().enumerate() {
+                            momentum
+                                .view_mut((0, (2 + i) * D), (D, D))
+                                .copy_from(&column.configurations[q]);
+                        }
+                    }
+                    None => momentum.view_mut((0, 2 * D), (D, D)).copy_from(u),
+                }
+                let mut velocity = momentum.clone();
+                velocity
+                    .view_mut((0, 0), (D, D))
+                    .copy_from(&(theta + mu * p_in));
+                velocity.view_mut((0, D), (D, D)).copy_from(&(mu * q_in));
+                (momentum, velocity)
+            })
+            .unzip();
+        let configurations = PointColumns { momentum, velocity };
         let points = points.map(|columns| {
             let (momentum, velocity) = columns
                 .iter()
-                .map(|(theta, mu)| {
+                .map(|column| {
+                    let (theta, mu) = (&column.theta, &column.mu);
                     (
                         stacked(theta, mu),
                         stacked(theta, &(q_out_inverse * (mu - p_out * theta))),
@@ -259,6 +310,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
             b_velocity,
             parameters,
             points,
+            configurations,
         })
     }
 }

@@ -539,3 +539,122 @@ fn the_paper_matching_is_refused() {
         other => panic!("expected InvalidSetting, got {other:?}"),
     }
 }
+
+/// The configurations at the Gauss points, `∂θ_j/∂(θ, ω, u)`, against central differences
+/// of whole steps read on their Galerkin curves (the dense output) at the points: an
+/// orbiting body with a wrench at each point (its gravity gradient couples attitude and
+/// orbit), a rigid body with a torque held over the step. `ε = 1e-5` as in
+/// [`differences`]: truncation ~1e-10, rounding ~1e-15/ε = 1e-10; the columns are of
+/// order one, so 1e-7 is the bound the other Jacobians are held to.
+#[test]
+fn the_configurations_at_the_points_match_differences() {
+    fn check<S, const D: usize>(
+        name: &str,
+        make: impl Fn() -> Integrator<S, ChartKind, D>,
+        inputs: Option<Vec<SVector<f64, D>>>,
+    ) where
+        S: System<D>,
+        ChartKind: GroupChart<S::Group, D>,
+        <S::Group as ConfigurationGroup<D>>::Element<f64>: Perturb<D>,
+    {
+        const EPS: f64 = 1e-5;
+        let mut it = make();
+        let start = *it.state();
+        let nodes = it.quadrature_nodes();
+        let h = it.settings().h();
+        let points = inputs.as_ref().map_or(1, Vec::len);
+        // A whole step from the perturbed start under the perturbed inputs: the
+        // configurations on its curve at the Gauss points.
+        let run = |theta: SVector<f64, D>, omega: SVector<f64, D>, u: &[SVector<f64, D>]| {
+            let mut it = make();
+            it.reset(
+                start.time,
+                start.configuration.perturbed(&theta),
+                start.velocity + omega,
+            )
+            .unwrap();
+            match &inputs {
+                Some(_) => it.set_input_at_points(u).unwrap(),
+                None => it.set_input(*it.input() + u[0]).unwrap(),
+            }
+            it.step().unwrap();
+            let curve = it.last_curve().unwrap();
+            nodes
+                .iter()
+                .map(|c| curve.at(c * h).unwrap().0)
+                .collect::<Vec<_>>()
+        };
+        let base_inputs = inputs.clone().unwrap_or(vec![SVector::zeros()]);
+        if let Some(u) = &inputs {
+            it.set_input_at_points(u).unwrap();
+        }
+        let exact = it.step_linearized().unwrap();
+        let exact = exact.point_configurations(Coordinates::Velocity);
+        assert_eq!(exact.len(), nodes.len());
+        let zero = SVector::<f64, D>::zeros();
+        let mut worst = 0.0f64;
+        for col in 0..(2 + points) * D {
+            let mut sides = Vec::new();
+            for sign in [1.0, -1.0] {
+                let (mut theta, mut omega, mut u) = (zero, zero, base_inputs.clone());
+                match col / D {
+                    0 => theta[col % D] = sign * EPS,
+                    1 => omega[col % D] = sign * EPS,
+                    i => u[i - 2][col % D] += sign * EPS,
+                }
+                sides.push(run(theta, omega, &u));
+            }
+            for (j, matrix) in exact.iter().enumerate() {
+                let difference = sides[0][j].difference(&sides[1][j]) / (2.0 * EPS);
+                for r in 0..D {
+                    let error = (matrix[(r, col)] - difference[r]).abs();
+                    worst = worst.max(error);
+                    assert!(
+                        error < 1e-7,
+                        "{name}: point {j}, row {r}, column {col}: {} against {}",
+                        matrix[(r, col)],
+                        difference[r]
+                    );
+                }
+            }
+        }
+        println!("{name}: largest difference {worst:.1e}");
+    }
+    let orbit = OrbitingBody::new(inertia(), 1.0, 1.0).unwrap();
+    let make_orbit = || {
+        let start = SE3::new(
+            SO3::exp(&Vector3::new(0.1, 0.2, 0.0)),
+            Vector3::new(3.0, 0.0, 0.5),
+        );
+        let v = SVector::<f64, 6>::new(0.6, 0.1, -0.4, 0.0, 0.55, 0.05);
+        let settings = StepSettings::new(0.4, 7).unwrap();
+        Integrator::new(orbit, settings, start, v).unwrap()
+    };
+    let m = make_orbit().quadrature_nodes().len();
+    let wrenches = (0..m)
+        .map(|j| {
+            let s = j as f64;
+            SVector::<f64, 6>::new(0.02 * s, -0.01, 0.03, 0.1 - 0.02 * s, 0.05, 0.01 * s)
+        })
+        .collect();
+    check(
+        "orbiting body, wrenches at the points",
+        make_orbit,
+        Some(wrenches),
+    );
+    let make_rigid = || {
+        let settings = StepSettings::new(0.3, 8)
+            .unwrap()
+            .with_chart(ChartKind::Cayley);
+        let mut it = Integrator::new(
+            RigidBody::new(inertia()),
+            settings,
+            SO3::exp(&Vector3::new(0.2, -0.1, 0.3)),
+            Vector3::new(0.6, 0.1, -0.4),
+        )
+        .unwrap();
+        it.set_input(Vector3::new(0.05, -0.02, 0.01)).unwrap();
+        it
+    };
+    check("rigid body, torque held", make_rigid, None);
+}

@@ -42,6 +42,7 @@ pub(crate) fn minimum_energy(
         shoot: &shoot,
         residuals: &fit,
         equilibrate: false,
+        metric: None,
     };
     let solved = problem.solve(start.inputs, tolerance)?;
     let mut terminal = [0.0; 6];
@@ -86,7 +87,19 @@ pub(crate) struct Problem<'a, St, const M: usize> {
     /// Whether the subproblem sees its equality rows scaled to a largest entry of 1 (for
     /// rows of very different sizes, as a body in space's attitude and position).
     pub equilibrate: bool,
+    /// A change of the subproblem's metric, where there is one: a map `E` of the inputs
+    /// (`M·N` square) such that the step `δu` is measured as `|(I − E) δu|²` in the
+    /// quadrature's weights, `H = (I − E)ᵀ diag(2w) (I − E)` in place of `diag(2w)`
+    /// (a body in space's force measured in the world frame, `crate::motion`). The cost
+    /// and the constraints are unchanged, so is every KKT point; only the path to one is.
+    /// The entries `E` couples (its nonzero rows) must have no bound, and there must be
+    /// no residuals: the metric is ignored where there are.
+    pub metric: Option<&'a Metric<'a, St, M>>,
 }
+
+/// The map `E` of [`Problem::metric`] at a run and its inputs.
+pub(crate) type Metric<'a, St, const M: usize> =
+    dyn Fn(&Shot<St>, &[SVector<f64, M>]) -> DMatrix<f64> + 'a;
 
 /// A run of the integrator under inputs of `M` entries.
 pub(crate) type Shooter<'a, St, const M: usize> =
@@ -171,6 +184,25 @@ impl<St, const M: usize> Problem<'_, St, M> {
             statistics.iterations += 1;
             // ½ δᵀ H δ + gᵀ δ: the cost up to a constant (exact in δ for the energy, the
             // Gauss–Newton model of the residuals); the bounds |u + δu| ≤ u_max.
+            let flat: Vec<f64> = inputs.iter().flat_map(|u| u.iter().copied()).collect();
+            let (lower, upper): (Vec<f64>, Vec<f64>) = match self.bound {
+                Some(bound) => (0..n)
+                    .map(|j| (-bound[j % M] - flat[j], bound[j % M] - flat[j]))
+                    .unzip(),
+                None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
+            };
+            // With a metric (and no residuals), the subproblem is taken in
+            // `δv = (I − E) δu` (`δu = (I + E) δv`, `E² = 0`): the Hessian `diag(2w)`, the
+            // rows `M (I + E)`, the gradient `(I + E)ᵀ g`, and the bounds those of `u` (the
+            // entries `E` couples have none: `Problem::metric`).
+            let coupling = match (&fit, self.metric) {
+                (None, Some(metric)) => Some(Coupling::of(metric(&run, &inputs))).filter(|c| {
+                    c.rows
+                        .iter()
+                        .all(|&j| !lower[j].is_finite() && !upper[j].is_finite())
+                }),
+                _ => None,
+            };
             let hessian = match &fit {
                 None => qp::diagonal(&diagonal),
                 Some((_, g)) => {
@@ -181,13 +213,21 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     qp::upper_triangle(&dense)
                 }
             };
-            let flat: Vec<f64> = inputs.iter().flat_map(|u| u.iter().copied()).collect();
-            let (lower, upper): (Vec<f64>, Vec<f64>) = match self.bound {
-                Some(bound) => (0..n)
-                    .map(|j| (-bound[j % M] - flat[j], bound[j % M] - flat[j]))
-                    .unzip(),
-                None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
+            let (rows_v, gradient_v) = match &coupling {
+                Some(c) => (
+                    Some(rows + c.right(rows)),
+                    Some(
+                        &gradient
+                            + DVector::from_column_slice(
+                                c.right(&DMatrix::from_row_slice(1, n, gradient.as_slice()))
+                                    .as_slice(),
+                            ),
+                    ),
+                ),
+                None => (None, None),
             };
+            let rows = rows_v.as_ref().unwrap_or(rows);
+            let q = gradient_v.as_ref().unwrap_or(&gradient);
             // With `equilibrate`, the equality rows scaled to a largest entry of 1 for the
             // subproblem (the same constraints, better conditioned); its multipliers
             // scaled back.
@@ -209,23 +249,22 @@ impl<St, const M: usize> Problem<'_, St, M> {
                 Some((m, f)) => (m, f),
                 None => (rows, e),
             };
-            let mut solution = qp::solve(
-                hessian,
-                gradient.as_slice(),
-                qp_rows,
-                qp_e,
-                &lower,
-                &upper,
-                1e-13,
-            )?
-            .ok_or(OptimalError::Infeasible {
-                residual: miss,
-                bounded: self.bound.is_some(),
-            })?;
+            let mut solution =
+                qp::solve(hessian, q.as_slice(), qp_rows, qp_e, &lower, &upper, 1e-13)?.ok_or(
+                    OptimalError::Infeasible {
+                        residual: miss,
+                        bounded: self.bound.is_some(),
+                    },
+                )?;
             if let Some(s) = &row_scale {
                 for (l, s) in solution.lambda.iter_mut().zip(s) {
                     *l *= s;
                 }
+            }
+            // Back from `δv`: the step `(I + E) δv`; the bound multipliers are those of the
+            // same bounds (on entries `E` leaves alone).
+            if let Some(c) = &coupling {
+                solution.step = &solution.step + c.times(&solution.step);
             }
             let (step, lambda) = (&solution.step, &solution.lambda);
             // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target
@@ -337,4 +376,50 @@ pub(crate) fn by_step<const M: usize>(
         .map(|c| c.iter().zip(weights).map(|(u, b)| u * *b).sum())
         .collect();
     (means, steps)
+}
+
+/// A metric's map `E` ([`Problem::metric`]) with the entries it couples: `E` is nonzero
+/// only in the rows `rows` and the columns `columns`, which are disjoint, so `E² = 0`.
+struct Coupling {
+    e: DMatrix<f64>,
+    rows: Vec<usize>,
+    columns: Vec<usize>,
+}
+
+impl Coupling {
+    /// `E` and its nonzero rows and columns.
+    fn of(e: DMatrix<f64>) -> Self {
+        let rows = (0..e.nrows())
+            .filter(|&i| e.row(i).iter().any(|x| *x != 0.0))
+            .collect();
+        let columns = (0..e.ncols())
+            .filter(|&j| e.column(j).iter().any(|x| *x != 0.0))
+            .collect();
+        Self { e, rows, columns }
+    }
+
+    /// The block of `E` in its rows and columns.
+    fn block(&self) -> DMatrix<f64> {
+        self.e.select_rows(&self.rows).select_columns(&self.columns)
+    }
+
+    /// `X E` for `X` with `E`'s row count of columns.
+    fn right(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
+        let product = x.select_columns(&self.rows) * self.block();
+        let mut out = DMatrix::zeros(x.nrows(), x.ncols());
+        for (k, &j) in self.columns.iter().enumerate() {
+            out.set_column(j, &product.column(k));
+        }
+        out
+    }
+
+    /// `E v`.
+    fn times(&self, v: &DVector<f64>) -> DVector<f64> {
+        let product = self.block() * v.select_rows(&self.columns);
+        let mut out = DVector::zeros(v.len());
+        for (k, &i) in self.rows.iter().enumerate() {
+            out[i] = product[k];
+        }
+        out
+    }
 }

@@ -45,6 +45,11 @@
 //!   Gauss–Newton SQP, converging linearly at a rate set by the multipliers times that
 //!   curvature, quadratically for a motion that is linear in the torques. A step that
 //!   does not lower the merit `J + ρ |e|₁` is halved.
+//! - **Manoeuvres in space** ([`Manoeuvre`]): the same SQP with the body force measured in
+//!   the world frame (the step's `δf` as `δf − f̂ δθ`, `δθ` the attitude's change at the
+//!   force's Gauss point), which takes the translation's curvature out of the model, so
+//!   that the iteration converges as fast as a slew's however large the translation's
+//!   share of the cost; the body frame's `diag(2w)` where the force is bounded.
 //! - **Tracking and terminal costs** ([`Slew::track`], [`Slew::terminal_cost`]): the
 //!   same Gauss–Newton SQP on the least squares, the residuals' Jacobians exact (the
 //!   states' sensitivities chained forwards, the group log's through `J_r(e)⁻¹`), the

@@ -2,12 +2,12 @@
 //! start to a target by a body wrench `(τ, f)`, at the least input energy in a fixed time.
 
 use crate::energy::{by_step, Problem, Solved, Start};
-use crate::shooting::shoot_motion;
+use crate::shooting::{shoot_motion, Shot};
 use crate::{Inputs, OptimalError, Statistics};
 use lgsvi_mechanics::built_in::BuiltInSe3;
 use lgsvi_mechanics::lie::SE3;
 use lgsvi_mechanics::{Integrator, State, StepSettings};
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{DMatrix, Vector3, Vector6};
 use std::time::Instant;
 
 /// A state of a body in space.
@@ -27,12 +27,23 @@ type SE3State = State<SE3, 6>;
 ///
 /// The problem is the slew's ([`crate::Slew`], crate documentation) on SE(3): `K` of
 /// lgsvi's steps, the wrench held over each step or a polynomial given at its Gauss points
-/// ([`Inputs`]), the terminal pose and velocity exact (twelve conditions, the pose's miss
-/// taken by SE(3)'s log), solved by the same Gauss–Newton SQP with the steps' exact
-/// linearisations in their native coordinates (`g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). The terminal
-/// miss that the tolerance bounds has its position measured in units of
-/// `L = max(1, |x₀|, |x_f|)` and its velocity in units of `V = max(1, |v₀|, |v_f|)`, so
-/// that a body far from the origin converges to its own precision.
+/// ([`Inputs`]), the terminal pose and velocity exact: twelve conditions, the miss
+/// `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)` with the centre of mass's position
+/// and velocity in the world frame. It is solved by the slew's SQP with the steps' exact
+/// linearisations, in a metric that measures the force in the world frame: the step's
+/// `δf` counts as `δf − f̂ δθ`, with `δθ` the attitude's change it brings at the force's
+/// Gauss point (exact, [`lgsvi_mechanics::linearization::StepLinearization::point_configurations`]).
+/// The centre of mass moves under the world-frame force `F = R f`, so in the pair
+/// (torque, world force) its miss is linear in `F` and does not depend on the torque (the
+/// free body; the orbiting body nearly so): the iteration converges in about as many
+/// iterations as the slew alone, however large the translation's share of the cost (the
+/// guide's "How fast it converges"). With a bound on the force, whose rows in that metric
+/// would be dense, the step is measured in the body frame (Gauss–Newton, `diag(2w)`).
+/// Either way only the path changes: the cost, the constraints and their solution are
+/// the same. The terminal miss that the tolerance bounds has its position measured in
+/// units of `L = max(1, |x₀|, |x_f|)` and its velocity in units of
+/// `V = max(1, |v₀|, |v_f|)`, so that a body far from the origin converges to its own
+/// precision.
 ///
 /// ```
 /// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
@@ -90,8 +101,9 @@ pub struct ManoeuvreSolution {
     pub quadrature_nodes: Vec<f64>,
     /// The cost `∫ |u|² dt` (the steps' quadrature of it).
     pub cost: f64,
-    /// The terminal constraint's multipliers (`∂J*/∂e`, in `(θ, ω)` at the target: the
-    /// pose's six, then the velocity's).
+    /// The terminal constraint's multipliers, `∂J*/∂e` for the miss
+    /// `e = (log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`: the attitude's three, the
+    /// position's (world frame), the body rates', the velocity's (world frame).
     pub multipliers: [f64; 12],
     /// The step `h = T/K`.
     pub h: f64,
@@ -107,9 +119,9 @@ impl Manoeuvre {
     /// A manoeuvre of `body` in time `t_end`, by default rest to rest from the identity
     /// pose to the identity pose, 20 steps of 10 nodes, no bounds, tolerance 1e-10, at
     /// most 500 iterations (a manoeuvre whose translation dominates its cost takes
-    /// hundreds: the guide's "How fast it converges"), from no wrench (with bounds, if a
-    /// subproblem finds none within them, again from the unbounded optimum clamped to
-    /// them).
+    /// hundreds where the force is bounded: the guide's "How fast it converges"), from no
+    /// wrench (with bounds, from the unbounded optimum clamped to them, and again from no
+    /// wrench where that fails).
     pub fn new(body: impl Into<BuiltInSe3>, t_end: f64) -> Self {
         Self {
             body: body.into(),
@@ -269,41 +281,37 @@ impl Manoeuvre {
             let start = Start::of(self.inputs, h, k_steps, &weights, initial, bound);
             self.solve_from(settings, start, bound, &scale)
         };
-        let solved = match attempt(self.initial.as_deref(), bound) {
-            // Bounded without a warm start, a subproblem (linearised about an iterate far
-            // from the solution, at first the unforced drift) can find no wrench within
-            // the bounds where the manoeuvre has one: then again from the unbounded
-            // optimum clamped to the bounds. Where the restart runs out of iterations,
-            // that is the verdict; where it fails otherwise (infeasible too, a step that
-            // fails on the way) or the unbounded manoeuvre has no solution, the first
-            // verdict stands.
-            Err(infeasible @ OptimalError::Infeasible { bounded: true, .. })
-                if self.initial.is_none() =>
-            {
-                let Ok((per_step, free)) = attempt(None, None) else {
-                    return Err(infeasible);
-                };
-                let (means, at_points) = by_step(&free.inputs, per_step, &weights);
-                let inputs = if at_points.is_empty() {
-                    means
-                } else {
-                    at_points.concat()
-                };
-                match attempt(Some(&inputs), bound) {
-                    Ok((per_step, mut found)) => {
-                        // The record covers both solves.
-                        let first = free.statistics;
-                        let then = &mut found.statistics;
-                        then.iterations += first.iterations;
-                        then.kkt_residuals.splice(0..0, first.kkt_residuals);
-                        then.terminal_misses.splice(0..0, first.terminal_misses);
-                        (per_step, found)
+        // Bounded without a warm start: first the unbounded manoeuvre (the fastest to solve,
+        // in the world-frame force's metric), then the bounded one from its optimum clamped
+        // to the bounds, nearer the solution than rest (a subproblem linearised about the
+        // unforced drift can also find no wrench within the bounds where the manoeuvre has
+        // one). Where the unbounded manoeuvre has no solution, or the bounded one from its
+        // optimum fails, again from rest; where that fails too, its verdict where it finds
+        // the manoeuvre infeasible (a subproblem with no wrench within the bounds: the
+        // clamped start can instead stall without one), else the first verdict.
+        let solved = match (&self.initial, bound) {
+            (None, Some(_)) => match attempt(None, None) {
+                Ok((per_step, free)) => {
+                    let (means, at_points) = by_step(&free.inputs, per_step, &weights);
+                    let inputs = if at_points.is_empty() {
+                        means
+                    } else {
+                        at_points.concat()
+                    };
+                    match attempt(Some(&inputs), bound) {
+                        Ok((per_step, found)) => (per_step, after(free.statistics, found)),
+                        Err(first) => match attempt(None, bound) {
+                            Ok((per_step, found)) => (per_step, after(free.statistics, found)),
+                            Err(infeasible @ OptimalError::Infeasible { .. }) => {
+                                return Err(infeasible)
+                            }
+                            Err(_) => return Err(first),
+                        },
                     }
-                    Err(ran_out @ OptimalError::NotConverged { .. }) => return Err(ran_out),
-                    Err(_) => return Err(infeasible),
                 }
-            }
-            other => other?,
+                Err(_) => attempt(None, bound)?,
+            },
+            _ => attempt(self.initial.as_deref(), bound)?,
         };
         let per_step = solved.0;
         let solved = solved.1;
@@ -374,6 +382,14 @@ impl Manoeuvre {
             }
             Ok(shot)
         };
+        let weights = self.quadrature(settings)?.1;
+        let metric = |run: &Shot<SE3State>, inputs: &[Vector6<f64>]| {
+            world_force_coupling(run, inputs, per_step, &weights)
+        };
+        // A bound on the force would be a bound on `(I + E) δv`, rows as dense as `E`,
+        // which the subproblem solves more slowly than the plain iteration's extra
+        // iterations cost (docs/notes/optimal.md): the metric only for a free force.
+        let plain = bound.is_some_and(|b| b.fixed_rows::<3>(3).iter().any(|x| x.is_finite()));
         let problem = Problem {
             step_weights: &start.step_weights,
             bound,
@@ -382,7 +398,60 @@ impl Manoeuvre {
             shoot: &shoot,
             residuals: &|_| None,
             equilibrate: true,
+            metric: if plain { None } else { Some(&metric) },
         };
         Ok((per_step, problem.solve(start.inputs, self.tolerance)?))
     }
+}
+
+/// `found` with the record of an earlier solve before its own (the record covers both).
+fn after(first: Statistics, mut found: Solved<SE3State, 6>) -> Solved<SE3State, 6> {
+    let then = &mut found.statistics;
+    then.iterations += first.iterations;
+    then.kkt_residuals.splice(0..0, first.kkt_residuals);
+    then.terminal_misses.splice(0..0, first.terminal_misses);
+    found
+}
+
+/// The map `E` of the world-frame force metric ([`Problem::metric`]): the body force `f`
+/// of an input seen through the attitude's motion, `δf − [f]× δθ`, is the world-frame
+/// force's change `R δF` brought back to the body (`F = R f`, so `δF = R (δf − f̂ δθ)`
+/// with `R → R exp(θ̂)`). Row block `f` of input `i` holds `f̂_i ∂θ_i/∂τ` (the torque
+/// columns only: `E` is then nilpotent, `I − E` invertible), `θ_i` the attitude at the
+/// input's Gauss point, or the quadrature mean over the step for a held wrench.
+///
+/// Why: the translation is driven by the world-frame force alone, which turns with the
+/// attitude when the force is held fixed in the body, so in `(τ, f)` the position's miss
+/// is curved (`∂²x/∂τ∂f ≠ 0`) and the Gauss–Newton model, which leaves that curvature out,
+/// converges slowly or not at all where the translation dominates the cost. Measured in
+/// `(τ, F)` the free body's position is linear in `F` and independent of `τ`, the cost
+/// `|τ|² + |F|²` unchanged; the metric is that change of variables at the iterate.
+fn world_force_coupling(
+    run: &Shot<SE3State>,
+    inputs: &[Vector6<f64>],
+    per_step: usize,
+    weights: &[f64],
+) -> DMatrix<f64> {
+    let attitudes = run.attitude_sensitivities();
+    let n = 6 * inputs.len();
+    let mut e = DMatrix::zeros(n, n);
+    for (i, u) in inputs.iter().enumerate() {
+        let (k, j) = (i / per_step, i % per_step);
+        let theta = if per_step == 1 {
+            attitudes[k]
+                .iter()
+                .zip(weights)
+                .fold(DMatrix::zeros(3, n), |sum, (t, b)| sum + t * *b)
+        } else {
+            attitudes[k][j].clone()
+        };
+        let f = lgsvi_mechanics::lie::so3::hat(&Vector3::new(u[3], u[4], u[5]));
+        let rows = f * theta;
+        for column in (0..n).filter(|c| c % 6 < 3) {
+            for r in 0..3 {
+                e[(6 * i + 3 + r, column)] = rows[(r, column)];
+            }
+        }
+    }
+    e
 }

@@ -86,6 +86,10 @@ pub(crate) struct Shot<St = State> {
     /// `m` columns).
     a: Vec<DMatrix<f64>>,
     b: Vec<Vec<DMatrix<f64>>>,
+    /// Where the run was asked for them ([`Plan::attitudes`]), each step's attitudes at its
+    /// Gauss points: `∂θ_j/∂(x_k, u_k)`, the rotation's three rows, the start state's `2D`
+    /// columns (velocity coordinates) then the step's inputs' (`m` each); empty otherwise.
+    points: Vec<Vec<DMatrix<f64>>>,
 }
 
 impl<St> Shot<St> {
@@ -109,6 +113,44 @@ impl<St> Shot<St> {
                     .copy_from(bj);
             }
             out.push(self.observed(&s));
+        }
+        out
+    }
+
+    /// The attitude at each Gauss point of each step, `R_kj = R̄_kj exp(θ̂_kj)`, and its
+    /// derivative in every input of the run, `∂θ_kj/∂u` (three rows, the run's input
+    /// columns): the step's own point Jacobians chained with the state's sensitivity at
+    /// the step's start, `∂θ_kj/∂x_k ∂x_k/∂u + [∂θ_kj/∂u_k in step k's columns]`. Empty
+    /// unless the run was asked for them ([`Plan::attitudes`]).
+    pub fn attitude_sensitivities(&self) -> Vec<Vec<DMatrix<f64>>> {
+        let columns = self.sensitivity.ncols();
+        let k_steps = self.a.len();
+        if self.points.len() != k_steps || k_steps == 0 {
+            return Vec::new();
+        }
+        // The input columns of one step.
+        let own = columns / k_steps;
+        let size = self.a[0].nrows();
+        let mut state = DMatrix::<f64>::zeros(size, columns);
+        let mut out = Vec::with_capacity(k_steps);
+        for (k, ((a, b), points)) in self.a.iter().zip(&self.b).zip(&self.points).enumerate() {
+            out.push(
+                points
+                    .iter()
+                    .map(|p| {
+                        let mut s = p.columns(0, size) * &state;
+                        let mut step_columns = s.columns_mut(own * k, own);
+                        step_columns += p.columns(size, own);
+                        s
+                    })
+                    .collect(),
+            );
+            state = a * &state;
+            for (j, bj) in b.iter().enumerate() {
+                state
+                    .view_mut((0, own * k + self.width * j), (size, self.width))
+                    .copy_from(bj);
+            }
         }
         out
     }
@@ -170,6 +212,7 @@ pub(crate) fn shoot(
                 potential,
                 rows: vec![0, 1, 2, 3, 4, 5],
                 with_time,
+                attitudes: false,
             };
             shoot_with(it, inputs, plan, |s| (*s, None), miss)
         }
@@ -182,6 +225,7 @@ pub(crate) fn shoot(
                 potential: None,
                 rows: vec![0, 1, 2, 6, 7, 8],
                 with_time,
+                attitudes: false,
             };
             let observe = |s: &State<BodyWheels<f64, 3>, 6>| {
                 let state = State {
@@ -199,9 +243,16 @@ pub(crate) fn shoot(
 
 /// The run of a body in space ([`BuiltInSe3`]) from the pose and body velocity `start`
 /// under the body wrenches `inputs` (`per_step` a step, as in [`shoot`]), against
-/// `target`: every row of its linearisation is observed, and the miss is
-/// `(log(g_K⁻¹ g_f), ξ_f − ξ_K)` in the linearisation's native coordinates
-/// (`g = ḡ exp(θ)`, `ξ = ξ̄ + ω`).
+/// `target`: the miss is `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`, the attitude
+/// and the rates as on SO(3), the position and its velocity in the world frame, and the
+/// sensitivity's rows in the same coordinates (`δx = R θ_x`, `δẋ = R (δv − v̂ θ_R)` from
+/// the linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`).
+///
+/// Why the world frame: a body-frame velocity compares the target's and the run's in two
+/// frames, so its miss turns with the attitude, by `|ẋ|` per radian: an orbiting body's
+/// 7.6 km/s makes that curvature, times the velocity's multipliers, the whole of the
+/// Lagrangian's Hessian, and the Gauss–Newton iteration, which leaves it out, diverge. In
+/// the world frame the centre of mass's rows do not turn with the attitude.
 pub(crate) fn shoot_motion(
     body: BuiltInSe3,
     settings: StepSettings,
@@ -219,13 +270,39 @@ pub(crate) fn shoot_motion(
         // No time law for a body in space (an orbiting body's potential does not scale
         // with the time, and the least time is not built for it).
         with_time: false,
+        // The metric of the manoeuvre's subproblem reads them (`crate::motion`).
+        attitudes: true,
     };
+    let world_velocity = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
+    let target_velocity = world_velocity(&target.0, &target.1);
     let miss = |last: &State<SE3, 6>| {
-        let pose = last.configuration.inverse().compose(&target.0).log();
-        let velocity = target.1 - last.velocity;
-        DVector::from_iterator(12, pose.iter().chain(velocity.iter()).copied())
+        let g = &last.configuration;
+        let attitude = g.rotation().inverse().compose(target.0.rotation()).log();
+        let position = target.0.translation() - g.translation();
+        let rates = target.1.fixed_rows::<3>(0) - last.velocity.fixed_rows::<3>(0);
+        let velocity = target_velocity - world_velocity(g, &last.velocity);
+        DVector::from_iterator(
+            12,
+            [attitude, position, rates, velocity]
+                .iter()
+                .flat_map(|v| v.iter().copied()),
+        )
     };
-    shoot_with(it, inputs, plan, |s| (*s, None), miss)
+    let mut shot = shoot_with(it, inputs, plan, |s| (*s, None), miss)?;
+    let last = shot.states[shot.states.len() - 1];
+    let r = *last.configuration.rotation().matrix();
+    let v_hat = lgsvi_mechanics::lie::so3::hat(&last.velocity.fixed_rows::<3>(3).into_owned());
+    let m = &mut shot.sensitivity;
+    for j in 0..m.ncols() {
+        let column = m.column(j);
+        let theta = Vector3::new(column[0], column[1], column[2]);
+        let x = r * Vector3::new(column[3], column[4], column[5]);
+        let v = r * (Vector3::new(column[9], column[10], column[11]) - v_hat * theta);
+        let mut column = m.column_mut(j);
+        column.fixed_rows_mut::<3>(3).copy_from(&x);
+        column.fixed_rows_mut::<3>(9).copy_from(&v);
+    }
+    Ok(shot)
 }
 
 /// How a run's inputs enter its integrator and what of its state the problem sees.
@@ -242,6 +319,9 @@ struct Plan {
     rows: Vec<usize>,
     /// Whether to form `∂x_K/∂h` (else [`Shot::time_sensitivity`] is zero).
     with_time: bool,
+    /// Whether to keep the attitudes' derivatives at the Gauss points
+    /// ([`Shot::attitude_sensitivities`]).
+    attitudes: bool,
 }
 
 /// [`shoot`] for one integrator, inputs of `M` entries: `observe` reads the recorded
@@ -264,6 +344,7 @@ where
         potential,
         rows,
         with_time,
+        attitudes,
     } = plan;
     let h = it.settings().h();
     let widen = |u: &SVector<f64, M>| {
@@ -283,6 +364,7 @@ where
     let mut a = Vec::with_capacity(k_steps);
     let mut b = Vec::with_capacity(k_steps);
     let mut d = Vec::with_capacity(k_steps);
+    let mut points = Vec::new();
     for step_inputs in inputs.chunks(per_step) {
         let velocity = it.state().velocity;
         if per_step == 1 {
@@ -307,6 +389,18 @@ where
                 .columns(offset, M)
                 .into_owned()],
         };
+        if attitudes {
+            // The rotation's rows; the start's 2D columns, then each input's M entries.
+            let columns: Vec<usize> = (0..2 * D)
+                .chain((0..per_step).flat_map(|i| (0..M).map(move |c| 2 * D + D * i + offset + c)))
+                .collect();
+            points.push(
+                step.point_configurations(Coordinates::Velocity)
+                    .iter()
+                    .map(|p| p.rows(0, 3).select_columns(&columns))
+                    .collect(),
+            );
+        }
         if !with_time {
             a.push(ak);
             b.push(bk);
@@ -362,6 +456,7 @@ where
         width: M,
         a,
         b,
+        points,
     })
 }
 

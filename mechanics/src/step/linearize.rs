@@ -39,7 +39,7 @@ use std::marker::PhantomData;
 
 /// The Jacobians of one step in momentum coordinates `(θ, δμ)` and the input `u`, as
 /// `D × D` blocks (`row_column`), and the end momentum they were taken at.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub(crate) struct MomentumJacobians<const D: usize> {
     pub theta_theta: SMatrix<f64, D, D>,
     pub theta_mu: SMatrix<f64, D, D>,
@@ -47,11 +47,24 @@ pub(crate) struct MomentumJacobians<const D: usize> {
     pub mu_mu: SMatrix<f64, D, D>,
     pub theta_u: SMatrix<f64, D, D>,
     pub mu_u: SMatrix<f64, D, D>,
+    /// At each Gauss point `j`, the configuration's derivative `∂θ_j/∂(θ, μ_k, u)`, where
+    /// the point's configuration moves as `g_j exp(θ_j)` (`θ_j = Ad_{Φ(x_j)⁻¹} θ +
+    /// A(x_j) δx_j`, `δx_j = Σ_i φ_i(c_j h) δξⁱ`): three `D × D` blocks.
+    pub points: Vec<[SMatrix<f64, D, D>; 3]>,
 }
 
-/// The input Jacobians of a step at each Gauss point, `(θ, μ)` blocks
-/// ([`StepSolver::point_input_jacobians`]).
-pub(crate) type PointInputJacobians<const D: usize> = Vec<(SMatrix<f64, D, D>, SMatrix<f64, D, D>)>;
+/// The input Jacobians of a step at one Gauss point `j`
+/// ([`StepSolver::point_input_jacobians`]): the end state's `(θ, μ)` blocks and, at every
+/// Gauss point `q`, the configuration's `∂θ_q/∂u_j`.
+#[derive(Debug, Clone)]
+pub(crate) struct PointInput<const D: usize> {
+    pub theta: SMatrix<f64, D, D>,
+    pub mu: SMatrix<f64, D, D>,
+    pub configurations: Vec<SMatrix<f64, D, D>>,
+}
+
+/// The input Jacobians of a step at each Gauss point.
+pub(crate) type PointInputJacobians<const D: usize> = Vec<PointInput<D>>;
 
 /// The mixed derivatives of one Gauss point in `θ`: rows `x`, `v`, `ζ` of the point's
 /// gradient (with the force's terms), columns `θ`.
@@ -333,7 +346,27 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
             blocks[0][family].set_column(c, &theta);
             blocks[1][family].set_column(c, &momentum);
         }
+        let points = (0..m)
+            .map(|j| {
+                let point = PointChart::at(self.chart, &work.x[j]);
+                let ad_inverse = point.to_start.transpose();
+                let mut columns = [SMatrix::<f64, D, D>::zeros(); 3];
+                for p in 0..3 * D {
+                    let (family, c) = (p / D, p % D);
+                    let delta = |k: usize| {
+                        SVector::<f64, D>::from_fn(|r, _| solution[D * k + r][family][c])
+                    };
+                    let mut theta = self.point_motion(j, &point.a, delta);
+                    if family == 0 {
+                        theta += ad_inverse.column(c);
+                    }
+                    columns[family].set_column(c, &theta);
+                }
+                columns
+            })
+            .collect();
         Ok(MomentumJacobians {
+            points,
             theta_theta: blocks[0][0],
             theta_mu: blocks[0][1],
             mu_theta: blocks[1][0],
@@ -341,6 +374,23 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
             theta_u: blocks[0][2],
             mu_u: blocks[1][2],
         })
+    }
+
+    /// `A(x_j) δx_j` at Gauss point `j` (chart terms `point`) for one column of `∂Ξ/∂P`
+    /// (`delta(k)`: node `k + 1`'s part; the first node is the start, fixed):
+    /// `δx_j = Σ_i φ_i(c_j h) δξⁱ`.
+    fn point_motion(
+        &self,
+        j: usize,
+        a: &SMatrix<f64, D, D>,
+        delta: impl Fn(usize) -> SVector<f64, D>,
+    ) -> SVector<f64, D> {
+        let values = self.d.values_at(j);
+        let mut dx = SVector::<f64, D>::zeros();
+        for k in 0..self.d.n - 1 {
+            dx += delta(k) * values[k + 1];
+        }
+        a * dx
     }
 
     /// `solution = −F_Ξ⁻¹ column` with the fresh factors in `work` (the unknowns'
@@ -394,12 +444,16 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         let mut out = Vec::with_capacity(m);
         let mut column = vec![0.0; unknowns];
         let mut solution = vec![0.0; unknowns];
+        let differentials: Vec<SMatrix<f64, D, D>> = (0..m)
+            .map(|q| PointChart::<Element<S, D>, D>::at(self.chart, &work.x[q]).a)
+            .collect();
         for j in 0..m {
             let point = PointChart::at(self.chart, &work.x[j]);
             let a_t = point.a.transpose();
             let explicit = point.to_start * d.weights[j];
             let mut theta = SMatrix::<f64, D, D>::zeros();
             let mut mu = SMatrix::<f64, D, D>::zeros();
+            let mut configurations = vec![SMatrix::<f64, D, D>::zeros(); m];
             for c in 0..D {
                 column.fill(0.0);
                 for i in 1..n - 1 {
@@ -420,8 +474,15 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
                 let (t, p) = end.perturbation(self, work, explicit.column(c).into_owned(), delta);
                 theta.set_column(c, &t);
                 mu.set_column(c, &p);
+                for (q, configuration) in configurations.iter_mut().enumerate() {
+                    configuration.set_column(c, &self.point_motion(q, &differentials[q], delta));
+                }
             }
-            out.push((theta, mu));
+            out.push(PointInput {
+                theta,
+                mu,
+                configurations,
+            });
         }
         Ok(out)
     }

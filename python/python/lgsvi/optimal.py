@@ -228,8 +228,9 @@ class ManoeuvreResult:
     quadrature_nodes : ndarray (m,)
         The Gauss points as fractions of a step.
     multipliers : ndarray (12,)
-        The terminal constraint's multipliers (pose, then velocity, in the body-frame
-        coordinates of the linearisation at the target).
+        The terminal constraint's multipliers, ``dJ*/de`` for the miss ``e`` = (attitude
+        ``log(R_K^T R_f)``, position ``x_f - x_K`` in the world frame, body rates
+        ``Omega_f - Omega_K``, velocity ``xdot_f - xdot_K`` in the world frame).
     h, t_end : float
         The step and the duration.
     converged : bool
