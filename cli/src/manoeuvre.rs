@@ -92,6 +92,22 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
     if let Some(iterations) = options.max_iterations {
         manoeuvre = manoeuvre.max_iterations(iterations);
     }
+    let with_space = "with --space";
+    if let Some(weights) = &options.terminal_cost {
+        manoeuvre = manoeuvre.terminal_cost(crate::optimize::weight_count(
+            "--terminal-cost",
+            &weights.0,
+            with_space,
+        )?);
+    }
+    if let Some((reference, weights)) = crate::optimize::tracking(
+        options,
+        steps,
+        crate::optimize::reference_motion_in_space,
+        with_space,
+    )? {
+        manoeuvre = manoeuvre.track(reference, weights);
+    }
     if !options.quiet {
         let angle = attitude0
             .inverse()
@@ -172,9 +188,6 @@ fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
         ("--wheel-axes", options.wheel_axes.is_some()),
         ("--wheel-inertia", options.wheel_inertia.is_some()),
         ("--wheel-speeds0", options.wheel_speeds0.is_some()),
-        ("--terminal-cost", options.terminal_cost.is_some()),
-        ("--track", options.track.is_some()),
-        ("--track-weights", options.track_weights.is_some()),
     ];
     for (flag, given) in given {
         if given {
@@ -182,7 +195,7 @@ fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
                 flag,
                 "with --space",
                 "a manoeuvre in space is solved at the least energy in the fixed time \
-                 --t-end, with an exact target; drop this flag (or --space for a slew)",
+                 --t-end; drop this flag (or --space for a slew)",
             ));
         }
     }
@@ -236,6 +249,8 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
                 "--attitude-final/--omega-final/--position-final/--velocity-final",
                 value.clone(),
             ),
+            "terminal_cost" => ("--terminal-cost", value.clone()),
+            "track" => ("--track/--track-weights", value.clone()),
             _ => ("--steps", value.clone()),
         },
         OptimalError::Infeasible { bounded: true, .. } => (

@@ -119,18 +119,22 @@ pub struct OptimizeOptions {
     #[arg(long, value_enum)]
     pub inputs: Option<InputShape>,
     /// Replace the exact target by a cost Q_THETA |log(R_fᵀ R_K)|² + Q_OMEGA |Ω_K − Ω_f|²
-    /// (a soft target; with --cost energy).
-    #[arg(long, value_parser = crate::config::numbers::<2>, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
-    pub terminal_cost: Option<[f64; 2]>,
+    /// (a soft target; with --cost energy); with --space four weights,
+    /// Q_THETA,Q_X,Q_OMEGA,Q_V, the position's and its velocity's (world frame) between.
+    #[arg(long, value_parser = weights, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
+    pub terminal_cost: Option<Weights>,
     /// Track a reference motion: a JSON file with `R` (row-major attitudes) and `omega`
     /// (body rates) at the K step boundaries after the start (or K + 1 with the start,
     /// which is then skipped), as `lgsvi simulate --h T/K` and `lgsvi optimize` write them;
     /// adds Q_THETA |log(R_refᵀ R_k)|² + Q_OMEGA |Ω_k − Ω_ref|² per step (with --cost energy).
+    /// With --space the file holds the positions (`position` or `x`) and velocities
+    /// (`velocity`, world frame) too, and each step adds Q_X |x_k − x_ref|² and
+    /// Q_V |ẋ_k − ẋ_ref|².
     #[arg(long, value_name = "FILE")]
     pub track: Option<PathBuf>,
-    /// The tracking weights [default: 1,1].
-    #[arg(long, value_parser = crate::config::numbers::<2>, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
-    pub track_weights: Option<[f64; 2]>,
+    /// The tracking weights [default: 1,1; with --space 1,1,1,1].
+    #[arg(long, value_parser = weights, allow_hyphen_values = true, value_name = "Q_THETA,Q_OMEGA")]
+    pub track_weights: Option<Weights>,
     /// The largest torque per body axis (with --wheels, per wheel), N·m: one value for all
     /// three, or X,Y,Z.
     #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
@@ -251,22 +255,11 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     if let Some(wheels) = wheels {
         slew = slew.wheels(wheels);
     }
-    if let Some(weights) = options.terminal_cost {
-        slew = slew.terminal_cost(weights);
+    if let Some(weights) = &options.terminal_cost {
+        slew = slew.terminal_cost(weight_count("--terminal-cost", &weights.0, "for a slew")?);
     }
-    match (&options.track, options.track_weights) {
-        (Some(path), weights) => {
-            let reference = reference_motion(path, steps)?;
-            slew = slew.track(reference, weights.unwrap_or([1.0, 1.0]));
-        }
-        (None, Some(_)) => {
-            return Err(CliError::invalid(
-                "--track-weights",
-                "given",
-                "they weigh a tracking cost: give --track FILE as well",
-            ))
-        }
-        (None, None) => {}
+    if let Some((reference, weights)) = tracking(&options, steps, reference_motion, "for a slew")? {
+        slew = slew.track(reference, weights);
     }
     if options.inputs == Some(InputShape::Polynomial) {
         slew = slew.inputs(lgsvi_optimal::Inputs::Polynomial);
@@ -388,62 +381,212 @@ pub fn report(cost: f64, unit: &str, statistics: &lgsvi_optimal::Statistics) {
     );
 }
 
-/// The reference motion of `--track`: the `steps` states after the start of a JSON file
-/// with `R` (row-major) and `omega` per state, as simulate and optimize write them.
-fn reference_motion(path: &std::path::Path, steps: usize) -> Result<Vec<lgsvi_optimal::Target>> {
+/// The weights of `--terminal-cost` or `--track-weights`: a slew's `Q_THETA,Q_OMEGA`, a
+/// manoeuvre's `Q_THETA,Q_X,Q_OMEGA,Q_V`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Weights(pub Vec<f64>);
+
+/// [`Weights`] from 2 or 4 comma-separated finite numbers.
+fn weights(text: &str) -> std::result::Result<Weights, String> {
+    match text.split(',').count() {
+        2 => crate::config::numbers::<2>(text).map(|w| Weights(w.to_vec())),
+        4 => crate::config::numbers::<4>(text).map(|w| Weights(w.to_vec())),
+        n => Err(format!(
+            "expected 2 comma-separated weights (a slew's Q_THETA,Q_OMEGA) or 4 (with --space, \
+             Q_THETA,Q_X,Q_OMEGA,Q_V), got {n} in {text:?}"
+        )),
+    }
+}
+
+/// The `N` weights a problem takes from `flag`'s list, or an error saying how many.
+pub(crate) fn weight_count<const N: usize>(
+    flag: &'static str,
+    weights: &[f64],
+    what: &str,
+) -> Result<[f64; N]> {
+    <[f64; N]>::try_from(weights).map_err(|_| {
+        let list = weights.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>();
+        CliError::invalid(
+            flag,
+            list.join(","),
+            format!(
+                "{N} weights {what} ({})",
+                if N == 2 {
+                    "Q_THETA,Q_OMEGA"
+                } else {
+                    "Q_THETA,Q_X,Q_OMEGA,Q_V: the attitude, the position, the rates, the velocity"
+                }
+            ),
+        )
+    })
+}
+
+/// `--track FILE` read by `read` for `steps` steps, with `--track-weights` (`N` of them,
+/// ones by default; `what` says for which problem): `None` without `--track`, refused
+/// where the weights come alone.
+#[allow(clippy::type_complexity)]
+pub(crate) fn tracking<T, const N: usize>(
+    options: &OptimizeOptions,
+    steps: usize,
+    read: impl Fn(&std::path::Path, usize) -> Result<Vec<T>>,
+    what: &str,
+) -> Result<Option<(Vec<T>, [f64; N])>> {
+    match (&options.track, &options.track_weights) {
+        (Some(path), weights) => {
+            let weights = match weights {
+                Some(w) => weight_count("--track-weights", &w.0, what)?,
+                None => [1.0; N],
+            };
+            Ok(Some((read(path, steps)?, weights)))
+        }
+        (None, Some(_)) => Err(CliError::invalid(
+            "--track-weights",
+            "given",
+            "they weigh a tracking cost: give --track FILE as well",
+        )),
+        (None, None) => Ok(None),
+    }
+}
+
+/// The JSON of a `--track` file, and how to refuse it.
+fn track_file(path: &std::path::Path) -> Result<serde_json::Value> {
     let refused = |reason: String| CliError::invalid("--track", path.display(), reason);
     let text =
         std::fs::read_to_string(path).map_err(|e| refused(format!("cannot be read: {e}")))?;
-    let json: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| refused(format!("not JSON: {e}")))?;
-    let rows = |key: &str, width: usize| -> Result<Vec<Vec<f64>>> {
-        let list = json[key].as_array().ok_or_else(|| {
-            refused(format!(
-                "no \"{key}\" array (the file holds R and omega per state, as simulate's JSON)"
-            ))
-        })?;
-        list.iter()
-            .enumerate()
-            .map(|(k, row)| {
-                let values: Option<Vec<f64>> = row
-                    .as_array()
-                    .map(|r| r.iter().map(serde_json::Value::as_f64).collect())
-                    .and_then(|v: Option<Vec<f64>>| v);
-                match values {
-                    Some(v) if v.len() == width && v.iter().all(|x| x.is_finite()) => Ok(v),
-                    _ => Err(refused(format!("{key}[{k}] is not {width} finite numbers"))),
-                }
-            })
-            .collect()
-    };
-    let (attitudes, rates) = (rows("R", 9)?, rows("omega", 3)?);
-    if attitudes.len() != rates.len() {
-        return Err(refused(format!(
-            "{} attitudes and {} rates: one of each per state",
-            attitudes.len(),
-            rates.len()
-        )));
-    }
-    let skip = match attitudes.len() {
-        n if n == steps => 0,
-        n if n == steps + 1 => 1,
-        n => {
-            return Err(refused(format!(
+    serde_json::from_str(&text).map_err(|e| refused(format!("not JSON: {e}")))
+}
+
+/// The rows of `key` in a `--track` file's JSON, each `width` finite numbers.
+fn track_rows(
+    path: &std::path::Path,
+    json: &serde_json::Value,
+    key: &str,
+    width: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let refused = |reason: String| CliError::invalid("--track", path.display(), reason);
+    let list = json[key].as_array().ok_or_else(|| {
+        refused(format!(
+            "no \"{key}\" array (the file holds R and omega per state, as simulate's JSON, and \
+             for a body in space its position and velocity)"
+        ))
+    })?;
+    list.iter()
+        .enumerate()
+        .map(|(k, row)| {
+            let values: Option<Vec<f64>> = row
+                .as_array()
+                .map(|r| r.iter().map(serde_json::Value::as_f64).collect())
+                .and_then(|v: Option<Vec<f64>>| v);
+            match values {
+                Some(v) if v.len() == width && v.iter().all(|x| x.is_finite()) => Ok(v),
+                _ => Err(refused(format!("{key}[{k}] is not {width} finite numbers"))),
+            }
+        })
+        .collect()
+}
+
+/// How many leading states of a `--track` file's `count` to skip for `steps` steps: none
+/// for K, the start for K + 1.
+fn track_skip(path: &std::path::Path, count: usize, steps: usize) -> Result<usize> {
+    match count {
+        n if n == steps => Ok(0),
+        n if n == steps + 1 => Ok(1),
+        n => Err(CliError::invalid(
+            "--track",
+            path.display(),
+            format!(
                 "{n} states for {steps} steps: give K (after the start) or K + 1 (with it); \
                  a simulate run with --h T/K and --t-end T records K + 1"
-            )))
-        }
+            ),
+        )),
+    }
+}
+
+/// The reference motion of a body in space's `--track`: the `steps` states after the
+/// start of a JSON file with `R` (row-major), `position` (or `x`), `omega` and `velocity`
+/// (world frame) per state, as simulate and `optimize --space` write them: poses and body
+/// velocities `(Ω, Rᵀ ẋ)`.
+pub(crate) fn reference_motion_in_space(
+    path: &std::path::Path,
+    steps: usize,
+) -> Result<Vec<(lgsvi_mechanics::lie::SE3, nalgebra::Vector6<f64>)>> {
+    let json = track_file(path)?;
+    let key = if json["position"].is_array() {
+        "position"
+    } else {
+        "x"
     };
-    attitudes
-        .iter()
-        .zip(&rates)
-        .enumerate()
-        .skip(skip)
-        .map(|(k, (r, w))| {
-            let attitude = SO3::from_matrix_unchecked(nalgebra::Matrix3::from_row_slice(r));
-            if attitude.orthogonality_error() > 1e-9 {
-                return Err(refused(format!("R[{k}] is not a rotation")));
+    let attitudes = track_rows(path, &json, "R", 9)?;
+    let positions = track_rows(path, &json, key, 3)?;
+    let rates = track_rows(path, &json, "omega", 3)?;
+    let velocities = track_rows(path, &json, "velocity", 3)?;
+    let counts = [positions.len(), rates.len(), velocities.len()];
+    if counts.iter().any(|n| *n != attitudes.len()) {
+        return Err(CliError::invalid(
+            "--track",
+            path.display(),
+            format!(
+                "{} attitudes, {} positions, {} rates and {} velocities: one of each per state",
+                attitudes.len(),
+                counts[0],
+                counts[1],
+                counts[2]
+            ),
+        ));
+    }
+    let skip = track_skip(path, attitudes.len(), steps)?;
+    (skip..attitudes.len())
+        .map(|k| {
+            let r = SO3::from_matrix_unchecked(nalgebra::Matrix3::from_row_slice(&attitudes[k]));
+            if r.orthogonality_error() > 1e-9 {
+                return Err(CliError::invalid(
+                    "--track",
+                    path.display(),
+                    format!("R[{k}] is not a rotation"),
+                ));
             }
+            let v = r.matrix().transpose() * Vector3::from_column_slice(&velocities[k]);
+            let w = &rates[k];
+            Ok((
+                lgsvi_mechanics::lie::SE3::new(r, Vector3::from_column_slice(&positions[k])),
+                nalgebra::Vector6::new(w[0], w[1], w[2], v.x, v.y, v.z),
+            ))
+        })
+        .collect()
+}
+
+/// The reference motion of `--track`: the `steps` states after the start of a JSON file
+/// with `R` (row-major) and `omega` per state, as simulate and optimize write them.
+fn reference_motion(path: &std::path::Path, steps: usize) -> Result<Vec<lgsvi_optimal::Target>> {
+    let json = track_file(path)?;
+    let (attitudes, rates) = (
+        track_rows(path, &json, "R", 9)?,
+        track_rows(path, &json, "omega", 3)?,
+    );
+    if attitudes.len() != rates.len() {
+        return Err(CliError::invalid(
+            "--track",
+            path.display(),
+            format!(
+                "{} attitudes and {} rates: one of each per state",
+                attitudes.len(),
+                rates.len()
+            ),
+        ));
+    }
+    let skip = track_skip(path, attitudes.len(), steps)?;
+    (skip..attitudes.len())
+        .map(|k| {
+            let attitude =
+                SO3::from_matrix_unchecked(nalgebra::Matrix3::from_row_slice(&attitudes[k]));
+            if attitude.orthogonality_error() > 1e-9 {
+                return Err(CliError::invalid(
+                    "--track",
+                    path.display(),
+                    format!("R[{k}] is not a rotation"),
+                ));
+            }
+            let w = &rates[k];
             Ok((attitude, Vector3::new(w[0], w[1], w[2])))
         })
         .collect()
@@ -593,8 +736,14 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
         "--tolerance" => format!("{:?}", options.tolerance.unwrap_or(1e-10)),
         "--inertia" => list(&options.inertia.unwrap_or([3.3, 2.5, 3.4])),
         "--inputs" => "polynomial".into(),
-        "--terminal-cost" => options.terminal_cost.map_or(String::new(), |q| list(&q)),
-        "--track-weights" => options.track_weights.map_or(String::new(), |q| list(&q)),
+        "--terminal-cost" => options
+            .terminal_cost
+            .as_ref()
+            .map_or(String::new(), |w| list(&w.0)),
+        "--track-weights" => options
+            .track_weights
+            .as_ref()
+            .map_or(String::new(), |w| list(&w.0)),
         "--cost" => "time".into(),
         "--wheel-axes" => list(
             &options

@@ -2687,3 +2687,117 @@ fn optimize_manoeuvres_a_body_in_space() {
         assert_refused(&args, &[extra[0], "--space"]);
     }
 }
+
+/// `optimize --space` tracks a reference motion read from an earlier run's JSON (its
+/// positions and world-frame velocities beside the attitudes and rates) and takes a soft
+/// target, four weights each; the weight counts are checked against the problem.
+#[test]
+fn optimize_tracks_and_softens_a_manoeuvre_in_space() {
+    let dir = temp_dir("optimize-space-track");
+    let exact = dir.join("exact.json");
+    let base = [
+        "optimize",
+        "--space",
+        "--inertia",
+        "3,4,5.5",
+        "--mass",
+        "2",
+        "--attitude-final",
+        "0.6,0.2,-0.4",
+        "--position-final",
+        "1,-0.5,0.3",
+        "--t-end",
+        "12",
+        "--steps",
+        "6",
+        "--nodes",
+        "6",
+        "--quiet",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--out", exact.to_str().unwrap()]);
+    let (code, _, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{err}");
+    let exact_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&exact).unwrap()).unwrap();
+    // Tracking the exact solution's own states, with its target soft: every tracking and
+    // terminal residual vanishes there, so the optimum moves only as far as the energy
+    // pulls it, and its final position stays near the target.
+    let mut args = base.to_vec();
+    args.extend([
+        "--track",
+        exact.to_str().unwrap(),
+        "--track-weights",
+        "10,10,10,10",
+        "--terminal-cost",
+        "100,100,100,100",
+    ]);
+    let (code, out, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(json["converged"], true);
+    assert!(json["multipliers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|m| m.as_f64() == Some(0.0)));
+    let cost = json["cost"].as_f64().unwrap();
+    let exact_cost = exact_json["cost"].as_f64().unwrap();
+    assert!(
+        cost > 0.0 && cost < exact_cost,
+        "{cost} against {exact_cost}"
+    );
+    let x = json["x"]
+        .as_array()
+        .unwrap()
+        .last()
+        .unwrap()
+        .as_array()
+        .unwrap();
+    let miss: f64 = x
+        .iter()
+        .zip([1.0, -0.5, 0.3])
+        .map(|(g, w)| (g.as_f64().unwrap() - w).abs())
+        .fold(0.0, f64::max);
+    assert!(miss < 0.05, "{x:?}");
+    for (extra, words) in [
+        (
+            vec!["--terminal-cost", "1,1"],
+            vec!["--terminal-cost", "4 weights"],
+        ),
+        (
+            vec!["--track-weights", "1,1,1,1"],
+            vec!["--track-weights", "--track FILE"],
+        ),
+        (
+            vec!["--track", exact.to_str().unwrap(), "--track-weights", "1,1"],
+            vec!["--track-weights", "4 weights"],
+        ),
+        (
+            vec!["--terminal-cost", "1,2,3"],
+            vec!["--terminal-cost", "2 comma-separated"],
+        ),
+        (
+            vec!["--terminal-cost", "1,-1,1,1"],
+            vec!["--terminal-cost", "not negative"],
+        ),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(extra);
+        assert_refused(&args, &words);
+    }
+    // A slew takes two weights.
+    assert_refused(
+        &[
+            "optimize",
+            "--attitude-final",
+            "0,0,1",
+            "--t-end",
+            "10",
+            "--terminal-cost",
+            "1,1,1,1",
+            "--quiet",
+        ],
+        &["--terminal-cost", "2 weights"],
+    );
+}

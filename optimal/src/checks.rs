@@ -87,3 +87,32 @@ pub(crate) fn warm_start<const M: usize>(
     }
     Ok(())
 }
+
+/// The tracking and terminal costs: `tracking` as the reference's state count, its
+/// weights and whether every state is finite (one per step boundary after the start,
+/// `steps` of them); `terminal` as its weights; every weight finite and not negative.
+pub(crate) fn costs(
+    tracking: Option<(usize, &[f64], bool)>,
+    steps: usize,
+    terminal: Option<&[f64]>,
+) -> Result<(), OptimalError> {
+    let valid = |w: &[f64]| w.iter().all(|x| x.is_finite() && *x >= 0.0);
+    if let Some((count, weights, finite)) = tracking {
+        if count != steps || !valid(weights) || !finite {
+            return Err(invalid(
+                "track",
+                format!("{count} states, weights {weights:?}"),
+                "one finite reference state per step boundary after the start (K of them), \
+                 weights finite and not negative",
+            ));
+        }
+    }
+    match terminal {
+        Some(weights) if !valid(weights) => Err(invalid(
+            "terminal_cost",
+            format!("{weights:?}"),
+            "weights finite and not negative",
+        )),
+        _ => Ok(()),
+    }
+}

@@ -92,14 +92,14 @@ pub(crate) struct Problem<'a, St, const M: usize> {
     /// quadrature's weights, `H = (I − E)ᵀ diag(2w) (I − E)` in place of `diag(2w)`
     /// (a body in space's force measured in the world frame, `crate::motion`). The cost
     /// and the constraints are unchanged, so is every KKT point; only the path to one is.
-    /// The entries `E` couples (its nonzero rows) must have no bound, and there must be
-    /// no residuals: the metric is ignored where there are.
+    /// The entries `E` couples (its nonzero rows) must have no bound: the metric is
+    /// ignored where they have one.
     pub metric: Option<&'a Metric<'a, St, M>>,
 }
 
 /// The map `E` of [`Problem::metric`] at a run and its inputs.
 pub(crate) type Metric<'a, St, const M: usize> =
-    dyn Fn(&Shot<St>, &[SVector<f64, M>]) -> DMatrix<f64> + 'a;
+    dyn Fn(&Shot<St>, &[SVector<f64, M>]) -> Coupling + 'a;
 
 /// A run of the integrator under inputs of `M` entries.
 pub(crate) type Shooter<'a, St, const M: usize> =
@@ -191,21 +191,25 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     .unzip(),
                 None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
             };
-            // With a metric (and no residuals), the subproblem is taken in
-            // `δv = (I − E) δu` (`δu = (I + E) δv`, `E² = 0`): the Hessian `diag(2w)`, the
-            // rows `M (I + E)`, the gradient `(I + E)ᵀ g`, and the bounds those of `u` (the
-            // entries `E` couples have none: `Problem::metric`).
-            let coupling = match (&fit, self.metric) {
-                (None, Some(metric)) => Some(Coupling::of(metric(&run, &inputs))).filter(|c| {
-                    c.rows
-                        .iter()
-                        .all(|&j| !lower[j].is_finite() && !upper[j].is_finite())
-                }),
-                _ => None,
-            };
-            let hessian = match &fit {
+            // With a metric, the subproblem is taken in `δv = (I − E) δu`
+            // (`δu = (I + E) δv`, `E² = 0`): the Hessian `diag(2w)` (plus the residuals'
+            // `2 G_vᵀ G_v`, `G_v = G (I + E)`), the rows `M (I + E)`, the gradient
+            // `(I + E)ᵀ g`, and the bounds those of `u` (the entries `E` couples have none:
+            // `Problem::metric`).
+            let coupling = self.metric.map(|metric| metric(&run, &inputs)).filter(|c| {
+                c.rows
+                    .iter()
+                    .all(|&j| !lower[j].is_finite() && !upper[j].is_finite())
+            });
+            // The residuals' Jacobian in the subproblem's variables, `G (I + E)` with a
+            // metric.
+            let fit_jacobian = fit.as_ref().map(|(_, g)| match &coupling {
+                Some(c) => g + c.right(g),
+                None => g.clone(),
+            });
+            let hessian = match &fit_jacobian {
                 None => qp::diagonal(&diagonal),
-                Some((_, g)) => {
+                Some(g) => {
                     let mut dense = 2.0 * g.transpose() * g;
                     for (j, d) in diagonal.iter().enumerate() {
                         dense[(j, j)] += d;
@@ -288,7 +292,12 @@ impl<St, const M: usize> Problem<'_, St, M> {
                 match (self.shoot)(&trial) {
                     Ok(r) => {
                         let f = (self.residuals)(&r);
-                        if merit(self.cost(&trial, f.as_ref()), &r.miss) <= before || alpha < 1e-3 {
+                        // A rise within the merit's rounding is no rise: near the
+                        // solution the model's decrease falls below it, and halving a
+                        // good step there only stalls the iteration.
+                        let rounding = 16.0 * f64::EPSILON * before.abs();
+                        let trial_merit = merit(self.cost(&trial, f.as_ref()), &r.miss);
+                        if trial_merit <= before + rounding || alpha < 1e-3 {
                             break (trial, r, f);
                         }
                         alpha *= 0.5;
@@ -378,34 +387,33 @@ pub(crate) fn by_step<const M: usize>(
     (means, steps)
 }
 
-/// A metric's map `E` ([`Problem::metric`]) with the entries it couples: `E` is nonzero
-/// only in the rows `rows` and the columns `columns`, which are disjoint, so `E² = 0`.
-struct Coupling {
-    e: DMatrix<f64>,
-    rows: Vec<usize>,
-    columns: Vec<usize>,
+/// A metric's map `E` ([`Problem::metric`]) by its block: `E` is zero outside the rows
+/// `rows` and the columns `columns`, which are disjoint, so `E² = 0`; `block` is its
+/// `rows × columns` part.
+pub(crate) struct Coupling {
+    pub rows: Vec<usize>,
+    pub columns: Vec<usize>,
+    pub block: DMatrix<f64>,
 }
 
 impl Coupling {
-    /// `E` and its nonzero rows and columns.
-    fn of(e: DMatrix<f64>) -> Self {
-        let rows = (0..e.nrows())
-            .filter(|&i| e.row(i).iter().any(|x| *x != 0.0))
-            .collect();
-        let columns = (0..e.ncols())
-            .filter(|&j| e.column(j).iter().any(|x| *x != 0.0))
-            .collect();
-        Self { e, rows, columns }
-    }
-
-    /// The block of `E` in its rows and columns.
-    fn block(&self) -> DMatrix<f64> {
-        self.e.select_rows(&self.rows).select_columns(&self.columns)
+    /// `E` from its rows, columns and block.
+    pub(crate) fn new(rows: Vec<usize>, columns: Vec<usize>, block: DMatrix<f64>) -> Self {
+        debug_assert!(
+            columns.iter().all(|j| !rows.contains(j))
+                && block.shape() == (rows.len(), columns.len()),
+            "a metric's E couples disjoint rows and columns (E² = 0), its block their size"
+        );
+        Self {
+            rows,
+            columns,
+            block,
+        }
     }
 
     /// `X E` for `X` with `E`'s row count of columns.
     fn right(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
-        let product = x.select_columns(&self.rows) * self.block();
+        let product = x.select_columns(&self.rows) * &self.block;
         let mut out = DMatrix::zeros(x.nrows(), x.ncols());
         for (k, &j) in self.columns.iter().enumerate() {
             out.set_column(j, &product.column(k));
@@ -415,7 +423,7 @@ impl Coupling {
 
     /// `E v`.
     fn times(&self, v: &DVector<f64>) -> DVector<f64> {
-        let product = self.block() * v.select_rows(&self.columns);
+        let product = &self.block * v.select_rows(&self.columns);
         let mut out = DVector::zeros(v.len());
         for (k, &i) in self.rows.iter().enumerate() {
             out[i] = product[k];

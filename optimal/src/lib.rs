@@ -536,31 +536,16 @@ impl Slew {
                  bang-bang: hold the torques constant over each step",
             ));
         }
-        let weights_valid = |w: &[f64; 2]| w.iter().all(|x| x.is_finite() && *x >= 0.0);
-        if let Some((reference, weights)) = &self.tracking {
-            if reference.len() != self.steps
-                || !weights_valid(weights)
-                || reference.iter().any(|(r, w)| {
-                    !(r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite()))
-                })
-            {
-                return Err(invalid(
-                    "track",
-                    format!("{} states, weights {weights:?}", reference.len()),
-                    "one finite reference state per step boundary after the start (K of \
-                     them), weights finite and not negative",
-                ));
-            }
-        }
-        if let Some(weights) = &self.terminal_cost {
-            if !weights_valid(weights) {
-                return Err(invalid(
-                    "terminal_cost",
-                    format!("{weights:?}"),
-                    "weights finite and not negative",
-                ));
-            }
-        }
+        let finite = |(r, w): &Target| {
+            r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite())
+        };
+        checks::costs(
+            self.tracking
+                .as_ref()
+                .map(|(r, w)| (r.len(), &w[..], r.iter().all(finite))),
+            self.steps,
+            self.terminal_cost.as_ref().map(|w| &w[..]),
+        )?;
         if let Some(w) = &self.wheels {
             if self.gravity.is_some_and(|g| g.mass * g.gravity != 0.0) {
                 return Err(invalid(

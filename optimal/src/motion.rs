@@ -1,17 +1,21 @@
 //! Manoeuvres of a body in space (SE(3)): the pose and the body velocity driven from a
 //! start to a target by a body wrench `(τ, f)`, at the least input energy in a fixed time.
 
-use crate::energy::{by_step, Problem, Solved, Start};
+use crate::energy::{by_step, Coupling, Problem, Solved, Start};
 use crate::shooting::{shoot_motion, Shot};
+use crate::tracking::Residuals;
 use crate::{Inputs, OptimalError, Statistics};
 use lgsvi_mechanics::built_in::BuiltInSe3;
-use lgsvi_mechanics::lie::SE3;
+use lgsvi_mechanics::lie::{ExpChart, LieGroup, So3Chart, SE3};
 use lgsvi_mechanics::{Integrator, State, StepSettings};
-use nalgebra::{DMatrix, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 use std::time::Instant;
 
 /// A state of a body in space.
 type SE3State = State<SE3, 6>;
+
+/// A pose and body velocity `(g, ξ)`: a start, a target, a reference state.
+type PoseVelocity = (SE3, Vector6<f64>);
 
 /// A manoeuvre of a rigid body in space: from a start `(g₀, ξ₀)` to a target `(g_f, ξ_f)`
 /// in the fixed time `T`, driven by a body wrench `u = (τ, f)` (the torque and the force,
@@ -31,8 +35,10 @@ type SE3State = State<SE3, 6>;
 /// `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)` with the centre of mass's position
 /// and velocity in the world frame. It is solved by the slew's SQP with the steps' exact
 /// linearisations, in a metric that measures the force in the world frame: the step's
-/// `δf` counts as `δf − f̂ δθ`, with `δθ` the attitude's change it brings at the force's
-/// Gauss point (exact, [`lgsvi_mechanics::linearization::StepLinearization::point_configurations`]).
+/// `δf` counts as `δf − f̂ δθ`, with `δθ` the attitude's change that its torques bring at
+/// the force's Gauss point (from
+/// [`lgsvi_mechanics::linearization::StepLinearization::point_configurations`]; the
+/// step's mean for a held wrench).
 /// The centre of mass moves under the world-frame force `F = R f`, so in the pair
 /// (torque, world force) its miss is linear in `F` and does not depend on the torque (the
 /// free body; the orbiting body nearly so): the iteration converges in about as many
@@ -82,6 +88,8 @@ pub struct Manoeuvre {
     tolerance: f64,
     max_iterations: usize,
     initial: Option<Vec<Vector6<f64>>>,
+    tracking: Option<(Vec<PoseVelocity>, [f64; 4])>,
+    terminal_cost: Option<[f64; 4]>,
 }
 
 /// A solved [`Manoeuvre`].
@@ -119,9 +127,10 @@ impl Manoeuvre {
     /// A manoeuvre of `body` in time `t_end`, by default rest to rest from the identity
     /// pose to the identity pose, 20 steps of 10 nodes, no bounds, tolerance 1e-10, at
     /// most 500 iterations (a manoeuvre whose translation dominates its cost takes
-    /// hundreds where the force is bounded: the guide's "How fast it converges"), from no
-    /// wrench (with bounds, from the unbounded optimum clamped to them, and again from no
-    /// wrench where that fails).
+    /// about a hundred where the force is bounded: the guide's "How fast it converges"),
+    /// from no wrench (with bounds, from the unbounded optimum clamped to them, and again
+    /// from no wrench where that fails; each of these solves has the iteration limit, and
+    /// the solution's record counts the unbounded solve's iterations with its own).
     pub fn new(body: impl Into<BuiltInSe3>, t_end: f64) -> Self {
         Self {
             body: body.into(),
@@ -136,6 +145,8 @@ impl Manoeuvre {
             tolerance: 1e-10,
             max_iterations: 500,
             initial: None,
+            tracking: None,
+            terminal_cost: None,
         }
     }
 
@@ -179,6 +190,25 @@ impl Manoeuvre {
     /// at the step's Gauss points ([`Inputs`]).
     pub fn inputs(mut self, inputs: Inputs) -> Self {
         self.inputs = inputs;
+        self
+    }
+
+    /// Adds the cost of straying from a reference motion, one state `(g_ref,k, ξ_ref,k)`
+    /// (pose, body velocity) per step boundary `k = 1 … K`:
+    /// `Σ_k h (q_θ |log(R_ref,kᵀ R_k)|² + q_x |x_k − x_ref,k|² + q_ω |Ω_k − Ω_ref,k|²
+    /// + q_v |ẋ_k − ẋ_ref,k|²)` with `weights = [q_θ, q_x, q_ω, q_v]`, the centre of
+    /// mass's position and velocity `ẋ = R v` in the world frame. The problem stays a least
+    /// squares one (the slew's [`crate::Slew::track`]).
+    pub fn track(mut self, reference: Vec<(SE3, Vector6<f64>)>, weights: [f64; 4]) -> Self {
+        self.tracking = Some((reference, weights));
+        self
+    }
+
+    /// Replaces the exact terminal state by a cost on the miss, `q_θ |log(R_fᵀ R_K)|² +
+    /// q_x |x_K − x_f|² + q_ω |Ω_K − Ω_f|² + q_v |ẋ_K − ẋ_f|²` with
+    /// `weights = [q_θ, q_x, q_ω, q_v]`: a soft target.
+    pub fn terminal_cost(mut self, weights: [f64; 4]) -> Self {
+        self.terminal_cost = Some(weights);
         self
     }
 
@@ -253,6 +283,18 @@ impl Manoeuvre {
             };
             checks::warm_start(initial, self.steps, points, ["wrench", "wrenches"])?;
         }
+        let finite = |(g, xi): &PoseVelocity| {
+            g.rotation().matrix().iter().all(|x| x.is_finite())
+                && g.translation().iter().all(|x| x.is_finite())
+                && xi.iter().all(|x| x.is_finite())
+        };
+        checks::costs(
+            self.tracking
+                .as_ref()
+                .map(|(r, w)| (r.len(), &w[..], r.iter().all(finite))),
+            self.steps,
+            self.terminal_cost.as_ref().map(|w| &w[..]),
+        )?;
         Ok(settings)
     }
 
@@ -315,10 +357,10 @@ impl Manoeuvre {
         };
         let per_step = solved.0;
         let solved = solved.1;
-        // The multipliers of the scaled rows, in the unscaled miss.
+        // The multipliers of the scaled rows, in the unscaled miss (none for a soft target).
         let mut multipliers = [0.0; 12];
-        for (i, m) in multipliers.iter_mut().enumerate() {
-            *m = solved.multipliers[i] / scale[i];
+        for ((m, l), s) in multipliers.iter_mut().zip(&solved.multipliers).zip(scale) {
+            *m = l / s;
         }
         let (means, at_points) = by_step(&solved.inputs, per_step, &weights);
         let mut statistics = solved.statistics;
@@ -390,17 +432,80 @@ impl Manoeuvre {
         // which the subproblem solves more slowly than the plain iteration's extra
         // iterations cost (docs/notes/optimal.md): the metric only for a free force.
         let plain = bound.is_some_and(|b| b.fixed_rows::<3>(3).iter().any(|x| x.is_finite()));
+        let h = settings.h();
+        let fit = |run: &Shot<SE3State>| self.residuals(h, run);
         let problem = Problem {
             step_weights: &start.step_weights,
             bound,
-            exact_target: true,
+            exact_target: self.terminal_cost.is_none(),
             max_iterations: self.max_iterations,
             shoot: &shoot,
-            residuals: &|_| None,
+            residuals: &fit,
             equilibrate: true,
             metric: if plain { None } else { Some(&metric) },
         };
         Ok((per_step, problem.solve(start.inputs, self.tolerance)?))
+    }
+}
+
+impl Manoeuvre {
+    /// The tracking and terminal costs' weighted residuals and their Jacobian in the inputs
+    /// (the slew's, `crate::tracking`, on SE(3)): each state `k` with weights `q` gives
+    /// `√q_θ log(R_refᵀ R_k)`, `√q_x (x_k − x_ref)`, `√q_ω (Ω_k − Ω_ref)`,
+    /// `√q_v (ẋ_k − ẋ_ref)` (times `√h` when tracked). From the states' sensitivities in
+    /// the native `(θ_R, θ_x, δΩ, δv)`: `J_r(e)⁻¹ θ_R`, `R θ_x`, `δΩ`, `R (δv − v̂ θ_R)`.
+    /// `None` without either cost.
+    fn residuals(&self, h: f64, shot: &Shot<SE3State>) -> Option<Residuals> {
+        if self.tracking.is_none() && self.terminal_cost.is_none() {
+            return None;
+        }
+        let mut terms: Vec<(usize, PoseVelocity, [f64; 4])> = Vec::new();
+        if let Some((reference, q)) = &self.tracking {
+            for (k, state) in reference.iter().enumerate() {
+                terms.push((k + 1, *state, q.map(|q| h * q)));
+            }
+        }
+        if let Some(q) = self.terminal_cost {
+            terms.push((shot.states.len() - 1, self.target, q));
+        }
+        let sensitivities = shot.state_sensitivities();
+        let columns = shot.sensitivity.ncols();
+        let mut r = DVector::<f64>::zeros(12 * terms.len());
+        let mut g = DMatrix::<f64>::zeros(12 * terms.len(), columns);
+        for (row, (k, (pose, xi), q)) in terms.into_iter().enumerate() {
+            let state = &shot.states[k];
+            let rotation = *state.configuration.rotation().matrix();
+            let world = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
+            let e = pose
+                .rotation()
+                .inverse()
+                .compose(state.configuration.rotation())
+                .log();
+            let parts = [
+                e,
+                state.configuration.translation() - pose.translation(),
+                state.velocity.fixed_rows::<3>(0) - xi.fixed_rows::<3>(0),
+                world(&state.configuration, &state.velocity) - world(&pose, &xi),
+            ];
+            let s = &sensitivities[k - 1];
+            let v_hat =
+                lgsvi_mechanics::lie::so3::hat(&state.velocity.fixed_rows::<3>(3).into_owned());
+            let (theta, position) = (s.fixed_rows::<3>(0), s.fixed_rows::<3>(3));
+            let (rates, velocity) = (s.fixed_rows::<3>(6), s.fixed_rows::<3>(9));
+            let rows = [
+                ExpChart.rotation_left_differential_inverse(&e) * theta,
+                rotation * position,
+                rates.into_owned(),
+                rotation * (velocity - v_hat * theta),
+            ];
+            for (part, ((value, jacobian), weight)) in parts.iter().zip(&rows).zip(q).enumerate() {
+                let w = weight.sqrt();
+                let at = 12 * row + 3 * part;
+                r.rows_mut(at, 3).copy_from(&(value * w));
+                g.view_mut((at, 0), (3, columns)).copy_from(&(jacobian * w));
+            }
+        }
+        Some((r, g))
     }
 }
 
@@ -414,11 +519,13 @@ fn after(first: Statistics, mut found: Solved<SE3State, 6>) -> Solved<SE3State, 
 }
 
 /// The map `E` of the world-frame force metric ([`Problem::metric`]): the body force `f`
-/// of an input seen through the attitude's motion, `δf − [f]× δθ`, is the world-frame
-/// force's change `R δF` brought back to the body (`F = R f`, so `δF = R (δf − f̂ δθ)`
-/// with `R → R exp(θ̂)`). Row block `f` of input `i` holds `f̂_i ∂θ_i/∂τ` (the torque
-/// columns only: `E` is then nilpotent, `I − E` invertible), `θ_i` the attitude at the
-/// input's Gauss point, or the quadrature mean over the step for a held wrench.
+/// of an input seen through the attitude's motion, `δf − f̂ δθ`, is `Rᵀ δF`, the
+/// world-frame force's change brought back to the body (`F = R f`, so
+/// `δF = R (δf − f̂ δθ)` with `R → R exp(θ̂)`). Row block `f` of input `i` holds
+/// `f̂_i ∂θ_i/∂τ`, the torques' part of the attitude's change (exact at the input's Gauss
+/// point; the quadrature mean over the step for a held wrench). Its columns are the
+/// torques' only, so `E` is nilpotent and `I − E` invertible; the attitude's dependence
+/// on the force (an orbiting body's gravity gradient) is left to the iteration.
 ///
 /// Why: the translation is driven by the world-frame force alone, which turns with the
 /// attitude when the force is held fixed in the body, so in `(τ, f)` the position's miss
@@ -431,10 +538,12 @@ fn world_force_coupling(
     inputs: &[Vector6<f64>],
     per_step: usize,
     weights: &[f64],
-) -> DMatrix<f64> {
+) -> Coupling {
     let attitudes = run.attitude_sensitivities();
     let n = 6 * inputs.len();
-    let mut e = DMatrix::zeros(n, n);
+    let rows: Vec<usize> = (0..n).filter(|j| j % 6 >= 3).collect();
+    let columns: Vec<usize> = (0..n).filter(|j| j % 6 < 3).collect();
+    let mut block = DMatrix::zeros(rows.len(), columns.len());
     for (i, u) in inputs.iter().enumerate() {
         let (k, j) = (i / per_step, i % per_step);
         let theta = if per_step == 1 {
@@ -446,12 +555,10 @@ fn world_force_coupling(
             attitudes[k][j].clone()
         };
         let f = lgsvi_mechanics::lie::so3::hat(&Vector3::new(u[3], u[4], u[5]));
-        let rows = f * theta;
-        for column in (0..n).filter(|c| c % 6 < 3) {
-            for r in 0..3 {
-                e[(6 * i + 3 + r, column)] = rows[(r, column)];
-            }
-        }
+        let torques = (f * theta).select_columns(&columns);
+        block
+            .view_mut((3 * i, 0), (3, columns.len()))
+            .copy_from(&torques);
     }
-    e
+    Coupling::new(rows, columns, block)
 }

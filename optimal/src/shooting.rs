@@ -68,13 +68,16 @@ pub(crate) struct Shot<St = State> {
     /// With reaction wheels, their rates `φ̇` at `x_0 … x_K`; empty otherwise.
     pub wheel_speeds: Vec<Vector3<f64>>,
     /// `M = ∂x_K/∂u` (the observed rows, `m` columns per input of a step) in the
-    /// body-frame coordinates `(θ, ω)`.
+    /// coordinates of the miss: the body-frame `(θ, ω)` on SO(3), `(θ_R, δx, δΩ, δẋ)` with
+    /// the position and velocity in the world frame on SE(3) ([`shoot_motion`]).
+    /// [`Shot::state_sensitivities`] and [`Shot::attitude_sensitivities`] are in the
+    /// linearisation's native `(θ, ω)` on both.
     pub sensitivity: DMatrix<f64>,
     /// `∂x_K/∂h` (the observed rows), the step length shared by every step; zero unless
     /// the run was asked for it.
     pub time_sensitivity: DVector<f64>,
-    /// The terminal miss in the observed coordinates: on SO(3)
-    /// `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`, on SE(3) `(log(g_K⁻¹ g_f), ξ_f − ξ_K)`.
+    /// The terminal miss: on SO(3) `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`, on SE(3)
+    /// `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`.
     pub miss: DVector<f64>,
     /// The rows of the plant's linearisation state `(θ, ω) ∈ ℝ^{2D}` that the problem
     /// observes: on a slew the attitude's and the body rates' (`0..3` and `D..D + 3`), on

@@ -253,8 +253,9 @@ fn _slew<'py>(
 /// Solves a manoeuvre of a body in space; the Python layer's `lgsvi.optimal.manoeuvre`
 /// wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant"))]
+#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant", track=None, terminal_cost=None))]
 #[allow(clippy::too_many_arguments)]
+#[allow(clippy::type_complexity)] // the tracking tuple mirrors the Python argument
 fn _manoeuvre<'py>(
     py: Python<'py>,
     inertia: &Bound<'py, PyAny>,
@@ -277,6 +278,14 @@ fn _manoeuvre<'py>(
     max_iterations: usize,
     warm_start: Option<&Bound<'py, PyAny>>,
     inputs: &str,
+    track: Option<(
+        Bound<'py, PyAny>,
+        Bound<'py, PyAny>,
+        Bound<'py, PyAny>,
+        Bound<'py, PyAny>,
+        [f64; 4],
+    )>,
+    terminal_cost: Option<[f64; 4]>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use lgsvi_mechanics::built_in::BuiltInSe3;
     use lgsvi_mechanics::lie::{SE3, SO3};
@@ -347,6 +356,33 @@ fn _manoeuvre<'py>(
                 .map(|r| Vector6::from_iterator(r.iter().copied()))
                 .collect(),
         );
+    }
+    if let Some((attitudes, positions, omegas, velocities, weights)) = track {
+        let attitudes = crate::convert::rotations(&attitudes, "track attitudes")?;
+        let positions = vectors3(&positions, "track positions")?;
+        let omegas = vectors3(&omegas, "track omegas")?;
+        let velocities = vectors3(&velocities, "track velocities")?;
+        let counts = [positions.len(), omegas.len(), velocities.len()];
+        if counts.iter().any(|n| *n != attitudes.len()) {
+            return Err(invalid(format!(
+                "track: {} attitudes, {} positions, {} rates and {} velocities; one of each per \
+                 step boundary after the start",
+                attitudes.len(),
+                counts[0],
+                counts[1],
+                counts[2]
+            )));
+        }
+        let reference = attitudes
+            .iter()
+            .zip(&positions)
+            .zip(omegas.iter().zip(&velocities))
+            .map(|((r, x), (w, v))| (SE3::new(*r, *x), body_velocity(r, *w, *v)))
+            .collect();
+        manoeuvre = manoeuvre.track(reference, weights);
+    }
+    if let Some(weights) = terminal_cost {
+        manoeuvre = manoeuvre.terminal_cost(weights);
     }
     let solution = py.detach(|| guarded(|| manoeuvre.solve().map_err(optimal_error)))?;
     let k = solution.inputs.len();

@@ -280,3 +280,28 @@ def test_manoeuvre_errors_name_the_argument():
         mass = args.pop("mass")
         with pytest.raises(error, match=name):
             optimal.manoeuvre([1.0, 1.5, 2.0], mass, 10.0, **args)
+
+
+def test_a_manoeuvre_tracks_a_reference_and_takes_a_soft_target():
+    # Tracking the exact manoeuvre's own states with its target soft: the residuals vanish
+    # there, so the optimum spends less energy than the exact one (the energy pulls it off
+    # the reference) and ends near the target; the multipliers of a soft target are zero.
+    args = dict(attitude_final=lie.so3_exp([0.6, 0.2, -0.4]), position_final=[1.0, -0.5, 0.3],
+                steps=6, nodes=6)
+    exact = optimal.manoeuvre([3.0, 4.0, 5.5], 2.0, 12.0, **args)
+    reference = (exact.attitude[1:], exact.position[1:], exact.omega[1:], exact.velocity[1:],
+                 [10.0, 10.0, 10.0, 10.0])
+    soft = optimal.manoeuvre([3.0, 4.0, 5.5], 2.0, 12.0, track=reference,
+                             terminal_cost=[100.0] * 4, **args)
+    assert soft.converged and 0.0 < soft.cost < exact.cost
+    assert np.abs(soft.position[-1] - [1.0, -0.5, 0.3]).max() < 0.05
+    assert np.all(soft.multipliers == 0.0)
+    # Heavier weights pull the soft solution onto the exact one.
+    heavy = optimal.manoeuvre([3.0, 4.0, 5.5], 2.0, 12.0, track=reference[:4] + ([1e3] * 4,),
+                              terminal_cost=[1e3] * 4, **args)
+    assert np.abs(heavy.position - exact.position).max() < np.abs(soft.position - exact.position).max()
+    with pytest.raises(lgsvi.InvalidInputError, match="track"):
+        optimal.manoeuvre([3.0, 4.0, 5.5], 2.0, 12.0, track=(exact.attitude[1:3],) + reference[1:],
+                          **args)
+    with pytest.raises(lgsvi.InvalidInputError, match="terminal_cost"):
+        optimal.manoeuvre([3.0, 4.0, 5.5], 2.0, 12.0, terminal_cost=[1.0, -1.0, 1.0, 1.0], **args)

@@ -376,7 +376,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         })
     }
 
-    /// `A(x_j) δx_j` at Gauss point `j` (chart terms `point`) for one column of `∂Ξ/∂P`
+    /// `A(x_j) δx_j` at Gauss point `j` (`a` its `A(x_j)`) for one column of `∂Ξ/∂P`
     /// (`delta(k)`: node `k + 1`'s part; the first node is the start, fixed):
     /// `δx_j = Σ_i φ_i(c_j h) δξⁱ`.
     fn point_motion(
@@ -426,8 +426,9 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
     /// the sums over the points reduced to point `j`'s term — node `i`'s rows
     /// `h b_j φ_i(c_j h) A(x_j)ᵀ`, the matching rows `T Ad_{Φ(x_j)⁻¹}ᵀ h b_j −
     /// h b_j φ_n(c_j h) A(x_j)ᵀ`, and `w`'s explicit part `h b_j Ad_{Φ(x_j)⁻¹}ᵀ`. Their sum
-    /// over the points is the constant input's `(θ, μ)` columns. One `(θ, μ)` pair of
-    /// `D × D` blocks per point.
+    /// over the points is the constant input's `(θ, μ)` columns. Per point, one `(θ, μ)`
+    /// pair of `D × D` blocks and, at every Gauss point `q`, the configuration's
+    /// `∂θ_q/∂u_j` ([`PointInput`]).
     ///
     /// # Errors
     /// [`MechanicsError::SingularJacobian`] if a solution is not finite.

@@ -318,4 +318,6 @@ def _manoeuvre(
     max_iterations: int = 500,
     warm_start: Optional[ArrayLike] = None,
     inputs: str = "constant",
+    track: Optional[Tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike, Sequence[float]]] = None,
+    terminal_cost: Optional[Sequence[float]] = None,
 ) -> Dict[str, Any]: ...

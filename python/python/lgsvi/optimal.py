@@ -281,6 +281,8 @@ def manoeuvre(
     max_iterations: int = 500,
     warm_start: Optional[Any] = None,
     inputs: str = "constant",
+    track: Optional[Any] = None,
+    terminal_cost: Optional[Any] = None,
 ) -> ManoeuvreResult:
     """The manoeuvre of a rigid body in space of principal moments ``inertia`` (3,) and
     ``mass``, in the time ``t_end`` (s), at the least ``integral of |tau|^2 + |f|^2 dt``:
@@ -297,9 +299,17 @@ def manoeuvre(
     polynomial within each step (given at its Gauss points), ``"constant"`` holds it over
     each step; ``warm_start`` (K, 6) or (K m, 6) wrenches to start from.
 
-    Solved by the slew's Gauss-Newton SQP: its convergence is linear, slower as the
-    translation's share of the cost grows (the force's direction turns with the attitude);
-    raise ``max_iterations`` where the error says so.
+    ``track=(attitudes, positions, omegas, velocities, [q_theta, q_x, q_omega, q_v])``
+    (``(K, 3, 3)``, ``(K, 3)`` each, one state per step boundary after the start, positions
+    and velocities in the world frame) adds ``h sum_k (q_theta |log(R_ref^T R_k)|^2 +
+    q_x |x_k - x_ref|^2 + q_omega |Omega_k - Omega_ref|^2 + q_v |xdot_k - xdot_ref|^2)``;
+    ``terminal_cost=[q_theta, q_x, q_omega, q_v]`` replaces the exact target by the same
+    terms at the last state (a soft target; the multipliers are then zero).
+
+    Solved by the slew's SQP with the body force measured in the world frame, which
+    converges in about as many iterations as a slew however large the translation's share
+    of the cost; with ``force_max`` the force is measured in the body frame and the
+    convergence is linear (raise ``max_iterations`` where the error says so).
 
     Raises
     ------
@@ -331,5 +341,7 @@ def manoeuvre(
         max_iterations=max_iterations,
         warm_start=warm_start,
         inputs=inputs,
+        track=track,
+        terminal_cost=terminal_cost,
     )
     return ManoeuvreResult(**fields)
