@@ -7,7 +7,7 @@ use crate::error::{CliError, Result};
 use crate::optimize::{input_series, InputShape, OptimizeOptions};
 use lgsvi_mechanics::built_in::BuiltInSe3;
 use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
-use lgsvi_mechanics::{FreeBody, Inertia, MechanicsError, OrbitingBody};
+use lgsvi_mechanics::{FreeBody, MechanicsError, OrbitingBody};
 use lgsvi_optimal::{Manoeuvre, ManoeuvreSolution, OptimalError};
 use nalgebra::{Vector3, Vector6};
 use serde_json::json;
@@ -20,14 +20,7 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
         "(none)",
         "a manoeuvre takes a fixed duration: give --t-end T in seconds",
     ))?;
-    let moments = options.inertia.unwrap_or([3.3, 2.5, 3.4]);
-    let inertia = Inertia::from_principal_moments(moments).map_err(|e| {
-        CliError::invalid(
-            "--inertia",
-            moments.map(|x| x.to_string()).join(","),
-            e.to_string(),
-        )
-    })?;
+    let inertia = crate::optimize::inertia(options)?;
     let mass = options.mass.unwrap_or(1.0);
     let body_error = |error: MechanicsError| match &error {
         MechanicsError::InvalidSetting { name: "mu", .. }

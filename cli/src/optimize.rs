@@ -196,14 +196,7 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
              --cost time with --torque-max for the least time)",
         ));
     }
-    let moments = options.inertia.unwrap_or([3.3, 2.5, 3.4]);
-    let inertia = Inertia::from_principal_moments(moments).map_err(|e| {
-        CliError::invalid(
-            "--inertia",
-            moments.map(|x| x.to_string()).join(","),
-            e.to_string(),
-        )
-    })?;
+    let inertia = inertia(&options)?;
     let gravity = heavy_top(&options)?;
     let start = SO3::exp(&Vector3::from(options.attitude0.unwrap_or([0.0; 3])));
     let attitude_final = options.attitude_final.ok_or(CliError::invalid(
@@ -379,6 +372,18 @@ pub fn report(cost: f64, unit: &str, statistics: &lgsvi_optimal::Statistics) {
         statistics.kkt_residuals.last().copied().unwrap_or(f64::NAN),
         1e3 * statistics.time_s
     );
+}
+
+/// The body's `--inertia` (principal moments; the default body's without it), checked.
+pub(crate) fn inertia(options: &OptimizeOptions) -> Result<Inertia> {
+    let moments = options.inertia.unwrap_or([3.3, 2.5, 3.4]);
+    Inertia::from_principal_moments(moments).map_err(|e| {
+        CliError::invalid(
+            "--inertia",
+            moments.map(|x| x.to_string()).join(","),
+            e.to_string(),
+        )
+    })
 }
 
 /// The weights of `--terminal-cost` or `--track-weights`: a slew's `Q_THETA,Q_OMEGA`, a

@@ -367,6 +367,25 @@ impl StepLinearization<SE3, 6> {
     }
 }
 
+/// The map `P` from a body in space's state perturbation in the native coordinates
+/// `(θ_R, θ_x, δΩ, δv)` ([`Coordinates::Velocity`]) to the world frame's
+/// `(θ_R, δx, δΩ, δẋ)` at the state `(g, ξ)`: `δx = R θ_x`, `δẋ = R (δv − v̂ θ_R)`. What
+/// [`StepLinearization::world_frame`] applies at a step's end; for a sensitivity chained
+/// over many steps (`P ∂x_K/∂u` at the last state), or a state's own.
+///
+/// ```
+/// use lgsvi_mechanics::linearization::world_coordinates;
+/// use lgsvi_mechanics::lie::{SE3, SO3};
+/// use nalgebra::{SVector, Vector3};
+/// // Turned a quarter about z: a body-frame position perturbation along x is along y.
+/// let g = SE3::new(SO3::exp(&Vector3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2)), Vector3::zeros());
+/// let p = world_coordinates(&g, &SVector::<f64, 6>::zeros());
+/// assert!((p[(4, 3)] - 1.0).abs() < 1e-15);
+/// ```
+pub fn world_coordinates(configuration: &SE3, velocity: &SVector<f64, 6>) -> DMatrix<f64> {
+    world_from_body(configuration, velocity, false)
+}
+
 /// `(θ_R, δx, δΩ, δẋ) = P (θ_R, θ_x, δΩ, δv)` at `(R, x)` with body velocity `(Ω, v)`
 /// (`δx = R θ_x`, `δẋ = R(δv − v̂ θ_R)`), or with `inverse` its inverse
 /// (`θ_x = Rᵀ δx`, `δv = Rᵀ δẋ + v̂ θ_R`).

@@ -203,11 +203,12 @@ impl<St, const M: usize> Problem<'_, St, M> {
             });
             // The residuals' Jacobian in the subproblem's variables, `G (I + E)` with a
             // metric.
-            let fit_jacobian = fit.as_ref().map(|(_, g)| match &coupling {
-                Some(c) => g + c.right(g),
-                None => g.clone(),
-            });
-            let hessian = match &fit_jacobian {
+            let coupled_fit = match (&fit, &coupling) {
+                (Some((_, g)), Some(c)) => Some(g + c.right(g)),
+                _ => None,
+            };
+            let fit_jacobian = coupled_fit.as_ref().or(fit.as_ref().map(|(_, g)| g));
+            let hessian = match fit_jacobian {
                 None => qp::diagonal(&diagonal),
                 Some(g) => {
                     let mut dense = 2.0 * g.transpose() * g;

@@ -7,6 +7,7 @@ use crate::tracking::Residuals;
 use crate::{Inputs, OptimalError, Statistics};
 use lgsvi_mechanics::built_in::BuiltInSe3;
 use lgsvi_mechanics::lie::{ExpChart, LieGroup, So3Chart, SE3};
+use lgsvi_mechanics::linearization::world_coordinates;
 use lgsvi_mechanics::{Integrator, State, StepSettings};
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 use std::time::Instant;
@@ -321,7 +322,7 @@ impl Manoeuvre {
         let scale = self.scale();
         let attempt = |initial: Option<&[Vector6<f64>]>, bound: Option<Vector6<f64>>| {
             let start = Start::of(self.inputs, h, k_steps, &weights, initial, bound);
-            self.solve_from(settings, start, bound, &scale)
+            self.solve_from(settings, start, bound, &scale, &weights)
         };
         // Bounded without a warm start: first the unbounded manoeuvre (the fastest to solve,
         // in the world-frame force's metric), then the bounded one from its optimum clamped
@@ -414,24 +415,32 @@ impl Manoeuvre {
         start: Start<6>,
         bound: Option<Vector6<f64>>,
         scale: &[f64; 12],
+        weights: &[f64],
     ) -> Result<(usize, Solved<SE3State, 6>), OptimalError> {
         let per_step = start.step_weights.len();
+        // A bound on the force would be a bound on `(I + E) δv`, rows as dense as `E`,
+        // which the subproblem solves more slowly than the plain iteration's extra
+        // iterations cost (docs/notes/optimal.md): the metric only for a free force.
+        let plain = bound.is_some_and(|b| b.fixed_rows::<3>(3).iter().any(|x| x.is_finite()));
         let shoot = |u: &[Vector6<f64>]| {
-            let mut shot = shoot_motion(self.body, settings, self.start, self.target, u, per_step)?;
+            let mut shot = shoot_motion(
+                self.body,
+                settings,
+                self.start,
+                self.target,
+                u,
+                per_step,
+                !plain,
+            )?;
             for (i, l) in scale.iter().enumerate() {
                 shot.miss[i] /= l;
                 shot.sensitivity.row_mut(i).unscale_mut(*l);
             }
             Ok(shot)
         };
-        let weights = self.quadrature(settings)?.1;
         let metric = |run: &Shot<SE3State>, inputs: &[Vector6<f64>]| {
-            world_force_coupling(run, inputs, per_step, &weights)
+            world_force_coupling(run, inputs, per_step, weights)
         };
-        // A bound on the force would be a bound on `(I + E) δv`, rows as dense as `E`,
-        // which the subproblem solves more slowly than the plain iteration's extra
-        // iterations cost (docs/notes/optimal.md): the metric only for a free force.
-        let plain = bound.is_some_and(|b| b.fixed_rows::<3>(3).iter().any(|x| x.is_finite()));
         let h = settings.h();
         let fit = |run: &Shot<SE3State>| self.residuals(h, run);
         let problem = Problem {
@@ -452,8 +461,8 @@ impl Manoeuvre {
     /// The tracking and terminal costs' weighted residuals and their Jacobian in the inputs
     /// (the slew's, `crate::tracking`, on SE(3)): each state `k` with weights `q` gives
     /// `√q_θ log(R_refᵀ R_k)`, `√q_x (x_k − x_ref)`, `√q_ω (Ω_k − Ω_ref)`,
-    /// `√q_v (ẋ_k − ẋ_ref)` (times `√h` when tracked). From the states' sensitivities in
-    /// the native `(θ_R, θ_x, δΩ, δv)`: `J_r(e)⁻¹ θ_R`, `R θ_x`, `δΩ`, `R (δv − v̂ θ_R)`.
+    /// `√q_v (ẋ_k − ẋ_ref)` (times `√h` when tracked). From the states' sensitivities taken
+    /// to the world frame ([`world_coordinates`]), the attitude's through `J_r(e)⁻¹`.
     /// `None` without either cost.
     fn residuals(&self, h: f64, shot: &Shot<SE3State>) -> Option<Residuals> {
         if self.tracking.is_none() && self.terminal_cost.is_none() {
@@ -474,7 +483,6 @@ impl Manoeuvre {
         let mut g = DMatrix::<f64>::zeros(12 * terms.len(), columns);
         for (row, (k, (pose, xi), q)) in terms.into_iter().enumerate() {
             let state = &shot.states[k];
-            let rotation = *state.configuration.rotation().matrix();
             let world = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
             let e = pose
                 .rotation()
@@ -487,16 +495,13 @@ impl Manoeuvre {
                 state.velocity.fixed_rows::<3>(0) - xi.fixed_rows::<3>(0),
                 world(&state.configuration, &state.velocity) - world(&pose, &xi),
             ];
-            let s = &sensitivities[k - 1];
-            let v_hat =
-                lgsvi_mechanics::lie::so3::hat(&state.velocity.fixed_rows::<3>(3).into_owned());
-            let (theta, position) = (s.fixed_rows::<3>(0), s.fixed_rows::<3>(3));
-            let (rates, velocity) = (s.fixed_rows::<3>(6), s.fixed_rows::<3>(9));
+            let s =
+                world_coordinates(&state.configuration, &state.velocity) * &sensitivities[k - 1];
             let rows = [
-                ExpChart.rotation_left_differential_inverse(&e) * theta,
-                rotation * position,
-                rates.into_owned(),
-                rotation * (velocity - v_hat * theta),
+                ExpChart.rotation_left_differential_inverse(&e) * s.fixed_rows::<3>(0),
+                s.fixed_rows::<3>(3).into_owned(),
+                s.fixed_rows::<3>(6).into_owned(),
+                s.fixed_rows::<3>(9).into_owned(),
             ];
             for (part, ((value, jacobian), weight)) in parts.iter().zip(&rows).zip(q).enumerate() {
                 let w = weight.sqrt();

@@ -6,7 +6,7 @@ use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
 use lgsvi_mechanics::group::GroupChart;
 use lgsvi_mechanics::gyrostat::{BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
-use lgsvi_mechanics::linearization::Coordinates;
+use lgsvi_mechanics::linearization::{world_coordinates, Coordinates};
 use lgsvi_mechanics::system::ElementOf;
 use lgsvi_mechanics::{Integrator, State, StepSettings, System};
 use nalgebra::{DMatrix, DVector, SVector, Vector3, Vector6};
@@ -248,8 +248,9 @@ pub(crate) fn shoot(
 /// under the body wrenches `inputs` (`per_step` a step, as in [`shoot`]), against
 /// `target`: the miss is `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`, the attitude
 /// and the rates as on SO(3), the position and its velocity in the world frame, and the
-/// sensitivity's rows in the same coordinates (`δx = R θ_x`, `δẋ = R (δv − v̂ θ_R)` from
-/// the linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`).
+/// sensitivity's rows in the same coordinates ([`world_coordinates`] from the
+/// linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). With `attitudes`, the attitudes'
+/// derivatives at the Gauss points are kept ([`Shot::attitude_sensitivities`]).
 ///
 /// Why the world frame: a body-frame velocity compares the target's and the run's in two
 /// frames, so its miss turns with the attitude, by `|ẋ|` per radian: an orbiting body's
@@ -263,6 +264,7 @@ pub(crate) fn shoot_motion(
     target: (SE3, Vector6<f64>),
     inputs: &[Vector6<f64>],
     per_step: usize,
+    attitudes: bool,
 ) -> Result<Shot<State<SE3, 6>>, OptimalError> {
     let it = Integrator::new(body, settings, start.0, start.1)?;
     let plan = Plan {
@@ -273,8 +275,9 @@ pub(crate) fn shoot_motion(
         // No time law for a body in space (an orbiting body's potential does not scale
         // with the time, and the least time is not built for it).
         with_time: false,
-        // The metric of the manoeuvre's subproblem reads them (`crate::motion`).
-        attitudes: true,
+        // Where the manoeuvre's subproblem measures the force in the world frame
+        // (`crate::motion`), which reads them.
+        attitudes,
     };
     let world_velocity = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
     let target_velocity = world_velocity(&target.0, &target.1);
@@ -292,19 +295,8 @@ pub(crate) fn shoot_motion(
         )
     };
     let mut shot = shoot_with(it, inputs, plan, |s| (*s, None), miss)?;
-    let last = shot.states[shot.states.len() - 1];
-    let r = *last.configuration.rotation().matrix();
-    let v_hat = lgsvi_mechanics::lie::so3::hat(&last.velocity.fixed_rows::<3>(3).into_owned());
-    let m = &mut shot.sensitivity;
-    for j in 0..m.ncols() {
-        let column = m.column(j);
-        let theta = Vector3::new(column[0], column[1], column[2]);
-        let x = r * Vector3::new(column[3], column[4], column[5]);
-        let v = r * (Vector3::new(column[9], column[10], column[11]) - v_hat * theta);
-        let mut column = m.column_mut(j);
-        column.fixed_rows_mut::<3>(3).copy_from(&x);
-        column.fixed_rows_mut::<3>(9).copy_from(&v);
-    }
+    let last = &shot.states[shot.states.len() - 1];
+    shot.sensitivity = world_coordinates(&last.configuration, &last.velocity) * &shot.sensitivity;
     Ok(shot)
 }
 

@@ -140,7 +140,7 @@ fn held_wrenches_converge_at_second_order() {
 ///
 /// With a 40 kg body the translation is 511 times the slew's cost: measured in the world
 /// frame's metric (`Manoeuvre`'s documentation) the iteration still takes about as many
-/// iterations as with the 1 kg body (measured 11 and 12; the body frame's Gauss–Newton
+/// iterations as with the 1 kg body (measured 12 and 10; the body frame's Gauss–Newton
 /// took 617), and at most 20 are allowed here.
 #[test]
 fn an_asymmetric_manoeuvre_meets_pontryagin_plus_the_cubic() {
@@ -225,7 +225,7 @@ fn bounds_hold_and_too_tight_ones_are_infeasible() {
     // Unbounded, the world-frame force's metric converges in 13 iterations; with the force
     // bounded the step is measured in the body frame, and that Gauss–Newton iteration
     // converges linearly (the force's direction turns with the attitude), reaching 1e-9
-    // in under 100 (measured 86 with both bounds, 96 with the force's alone, each
+    // in under 100 (measured 94 with both bounds, 93 with the force's alone, each
     // counting the unbounded solve it starts from).
     let manoeuvre = Manoeuvre::new(body, 30.0)
         .from(start.0, start.1)
@@ -599,7 +599,7 @@ fn a_tracking_manoeuvre_is_stationary_for_the_true_cost() {
 
 /// A soft target with weights growing tends to the exact one: the terminal miss falls as
 /// the weights rise, and costs less than the exact target's. Heavy weights make the least
-/// squares stiff and the Gauss–Newton iteration slow (measured 10, 11 and 3585 iterations
+/// squares stiff and the Gauss–Newton iteration slow (measured 10, 11 and 1229 iterations
 /// at q = 1, 100, 1e4), hence the raised iteration limit.
 #[test]
 fn a_soft_target_tends_to_the_exact_one() {
