@@ -28,7 +28,7 @@ use crate::{ExperimentError, Subject};
 use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
 use lgsvi_mechanics::exact::{FreeRigidBodyExact, Regime};
 use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
-use lgsvi_mechanics::group::{ConfigurationGroup, GroupChart};
+use lgsvi_mechanics::group::{GroupChart, StepGroup};
 use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
 use lgsvi_mechanics::{
@@ -209,7 +209,7 @@ impl WheelRun {
     ) -> Result<Integrator<Gyrostat<K>, ChartKind, D>, MechanicsError>
     where
         Gyrostat<K>: System<D, Group = BodyAndWheels<K>>,
-        BodyAndWheels<K>: ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
+        BodyAndWheels<K>: StepGroup<D, Element<f64> = BodyWheels<f64, K>>,
         ChartKind: GroupChart<BodyAndWheels<K>, D>,
     {
         let mut velocity = SVector::<f64, D>::zeros();

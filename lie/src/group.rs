@@ -1,4 +1,4 @@
-//! The [`LieGroup`] abstraction.
+//! The element trait [`LieGroup`] and the exponential map the law suite reads ([`ExponentialMap`]).
 
 use nalgebra::RealField;
 use std::fmt::Debug;
@@ -53,4 +53,13 @@ pub trait LieGroup: Clone + Debug + PartialEq {
     fn small_adjoint(xi: &Self::Tangent) -> Self::Jacobian;
     /// The coadjoint action `μ ↦ Ad_{g⁻¹}ᵀ μ` (body momentum to spatial momentum).
     fn coadjoint_action(&self, mu: &Self::Tangent) -> Self::Tangent;
+}
+
+/// The exponential map and its inverse near the identity: what the law suite
+/// ([`crate::laws`]) reads of a group besides [`LieGroup`].
+pub trait ExponentialMap: LieGroup {
+    /// `exp(ξ)`.
+    fn exp(xi: &Self::Tangent) -> Self;
+    /// `log(g)`, the inverse of `exp` near the identity.
+    fn log(&self) -> Self::Tangent;
 }

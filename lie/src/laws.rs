@@ -8,7 +8,11 @@
 //! identity, `ad` as the derivative of `Ad` by central differences). [`chart_laws`] checks a
 //! chart: `Φ(0) = e`, `Φ⁻¹ ∘ Φ`, the trivialised differentials against central differences
 //! of `Φ`, and their inverses. Each returns the largest error of every law, or the first
-//! law that fails, with its size.
+//! law that fails, with its size. [`group_chart_laws`] checks a
+//! [`GroupChart`], the chart of a [`ConfigurationGroup`] over every scalar that an integrator
+//! reads: the chart laws through it, and that what it gives in closed form (the chart
+//! velocity, the transport of covectors, the derivatives of `A`) agrees with what it must
+//! give.
 //!
 //! Errors are measured as distances in the algebra, `|log(a⁻¹ b)|∞` between elements and
 //! the largest entry between vectors and matrices, against `tolerance` times the scale of
@@ -29,34 +33,12 @@
 //! # Ok::<(), lgsvi_lie::laws::LawViolation>(())
 //! ```
 
-use crate::{Chart, LieGroup, SE3, SO3};
-use nalgebra::{RealField, SMatrix, SVector};
-
-/// The exponential map and its inverse near the identity, which the laws read.
-pub trait ExponentialMap: LieGroup {
-    /// `exp(ξ)`.
-    fn exp(xi: &Self::Tangent) -> Self;
-    /// `log(g)`, the inverse of `exp` near the identity.
-    fn log(&self) -> Self::Tangent;
-}
-
-impl<T: RealField + Copy> ExponentialMap for SO3<T> {
-    fn exp(xi: &Self::Tangent) -> Self {
-        SO3::exp(xi)
-    }
-    fn log(&self) -> Self::Tangent {
-        SO3::log(self)
-    }
-}
-
-impl<T: RealField + Copy> ExponentialMap for SE3<T> {
-    fn exp(xi: &Self::Tangent) -> Self {
-        SE3::exp(xi)
-    }
-    fn log(&self) -> Self::Tangent {
-        SE3::log(self)
-    }
-}
+use crate::chart::Chart;
+use crate::configuration::ConfigurationGroup;
+use crate::error::LieError;
+use crate::group::{ExponentialMap, LieGroup};
+use crate::group_chart::{dual_number_derivatives, ChartDerivatives, GroupChart};
+use nalgebra::{SMatrix, SVector};
 
 /// A law that does not hold on the examples: which, where and by how much.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -339,4 +321,153 @@ where
         exact * 16.0,
     )?;
     Ok(laws.report)
+}
+
+/// A [`GroupChart`] read as a [`Chart`] of its elements over `f64`, for [`chart_laws`]:
+/// `Φ⁻¹` is `to_algebra_near` the origin, and the right-trivialised differential is
+/// `B(ξ) = Ad_{Φ(ξ)} A(ξ)` (from `DΦ Φ⁻¹ = Φ (Φ⁻¹ DΦ) Φ⁻¹`), with inverse `A⁻¹ Ad_{Φ⁻¹}`.
+struct AsChart<'a, G, C, const D: usize> {
+    chart: &'a C,
+    group: std::marker::PhantomData<G>,
+}
+
+impl<G, C, const D: usize> Chart<G::Element<f64>> for AsChart<'_, G, C, D>
+where
+    G: ConfigurationGroup<D>,
+    C: GroupChart<G, D>,
+{
+    fn name(&self) -> &'static str {
+        self.chart.name()
+    }
+    fn to_group(&self, xi: &SVector<f64, D>) -> G::Element<f64> {
+        self.chart.to_group(xi)
+    }
+    fn to_algebra(&self, g: &G::Element<f64>) -> Result<SVector<f64, D>, LieError> {
+        self.chart.to_algebra_near(g, &SVector::zeros())
+    }
+    fn check_domain(&self, xi: &SVector<f64, D>) -> Result<(), LieError> {
+        self.chart.check_domain(xi)
+    }
+    fn left_differential(&self, xi: &SVector<f64, D>) -> SMatrix<f64, D, D> {
+        self.chart.left_differential(xi)
+    }
+    fn left_differential_inverse(
+        &self,
+        xi: &SVector<f64, D>,
+    ) -> Result<SMatrix<f64, D, D>, LieError> {
+        self.chart.left_differential_inverse(xi)
+    }
+    fn right_differential(&self, xi: &SVector<f64, D>) -> SMatrix<f64, D, D> {
+        self.chart.to_group(xi).adjoint() * self.chart.left_differential(xi)
+    }
+    fn right_differential_inverse(
+        &self,
+        xi: &SVector<f64, D>,
+    ) -> Result<SMatrix<f64, D, D>, LieError> {
+        Ok(self.chart.left_differential_inverse(xi)? * self.chart.to_group(xi).inverse().adjoint())
+    }
+}
+
+/// Checks a [`GroupChart`] of a [`ConfigurationGroup`] (the chart an integrator reads) on
+/// `tangents`: the laws of [`chart_laws`], read through it (`Φ⁻¹` near the origin, the
+/// right differential `Ad_Φ A`), and the consistency of what a chart may give in closed
+/// form with what it must give:
+/// - "chart velocity": [`GroupChart::chart_velocity`] is `A(ξ)⁻¹ η`;
+/// - "transport": [`GroupChart::coadjoint_to_start`] and
+///   [`GroupChart::transport_and_differential`] are `Ad_{Φ(ξ)⁻¹}ᵀ` and `A(ξ)`;
+/// - "chart derivatives": [`GroupChart::with_derivatives`] (a closed form, where the chart
+///   overrides it) against [`dual_number_derivatives`]:
+///   `A`, `∂(Aη)/∂ξ`, `∂(Aᵀη)/∂ξ` and `∇²(μᵀAη)`, with `η`, `μ` the next examples in turn.
+///
+/// The consistency laws compare two exact routes, so they are held to the exact allowance
+/// (`tolerance` times the scale of the examples) times 64 times the scale squared: the
+/// derivatives are products of up to three examples' entries, summed in different orders.
+///
+/// ```
+/// use lgsvi_lie::laws::group_chart_laws;
+/// use lgsvi_lie::{ExpChart, RigidMotions, Rotations};
+/// use nalgebra::{SVector, Vector3};
+///
+/// let w = [Vector3::new(0.1, 0.2, -0.3), Vector3::new(-1.0, 0.4, 0.9)];
+/// group_chart_laws::<Rotations, _, 3>(&ExpChart, &w, 1e-13)?;
+/// let xi = [SVector::<f64, 6>::new(0.1, 0.2, -0.3, 1.0, -2.0, 0.5)];
+/// group_chart_laws::<RigidMotions, _, 6>(&ExpChart, &xi, 1e-13)?;
+/// # Ok::<(), lgsvi_lie::laws::LawViolation>(())
+/// ```
+///
+/// # Errors
+/// The first law that fails, with its size ([`LawViolation`]).
+pub fn group_chart_laws<G, C, const D: usize>(
+    chart: &C,
+    tangents: &[SVector<f64, D>],
+    tolerance: f64,
+) -> Result<LawReport, LawViolation>
+where
+    G: ConfigurationGroup<D>,
+    G::Element<f64>: ExponentialMap,
+    C: GroupChart<G, D>,
+{
+    let mut report = chart_laws::<G::Element<f64>, _, D>(
+        &AsChart::<G, C, D> {
+            chart,
+            group: std::marker::PhantomData,
+        },
+        tangents,
+        tolerance,
+    )?;
+    let scale = tangents.iter().map(largest).fold(1.0f64, f64::max);
+    let exact = tolerance * scale;
+    let consistent = exact * 64.0 * scale * scale;
+    let mut laws = Laws { report: Vec::new() };
+    let next = |i: usize, k: usize| tangents[(i + k) % tangents.len()];
+    laws.check(
+        "chart velocity",
+        tangents.iter().enumerate().map(|(i, xi)| {
+            let eta = next(i, 1);
+            match (
+                chart.left_differential_inverse(xi),
+                chart.chart_velocity(xi, &chart.to_group(xi), &eta),
+            ) {
+                (Ok(inverse), Ok(velocity)) => largest(&(inverse * eta - velocity)),
+                _ => f64::NAN,
+            }
+        }),
+        consistent,
+    )?;
+    laws.check(
+        "transport",
+        tangents.iter().enumerate().map(|(i, xi)| {
+            let p = next(i, 1);
+            let transport = chart.to_group(xi).inverse().adjoint().transpose();
+            let (together, a) = chart.transport_and_differential(xi);
+            largest(&(transport * p - chart.coadjoint_to_start(xi, &p)))
+                .max(largest(&(transport - together)))
+                .max(largest(&(a - chart.left_differential(xi))))
+        }),
+        consistent,
+    )?;
+    laws.check(
+        "chart derivatives",
+        tangents.iter().enumerate().map(|(i, xi)| {
+            let (eta, mu) = (next(i, 1), next(i, 2));
+            let read = |d: &dyn ChartDerivatives<D>| {
+                [
+                    d.differential(),
+                    d.differential_times(&eta),
+                    d.transpose_times(&eta),
+                    d.second(&mu, &eta),
+                ]
+            };
+            let closed = chart.with_derivatives(xi, true, read);
+            let dual = dual_number_derivatives::<G, C, _, D>(chart, xi, read);
+            closed
+                .iter()
+                .zip(&dual)
+                .map(|(a, b)| largest(&(a - b)))
+                .fold(0.0f64, |a, e| if e.is_nan() { e } else { a.max(e) })
+        }),
+        consistent,
+    )?;
+    report.append(&mut laws.report);
+    Ok(report)
 }

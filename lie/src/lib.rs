@@ -6,6 +6,13 @@
 //!   behind the `glam` feature, serde behind `serde`; `approx` comparisons), under one
 //!   [`LieGroup`] trait: composition, inverse, action on points, `hat`/`vee`, `Ad`, `ad`,
 //!   the coadjoint action.
+//! - One trait family for any Lie group, these and yours: [`LieGroup`] (an element type at
+//!   one scalar) with [`ExponentialMap`]; [`ConfigurationGroup`] (a group over every scalar
+//!   at once, a marker type whose `Element<T>` is a [`LieGroup`]: [`Rotations`],
+//!   [`RigidMotions`], [`product::BodyAndWheels`] for SO(3) × ℝᴷ) and [`GroupChart`] (its
+//!   chart over every scalar, with [`ChartDerivatives`], the derivatives of its
+//!   differential, in closed form ([`jet`]) or by dual numbers): what lgsvi's integrator,
+//!   linearisation and optimiser are generic over.
 //! - The group and chart laws ([`laws`]), written once, for any group and chart of your
 //!   own to run with its own examples.
 //! - Charts `Φ: 𝔤 → G` ([`Chart`]): [`ExpChart`], [`CayleyChart`] and the
@@ -52,9 +59,13 @@
 #![deny(missing_docs)]
 
 mod chart;
+mod configuration;
 mod error;
 mod group;
+mod group_chart;
+pub mod jet;
 pub mod laws;
+pub mod product;
 mod scalar;
 pub mod se3;
 mod series;
@@ -64,8 +75,12 @@ pub use chart::{
     CayleyChart, Chart, ChartKind, ExpChart, NaturalChart, ParseChartError, RodriguesCoefficients,
     So3Chart, UnscaledCayleyChart,
 };
+pub use configuration::{coadjoint_generator_of, ConfigurationGroup, RigidMotions, Rotations};
 pub use error::LieError;
-pub use group::LieGroup;
+pub use group::{ExponentialMap, LieGroup};
+pub use group_chart::{
+    dual_number_derivatives, ChartDerivatives, GroupChart, RotationTranslationDerivatives, Screw,
+};
 pub use se3::SE3;
 pub use so3::SO3;
 

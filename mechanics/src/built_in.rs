@@ -5,7 +5,7 @@
 //! bit for bit.
 
 use crate::forces::ForceJet;
-use crate::group::{ConfigurationGroup, GroupChart, RigidMotions};
+use crate::group::{GroupChart, RigidMotions, StepGroup};
 use crate::lagrangian::{HeavyTop, RigidBody};
 use crate::lagrangian::{Lagrangian, LagrangianDerivatives};
 use crate::rigid_motion::{FreeBody, OrbitingBody};
@@ -169,7 +169,7 @@ impl System<6> for BuiltInSe3 {
         index: usize,
         chart: &C,
         point: &GaussPoint<'_, RigidMotions, 6>,
-        out: &mut <RigidMotions as ConfigurationGroup<6>>::Jet,
+        out: &mut <RigidMotions as StepGroup<6>>::Jet,
     ) -> bool {
         each_motion!(self, s => s.parameter_point_derivatives(index, chart, point, out))
     }
@@ -217,7 +217,7 @@ impl System<6> for BuiltInSe3 {
         &self,
         chart: &C,
         point: &GaussPoint<'_, RigidMotions, 6>,
-        out: &mut <RigidMotions as ConfigurationGroup<6>>::Jet,
+        out: &mut <RigidMotions as StepGroup<6>>::Jet,
     ) -> bool {
         each_motion!(self, s => s.point_derivatives(chart, point, out))
     }

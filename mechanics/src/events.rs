@@ -54,7 +54,7 @@
 //! ```
 
 use crate::error::MechanicsError;
-use crate::group::{ConfigurationGroup, GroupChart};
+use crate::group::{GroupChart, StepGroup};
 use crate::integrator::{GalerkinCurve, Integrator};
 use crate::state::State;
 use crate::stepper::{Observer, StepInfo};
@@ -366,7 +366,7 @@ fn located<G, C, const D: usize>(
     b: (f64, f64),
 ) -> Result<f64, MechanicsError>
 where
-    G: ConfigurationGroup<D>,
+    G: StepGroup<D>,
     C: GroupChart<G, D>,
 {
     let t0 = curve.start();

@@ -14,7 +14,7 @@
 //! per evaluation), and the chart enters once per node.
 
 use crate::forces::ForceJet;
-use crate::group::{ConfigurationGroup, GroupChart, Rotations};
+use crate::group::{ConfigurationGroup, GroupChart, Rotations, StepGroup};
 use crate::lagrangian::Lagrangian;
 use lgsvi_lie::so3::vee;
 use lgsvi_lie::SO3;
@@ -320,7 +320,7 @@ pub type ForceValueAlongStep<'a, G, const D: usize> = &'a dyn Fn(
 ) -> SVector<f64, D>;
 
 /// The start of a step, as [`crate::System::flow_guess`] receives it.
-pub struct FlowStart<'a, G: ConfigurationGroup<D>, const D: usize> {
+pub struct FlowStart<'a, G: StepGroup<D>, const D: usize> {
     /// The step's start time `t_k`.
     pub time: f64,
     /// The configuration `g_k`.

@@ -27,8 +27,8 @@
 //! from the chart's own derivatives (the integrator's point derivatives), the force's from
 //! this jet.
 
-use crate::dual::{jacobian_of, seeded};
-use crate::group::{ConfigurationGroup, RigidMotions, Rotations};
+use crate::group::{RigidMotions, Rotations, StepGroup};
+use lgsvi_lie::jet::{jacobian_of, seeded};
 use lgsvi_lie::se3::{blocks, join, split};
 use lgsvi_lie::{LieGroup, SE3, SO3};
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
@@ -68,7 +68,7 @@ impl<const D: usize> ForceJet<D> {
 
     /// The jet of `f` at `(t, g, ξ)` by first-order dual numbers (`D` directions, one
     /// pass for `ξ` and, unless `velocity_only`, one for `η`).
-    pub(crate) fn by_dual_numbers<G: ConfigurationGroup<D>, F: Forcing<G, D>>(
+    pub(crate) fn by_dual_numbers<G: StepGroup<D>, F: Forcing<G, D>>(
         f: &F,
         time: f64,
         configuration: &G::Element<f64>,
@@ -108,7 +108,7 @@ impl<const D: usize> std::ops::Add for ForceJet<D> {
 /// A generalised force on a group (module documentation): for SO(3) a body torque, for
 /// SE(3) `(body torque, body force)`. Generic over the scalar, so Newton differentiates it
 /// exactly; combine two with a tuple `(a, b)` (their sum).
-pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
+pub trait Forcing<G: StepGroup<D>, const D: usize> {
     /// `F(t, g, ξ)`.
     fn force<T: RealField + Copy>(
         &self,
@@ -152,9 +152,7 @@ pub trait Forcing<G: ConfigurationGroup<D>, const D: usize> {
     }
 }
 
-impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D>
-    for (A, B)
-{
+impl<G: StepGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D> for (A, B) {
     fn force<T: RealField + Copy>(
         &self,
         time: f64,
@@ -196,7 +194,7 @@ impl<G: ConfigurationGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usiz
 #[derive(Debug, Clone, Copy)]
 pub struct ForceOfTime<F>(pub F);
 
-impl<G: ConfigurationGroup<D>, F: Fn(f64) -> SVector<f64, D>, const D: usize> Forcing<G, D>
+impl<G: StepGroup<D>, F: Fn(f64) -> SVector<f64, D>, const D: usize> Forcing<G, D>
     for ForceOfTime<F>
 {
     fn force<T: RealField + Copy>(

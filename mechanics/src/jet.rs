@@ -32,8 +32,8 @@
 
 use crate::group::{GroupChart, Rotations, Stacked};
 use crate::lagrangian::Lagrangian;
-use crate::matrix_jet::{axial, unit_hat, MatrixJet};
 use crate::point::{add_force_terms, add_force_value, GaussPoint, PointTransport};
+use lgsvi_lie::jet::{axial, unit_hat, MatrixJet};
 use lgsvi_lie::so3::hat;
 use lgsvi_lie::SO3;
 use nalgebra::{Matrix3, SMatrix, SVector};

@@ -5,7 +5,7 @@
 //! Per point, as in [`crate::jet::point_derivatives`]: `A = e I + a x̂ + b x̂²`, `Ω = A v`,
 //! `g = ∂ℓ/∂Ω`, `H = ∂²ℓ/∂Ω²`, `J = [∂_k A v]_k`; gradient `(Jᵀg, Aᵀg, 0)`; Hessian
 //! `[J A]ᵀ H [J A]` plus `⟨g vᵀ, ∂_k∂_l A⟩` in the `xx` block and `gᵀ ∂_k A e_b` in the `xv`
-//! and `vx` blocks ([`crate::matrix_jet::MatrixJet`] has the formulas); then ℓ's attitude
+//! and `vx` blocks ([`lgsvi_lie::jet::MatrixJet`] has the formulas); then ℓ's attitude
 //! terms through `M = Rᵀ ∂ℓ/∂R` where ℓ's attitude term is linear in `R`, and a force's
 //! terms ([`crate::point::add_force_terms`]). The chart's coefficients, ℓ's derivatives and
 //! the force's jet are asked point by point (a `sin_cos` or series, trait calls), and
@@ -132,7 +132,7 @@ fn transposed_product(a: &M3, b: &M3) -> M3 {
     three!(|r| three!(|c| a[0][r] * b[0][c] + a[1][r] * b[1][c] + a[2][r] * b[2][c]))
 }
 
-/// `γ` with `⟨M, ŷ⟩ = γ·y`: the axial vector of `M − Mᵀ` (`crate::matrix_jet::axial`).
+/// `γ` with `⟨M, ŷ⟩ = γ·y`: the axial vector of `M − Mᵀ` (`lgsvi_lie::jet::axial`).
 #[inline(always)]
 fn axial(m: &M3) -> V3 {
     [m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]]
@@ -177,7 +177,7 @@ struct Terms {
 }
 
 /// Columns `∂_k M' w` for `M' = e I + σ a x̂ + b x̂²`, `σ = ±1`
-/// ([`crate::matrix_jet::MatrixJet::first_times`]): `u xᵀ − σa ŵ + b x wᵀ + b (x·w) I`,
+/// ([`lgsvi_lie::jet::MatrixJet::first_times`]): `u xᵀ − σa ŵ + b x wᵀ + b (x·w) I`,
 /// `u = 2e′w + 2σa′ x×w + 2b′ x̂²w − 2b w`.
 #[inline(always)]
 fn first_applied(p: &Inputs, s: V, w: &V3, skew_sign: f64) -> M3 {
@@ -196,7 +196,7 @@ fn first_applied(p: &Inputs, s: V, w: &V3, skew_sign: f64) -> M3 {
     out
 }
 
-/// `[⟨g vᵀ, ∂_k∂_l A⟩]_kl` ([`crate::matrix_jet::MatrixJet::second_contracted`] with
+/// `[⟨g vᵀ, ∂_k∂_l A⟩]_kl` ([`lgsvi_lie::jet::MatrixJet::second_contracted`] with
 /// `G = g vᵀ`).
 #[inline(always)]
 fn second_contracted(p: &Inputs, s: V) -> M3 {

@@ -73,7 +73,7 @@
 //! | [`settings`] | step settings and their limits |
 //! | [`integrator`] | the integrator's dense output and statistics |
 //! | [`system`] | the systems' trait and the closed-form paths of the built-in ones |
-//! | [`group`] | configuration groups and charts of the integrator, your own included |
+//! | [`group`] | the configuration groups and charts the integrator is generic over (`lgsvi_lie`'s traits, re-exported), your own included, and its storage of their derivatives |
 //! | [`control`], [`linearization`] | the exact linearisation of a step, discrete LQR, regulators |
 //! | [`gyrostat`], [`exact`], [`ensemble`] | reaction wheels, the exact free rigid body, parallel ensembles |
 //! | [`built_in`] | the built-in systems as one type per group, chosen at run time |
@@ -83,7 +83,6 @@ mod builder;
 pub mod built_in;
 mod chart_flow;
 pub mod control;
-mod dual;
 pub mod ensemble;
 mod error;
 pub mod events;
@@ -99,7 +98,6 @@ mod jet;
 mod jet_lanes;
 mod lagrangian;
 pub mod linearization;
-mod matrix_jet;
 mod point;
 pub mod prelude;
 mod rigid_motion;

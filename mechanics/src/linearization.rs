@@ -35,7 +35,7 @@
 //! The derivation is in `docs/notes/linearization.md`.
 
 use crate::error::MechanicsError;
-use crate::group::ConfigurationGroup;
+use crate::group::{ConfigurationGroup, StepGroup};
 use crate::state::{body_momentum, legendre_blocks, State};
 use crate::step::linearize::{
     MomentumJacobians, ParameterDerivative, ParameterJacobians, PointInputJacobians,
@@ -169,7 +169,7 @@ impl<E: Copy, const D: usize> StepLinearization<E, D> {
     /// coordinates: `ω(z₁, z₂) = z₁ᵀ W z₂` with `W = [[−C(μ)ᵀ, −I], [I, 0]]`,
     /// `C(μ)η = ad_ηᵀ μ` (the derivative of the canonical one-form `⟨μ, g⁻¹δg⟩`). A
     /// conservative step satisfies `Aᵀ W(μ₊) A = W(μ)` ([`Coordinates::Momentum`]).
-    pub fn symplectic_form<G: ConfigurationGroup<D>>(momentum: &SVector<f64, D>) -> DMatrix<f64> {
+    pub fn symplectic_form<G: StepGroup<D>>(momentum: &SVector<f64, D>) -> DMatrix<f64> {
         let c = G::coadjoint_generator(momentum);
         let mut w = DMatrix::zeros(2 * D, 2 * D);
         for r in 0..D {

@@ -3,11 +3,11 @@
 //! derivatives ([`add_force_terms`]).
 
 use crate::forces::ForceJet;
-use crate::group::{ConfigurationGroup, PointJet};
+use crate::group::{ConfigurationGroup, PointJet, StepGroup};
 use nalgebra::{SMatrix, SVector};
 
 /// One Gauss point of a step, as [`crate::System::point_derivatives`] receives it.
-pub struct GaussPoint<'a, G: ConfigurationGroup<D>, const D: usize> {
+pub struct GaussPoint<'a, G: StepGroup<D>, const D: usize> {
     /// The point's time `t_k + c_j h`.
     pub time: f64,
     /// The step's start `g_k`.
@@ -38,7 +38,7 @@ pub type ForceAtPoint<'a, G, const D: usize> = &'a dyn Fn(
 /// Every Gauss point of one assembly, as [`crate::System::points_in_lanes`]
 /// receives them: point `j` at `x[j]`, `v[j]`, the flags and force as [`GaussPoint`]'s.
 #[doc(hidden)]
-pub struct GaussPoints<'a, G: ConfigurationGroup<D>, const D: usize> {
+pub struct GaussPoints<'a, G: StepGroup<D>, const D: usize> {
     /// The step's start `g_k`.
     pub base: &'a G::Element<f64>,
     /// The points' chart coordinates.
@@ -70,7 +70,7 @@ pub struct PointTransport<const D: usize> {
 
 /// The force acting at a step's Gauss points (the system's force plus the control input),
 /// evaluated where a closed-form point path needs it.
-pub trait PointForce<G: ConfigurationGroup<D>, const D: usize> {
+pub trait PointForce<G: StepGroup<D>, const D: usize> {
     /// The force's jet at the configuration `g` and body velocity `ξ`.
     fn jet(&self, configuration: &G::Element<f64>, velocity: &SVector<f64, D>) -> ForceJet<D>;
     /// The force's value alone, bit for bit [`PointForce::jet`]'s (what a gradient-only

@@ -17,7 +17,7 @@
 #[doc(hidden)]
 pub use crate::flow::{FlowGuess, FlowStart, ForceAlongStep, ForceValueAlongStep};
 use crate::forces::{ForceJet, Forcing};
-use crate::group::{ConfigurationGroup, GroupChart};
+use crate::group::{ConfigurationGroup, GroupChart, StepGroup};
 
 #[doc(hidden)]
 pub use crate::point::{ForceAtPoint, GaussPoints};
@@ -42,7 +42,7 @@ pub type ElementOf<S, const D: usize, T = f64> =
 /// methods are [`GroupLagrangian`]'s, with the same meaning.
 pub trait System<const D: usize> {
     /// The configuration group.
-    type Group: ConfigurationGroup<D>;
+    type Group: StepGroup<D>;
 
     /// `ℓ(t, g, ξ)`.
     fn lagrangian<T: RealField + Copy>(
@@ -196,7 +196,7 @@ pub trait System<const D: usize> {
         &self,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
     ) -> bool {
         let _ = (chart, point, out);
         false
@@ -217,7 +217,7 @@ pub trait System<const D: usize> {
         &self,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
         transport: &mut Option<PointTransport<D>>,
     ) -> bool {
         *transport = None;
@@ -237,7 +237,7 @@ pub trait System<const D: usize> {
         &self,
         chart: &C,
         points: &GaussPoints<'_, Self::Group, D>,
-        out: &mut [<Self::Group as ConfigurationGroup<D>>::Jet],
+        out: &mut [<Self::Group as StepGroup<D>>::Jet],
         transports: &mut [Option<PointTransport<D>>],
         power: &mut [f64],
     ) -> bool {
@@ -308,7 +308,7 @@ pub trait System<const D: usize> {
         index: usize,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
     ) -> bool {
         let _ = (index, chart, point, out);
         false
@@ -375,7 +375,7 @@ pub trait System<const D: usize> {
 /// ```
 pub trait GroupLagrangian<const D: usize> {
     /// The configuration group.
-    type Group: ConfigurationGroup<D>;
+    type Group: StepGroup<D>;
 
     /// `ℓ(t, g, ξ)`.
     fn lagrangian<T: RealField + Copy>(
@@ -846,7 +846,7 @@ impl<S: System<D>, F: Forcing<S::Group, D>, const D: usize> System<D> for Forced
         &self,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
     ) -> bool {
         self.system.point_derivatives(chart, point, out)
     }
@@ -854,7 +854,7 @@ impl<S: System<D>, F: Forcing<S::Group, D>, const D: usize> System<D> for Forced
         &self,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
         transport: &mut Option<PointTransport<D>>,
     ) -> bool {
         self.system
@@ -864,7 +864,7 @@ impl<S: System<D>, F: Forcing<S::Group, D>, const D: usize> System<D> for Forced
         &self,
         chart: &C,
         points: &GaussPoints<'_, Self::Group, D>,
-        out: &mut [<Self::Group as ConfigurationGroup<D>>::Jet],
+        out: &mut [<Self::Group as StepGroup<D>>::Jet],
         transports: &mut [Option<PointTransport<D>>],
         power: &mut [f64],
     ) -> bool {
@@ -897,7 +897,7 @@ impl<S: System<D>, F: Forcing<S::Group, D>, const D: usize> System<D> for Forced
         index: usize,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
     ) -> bool {
         self.system
             .parameter_point_derivatives(index, chart, point, out)

@@ -94,7 +94,7 @@ fn motor_torques_exchange_momentum_and_conserve_the_total() {
         Gyrostat<K>:
             lgsvi_mechanics::System<D, Group = lgsvi_mechanics::gyrostat::BodyAndWheels<K>>,
         lgsvi_mechanics::gyrostat::BodyAndWheels<K>:
-            lgsvi_mechanics::group::ConfigurationGroup<D, Element<f64> = BodyWheels<f64, K>>,
+            lgsvi_mechanics::group::StepGroup<D, Element<f64> = BodyWheels<f64, K>>,
         ChartKind:
             lgsvi_mechanics::group::GroupChart<lgsvi_mechanics::gyrostat::BodyAndWheels<K>, D>,
         BodyWheels<f64, K>: LieGroup<
@@ -282,7 +282,8 @@ fn a_gyrostat_that_cannot_exist_is_refused() {
 /// (`lgsvi_lie::laws`), for each wheel count: 64ε of the examples' scale for the exact laws.
 #[test]
 fn the_product_group_passes_the_law_suite() {
-    use lgsvi_lie::laws::{group_laws, ExponentialMap};
+    use lgsvi_lie::laws::group_laws;
+    use lgsvi_lie::ExponentialMap;
     use lgsvi_mechanics::gyrostat::BodyWheels;
     fn check<const K: usize, const D: usize>()
     where

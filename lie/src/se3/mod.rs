@@ -18,7 +18,7 @@
 mod interop;
 
 use crate::error::LieError;
-use crate::group::LieGroup;
+use crate::group::{ExponentialMap, LieGroup};
 use crate::so3::{hat, vee, SO3};
 use nalgebra::{Matrix3, Matrix4, Matrix6, RealField, Vector3, Vector6};
 use std::ops::Mul;
@@ -149,6 +149,15 @@ pub fn blocks<T: RealField + Copy>(
     m.fixed_view_mut::<3, 3>(3, 0).copy_from(c);
     m.fixed_view_mut::<3, 3>(3, 3).copy_from(d);
     m
+}
+
+impl<T: RealField + Copy> ExponentialMap for SE3<T> {
+    fn exp(xi: &Self::Tangent) -> Self {
+        SE3::exp(xi)
+    }
+    fn log(&self) -> Self::Tangent {
+        SE3::log(self)
+    }
 }
 
 impl<T: RealField + Copy> LieGroup for SE3<T> {

@@ -22,7 +22,7 @@ pub(crate) mod quaternion;
 pub use exp::{left_jacobian, left_jacobian_inverse, right_jacobian, right_jacobian_inverse};
 
 use crate::error::LieError;
-use crate::group::LieGroup;
+use crate::group::{ExponentialMap, LieGroup};
 use crate::scalar::real;
 use nalgebra::{Matrix3, RealField, Unit, Vector3};
 use std::ops::Mul;
@@ -288,6 +288,15 @@ impl<T: RealField + Copy> SO3<T> {
         Ok(Self {
             matrix: quaternion::to_matrix(w, &v),
         })
+    }
+}
+
+impl<T: RealField + Copy> ExponentialMap for SO3<T> {
+    fn exp(xi: &Self::Tangent) -> Self {
+        SO3::exp(xi)
+    }
+    fn log(&self) -> Self::Tangent {
+        SO3::log(self)
     }
 }
 

@@ -22,7 +22,7 @@ pub struct Statistics {
 
 /// A step's Galerkin curve: `g(t) = g_k Φ(ξ(t))`, `t ∈ [0, h]` from the step's start.
 #[derive(Debug, Clone)]
-pub struct GalerkinCurve<G: ConfigurationGroup<D> = Rotations, C = ChartKind, const D: usize = 3> {
+pub struct GalerkinCurve<G: StepGroup<D> = Rotations, C = ChartKind, const D: usize = 3> {
     pub(super) base: G::Element<f64>,
     pub(super) nodes: Vec<SVector<f64, D>>,
     pub(super) basis: lgsvi_spectral::Barycentric,
@@ -31,7 +31,7 @@ pub struct GalerkinCurve<G: ConfigurationGroup<D> = Rotations, C = ChartKind, co
     pub(super) group: PhantomData<G>,
 }
 
-impl<G: ConfigurationGroup<D>, C: GroupChart<G, D>, const D: usize> GalerkinCurve<G, C, D> {
+impl<G: StepGroup<D>, C: GroupChart<G, D>, const D: usize> GalerkinCurve<G, C, D> {
     /// The step's start time.
     pub fn start(&self) -> f64 {
         self.start

@@ -12,7 +12,7 @@
 
 use crate::error::{check_finite, MechanicsError};
 use crate::flow::FlowGuess;
-use crate::group::{ConfigurationGroup, GroupChart, Rotations};
+use crate::group::{ConfigurationGroup, GroupChart, Rotations, StepGroup};
 use crate::linearization::StepLinearization;
 use crate::settings::{StepSettings, MAX_NODES, ROUNDING_FLOOR};
 use crate::state::{body_momentum, body_velocity, State};

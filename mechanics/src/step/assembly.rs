@@ -12,7 +12,7 @@ use super::points::{point_derivatives, EllTilde, StepForce};
 use super::tables::Discretisation;
 use super::{Element, MatchingTerms, StepSolver};
 use crate::error::MechanicsError;
-use crate::group::{ConfigurationGroup, GroupChart, PointJet};
+use crate::group::{GroupChart, PointJet, StepGroup};
 use crate::point::{ForceAtPoint, GaussPoints, PointTransport};
 use crate::settings::{Matching, NewtonJacobian};
 use crate::system::{PointForce, System};
@@ -221,7 +221,7 @@ impl<J: PointJet, const D: usize> Workspace<J, D> {
 
 /// The workspace of a system's group.
 pub(crate) type WorkspaceOf<S, const D: usize> =
-    Workspace<<<S as System<D>>::Group as ConfigurationGroup<D>>::Jet, D>;
+    Workspace<<<S as System<D>>::Group as StepGroup<D>>::Jet, D>;
 
 impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S, C, D> {
     /// The residual at the unknowns in `work.xi` relative to the equations' largest terms

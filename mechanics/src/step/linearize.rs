@@ -30,7 +30,7 @@ use super::newton::{substitute, substitute_rows};
 use super::points::StepForce;
 use super::{Element, StepSolver};
 use crate::error::MechanicsError;
-use crate::group::{ConfigurationGroup, GroupChart, PointJet};
+use crate::group::{ConfigurationGroup, GroupChart, PointJet, StepGroup};
 use crate::settings::Matching;
 use crate::system::{ElementOf, GaussPoint, PointForce, System};
 use lgsvi_lie::LieGroup;
@@ -135,7 +135,7 @@ impl<S: System<D>, const D: usize> System<D> for ParameterDerivative<'_, S> {
         &self,
         chart: &C,
         point: &GaussPoint<'_, Self::Group, D>,
-        out: &mut <Self::Group as ConfigurationGroup<D>>::Jet,
+        out: &mut <Self::Group as StepGroup<D>>::Jet,
     ) -> bool {
         self.system
             .parameter_point_derivatives(self.index, chart, point, out)
@@ -566,7 +566,7 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         j: usize,
         point: &PointChart<Element<S, D>, D>,
         v: &SVector<f64, D>,
-        jet: &<S::Group as ConfigurationGroup<D>>::Jet,
+        jet: &<S::Group as StepGroup<D>>::Jet,
     ) -> PointMixed<D> {
         let time = self.time + self.d.times[j];
         let system = self.system;

@@ -39,7 +39,9 @@
 //! the independent reference.
 
 use crate::forces::ForceJet;
-use crate::group::{ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction};
+use crate::group::{
+    ChartDerivatives, ConfigurationGroup, GroupChart, PointJet, StackedFunction, StepGroup,
+};
 pub(crate) use crate::point::{add_force_terms, add_force_value};
 use crate::system::{ElementOf, GaussPoint, PointForce, PointTransport, System};
 use lgsvi_lie::LieGroup;
@@ -205,7 +207,7 @@ pub(crate) fn point_derivatives<S, C, const D: usize>(
     with_configuration: bool,
     with_hessian: bool,
     forced: Option<&SVector<f64, D>>,
-    out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+    out: &mut <S::Group as StepGroup<D>>::Jet,
     transport: &mut Option<PointTransport<D>>,
 ) -> f64
 where
@@ -256,7 +258,7 @@ impl<S: System<D>, const D: usize> StackedFunction for Local<'_, S, D> {
 pub(super) fn chain_rule<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
     point: &GaussPoint<'_, S::Group, D>,
-    out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+    out: &mut <S::Group as StepGroup<D>>::Jet,
 ) where
     S: System<D>,
     C: GroupChart<S::Group, D>,
@@ -272,7 +274,7 @@ pub(crate) fn chain_rule_with<S, C, const D: usize>(
     ell: &EllTilde<'_, S, C, D>,
     point: &GaussPoint<'_, S::Group, D>,
     derivatives: &dyn ChartDerivatives<D>,
-    out: &mut <S::Group as ConfigurationGroup<D>>::Jet,
+    out: &mut <S::Group as StepGroup<D>>::Jet,
 ) where
     S: System<D>,
     C: GroupChart<S::Group, D>,
@@ -329,7 +331,7 @@ pub(crate) fn chain_rule_with<S, C, const D: usize>(
         }
     } else {
         let origin = SVector::<f64, D>::zeros();
-        let mut jet = <<S::Group as ConfigurationGroup<D>>::LocalJet as PointJet>::zeros();
+        let mut jet = <<S::Group as StepGroup<D>>::LocalJet as PointJet>::zeros();
         if with_hessian {
             jet.set_by_dual_numbers(&local, origin.as_slice(), xi.as_slice(), false);
             let block = |r0: usize, c0: usize| {

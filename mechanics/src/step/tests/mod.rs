@@ -78,7 +78,7 @@ fn base() -> Matrix3<f64> {
 }
 
 /// A Gauss point at time 0.7 from `base`.
-fn gauss_point<'a, G: crate::group::ConfigurationGroup<D>, const D: usize>(
+fn gauss_point<'a, G: crate::group::StepGroup<D>, const D: usize>(
     base: &'a G::Element<f64>,
     x: &'a SVector<f64, D>,
     v: &'a SVector<f64, D>,

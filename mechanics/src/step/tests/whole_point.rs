@@ -133,7 +133,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                 base,
                 time: 0.7,
             };
-            let mut fast = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
+            let mut fast = <S::Group as crate::group::StepGroup<D>>::Jet::zeros();
             let point = gauss_point(base, x, v, with_configuration, true, None);
             super::points::chain_rule(&ell, &point, &mut fast);
             let mut gradient_only = fast.clone();
@@ -142,7 +142,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
             // The system's own path where it has one (the built-in SE(3) systems: by
             // blocks on the rotation–translation chart), else the generic chain rule again;
             // started from NaN, so that a block it does not write shows.
-            let mut own = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
+            let mut own = <S::Group as crate::group::StepGroup<D>>::Jet::zeros();
             own.gradient_mut().fill(f64::NAN);
             for r in 0..own.size() {
                 for c in 0..own.size() {
@@ -170,7 +170,7 @@ fn generic_chain_rule_matches_dual_numbers_through_the_whole_point() {
                 &mut own_gradient,
                 &mut None,
             );
-            let mut slow = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
+            let mut slow = <S::Group as crate::group::StepGroup<D>>::Jet::zeros();
             slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), with_configuration);
             let n = fast.size();
             let mut scale = 1.0f64;
@@ -400,7 +400,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
             base,
             time: 0.7,
         };
-        let mut fast = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
+        let mut fast = <S::Group as crate::group::StepGroup<D>>::Jet::zeros();
         point_derivatives(&ell, x, v, true, true, Some(input), &mut fast, &mut None);
         let mut gradient_only = fast.clone();
         point_derivatives(
@@ -413,7 +413,7 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
             &mut gradient_only,
             &mut None,
         );
-        let mut slow = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
+        let mut slow = <S::Group as crate::group::StepGroup<D>>::Jet::zeros();
         slow.set_by_dual_numbers(&ell, x.as_slice(), v.as_slice(), true);
         slow.add_force(&ForceTerms { ell: &ell, input }, x.as_slice(), v.as_slice());
         let n = fast.size();
@@ -644,117 +644,6 @@ fn force_terms_match_dual_numbers_through_the_whole_point() {
     }
 }
 
-/// The rotation–translation chart's closed-form derivatives on SE(3) against the
-/// dual-number ones of the same chart (`dual_number_derivatives`), every chart, points from
-/// `x = 0` to large rotations, each contraction with arbitrary vectors. Exact up to
-/// rounding: 1e-13 relative to the largest entry.
-#[test]
-fn rotation_translation_chart_derivatives_match_dual_numbers() {
-    use crate::group::{dual_number_derivatives, ChartDerivatives, GroupChart, RigidMotions};
-    let g = SVector::<f64, 6>::new(0.7, -1.2, 0.4, 2.0, -0.3, 0.9);
-    let mu = SVector::<f64, 6>::new(-0.5, 0.8, 1.3, 0.2, -1.1, 0.6);
-    let v = SVector::<f64, 6>::new(1.1, 0.4, -0.6, -0.5, 0.8, 0.1);
-    for chart in ChartKind::ALL {
-        for x in [
-            SVector::<f64, 6>::zeros(),
-            SVector::<f64, 6>::new(0.3, -0.1, 0.25, 0.2, 0.1, -0.3),
-            SVector::<f64, 6>::new(1.5, -2.2, 1.1, -0.4, 0.9, 0.3),
-        ] {
-            let read = |d: &dyn ChartDerivatives<6>| {
-                [
-                    d.differential(),
-                    d.differential_times(&v),
-                    d.transpose_times(&g),
-                    d.second(&mu, &v),
-                ]
-            };
-            let fast = GroupChart::<RigidMotions, 6>::with_derivatives(&chart, &x, true, read);
-            let slow = dual_number_derivatives::<RigidMotions, _, _, 6>(&chart, &x, read);
-            for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
-                let scale = s.amax().max(1.0);
-                assert!(
-                    (f - s).amax() <= 1e-13 * scale,
-                    "{chart} at {x:?}, contraction {k}: {:e}",
-                    (f - s).amax()
-                );
-            }
-        }
-    }
-}
-
-/// The SO(3) charts' closed-form derivatives, the SO(3) × ℝᴷ charts' (the gyrostat's
-/// group, `K = 1…4`) and SE(3)'s rotation–translation chart's, and their transport
-/// `Ad_{Φ(x)⁻¹}ᵀ p`, against the dual-number derivatives and the formed `Φ(x)` of the
-/// same chart, every chart, points from `x = 0` to large rotations; the transport's
-/// matrix with `A(x)` ([`crate::GroupChart::transport_and_differential`]) against both
-/// formed apart. Exact up to rounding: 1e-13 relative to the largest entry (1e-14 for the
-/// transport and `A`, single products of the Rodrigues coefficients).
-#[test]
-fn attitude_times_vector_chart_derivatives_match_dual_numbers() {
-    use crate::group::{
-        coadjoint_to_start, dual_number_derivatives, ChartDerivatives, ConfigurationGroup,
-        GroupChart,
-    };
-    use crate::gyrostat::BodyAndWheels;
-    fn check<G: ConfigurationGroup<D>, const D: usize>()
-    where
-        ChartKind: GroupChart<G, D>,
-    {
-        let at = |scale: f64, shift: f64| {
-            SVector::<f64, D>::from_fn(|i, _| scale * (1.3 * i as f64 + shift).sin())
-        };
-        let (g, mu, v) = (at(1.0, 0.2), at(1.2, 1.1), at(0.9, 2.3));
-        for chart in ChartKind::ALL {
-            for x in [at(0.0, 0.0), at(0.3, 0.5), at(1.6, 0.9)] {
-                let read = |d: &dyn ChartDerivatives<D>| {
-                    [
-                        d.differential(),
-                        d.differential_times(&v),
-                        d.transpose_times(&g),
-                        d.second(&mu, &v),
-                    ]
-                };
-                let fast = GroupChart::<G, D>::with_derivatives(&chart, &x, true, read);
-                let slow = dual_number_derivatives::<G, _, _, D>(&chart, &x, read);
-                for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
-                    let scale = s.amax().max(1.0);
-                    assert!(
-                        (f - s).amax() <= 1e-13 * scale,
-                        "{} {chart} at {x:?}, contraction {k}: {:e}",
-                        G::NAME,
-                        (f - s).amax()
-                    );
-                }
-                let first = GroupChart::<G, D>::with_derivatives(&chart, &x, false, read);
-                for k in 0..3 {
-                    assert!((first[k] - slow[k]).amax() <= 1e-13 * slow[k].amax().max(1.0));
-                }
-                let moved = GroupChart::<G, D>::coadjoint_to_start(&chart, &x, &g);
-                let formed =
-                    coadjoint_to_start::<G, D>(&GroupChart::<G, D>::to_group(&chart, &x)) * g;
-                assert!((moved - formed).amax() <= 1e-14 * formed.amax().max(1.0));
-                // The transport's matrix and A together, against both formed apart.
-                let (transport, a) = GroupChart::<G, D>::transport_and_differential(&chart, &x);
-                let apart = coadjoint_to_start::<G, D>(&GroupChart::<G, D>::to_group(&chart, &x));
-                let a_apart = GroupChart::<G, D>::left_differential(&chart, &x);
-                assert!(
-                    (transport - apart).amax() <= 1e-14 * apart.amax().max(1.0)
-                        && (a - a_apart).amax() <= 1e-14 * a_apart.amax().max(1.0),
-                    "{} {chart} at {x:?}: transport and A together",
-                    G::NAME
-                );
-            }
-        }
-    }
-    check::<crate::group::Rotations, 3>();
-    // SE(3)'s rotation–translation chart through the same checks.
-    check::<crate::group::RigidMotions, 6>();
-    check::<BodyAndWheels<1>, 4>();
-    check::<BodyAndWheels<2>, 5>();
-    check::<BodyAndWheels<3>, 6>();
-    check::<BodyAndWheels<4>, 7>();
-}
-
 /// The matching map's Jacobian `∂/∂y [A(y)ᵀ Ad_{Φ(y)}ᵀ w]` (chart derivatives and the
 /// coadjoint generator) against dual numbers through the chart and the adjoint, on SO(3)
 /// for every chart and on SE(3) for the rotation–translation and the screw charts, from
@@ -839,8 +728,7 @@ fn point_mixed_derivatives_match_hyper_dual_numbers() {
                 forcing,
                 point_inputs: None,
             };
-            let mut jet =
-                <<S::Group as crate::group::ConfigurationGroup<D>>::Jet as PointJet>::zeros();
+            let mut jet = <<S::Group as crate::group::StepGroup<D>>::Jet as PointJet>::zeros();
             {
                 let x = SVector::<f64, D>::from_fn(|i, _| scale * (0.9 * i as f64 + 0.4).sin());
                 let v = SVector::<f64, D>::from_fn(|i, _| 0.8 - 0.3 * i as f64);
@@ -945,7 +833,7 @@ fn points_hand_back_the_charts_transport() {
                     base,
                     time: 0.7,
                 };
-                let mut jet = <S::Group as crate::group::ConfigurationGroup<D>>::Jet::zeros();
+                let mut jet = <S::Group as crate::group::StepGroup<D>>::Jet::zeros();
                 let mut transport = None;
                 super::points::point_derivatives(
                     &ell,

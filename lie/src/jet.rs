@@ -1,12 +1,40 @@
-//! `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` (`s = |x|²`) with its first and second derivatives in
-//! `x`, from the coefficients' derivatives in `s`: every map of the SO(3) charts has this
-//! Rodrigues form, so the Gauss points' chain rule (SO(3) and SE(3)'s rotation–translation
-//! chart) takes the chart's derivatives from here.
+//! Derivatives of the charts' maps in closed form, and the dual-number routes beside them.
+//!
+//! [`MatrixJet`] is `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` (`s = |x|²`) with its first and
+//! second derivatives in `x`, from the coefficients' derivatives in `s`: every map of the
+//! SO(3) charts ([`So3Chart`](crate::So3Chart)'s `A`, `Φ`) has this Rodrigues form, so the
+//! closed-form [`ChartDerivatives`](crate::ChartDerivatives) of SO(3), of SE(3)'s
+//! rotation–translation chart and of any product with SO(3) are built from it.
+//! [`seeded`] and [`jacobian_of`] are the first-order dual-number route (one direction per
+//! coordinate), the reference the closed forms are tested against.
+//!
+//! ```
+//! use lgsvi_lie::jet::MatrixJet;
+//! use lgsvi_lie::{ExpChart, So3Chart};
+//! use nalgebra::Vector3;
+//! use num_dual::Dual2_64;
+//!
+//! // The jet of exp's left differential A(x) at x, from its Rodrigues coefficients at s = |x|².
+//! let x = Vector3::new(0.3, -0.2, 0.5);
+//! let s = Dual2_64::new(x.norm_squared(), 1.0, 0.0);
+//! let coefficients = ExpChart.rotation_left_differential_coefficients(s).unwrap();
+//! let a = MatrixJet::from_rodrigues(&coefficients, &x);
+//! assert!((a.value - ExpChart.rotation_left_differential(&x)).amax() < 1e-15);
+//! // Column k of first_times(v) is ∂_k A(x) v: against a central difference.
+//! let v = Vector3::new(1.0, 2.0, -1.0);
+//! let e = 1e-6;
+//! let dx = Vector3::new(e, 0.0, 0.0);
+//! let difference = (ExpChart.rotation_left_differential(&(x + dx))
+//!     - ExpChart.rotation_left_differential(&(x - dx)))
+//!     * v
+//!     / (2.0 * e);
+//! assert!((a.first_times(&v).column(0) - difference).amax() < 1e-9);
+//! ```
 
-use lgsvi_lie::so3::{hat, vee};
-use lgsvi_lie::RodriguesCoefficients;
-use nalgebra::{Matrix3, Vector3};
-use num_dual::{Dual2_64, Dual64};
+use crate::chart::RodriguesCoefficients;
+use crate::so3::{hat, vee};
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use num_dual::{Dual2_64, Dual64, DualSVec64};
 
 /// A 3×3 matrix function `M(x) = e(s) I + a(s) x̂ + b(s) x̂²` of `x ∈ ℝ³` with the
 /// derivatives of its coefficients in `s`: its first partial derivatives `∂_k M`
@@ -15,7 +43,8 @@ use num_dual::{Dual2_64, Dual64};
 /// derivatives are only ever needed contracted with a matrix, `⟨G, ∂_k∂_l M⟩`, which
 /// [`MatrixJet::second_contracted`] forms directly.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct MatrixJet {
+pub struct MatrixJet {
+    /// `M(x)`.
     pub value: Matrix3<f64>,
     x: Vector3<f64>,
     /// `(e, a, b)`, their first and their second derivatives in `s`.
@@ -25,12 +54,14 @@ pub(crate) struct MatrixJet {
 }
 
 /// `γ` with `⟨G, ŷ⟩ = γ·y` for every `y`: the axial vector of `G − Gᵀ`.
-pub(crate) fn axial(g: &Matrix3<f64>) -> Vector3<f64> {
+#[inline]
+pub fn axial(g: &Matrix3<f64>) -> Vector3<f64> {
     vee(&(g - g.transpose()))
 }
 
 /// `ê_k`.
-pub(crate) fn unit_hat(k: usize) -> Matrix3<f64> {
+#[inline]
+pub fn unit_hat(k: usize) -> Matrix3<f64> {
     let mut e = Vector3::zeros();
     e[k] = 1.0;
     hat(&e)
@@ -39,6 +70,7 @@ pub(crate) fn unit_hat(k: usize) -> Matrix3<f64> {
 impl MatrixJet {
     /// The jet at `x` from the coefficients evaluated at the dual number `s + ε` (value,
     /// first and second derivative in `s`).
+    #[inline]
     pub fn from_rodrigues(c: &RodriguesCoefficients<Dual2_64>, x: &Vector3<f64>) -> Self {
         let re = RodriguesCoefficients {
             identity: c.identity.re,
@@ -57,6 +89,7 @@ impl MatrixJet {
     /// As [`MatrixJet::from_rodrigues`] from coefficients at a first-order dual number
     /// (the second derivatives set to zero): enough for the value and first derivatives,
     /// which is all a gradient needs, at about two thirds of the cost.
+    #[inline]
     pub fn from_rodrigues_first_order(c: &RodriguesCoefficients<Dual64>, x: &Vector3<f64>) -> Self {
         let lift = |d: Dual64| Dual2_64::new(d.re, d.eps, 0.0);
         Self::from_rodrigues(
@@ -72,6 +105,7 @@ impl MatrixJet {
     /// The matrix with columns `∂_k M v`: `u xᵀ − a v̂ + b (x·v) I + b x vᵀ` with
     /// `u = 2e′v + 2a′ x×v + 2b′ x̂²v − 2b v` (the formula for `∂_k M` applied to `v`,
     /// `D_k v = e_k (x·v) + x v_k − 2x_k v`), without forming the three matrices.
+    #[inline]
     pub fn first_times(&self, v: &Vector3<f64>) -> Matrix3<f64> {
         self.first_applied(v, 1.0)
     }
@@ -79,11 +113,13 @@ impl MatrixJet {
     /// The matrix with rows `((∂_k M)ᵀ g)ᵀ`, i.e. entries `gᵀ ∂_k M e_b`: `(∂_k M)ᵀ` is
     /// `∂_k M` with its skew terms (`a`, `a′`) negated (`x̂²` and `D_k` are symmetric), so
     /// this is [`MatrixJet::first_times`] of `g` with those signs flipped, transposed.
+    #[inline]
     pub fn first_transposed_times(&self, g: &Vector3<f64>) -> Matrix3<f64> {
         self.first_applied(g, -1.0).transpose()
     }
 
     /// Columns `∂_k M' v` for `M' = e I + σ a x̂ + b x̂²` (`σ = ±1`).
+    #[inline]
     fn first_applied(&self, v: &Vector3<f64>, skew_sign: f64) -> Matrix3<f64> {
         let x = &self.x;
         let [_, a, b] = self.c0;
@@ -104,6 +140,7 @@ impl MatrixJet {
     /// `⟨G, I⟩ = tr G`, `⟨G, ŷ⟩ = γ·y` (`γ` the axial vector of `G − Gᵀ`),
     /// `⟨G, x̂²⟩ = xᵀGx − s tr G`, `⟨G, D_k⟩ = ((G + Gᵀ)x − 2 tr G x)_k` and
     /// `⟨G, e_k e_lᵀ + e_l e_kᵀ⟩ = G_kl + G_lk`.
+    #[inline]
     pub fn second_contracted(&self, g: &Matrix3<f64>) -> Matrix3<f64> {
         let x = &self.x;
         let [_, _, b] = self.c0;
@@ -124,4 +161,22 @@ impl MatrixJet {
         }
         out
     }
+}
+
+/// `x` as `D` first-order dual numbers, one direction each.
+pub fn seeded<const D: usize>(x: &SVector<f64, D>) -> SVector<DualSVec64<D>, D> {
+    SVector::from_fn(|i, _| {
+        DualSVec64::<D>::new(
+            x[i],
+            num_dual::Derivative::some(SVector::from_fn(|j, _| if i == j { 1.0 } else { 0.0 })),
+        )
+    })
+}
+
+/// The `D × D` matrix `∂y_r/∂x_a` of first-order dual numbers `y` seeded by [`seeded`].
+pub fn jacobian_of<const D: usize>(y: &SVector<DualSVec64<D>, D>) -> SMatrix<f64, D, D> {
+    SMatrix::from_fn(|r, a| {
+        y[r].eps
+            .unwrap_generic(nalgebra::Const::<D>, nalgebra::Const::<1>)[a]
+    })
 }

@@ -3,6 +3,7 @@
 //! [`Screw`]`(chart)`, SE(3)'s own screw-motion charts (derivatives by dual numbers).
 
 use super::*;
+use crate::se3::{blocks, split};
 
 /// The derivatives of SE(3)'s rotation–translation chart (`A = diag(A_ω(ω), Φ(ω)ᵀ)`) in
 /// closed form, from the Rodrigues jets of `A_ω` and `Φ` (which depend on `ω` alone):
@@ -10,8 +11,10 @@ use super::*;
 /// `∂(Av)/∂ω = [∂_kA_ω v_ω ; ∂_kΦᵀ v_u]_k`, `∂(Aᵀg)/∂ω = [∂_kA_ωᵀ g_ω ; ∂_kΦ g_u]_k`,
 /// `∇²_ω(μᵀAv) = ⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²Φ⟩`, nothing in `u`.
 pub struct RotationTranslationDerivatives {
-    pub(crate) a: MatrixJet,
-    pub(crate) phi: MatrixJet,
+    /// `A_ω(ω)`'s jet.
+    pub a: MatrixJet,
+    /// `Φ(ω)`'s jet.
+    pub phi: MatrixJet,
 }
 
 impl ChartDerivatives<6> for RotationTranslationDerivatives {
@@ -94,7 +97,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         GroupChart::<RigidMotions, 6>::check_domain(self, y)?;
         let (w, _) = split(y);
         let (xi_w, xi_u) = split(xi);
-        Ok(lgsvi_lie::se3::join(
+        Ok(crate::se3::join(
             &(self.rotation_left_differential_inverse(&w) * xi_w),
             &(phi.rotation().matrix() * xi_u),
         ))
@@ -171,7 +174,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
         (
             blocks(
                 &rotation,
-                &(lgsvi_lie::so3::hat(&u) * rotation),
+                &(crate::so3::hat(&u) * rotation),
                 &zero,
                 &rotation,
             ),
@@ -211,9 +214,9 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
 }
 
 /// SE(3)'s own charts, screw motions: `Φ(ω, v) = (Φ(ω), M(ω)v)` with the SO(3) chart's
-/// translation map `M` (for exp, SE(3)'s exponential), as in `lgsvi_lie`. The translation
-/// of a step's curve turns with its rotation. Choose it with
-/// [`crate::Integrator::with_chart`]: `Screw(ChartKind::Exp)`. The default SE(3) chart of
+/// translation map `M` (for exp, SE(3)'s exponential), as [`Chart`] gives it on [`SE3`].
+/// The translation of a step's curve turns with its rotation. Choose it with lgsvi's
+/// `Integrator::with_chart`: `Screw(ChartKind::Exp)`. The default SE(3) chart of
 /// every [`So3Chart`] is the rotation–translation one (the `GroupChart` impl for `C`),
 /// whose derivatives are in closed form; both give variational, SE(3)-equivariant maps
 /// (`docs/design.md` §6).
@@ -261,7 +264,7 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for Screw<C> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lgsvi_lie::ChartKind;
+    use crate::chart::ChartKind;
 
     /// The rotation–translation chart's `chart_velocity` is `A(y)⁻¹ ξ` of the whole 6 × 6
     /// inverse bit for bit (every chart, points from near zero to near each chart's edge),
