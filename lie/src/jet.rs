@@ -5,6 +5,13 @@
 //! SO(3) charts ([`So3Chart`](crate::So3Chart)'s `A`, `Φ`) has this Rodrigues form, so the
 //! closed-form [`ChartDerivatives`](crate::ChartDerivatives) of SO(3), of SE(3)'s
 //! rotation–translation chart and of any product with SO(3) are built from it.
+//!
+//! With `s = |x|²` (so `∂_k s = 2x_k`) and `D_k = ∂_k(x̂²) = e_k xᵀ + x e_kᵀ − 2x_k I`
+//! (from `x̂² = x xᵀ − |x|² I`), the derivatives are
+//! `∂_k M = 2x_k (e′I + a′x̂ + b′x̂²) + a ê_k + b D_k` and
+//! `∂_k∂_l M = 4x_k x_l (e″I + a″x̂ + b″x̂²) + 2δ_kl (e′I + a′x̂ + b′x̂²)
+//! + 2x_k (a′ê_l + b′D_l) + 2x_l (a′ê_k + b′D_k) + b (e_k e_lᵀ + e_l e_kᵀ − 2δ_kl I)`.
+//!
 //! [`seeded`] and [`jacobian_of`] are the first-order dual-number route (one direction per
 //! coordinate), the reference the closed forms are tested against.
 //!
@@ -88,7 +95,8 @@ impl MatrixJet {
 
     /// As [`MatrixJet::from_rodrigues`] from coefficients at a first-order dual number
     /// (the second derivatives set to zero): enough for the value and first derivatives,
-    /// which is all a gradient needs, at about two thirds of the cost.
+    /// which is all a gradient needs, at about two thirds of the cost. Such a jet's
+    /// [`MatrixJet::second_contracted`] is not the second derivative: do not ask it for one.
     #[inline]
     pub fn from_rodrigues_first_order(c: &RodriguesCoefficients<Dual64>, x: &Vector3<f64>) -> Self {
         let lift = |d: Dual64| Dual2_64::new(d.re, d.eps, 0.0);

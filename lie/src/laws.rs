@@ -1,5 +1,6 @@
 //! The group and chart laws, written once for any group: run them on your own group and
-//! chart with your own examples, as this crate's tests run them on SO(3) and SE(3).
+//! chart with your own examples, as this crate's tests run them on SO(3), SE(3), SO(3) × ℝᴷ
+//! and every chart of theirs.
 //!
 //! [`group_laws`] checks, on the elements and algebra vectors you give, the axioms
 //! (identity, inverse, associativity), the exponential map (`log ∘ exp`, one-parameter
@@ -8,7 +9,10 @@
 //! identity, `ad` as the derivative of `Ad` by central differences). [`chart_laws`] checks a
 //! chart: `Φ(0) = e`, `Φ⁻¹ ∘ Φ`, the trivialised differentials against central differences
 //! of `Φ`, and their inverses. Each returns the largest error of every law, or the first
-//! law that fails, with its size. [`group_chart_laws`] checks a
+//! law that fails, with its size. [`configuration_group_laws`] checks what a
+//! [`ConfigurationGroup`] gives besides its elements (the lift to other scalars, `exp` to
+//! second order, the coadjoint generator, the checks that an element is on the group), and
+//! [`group_chart_laws`] checks a
 //! [`GroupChart`], the chart of a [`ConfigurationGroup`] over every scalar that an integrator
 //! reads: the chart laws through it, and that what it gives in closed form (the chart
 //! velocity, the transport of covectors, the derivatives of `A`) agrees with what it must
@@ -18,7 +22,8 @@
 //! the largest entry between vectors and matrices, against `tolerance` times the scale of
 //! the examples (at least 1); the laws that differentiate numerically (`ad` from `Ad`, the
 //! differentials) are held to `max(tolerance, 1e-6)` times that scale instead, the accuracy
-//! of a central difference at a step of 1e-5.
+//! of a central difference at a step of 1e-5. (The consistency laws of
+//! [`group_chart_laws`] are relative; its documentation says how.)
 //!
 //! ```
 //! use lgsvi_lie::laws::{chart_laws, group_laws};
@@ -34,7 +39,7 @@
 //! ```
 
 use crate::chart::Chart;
-use crate::configuration::ConfigurationGroup;
+use crate::configuration::{coadjoint_generator_of, ConfigurationGroup};
 use crate::error::LieError;
 use crate::group::{ExponentialMap, LieGroup};
 use crate::group_chart::{dual_number_derivatives, ChartDerivatives, GroupChart};
@@ -71,7 +76,12 @@ impl Laws {
     ) -> Result<(), LawViolation> {
         let mut largest = 0.0f64;
         for (example, error) in errors.into_iter().enumerate() {
-            if error.is_nan() || error > allowed {
+            // A NaN error, or any error against a NaN allowance, is not within it.
+            let within = matches!(
+                error.partial_cmp(&allowed),
+                Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+            );
+            if !within {
                 return Err(LawViolation {
                     law,
                     error,
@@ -84,6 +94,17 @@ impl Laws {
         self.report.push((law, largest));
         Ok(())
     }
+}
+
+/// The largest of `errors`, NaN if any is (`f64::max` drops a NaN).
+fn worst(errors: impl IntoIterator<Item = f64>) -> f64 {
+    errors.into_iter().fold(0.0f64, |a, e| {
+        if a.is_nan() || e.is_nan() {
+            f64::NAN
+        } else {
+            a.max(e)
+        }
+    })
 }
 
 fn largest<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> f64 {
@@ -134,7 +155,7 @@ where
         "identity",
         elements
             .iter()
-            .map(|a| distance(&a.compose(&e), a).max(distance(&e.compose(a), a))),
+            .map(|a| worst([distance(&a.compose(&e), a), distance(&e.compose(a), a)])),
         exact,
     )?;
     laws.check(
@@ -313,8 +334,10 @@ where
                 chart.left_differential_inverse(xi),
                 chart.right_differential_inverse(xi),
             ) {
-                (Ok(left), Ok(right)) => largest(&(chart.left_differential(xi) * left - identity))
-                    .max(largest(&(chart.right_differential(xi) * right - identity))),
+                (Ok(left), Ok(right)) => worst([
+                    largest(&(chart.left_differential(xi) * left - identity)),
+                    largest(&(chart.right_differential(xi) * right - identity)),
+                ]),
                 _ => f64::NAN,
             }
         }),
@@ -379,9 +402,14 @@ where
 ///   overrides it) against [`dual_number_derivatives`]:
 ///   `A`, `∂(Aη)/∂ξ`, `∂(Aᵀη)/∂ξ` and `∇²(μᵀAη)`, with `η`, `μ` the next examples in turn.
 ///
-/// The consistency laws compare two exact routes, so they are held to the exact allowance
-/// (`tolerance` times the scale of the examples) times 64 times the scale squared: the
-/// derivatives are products of up to three examples' entries, summed in different orders.
+/// `Φ⁻¹` is read on the branch nearest the origin, so the examples should be there too
+/// (rotations below a half turn). The derivatives are compared with second derivatives
+/// asked for and without (the first-order route), and, where a chart gives SE(3)'s block
+/// form ([`ChartDerivatives::rotation_translation`]), that form too. The consistency laws
+/// compare two exact routes: each error is taken relative to the larger of 1 and the
+/// reference's largest entry, and held to `64 × tolerance` (the routes sum the same
+/// products in different orders). Give at least three examples: the contractions take the
+/// next two examples as their vectors.
 ///
 /// ```
 /// use lgsvi_lie::laws::group_chart_laws;
@@ -415,9 +443,10 @@ where
         tangents,
         tolerance,
     )?;
-    let scale = tangents.iter().map(largest).fold(1.0f64, f64::max);
-    let exact = tolerance * scale;
-    let consistent = exact * 64.0 * scale * scale;
+    // Two exact routes agree to rounding relative to the quantity compared.
+    let relative =
+        |a: &SMatrix<f64, D, D>, b: &SMatrix<f64, D, D>| largest(&(a - b)) / largest(b).max(1.0);
+    let consistent = 64.0 * tolerance;
     let mut laws = Laws { report: Vec::new() };
     let next = |i: usize, k: usize| tangents[(i + k) % tangents.len()];
     laws.check(
@@ -428,7 +457,10 @@ where
                 chart.left_differential_inverse(xi),
                 chart.chart_velocity(xi, &chart.to_group(xi), &eta),
             ) {
-                (Ok(inverse), Ok(velocity)) => largest(&(inverse * eta - velocity)),
+                (Ok(inverse), Ok(velocity)) => {
+                    let formed = inverse * eta;
+                    largest(&(formed - velocity)) / largest(&formed).max(1.0)
+                }
                 _ => f64::NAN,
             }
         }),
@@ -440,9 +472,12 @@ where
             let p = next(i, 1);
             let transport = chart.to_group(xi).inverse().adjoint().transpose();
             let (together, a) = chart.transport_and_differential(xi);
-            largest(&(transport * p - chart.coadjoint_to_start(xi, &p)))
-                .max(largest(&(transport - together)))
-                .max(largest(&(a - chart.left_differential(xi))))
+            let moved = transport * p;
+            worst([
+                largest(&(moved - chart.coadjoint_to_start(xi, &p))) / largest(&moved).max(1.0),
+                relative(&together, &transport),
+                relative(&a, &chart.left_differential(xi)),
+            ])
         }),
         consistent,
     )?;
@@ -451,23 +486,162 @@ where
         tangents.iter().enumerate().map(|(i, xi)| {
             let (eta, mu) = (next(i, 1), next(i, 2));
             let read = |d: &dyn ChartDerivatives<D>| {
-                [
-                    d.differential(),
-                    d.differential_times(&eta),
-                    d.transpose_times(&eta),
-                    d.second(&mu, &eta),
-                ]
+                // `None` inside: block derivatives of SE(3) on a group of another dimension.
+                let blocks = d.rotation_translation().map(|r| {
+                    let six =
+                        |v: &SVector<f64, D>| SVector::<f64, 6>::from_iterator(v.iter().copied());
+                    (D == 6).then(|| {
+                        let (eta, mu) = (six(&eta), six(&mu));
+                        [
+                            r.differential(),
+                            r.differential_times(&eta),
+                            r.transpose_times(&eta),
+                            r.second(&mu, &eta),
+                        ]
+                    })
+                });
+                (
+                    [
+                        d.differential(),
+                        d.differential_times(&eta),
+                        d.transpose_times(&eta),
+                        d.second(&mu, &eta),
+                    ],
+                    blocks,
+                )
             };
-            let closed = chart.with_derivatives(xi, true, read);
-            let dual = dual_number_derivatives::<G, C, _, D>(chart, xi, read);
-            closed
+            let (dual, _) = dual_number_derivatives::<G, C, _, D>(chart, xi, read);
+            let (closed, closed_blocks) = chart.with_derivatives(xi, true, read);
+            // The first-order derivatives (no second derivatives asked for) are the same.
+            let (first, first_blocks) = chart.with_derivatives(xi, false, read);
+            let mut errors: Vec<f64> = closed
                 .iter()
                 .zip(&dual)
-                .map(|(a, b)| largest(&(a - b)))
-                .fold(0.0f64, |a, e| if e.is_nan() { e } else { a.max(e) })
+                .map(|(a, b)| relative(a, b))
+                .collect();
+            errors.extend(first.iter().zip(&dual).take(3).map(|(a, b)| relative(a, b)));
+            // SE(3)'s block form, where a chart gives it, against the same references (in
+            // `D = 6` coordinates: the blocks' derivatives are of the whole chart).
+            for (blocks, count) in [(closed_blocks, 4), (first_blocks, 3)] {
+                match blocks {
+                    None => {}
+                    Some(None) => errors.push(f64::NAN),
+                    Some(Some(blocks)) => {
+                        errors.extend(blocks.iter().zip(&dual).take(count).map(|(a, b)| {
+                            relative(&SMatrix::<f64, D, D>::from_iterator(a.iter().copied()), b)
+                        }))
+                    }
+                }
+            }
+            worst(errors)
         }),
         consistent,
     )?;
     report.append(&mut laws.report);
     Ok(report)
+}
+
+/// Checks what a [`ConfigurationGroup`] gives besides its elements' [`LieGroup`], on
+/// `elements` (on the group) and `tangents`:
+/// - "lift": `lift::<f64>(g) = g`;
+/// - "exp to second order", "second-order exp": [`ConfigurationGroup::exp`] and
+///   [`ConfigurationGroup::exp_second_order`] agree with the elements' [`ExponentialMap`]
+///   to second order at the identity (what configuration variations `g exp(ζ)` read): at
+///   `tξ` with `t|ξ| = 10⁻³` their matrices' entries that `vee` reads and their adjoints
+///   differ by at most `10⁻⁹` (the third order is below `|tξ|³/6`) plus the exact
+///   allowance, where an error in the second order would give about `10⁻⁶`;
+/// - "coadjoint generator": [`ConfigurationGroup::coadjoint_generator`] against its
+///   definition from the small adjoint ([`coadjoint_generator_of`]);
+/// - "on the group": each element is finite, passes
+///   [`ConfigurationGroup::check_on_group`], and is kept by
+///   [`ConfigurationGroup::renormalise`].
+///
+/// Errors are measured as in [`group_laws`], against `tolerance` times the scale of the
+/// examples (at least 1).
+///
+/// ```
+/// use lgsvi_lie::laws::configuration_group_laws;
+/// use lgsvi_lie::{RigidMotions, SE3, SO3};
+/// use nalgebra::{SVector, Vector3};
+///
+/// let g = [SE3::new(SO3::about_y(0.7), Vector3::new(1.0, -2.0, 0.5)), SE3::identity()];
+/// let xi = [SVector::<f64, 6>::new(0.1, 0.2, -0.3, 1.0, -2.0, 0.5)];
+/// configuration_group_laws::<RigidMotions, 6>(&g, &xi, 1e-13)?;
+/// # Ok::<(), lgsvi_lie::laws::LawViolation>(())
+/// ```
+///
+/// # Errors
+/// The first law that fails, with its size ([`LawViolation`]).
+pub fn configuration_group_laws<G, const D: usize>(
+    elements: &[G::Element<f64>],
+    tangents: &[SVector<f64, D>],
+    tolerance: f64,
+) -> Result<LawReport, LawViolation>
+where
+    G: ConfigurationGroup<D>,
+    G::Element<f64>: ExponentialMap,
+{
+    let scale = tangents
+        .iter()
+        .map(largest)
+        .chain(elements.iter().map(|g| largest(&g.log())))
+        .fold(1.0f64, f64::max);
+    let exact = tolerance * scale;
+    let mut laws = Laws { report: Vec::new() };
+    laws.check(
+        "lift",
+        elements.iter().map(|g| distance(&G::lift::<f64>(g), g)),
+        exact,
+    )?;
+    let small = |xi: &SVector<f64, D>| xi * (1e-3 / xi.norm().max(f64::MIN_POSITIVE));
+    // A second-order `exp` need not be on the group, where `log` does not apply: it is
+    // compared by the matrix entries that `vee` reads and by its adjoint, both of which
+    // see the second order (on SO(3), `I + ζ̂` alone misses `½ζ̂²` in both).
+    let apart = |a: &G::Element<f64>, b: &G::Element<f64>| {
+        worst([
+            largest(
+                &(G::Element::<f64>::vee(&a.to_matrix()) - G::Element::<f64>::vee(&b.to_matrix())),
+            ),
+            largest(&(a.adjoint() - b.adjoint())),
+        ])
+    };
+    let third_order = 1e-9 + exact;
+    laws.check(
+        "exp to second order",
+        tangents.iter().map(|xi| {
+            let zeta = small(xi);
+            apart(&G::exp::<f64>(&zeta), &ExponentialMap::exp(&zeta))
+        }),
+        third_order,
+    )?;
+    laws.check(
+        "second-order exp",
+        tangents.iter().map(|xi| {
+            let zeta = small(xi);
+            apart(
+                &G::exp_second_order::<f64>(&zeta),
+                &ExponentialMap::exp(&zeta),
+            )
+        }),
+        third_order,
+    )?;
+    laws.check(
+        "coadjoint generator",
+        tangents.iter().map(|p| {
+            largest(&(G::coadjoint_generator(p) - coadjoint_generator_of::<G::Element<f64>, D>(p)))
+        }),
+        exact,
+    )?;
+    laws.check(
+        "on the group",
+        elements.iter().map(|g| {
+            if G::is_finite(g) && G::check_on_group(g).is_ok() {
+                distance(&G::renormalise(g), g)
+            } else {
+                f64::NAN
+            }
+        }),
+        exact,
+    )?;
+    Ok(laws.report)
 }

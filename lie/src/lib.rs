@@ -78,9 +78,9 @@ pub use chart::{
 pub use configuration::{coadjoint_generator_of, ConfigurationGroup, RigidMotions, Rotations};
 pub use error::LieError;
 pub use group::{ExponentialMap, LieGroup};
-pub use group_chart::{
-    dual_number_derivatives, ChartDerivatives, GroupChart, RotationTranslationDerivatives, Screw,
-};
+#[doc(hidden)]
+pub use group_chart::RotationTranslationDerivatives;
+pub use group_chart::{dual_number_derivatives, ChartDerivatives, GroupChart, Screw};
 pub use se3::SE3;
 pub use so3::SO3;
 

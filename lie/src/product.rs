@@ -29,12 +29,14 @@ use crate::so3::SO3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3};
 use num_dual::{Dual2_64, Dual64};
 
-/// An element of SO(3) × ℝᴷ: the attitude `R = world_from_body` and the wheel angles.
+/// An element of SO(3) × ℝᴷ: the attitude `R = world_from_body` and a vector the rotation
+/// does not act on (named for the gyrostat, its first use: the wheel angles).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyWheels<T: RealField + Copy, const K: usize> {
     /// `R`, world from body.
     pub attitude: SO3<T>,
-    /// The wheel angles `φ_i` relative to the body.
+    /// The ℝᴷ part `φ`: a gyrostat's wheel angles relative to the body, or any `K`
+    /// coordinates beside the attitude (a centre of mass, for `K = 3`).
     pub wheels: SVector<T, K>,
 }
 

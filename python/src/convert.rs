@@ -171,6 +171,16 @@ pub fn from_matrix<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray
     array2(py, m.nrows(), m.ncols(), flat)
 }
 
+/// Matrices of one shape as a 3-D ndarray `(count, rows, columns)`, each row-major.
+pub fn stacked<'py>(py: Python<'py>, matrices: &[DMatrix<f64>]) -> Bound<'py, PyArray3<f64>> {
+    let (rows, cols) = matrices.first().map_or((0, 0), |m| m.shape());
+    let flat: Vec<f64> = matrices
+        .iter()
+        .flat_map(|m| m.transpose().iter().copied().collect::<Vec<_>>())
+        .collect();
+    array3(py, (matrices.len(), rows, cols), flat)
+}
+
 /// A 3 × 3 matrix's entries, row-major.
 pub fn rows3(m: &Matrix3<f64>) -> [f64; 9] {
     let t = m.transpose();

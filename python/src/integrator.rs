@@ -2,7 +2,9 @@
 //! loop) or run to a horizon (a trajectory of ndarrays), to a tolerance or with fixed
 //! `(h, n)`, with its exact linearisation and dense output.
 
-use crate::convert::{array1, array2, array3, from_matrix, rotation, rows3, vector, vector3};
+use crate::convert::{
+    array1, array2, array3, from_matrix, rotation, rows3, stacked, vector, vector3,
+};
 use crate::errors::{guarded, invalid, mechanics, InternalError};
 use crate::run::{
     chart_name, chart_named, coordinates_named, each_run, events_of, matching_name, matching_named,
@@ -624,28 +626,40 @@ impl Integrator {
     /// the attitude (and, on SE(3), the position) perturbed in the body frame,
     /// `g = ḡ exp(θ)` (on SO(3) `R = R̄ exp(θ̂)`), and the body velocity by `ξ = ξ̄ + ω`;
     /// `coordinates="momentum"` takes the body momentum `μ = μ̄ + δμ` instead. The input
-    /// is the control input of `set_input`. With `parameters=True` it returns
-    /// `(A, B, P, names)` with `P = ∂x₊/∂p` in the system's physical parameters `names`
-    /// (the inertia tensor's entries, the mass, the wheels' inertias).
-    #[pyo3(signature = (coordinates="velocity", parameters=false))]
+    /// is the control input of `set_input` (or of `set_input_at_points`). With
+    /// `parameters=True` it returns `(A, B, P, names)` with `P = ∂x₊/∂p` in the system's
+    /// physical parameters `names` (the inertia tensor's entries, the mass, the wheels'
+    /// inertias).
+    ///
+    /// With `points=True` two entries follow, about the step's Gauss points
+    /// (`quadrature_nodes`, `m` of them): `B_points`, of shape `(m, 2d, d)`, the derivative
+    /// `∂x₊/∂u_j` in the input at each point when the inputs were given per point
+    /// (`set_input_at_points`; they sum to `B`), else None; and `configurations`, of shape
+    /// `(m, d, 2d + k)`, `∂θ_j/∂(x, u)`: the configuration at point `j`, perturbed as
+    /// `g_j exp(θ_j)` (body frame, as `θ₊`), against the start state and then the inputs
+    /// (`k = d` for a held input, `k = m·d` for inputs at the points, point by point). What
+    /// a cost or constraint on the motion within a step differentiates by.
+    #[pyo3(signature = (coordinates="velocity", parameters=false, points=false))]
     fn linearize<'py>(
         &self,
         py: Python<'py>,
         coordinates: &str,
         parameters: bool,
+        points: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        self.linearised(py, coordinates, parameters, false)
+        self.linearised(py, coordinates, parameters, points, false)
     }
 
     /// Takes the next step and returns its exact linearisation, as `linearize`.
-    #[pyo3(signature = (coordinates="velocity", parameters=false))]
+    #[pyo3(signature = (coordinates="velocity", parameters=false, points=false))]
     fn step_linearized<'py>(
         &self,
         py: Python<'py>,
         coordinates: &str,
         parameters: bool,
+        points: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        self.linearised(py, coordinates, parameters, true)
+        self.linearised(py, coordinates, parameters, points, true)
     }
 
     /// The last step's Galerkin curve (dense output), or None before the first step.
@@ -747,6 +761,7 @@ impl Integrator {
         py: Python<'py>,
         coordinates: &str,
         parameters: bool,
+        points: bool,
         take_step: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let coordinates = coordinates_named(coordinates)?;
@@ -761,24 +776,26 @@ impl Integrator {
                         (true, true) => it.step_linearized_with_parameters(),
                     }
                     .map_err(mechanics)?;
-                    Ok(Linear::of(&l, coordinates))
+                    Ok(Linear::of(&l, coordinates, points))
                 })
             })
         })?;
-        let a = from_matrix(py, &linear.a).into_any();
-        let b = from_matrix(py, &linear.b).into_any();
-        match linear.p {
-            Some((p, names)) => PyTuple::new(
-                py,
-                [
-                    a,
-                    b,
-                    from_matrix(py, &p).into_any(),
-                    names.into_pyobject(py)?.into_any(),
-                ],
-            ),
-            None => PyTuple::new(py, [a, b]),
+        let mut items = vec![
+            from_matrix(py, &linear.a).into_any(),
+            from_matrix(py, &linear.b).into_any(),
+        ];
+        if let Some((p, names)) = linear.p {
+            items.push(from_matrix(py, &p).into_any());
+            items.push(names.into_pyobject(py)?.into_any());
         }
+        if let Some(points) = linear.points {
+            items.push(match points.b {
+                Some(b) => stacked(py, &b).into_any(),
+                None => py.None().into_bound(py),
+            });
+            items.push(stacked(py, &points.configurations).into_any());
+        }
+        PyTuple::new(py, items)
     }
 }
 

@@ -802,16 +802,34 @@ pub struct Linear {
     pub b: DMatrix<f64>,
     /// `P` and the parameters' names.
     pub p: Option<(DMatrix<f64>, Vec<String>)>,
+    /// The Gauss points' parts, when asked for.
+    pub points: Option<PointParts>,
+}
+
+/// A step's linearisation at its Gauss points.
+pub struct PointParts {
+    /// `B_j`, one per point (`None` unless the inputs were given per point).
+    pub b: Option<Vec<DMatrix<f64>>>,
+    /// `∂θ_j/∂(x, u)`, the configuration's derivative at each point.
+    pub configurations: Vec<DMatrix<f64>>,
 }
 
 impl Linear {
-    /// From the library's linearisation.
-    pub fn of<E, const D: usize>(l: &StepLinearization<E, D>, coordinates: Coordinates) -> Self {
+    /// From the library's linearisation, with the Gauss points' parts when `points`.
+    pub fn of<E, const D: usize>(
+        l: &StepLinearization<E, D>,
+        coordinates: Coordinates,
+        points: bool,
+    ) -> Self {
         Self {
             a: l.a(coordinates).clone(),
             b: l.b(coordinates).clone(),
             p: l.p(coordinates)
                 .map(|p| (p.clone(), l.parameter_names().to_vec())),
+            points: points.then(|| PointParts {
+                b: l.b_points(coordinates).map(<[_]>::to_vec),
+                configurations: l.point_configurations(coordinates).to_vec(),
+            }),
         }
     }
 }

@@ -63,6 +63,61 @@ def test_linearize_matches_central_differences(coordinates):
     assert np.max(np.abs(a2 - a)) < 1e-12 and np.max(np.abs(b2 - b)) < 1e-12
 
 
+def test_linearize_points_match_central_differences():
+    """With inputs at the Gauss points, linearize(points=True) gives B_j = dx+/du_j, which sum
+    to B, and dtheta_j/d(x, u), the configuration's derivative at each point, against central
+    differences of whole steps read on their Galerkin curves at the points (eps = 1e-6, as
+    above: 1e-8 of the entries' scale). With a held input B_points is None and the
+    configurations have one input block."""
+    top = lgsvi.HeavyTop(inertia_d=[1.0, 2.8, 2.0])
+    r0 = Rotation.from_rotvec([0.3, -0.2, 0.1]).as_matrix()
+    w0 = np.array([0.5, -0.5, 0.4])
+    h, n = 0.2, 8
+    it = lgsvi.Integrator(top, h, n, attitude=r0, omega=w0)
+    c = it.quadrature_nodes
+    m = len(c)
+    u0 = np.array([[0.1 * np.sin(3.0 * cj), 0.05, -0.05 * cj] for cj in c])
+    it.set_input_at_points(u0)
+    a, b, b_points, configurations = it.linearize(points=True)
+    assert b_points.shape == (m, 6, 3) and configurations.shape == (m, 3, 6 + 3 * m)
+    # The points' B_j sum to B (the derivative in an input added at every point).
+    assert np.max(np.abs(b_points.sum(axis=0) - b)) < 1e-13 * np.max(np.abs(b))
+
+    def curve_points(attitude, omega, u):
+        step = lgsvi.Integrator(top, h, n, attitude=attitude, omega=omega)
+        step.set_input_at_points(u)
+        step.step()
+        curve = step.curve()
+        return [curve(cj * h).attitude for cj in c]
+
+    r_bar = curve_points(r0, w0, u0)
+
+    def thetas(rs):
+        return np.array([Rotation.from_matrix(rb.T @ r).as_rotvec() for rb, r in zip(r_bar, rs)])
+
+    eps = 1e-6
+    numeric = np.zeros((m, 3, 6 + 3 * m))
+    for k in range(6 + 3 * m):
+        sides = []
+        for sign in (1, -1):
+            e = np.zeros(6 + 3 * m)
+            e[k] = sign * eps
+            r = r0 @ expm(np.array(lgsvi.lie.hat(e[:3])))
+            sides.append(thetas(curve_points(r, w0 + e[3:6], u0 + e[6:].reshape(m, 3))))
+        numeric[:, :, k] = (sides[0] - sides[1]) / (2 * eps)
+    scale = np.max(np.abs(configurations))
+    assert np.max(np.abs(configurations - numeric)) < 1e-8 * scale
+    # The last point's derivative in its own input is not zero: the points see the inputs.
+    assert np.max(np.abs(configurations[-1, :, 6 + 3 * (m - 1):])) > 1e-6
+
+    held = lgsvi.Integrator(top, h, n, attitude=r0, omega=w0)
+    held.set_input(u0[0])
+    a2, b2, none, held_configurations = held.linearize(points=True)
+    assert none is None and held_configurations.shape == (m, 3, 9)
+    # With the parameters too, the points' entries follow P and the names.
+    assert len(held.linearize(parameters=True, points=True)) == 6
+
+
 def test_dlqr_against_scipy():
     """K = (R + B'SB)^-1 B'SA with S scipy's solve_discrete_are (a Schur method): both
     solve the same equation to ~1e-12 here."""

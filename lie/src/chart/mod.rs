@@ -37,8 +37,9 @@ use std::str::FromStr;
 /// Implemented for [`SO3`](crate::SO3) and [`SE3`](crate::SE3) by every [`So3Chart`]
 /// ([`ExpChart`], [`CayleyChart`], [`UnscaledCayleyChart`], and the run-time choice
 /// [`ChartKind`]). All methods are generic over the scalar, so dual numbers pass through
-/// `to_group` and the differentials (the mechanics layer takes exact second derivatives
-/// that way).
+/// `to_group` and the differentials: exact derivatives of any order come that way
+/// ([`dual_number_derivatives`](crate::dual_number_derivatives) takes a chart's second
+/// derivatives so).
 ///
 /// ```
 /// use lgsvi_lie::{Chart, ExpChart, LieGroup, SO3};
@@ -181,7 +182,7 @@ pub trait So3Chart: Copy + Debug {
     /// `Φ(ω)` in Rodrigues form `e(s) I + a(s) ω̂ + b(s) ω̂²`, `s = |ω|²`, if the chart
     /// has one (`None`, the default, if not). Generic in the scalar, so a dual number in
     /// `s` gives the coefficients' derivatives: callers build exact derivatives of `Φ` in
-    /// `ω` from them (the mechanics layer's Newton matrices do).
+    /// `ω` from them ([`crate::jet::MatrixJet`] does).
     fn rotation_matrix_coefficients<T: RealField + Copy>(
         &self,
         s: T,

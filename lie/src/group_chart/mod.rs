@@ -16,7 +16,9 @@ use num_dual::{Dual2SVec64, Dual2_64, Dual64, DualSVec64};
 use std::fmt::Debug;
 
 mod se3;
-pub use se3::{RotationTranslationDerivatives, Screw};
+#[doc(hidden)]
+pub use se3::RotationTranslationDerivatives;
+pub use se3::Screw;
 
 /// A chart's derivatives at one point `x`, contracted as a Galerkin step's chain rule
 /// (lgsvi's integrator at its Gauss points) reads them: `A(x)`, `∂(A(x)v)/∂x`, `∂(A(x)ᵀg)/∂x` and
@@ -36,7 +38,9 @@ pub trait ChartDerivatives<const D: usize> {
     /// SE(3)'s rotation–translation chart's derivatives (`A = diag(A(ω), Φ(ω)ᵀ)`, the
     /// Rodrigues jets of `A(ω)` and `Φ(ω)`), from which the built-in SE(3) systems take a
     /// Gauss point's derivatives by 3 × 3 blocks; `None` (the default) for every other
-    /// chart.
+    /// chart. Hidden: lgsvi's own fast path, whose form may change; a chart of your own
+    /// leaves it `None`.
+    #[doc(hidden)]
     fn rotation_translation(&self) -> Option<&RotationTranslationDerivatives> {
         None
     }

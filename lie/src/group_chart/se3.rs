@@ -9,7 +9,9 @@ use crate::se3::{blocks, split};
 /// closed form, from the Rodrigues jets of `A_ω` and `Φ` (which depend on `ω` alone):
 /// with `x = (ω, u)`, `v = (v_ω, v_u)`,
 /// `∂(Av)/∂ω = [∂_kA_ω v_ω ; ∂_kΦᵀ v_u]_k`, `∂(Aᵀg)/∂ω = [∂_kA_ωᵀ g_ω ; ∂_kΦ g_u]_k`,
-/// `∇²_ω(μᵀAv) = ⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²Φ⟩`, nothing in `u`.
+/// `∇²_ω(μᵀAv) = ⟨μ_ω v_ωᵀ, ∂²A_ω⟩ + ⟨v_u μ_uᵀ, ∂²Φ⟩`, nothing in `u`. Hidden with
+/// [`ChartDerivatives::rotation_translation`], which gives it.
+#[doc(hidden)]
 pub struct RotationTranslationDerivatives {
     /// `A_ω(ω)`'s jet.
     pub a: MatrixJet,
@@ -218,8 +220,8 @@ impl<C: So3Chart + Send + Sync> GroupChart<RigidMotions, 6> for C {
 /// The translation of a step's curve turns with its rotation. Choose it with lgsvi's
 /// `Integrator::with_chart`: `Screw(ChartKind::Exp)`. The default SE(3) chart of
 /// every [`So3Chart`] is the rotation–translation one (the `GroupChart` impl for `C`),
-/// whose derivatives are in closed form; both give variational, SE(3)-equivariant maps
-/// (`docs/design.md` §6).
+/// whose derivatives are in closed form; both give variational, SE(3)-equivariant
+/// discrete maps.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Screw<C>(pub C);
 

@@ -12,7 +12,8 @@
 //! | SO(3) | 3 | [`Rotations`] | [`SO3`](lgsvi_lie::SO3) | every [`So3Chart`](lgsvi_lie::So3Chart): exp, Cayley, the paper's Cayley, [`lgsvi_lie::ChartKind`] |
 //! | SE(3) | 6 | [`RigidMotions`] | [`SE3`](lgsvi_lie::SE3) (tangent `(ω, v)`, body velocities) | every [`So3Chart`](lgsvi_lie::So3Chart) as the rotation–translation chart `(Φ(ω), u)` (the default: SO(3) × ℝ³'s discrete map, derivatives in closed form); [`Screw`]`(chart)`, SE(3)'s own screw-motion charts |
 //!
-//! and this crate for the gyrostats' SO(3) × ℝᴷ ([`crate::gyrostat::BodyAndWheels`]).
+//! and SO(3) × ℝᴷ (`lgsvi_lie::product::BodyAndWheels`, re-exported by
+//! [`crate::gyrostat`]).
 //! What this module adds is the integrator's own: [`StepGroup`], every
 //! [`ConfigurationGroup`] with `D ≤ 16` together with the storage of one Gauss point's
 //! derivatives ([`Stacked`]`<{3D}>`, a [`PointJet`]), given to each by a blanket impl.
@@ -205,7 +206,9 @@ impl<const N: usize> PointJet for Stacked<N> {
 /// A [`ConfigurationGroup`] as the integrator steps it: the group with the storage of its
 /// Gauss points' derivatives. Every `ConfigurationGroup<D>` with `1 ≤ D ≤ 16` is one, by
 /// the blanket impls below (the sizes `3D` and `2D` cannot be written from a generic `D`
-/// in stable Rust, so each `D` has its own impl): a group of your own never implements it.
+/// in stable Rust, so each `D` has its own impl): a group of your own with `D ≤ 16` never
+/// implements it. A larger one implements it by hand, with `Jet = Stacked<{3D}>` and
+/// `LocalJet = Stacked<{2D}>` written out.
 pub trait StepGroup<const D: usize>: ConfigurationGroup<D> {
     /// Storage of one Gauss point's derivatives in the `3D` stacked variables
     /// (`Stacked<{3D}>`).
