@@ -88,17 +88,19 @@ pub(crate) fn warm_start<const M: usize>(
     Ok(())
 }
 
-/// The tracking and terminal costs: `tracking` as the reference's state count, its
-/// weights and whether every state is finite (one per step boundary after the start,
-/// `steps` of them); `terminal` as its weights; every weight finite and not negative.
-pub(crate) fn costs(
-    tracking: Option<(usize, &[f64], bool)>,
+/// The tracking and terminal costs: `tracking` as the reference states and their weights
+/// (one state per step boundary after the start, `steps` of them, each `finite`);
+/// `terminal` as its weights; every weight finite and not negative.
+pub(crate) fn costs<T, const W: usize>(
+    tracking: Option<&(Vec<T>, [f64; W])>,
+    finite: impl Fn(&T) -> bool,
     steps: usize,
-    terminal: Option<&[f64]>,
+    terminal: Option<&[f64; W]>,
 ) -> Result<(), OptimalError> {
     let valid = |w: &[f64]| w.iter().all(|x| x.is_finite() && *x >= 0.0);
-    if let Some((count, weights, finite)) = tracking {
-        if count != steps || !valid(weights) || !finite {
+    if let Some((states, weights)) = tracking {
+        let count = states.len();
+        if count != steps || !valid(weights) || !states.iter().all(&finite) {
             return Err(invalid(
                 "track",
                 format!("{count} states, weights {weights:?}"),

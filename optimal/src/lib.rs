@@ -536,15 +536,13 @@ impl Slew {
                  bang-bang: hold the torques constant over each step",
             ));
         }
-        let finite = |(r, w): &Target| {
-            r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite())
-        };
         checks::costs(
-            self.tracking
-                .as_ref()
-                .map(|(r, w)| (r.len(), &w[..], r.iter().all(finite))),
+            self.tracking.as_ref(),
+            |(r, w): &Target| {
+                r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite())
+            },
             self.steps,
-            self.terminal_cost.as_ref().map(|w| &w[..]),
+            self.terminal_cost.as_ref(),
         )?;
         if let Some(w) = &self.wheels {
             if self.gravity.is_some_and(|g| g.mass * g.gravity != 0.0) {

@@ -284,17 +284,15 @@ impl Manoeuvre {
             };
             checks::warm_start(initial, self.steps, points, ["wrench", "wrenches"])?;
         }
-        let finite = |(g, xi): &PoseVelocity| {
-            g.rotation().matrix().iter().all(|x| x.is_finite())
-                && g.translation().iter().all(|x| x.is_finite())
-                && xi.iter().all(|x| x.is_finite())
-        };
         checks::costs(
-            self.tracking
-                .as_ref()
-                .map(|(r, w)| (r.len(), &w[..], r.iter().all(finite))),
+            self.tracking.as_ref(),
+            |(g, xi): &PoseVelocity| {
+                g.rotation().matrix().iter().all(|x| x.is_finite())
+                    && g.translation().iter().all(|x| x.is_finite())
+                    && xi.iter().all(|x| x.is_finite())
+            },
             self.steps,
-            self.terminal_cost.as_ref().map(|w| &w[..]),
+            self.terminal_cost.as_ref(),
         )?;
         Ok(settings)
     }

@@ -174,10 +174,10 @@ pub fn from_matrix<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray
 /// Matrices of one shape as a 3-D ndarray `(count, rows, columns)`, each row-major.
 pub fn stacked<'py>(py: Python<'py>, matrices: &[DMatrix<f64>]) -> Bound<'py, PyArray3<f64>> {
     let (rows, cols) = matrices.first().map_or((0, 0), |m| m.shape());
-    let flat: Vec<f64> = matrices
-        .iter()
-        .flat_map(|m| m.transpose().iter().copied().collect::<Vec<_>>())
-        .collect();
+    let mut flat = Vec::with_capacity(matrices.len() * rows * cols);
+    for m in matrices {
+        flat.extend(m.transpose().iter());
+    }
     array3(py, (matrices.len(), rows, cols), flat)
 }
 
