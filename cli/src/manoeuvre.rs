@@ -1,5 +1,6 @@
 //! `lgsvi optimize --space`: a body in space (SE(3)) driven from a pose and velocity to
-//! others by a body wrench at the least input energy ([`lgsvi_optimal::Manoeuvre`]),
+//! others by a body wrench at the least input energy or in the least time
+//! ([`lgsvi_optimal::Manoeuvre`]),
 //! written as JSON with optional figures of the torques, the forces, the centre of mass
 //! and the attitude error.
 
@@ -15,11 +16,30 @@ use serde_json::json;
 /// Runs `lgsvi optimize --space`.
 pub fn run(options: &OptimizeOptions) -> Result<()> {
     refuse_slew_only(options)?;
-    let t_end = options.t_end.ok_or(CliError::invalid(
-        "--t-end",
-        "(none)",
-        "a manoeuvre takes a fixed duration: give --t-end T in seconds",
-    ))?;
+    let minimum_time = options.cost == Some(crate::optimize::Cost::Time);
+    if minimum_time {
+        for (flag, given) in [
+            ("--torque-max", options.torque_max.is_some()),
+            ("--force-max", options.force_max.is_some()),
+        ] {
+            if !given {
+                return Err(CliError::invalid(
+                    flag,
+                    "(none)",
+                    "a minimum-time manoeuvre needs bounds on both the torque and the force \
+                     (without one, the motion it drives takes no time): give --torque-max U \
+                     (N·m) and --force-max F (N), one value or X,Y,Z",
+                ));
+            }
+        }
+    } else if options.t_end.is_none() {
+        return Err(CliError::invalid(
+            "--t-end",
+            "(none)",
+            "a minimum-energy manoeuvre takes a fixed duration: give --t-end T in seconds (or \
+             --cost time with --torque-max and --force-max for the least time)",
+        ));
+    }
     let inertia = crate::optimize::inertia(options)?;
     let mass = options.mass.unwrap_or(1.0);
     let body_error = |error: MechanicsError| match &error {
@@ -65,11 +85,20 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
         body_velocity(&attitude_final, options.omega_final, options.velocity_final),
     );
     let (steps, nodes) = (options.steps.unwrap_or(40), options.nodes.unwrap_or(10));
+    let t_end = match options.t_end {
+        Some(t_end) => t_end,
+        None => first_guess(options, mass, &inertia, &start, &target)?,
+    };
     let mut manoeuvre = Manoeuvre::new(body, t_end)
         .from(start.0, start.1)
         .to(target.0, target.1)
         .steps(steps)
-        .nodes(nodes);
+        .nodes(nodes)
+        .cost(if minimum_time {
+            lgsvi_optimal::Cost::Time
+        } else {
+            lgsvi_optimal::Cost::Energy
+        });
     if let Some(bound) = options.torque_max {
         manoeuvre = manoeuvre.torque_max(bound);
     }
@@ -109,14 +138,20 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
             .norm()
             .to_degrees();
         let distance = (position_final - position0).norm();
+        let time = if minimum_time {
+            format!("in the least time (first guess {t_end:.6} s)")
+        } else {
+            format!("in {t_end} s")
+        };
         eprintln!(
-            "optimize: a manoeuvre in space ({distance:.6} m, {angle:.1}°) in {t_end} s, \
+            "optimize: a manoeuvre in space ({distance:.6} m, {angle:.1}°) {time}, \
              {steps} steps of {nodes} nodes …"
         );
     }
     let solution = manoeuvre.solve().map_err(|error| named(error, options))?;
     if !options.quiet {
-        crate::optimize::report(solution.cost, "", &solution.statistics);
+        let unit = if minimum_time { " s" } else { "" };
+        crate::optimize::report(solution.cost, unit, &solution.statistics);
     }
     let times: Vec<f64> = solution.states.iter().map(|s| s.time).collect();
     let error_deg: Vec<f64> = solution
@@ -137,7 +172,7 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
         "command": "optimize",
         "system": if options.mu.is_some() { "orbiting-body" } else { "se3-body" },
         "cost": solution.cost,
-        "cost_kind": "energy: the integral of |tau|^2 + |f|^2 dt",
+        "cost_kind": if minimum_time { "time: the final time in s" } else { "energy: the integral of |tau|^2 + |f|^2 dt" },
         "t_end": solution.t_end,
         "h": solution.h,
         "steps": steps,
@@ -170,10 +205,38 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
     crate::optimize::write(options, &output, drawn)
 }
 
+/// The first guess of a minimum-time manoeuvre's final time, without `--t-end`
+/// ([`lgsvi_optimal::separate_bang_bang_time`]).
+fn first_guess(
+    options: &OptimizeOptions,
+    mass: f64,
+    inertia: &lgsvi_mechanics::Inertia,
+    start: &(SE3, Vector6<f64>),
+    target: &(SE3, Vector6<f64>),
+) -> Result<f64> {
+    let torque = options.torque_max.unwrap_or([1.0; 3]);
+    let force = options.force_max.unwrap_or([1.0; 3]);
+    // A bound the solver refuses (naming its flag) needs no guess.
+    let valid = torque
+        .iter()
+        .chain(&force)
+        .all(|b| b.is_finite() && *b > 0.0);
+    if !(valid && mass.is_finite() && mass > 0.0) {
+        return Ok(1.0);
+    }
+    lgsvi_optimal::separate_bang_bang_time(inertia, mass, start, target, torque, force).ok_or(
+        CliError::invalid(
+            "--attitude-final/--position-final",
+            "the start's pose and velocity",
+            "the target is the start: give another target, or --t-end as the first guess of \
+             the time",
+        ),
+    )
+}
+
 /// The slew's flags, which a manoeuvre in space does not take.
 fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
     let given = [
-        ("--cost", options.cost == Some(crate::optimize::Cost::Time)),
         ("--gravity", options.gravity.is_some()),
         ("--com", options.com.is_some()),
         ("--gravity-direction", options.gravity_direction.is_some()),
@@ -187,8 +250,8 @@ fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
             return Err(CliError::invalid(
                 flag,
                 "with --space",
-                "a manoeuvre in space is solved at the least energy in the fixed time \
-                 --t-end; drop this flag (or --space for a slew)",
+                "a manoeuvre in space drives a free or orbiting body by a body wrench; drop \
+                 this flag (or --space for a slew)",
             ));
         }
     }
@@ -244,6 +307,8 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             ),
             "terminal_cost" => ("--terminal-cost", value.clone()),
             "track" => ("--track/--track-weights", value.clone()),
+            "cost" => ("--cost", "time".into()),
+            "inputs" => ("--inputs", "polynomial".into()),
             _ => ("--steps", value.clone()),
         },
         OptimalError::Infeasible { bounded: true, .. } => (

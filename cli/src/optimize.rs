@@ -17,8 +17,8 @@ use std::path::PathBuf;
 pub enum Cost {
     /// `∫ |u|² dt` in the fixed time `--t-end`.
     Energy,
-    /// The final time, the torques bounded by `--torque-max` (`--t-end` is then a first
-    /// guess).
+    /// The final time, the torques bounded by `--torque-max` (with --space the forces by
+    /// `--force-max` too; `--t-end` is then a first guess).
     Time,
 }
 
@@ -108,10 +108,12 @@ pub struct OptimizeOptions {
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub omega_final: Option<[f64; 3]>,
     /// The slew's duration T, s; with `--cost time` a first guess [default there: the
-    /// bang-bang turn about the rotation's axis].
+    /// bang-bang turn about the rotation's axis; with --space the longest of that turn's,
+    /// the straight move's at the weakest force and the velocity changes'].
     #[arg(long, allow_hyphen_values = true)]
     pub t_end: Option<f64>,
-    /// What is minimised [default: energy].
+    /// What is minimised [default: energy]. The least time needs --torque-max (and with
+    /// --space --force-max too).
     #[arg(long, value_enum)]
     pub cost: Option<Cost>,
     /// How the torque varies within a step [default: constant]; polynomial: the cost

@@ -2640,7 +2640,39 @@ fn optimize_manoeuvres_a_body_in_space() {
         "--quiet",
     ];
     for (extra, words) in [
-        (vec!["--cost", "time"], vec!["--cost", "--space"]),
+        (vec!["--cost", "time"], vec!["--torque-max", "both"]),
+        (
+            vec!["--cost", "time", "--torque-max", "1"],
+            vec!["--force-max", "both"],
+        ),
+        (
+            vec![
+                "--cost",
+                "time",
+                "--torque-max",
+                "1",
+                "--force-max",
+                "1",
+                "--inputs",
+                "polynomial",
+            ],
+            vec!["--inputs", "bang-bang"],
+        ),
+        (
+            vec![
+                "--cost",
+                "time",
+                "--torque-max",
+                "1",
+                "--force-max",
+                "1",
+                "--mu",
+                "1",
+                "--position0",
+                "10,0,0",
+            ],
+            vec!["--cost", "free body"],
+        ),
         (
             vec![
                 "--torque-max",
@@ -2686,6 +2718,85 @@ fn optimize_manoeuvres_a_body_in_space() {
         args.extend(extra);
         assert_refused(&args, &[extra[0], "--space"]);
     }
+}
+
+/// `lgsvi optimize --space --cost time`: a spherical body turned about the diagonal and
+/// moved along it meets the closed-form least time
+/// `max(2√(jθ/(√3τ)), 2√(md/(√3f)))` (`optimal/tests/manoeuvre_time.rs` derives it), with
+/// no `--t-end` (the first guess is the solver's own) and bang-bang wrenches on the
+/// bounds; the target being the start is refused without a guess.
+#[test]
+fn optimize_finds_the_least_time_of_a_manoeuvre_in_space() {
+    let (j, m, tau, f, theta, d): (f64, f64, f64, f64, f64, f64) = (2.0, 5.0, 0.1, 0.2, 1.2, 0.3);
+    let axis = 1.0 / 3f64.sqrt();
+    let rotation = format!("{0},{0},{0}", axis * theta);
+    let position = format!("{0},{0},{0}", axis * d);
+    let (code, out, err) = lgsvi(&[
+        "optimize",
+        "--space",
+        "--inertia",
+        "2,2,2",
+        "--mass",
+        "5",
+        "--attitude-final",
+        &rotation,
+        "--position-final",
+        &position,
+        "--torque-max",
+        "0.1",
+        "--force-max",
+        "0.2",
+        "--cost",
+        "time",
+        "--steps",
+        "10",
+        "--nodes",
+        "6",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let sqrt3 = 3f64.sqrt();
+    let exact = f64::max(
+        2.0 * (j * theta / (sqrt3 * tau)).sqrt(),
+        2.0 * (m * d / (sqrt3 * f)).sqrt(),
+    );
+    let got = json["cost"].as_f64().unwrap();
+    assert!(
+        (got - exact).abs() <= 1e-12 * exact,
+        "{got} against {exact}"
+    );
+    assert_eq!(json["t_end"].as_f64().unwrap(), got);
+    assert_eq!(json["converged"], true);
+    assert!(json["cost_kind"].as_str().unwrap().starts_with("time"));
+    let torques: Vec<f64> = json["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|u| u.as_array().unwrap()[..3].to_vec())
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(
+        torques.iter().all(|u| (u.abs() - tau).abs() < 1e-9),
+        "{torques:?}"
+    );
+    assert_refused(
+        &[
+            "optimize",
+            "--space",
+            "--torque-max",
+            "0.1",
+            "--force-max",
+            "0.2",
+            "--cost",
+            "time",
+            "--quiet",
+        ],
+        &[
+            "--attitude-final/--position-final",
+            "the target is the start",
+        ],
+    );
 }
 
 /// `optimize --space` tracks a reference motion read from an earlier run's JSON (its

@@ -34,3 +34,9 @@ cargo run --release --bin lgsvi -- optimize --quiet --inertia 5621,4547,2364 \
     --attitude-final 2.6179938779914944,0,0 --torque-max 50 --cost time --steps 100 \
     --nodes 8 --plot "$out/betts" --out /dev/null
 cp "$out/betts_torques.svg" docs/samples/betts_minimum_time_torques.svg
+# A least-time manoeuvre in space (docs/guide/optimal.md; 20 steps, about 2 s).
+cargo run --release --bin lgsvi -- optimize --quiet --space --inertia 3,4,5.5 --mass 10 \
+    --attitude-final 1.5,0.4,-0.9 --position-final 2,1,0 --torque-max 0.1 --force-max 0.2 \
+    --cost time --steps 20 --nodes 8 --plot "$out/space" --out /dev/null
+cp "$out/space_torques.svg" docs/samples/space_minimum_time_torques.svg
+cp "$out/space_forces.svg" docs/samples/space_minimum_time_forces.svg

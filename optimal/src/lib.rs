@@ -3,7 +3,8 @@
 //! axis, at the least input energy in a fixed time or in the least time; likewise a heavy
 //! top's ([`Slew::gravity`]) and a spacecraft's by its three reaction wheels, the motor
 //! torques bounded per wheel ([`Slew::wheels`]); and manoeuvres of a body in space (SE(3),
-//! a body wrench bounded per axis) at the least input energy ([`Manoeuvre`]).
+//! a body wrench bounded per axis) at the least input energy or, for the free body, in the
+//! least time ([`Manoeuvre`]).
 //!
 //! # The problem
 //!
@@ -130,7 +131,7 @@ use lgsvi_mechanics::{HeavyTop, Inertia, MechanicsError, RigidBody, State, StepS
 use nalgebra::Vector3;
 use shooting::Plant;
 
-pub use motion::{Manoeuvre, ManoeuvreSolution};
+pub use motion::{separate_bang_bang_time, Manoeuvre, ManoeuvreSolution};
 
 /// Why a slew was not solved.
 #[derive(Debug, thiserror::Error)]

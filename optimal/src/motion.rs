@@ -1,10 +1,12 @@
 //! Manoeuvres of a body in space (SE(3)): the pose and the body velocity driven from a
-//! start to a target by a body wrench `(τ, f)`, at the least input energy in a fixed time.
+//! start to a target by a body wrench `(τ, f)`, at the least input energy in a fixed time
+//! or in the least time.
 
 use crate::energy::{by_step, Coupling, Problem, Solved, Start};
-use crate::shooting::{shoot_motion, Shot};
+use crate::shooting::{shoot_motion, Shot, Wants};
+use crate::time::{bracket, least_time, TimeSettings, Timed, START_TOLERANCE};
 use crate::tracking::Residuals;
-use crate::{Inputs, OptimalError, Statistics};
+use crate::{Cost, Inputs, OptimalError, Statistics};
 use lgsvi_mechanics::built_in::BuiltInSe3;
 use lgsvi_mechanics::lie::{ExpChart, LieGroup, So3Chart, SE3};
 use lgsvi_mechanics::linearization::world_coordinates;
@@ -17,6 +19,58 @@ type SE3State = State<SE3, 6>;
 
 /// A pose and body velocity `(g, ξ)`: a start, a target, a reference state.
 type PoseVelocity = (SE3, Vector6<f64>);
+
+/// A first guess of a minimum-time manoeuvre's final time ([`Cost::Time`]): the longest of
+/// the eigen-axis turn's bang-bang time ([`crate::eigen_axis_time`]), the straight move's
+/// bang-bang time at the weakest axis's force, `2 √(m d / f_min)`, and the times to change
+/// the body rates and the velocity at the weakest bounds, `|ΔΩ| J_max/τ_min` and
+/// `m |Δv|/f_min` (`start` and `target` as [`Manoeuvre::from`] and [`Manoeuvre::to`] take
+/// them). Each is the least time of one part of the motion alone under a bound no larger
+/// than the box allows, so the guess is of the right size, not a bound on the least time.
+/// `None` when the target is the start, or for a bound that is not positive and finite.
+///
+/// ```
+/// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
+/// use lgsvi_mechanics::Inertia;
+/// use nalgebra::{Vector3, Vector6};
+///
+/// // A move of 2 m by 10 kg at 0.2 N: 2 √(10 · 2 / 0.2) = 20 s.
+/// let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5])?;
+/// let start = (SE3::identity(), Vector6::zeros());
+/// let moved = SE3::new(SO3::identity(), Vector3::new(2.0, 0.0, 0.0));
+/// let target = (moved, Vector6::zeros());
+/// let t = lgsvi_optimal::separate_bang_bang_time(&inertia, 10.0, &start, &target, [0.1; 3], [0.2; 3]);
+/// assert!((t.unwrap() - 20.0).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn separate_bang_bang_time(
+    inertia: &lgsvi_mechanics::Inertia,
+    mass: f64,
+    start: &(SE3, Vector6<f64>),
+    target: &(SE3, Vector6<f64>),
+    torque_max: [f64; 3],
+    force_max: [f64; 3],
+) -> Option<f64> {
+    let valid = |b: &[f64; 3]| b.iter().all(|x| x.is_finite() && *x > 0.0);
+    if !(valid(&torque_max) && valid(&force_max) && mass.is_finite() && mass > 0.0) {
+        return None;
+    }
+    let turn = start.0.rotation().inverse().compose(target.0.rotation());
+    let rotation = crate::eigen_axis_time(inertia, &turn, torque_max).unwrap_or(0.0);
+    let weakest = |b: [f64; 3]| b.iter().copied().fold(f64::INFINITY, f64::min);
+    let distance = (target.0.translation() - start.0.translation()).norm();
+    let translation = 2.0 * (mass * distance / weakest(force_max)).sqrt();
+    let change = target.1 - start.1;
+    let largest_moment = inertia
+        .principal_moments()
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    let spin = change.fixed_rows::<3>(0).norm() * largest_moment / weakest(torque_max);
+    let speed = change.fixed_rows::<3>(3).norm() * mass / weakest(force_max);
+    let guess = rotation.max(translation).max(spin).max(speed);
+    (guess > 0.0 && guess.is_finite()).then_some(guess)
+}
 
 /// A manoeuvre of a rigid body in space: from a start `(g₀, ξ₀)` to a target `(g_f, ξ_f)`
 /// in the fixed time `T`, driven by a body wrench `u = (τ, f)` (the torque and the force,
@@ -52,6 +106,11 @@ type PoseVelocity = (SE3, Vector6<f64>);
 /// `V = max(1, |v₀|, |v_f|)`, so that a body far from the origin converges to its own
 /// precision.
 ///
+/// With [`Cost::Time`] ([`Manoeuvre::cost`]) the final time is minimised instead, the
+/// wrench held over each step and bounded: the slew's minimum-time SQP ([`crate::Slew`],
+/// [`Cost::Time`]) on SE(3), started (rest to rest) from the unbounded minimum-energy
+/// manoeuvre rescaled in time to its bounds.
+///
 /// ```
 /// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
 /// use lgsvi_mechanics::{FreeBody, Inertia};
@@ -86,6 +145,7 @@ pub struct Manoeuvre {
     torque_max: Option<Vector3<f64>>,
     force_max: Option<Vector3<f64>>,
     inputs: Inputs,
+    cost: Cost,
     tolerance: f64,
     max_iterations: usize,
     initial: Option<Vec<Vector6<f64>>>,
@@ -108,7 +168,8 @@ pub struct ManoeuvreSolution {
     pub inputs_at_points: Vec<Vec<Vector6<f64>>>,
     /// The Gauss points of a step as fractions of its length, `c_j`.
     pub quadrature_nodes: Vec<f64>,
-    /// The cost `∫ |u|² dt` (the steps' quadrature of it).
+    /// The cost: `∫ |u|² dt` (the steps' quadrature of it), or with [`Cost::Time`] the
+    /// final time.
     pub cost: f64,
     /// The terminal constraint's multipliers, `∂J*/∂e` for the miss
     /// `e = (log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`: the attitude's three, the
@@ -143,6 +204,7 @@ impl Manoeuvre {
             torque_max: None,
             force_max: None,
             inputs: Inputs::Constant,
+            cost: Cost::Energy,
             tolerance: 1e-10,
             max_iterations: 500,
             initial: None,
@@ -194,6 +256,18 @@ impl Manoeuvre {
         self
     }
 
+    /// What to minimise: the input energy `∫ |u|² dt` in the fixed time (the default), or
+    /// the final time ([`Cost::Time`]), the time given to [`Manoeuvre::new`] then being
+    /// the first guess's. The least time needs both bounds ([`Manoeuvre::torque_max`],
+    /// [`Manoeuvre::force_max`]), a wrench held over each step (its optimum is bang-bang)
+    /// and the free body ([`BuiltInSe3::Free`]: an orbiting body's potential does not
+    /// scale with the time, which the step length's derivative rests on); tracking and
+    /// terminal costs are for the energy.
+    pub fn cost(mut self, cost: Cost) -> Self {
+        self.cost = cost;
+        self
+    }
+
     /// Adds the cost of straying from a reference motion, one state `(g_ref,k, ξ_ref,k)`
     /// (pose, body velocity) per step boundary `k = 1 … K`:
     /// `Σ_k h (q_θ |log(R_ref,kᵀ R_k)|² + q_x |x_k − x_ref,k|² + q_ω |Ω_k − Ω_ref,k|²
@@ -234,7 +308,7 @@ impl Manoeuvre {
 
     /// The bound on each entry of the wrench: infinite where the torque or the force has
     /// none; `None` where neither has one.
-    fn bound(&self) -> Option<Vector6<f64>> {
+    fn wrench_bound(&self) -> Option<Vector6<f64>> {
         if self.torque_max.is_none() && self.force_max.is_none() {
             return None;
         }
@@ -294,6 +368,47 @@ impl Manoeuvre {
             self.steps,
             self.terminal_cost.as_ref(),
         )?;
+        if self.cost == Cost::Time {
+            let energy_only = |name, value: &str, reason| Err(invalid(name, value.into(), reason));
+            if self.torque_max.is_none() || self.force_max.is_none() {
+                let name = if self.torque_max.is_none() {
+                    "torque_max"
+                } else {
+                    "force_max"
+                };
+                return energy_only(
+                    name,
+                    "(none)",
+                    "a minimum-time manoeuvre needs bounds on both the torque and the force \
+                     (without one, the motion it drives takes no time and the least time is \
+                     not attained)",
+                );
+            }
+            if let BuiltInSe3::Orbit(_) = self.body {
+                return energy_only(
+                    "cost",
+                    "Time",
+                    "the least time is built for the free body in space: an orbiting body's \
+                     potential does not scale with the time, which the step length's \
+                     derivative rests on; minimise the energy in a fixed time instead",
+                );
+            }
+            if self.inputs == Inputs::Polynomial {
+                return energy_only(
+                    "inputs",
+                    "Polynomial",
+                    "polynomial inputs are built for the energy cost; a minimum-time optimum \
+                     is bang-bang: hold the wrench constant over each step",
+                );
+            }
+            if self.tracking.is_some() || self.terminal_cost.is_some() {
+                return energy_only(
+                    "cost",
+                    "Time",
+                    "tracking and terminal costs are built for the energy cost",
+                );
+            }
+        }
         Ok(settings)
     }
 
@@ -314,9 +429,12 @@ impl Manoeuvre {
     pub fn solve(&self) -> Result<ManoeuvreSolution, OptimalError> {
         let clock = Instant::now();
         let settings = self.check()?;
+        if self.cost == Cost::Time {
+            return self.minimum_time();
+        }
         let (k_steps, h) = (self.steps, settings.h());
         let (nodes, weights) = self.quadrature(settings)?;
-        let bound = self.bound();
+        let bound = self.wrench_bound();
         let scale = self.scale();
         let attempt = |initial: Option<&[Vector6<f64>]>, bound: Option<Vector6<f64>>| {
             let start = Start::of(self.inputs, h, k_steps, &weights, initial, bound);
@@ -428,7 +546,10 @@ impl Manoeuvre {
                 self.target,
                 u,
                 per_step,
-                !plain,
+                Wants {
+                    attitudes: !plain,
+                    time: false,
+                },
             )?;
             for (i, l) in scale.iter().enumerate() {
                 shot.miss[i] /= l;
@@ -452,6 +573,125 @@ impl Manoeuvre {
             metric: if plain { None } else { Some(&metric) },
         };
         Ok((per_step, problem.solve(start.inputs, self.tolerance)?))
+    }
+}
+
+impl Manoeuvre {
+    /// The least time ([`Cost::Time`]): the slew's iteration ([`least_time`]) on SE(3).
+    fn minimum_time(&self) -> Result<ManoeuvreSolution, OptimalError> {
+        let found = least_time(self, self.tolerance)?;
+        let settings = StepSettings::new(found.h, self.nodes)?;
+        // The multipliers of the scaled rows, in the unscaled miss.
+        let mut multipliers = [0.0; 12];
+        for ((m, l), s) in multipliers
+            .iter_mut()
+            .zip(&found.multipliers)
+            .zip(self.scale())
+        {
+            *m = l / s;
+        }
+        Ok(ManoeuvreSolution {
+            states: found.shot.states,
+            inputs: found.inputs,
+            inputs_at_points: Vec::new(),
+            quadrature_nodes: self.quadrature(settings)?.0,
+            cost: found.t_end,
+            multipliers,
+            h: found.h,
+            t_end: found.t_end,
+            converged: true,
+            statistics: found.statistics,
+        })
+    }
+}
+
+impl Timed<6> for Manoeuvre {
+    type State = SE3State;
+    fn bound(&self) -> Result<Vector6<f64>, OptimalError> {
+        // Both bounds are given (`Manoeuvre::check`).
+        self.wrench_bound()
+            .filter(|b| b.iter().all(|x| x.is_finite()))
+            .ok_or_else(|| {
+                crate::checks::invalid(
+                    "torque_max",
+                    "(none)".into(),
+                    "a minimum-time manoeuvre needs bounds on both the torque and the force",
+                )
+            })
+    }
+    fn settings(&self) -> TimeSettings {
+        TimeSettings {
+            steps: self.steps,
+            nodes: self.nodes,
+            max_iterations: self.max_iterations,
+            warm: self.initial.is_some(),
+        }
+    }
+    fn shoot(
+        &self,
+        settings: StepSettings,
+        inputs: &[Vector6<f64>],
+    ) -> Result<Shot<SE3State>, OptimalError> {
+        let wants = Wants {
+            attitudes: false,
+            time: true,
+        };
+        let mut shot = shoot_motion(
+            self.body,
+            settings,
+            self.start,
+            self.target,
+            inputs,
+            1,
+            wants,
+        )?;
+        for (i, l) in self.scale().iter().enumerate() {
+            shot.miss[i] /= l;
+            shot.sensitivity.row_mut(i).unscale_mut(*l);
+            shot.time_sensitivity[i] /= l;
+        }
+        Ok(shot)
+    }
+    fn rate_rows(&self) -> std::ops::Range<usize> {
+        // The body rates and the centre of mass's velocity.
+        6..12
+    }
+    /// The warm start if given; for a manoeuvre from rest to rest, the unbounded
+    /// minimum-energy one rescaled in time until its largest wrench entry meets its bound
+    /// (as the slew's, exact for the free body: `u(t)` over `T` becomes `u(t/c)/c²` over
+    /// `cT`, the same path); else the bounded minimum-energy manoeuvre at a time
+    /// [`bracket`] finds.
+    fn feasible_start(&self, k_steps: usize) -> Result<(Vec<Vector6<f64>>, f64), OptimalError> {
+        if let Some(initial) = &self.initial {
+            return Ok((initial.clone(), self.t_end));
+        }
+        let bound = Timed::bound(self)?;
+        let energy = |t_end: f64, bounded: bool| {
+            Manoeuvre {
+                t_end,
+                steps: k_steps,
+                cost: Cost::Energy,
+                tolerance: START_TOLERANCE,
+                torque_max: self.torque_max.filter(|_| bounded),
+                force_max: self.force_max.filter(|_| bounded),
+                ..self.clone()
+            }
+            .solve()
+        };
+        if self.start.1 == Vector6::zeros() && self.target.1 == Vector6::zeros() {
+            let free = energy(self.t_end, false)?;
+            let peak = free
+                .inputs
+                .iter()
+                .map(|u| u.component_div(&bound).amax())
+                .fold(0.0, f64::max);
+            if peak > 0.0 && peak.is_finite() {
+                let c = peak.sqrt();
+                let inputs = free.inputs.iter().map(|u| u / (c * c)).collect();
+                return Ok((inputs, self.t_end * c));
+            }
+        }
+        bracket(self.t_end, |t_end| Ok(energy(t_end, true)?.inputs))
     }
 }
 

@@ -249,8 +249,12 @@ pub(crate) fn shoot(
 /// `target`: the miss is `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`, the attitude
 /// and the rates as on SO(3), the position and its velocity in the world frame, and the
 /// sensitivity's rows in the same coordinates ([`world_coordinates`] from the
-/// linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). With `attitudes`, the attitudes'
-/// derivatives at the Gauss points are kept ([`Shot::attitude_sensitivities`]).
+/// linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). [`Wants`] says whether the
+/// attitudes' derivatives at the Gauss points are kept ([`Shot::attitude_sensitivities`])
+/// and whether `∂x_K/∂h` is formed by [`shoot`]'s time scaling, the law of any body whose
+/// kinetic energy is quadratic in its velocity and that has no potential: the free body in
+/// space (the caller refuses the orbiting body, whose potential does not scale with the
+/// time).
 ///
 /// Why the world frame: a body-frame velocity compares the target's and the run's in two
 /// frames, so its miss turns with the attitude, by `|ẋ|` per radian: an orbiting body's
@@ -264,17 +268,16 @@ pub(crate) fn shoot_motion(
     target: (SE3, Vector6<f64>),
     inputs: &[Vector6<f64>],
     per_step: usize,
-    attitudes: bool,
+    wants: Wants,
 ) -> Result<Shot<State<SE3, 6>>, OptimalError> {
+    let Wants { attitudes, time } = wants;
     let it = Integrator::new(body, settings, start.0, start.1)?;
     let plan = Plan {
         per_step,
         offset: 0,
         potential: None,
         rows: (0..12).collect(),
-        // No time law for a body in space (an orbiting body's potential does not scale
-        // with the time, and the least time is not built for it).
-        with_time: false,
+        with_time: time,
         // Where the manoeuvre's subproblem measures the force in the world frame
         // (`crate::motion`), which reads them.
         attitudes,
@@ -296,8 +299,21 @@ pub(crate) fn shoot_motion(
     };
     let mut shot = shoot_with(it, inputs, plan, |s| (*s, None), miss)?;
     let last = &shot.states[shot.states.len() - 1];
-    shot.sensitivity = world_coordinates(&last.configuration, &last.velocity) * &shot.sensitivity;
+    let world = world_coordinates(&last.configuration, &last.velocity);
+    shot.sensitivity = &world * &shot.sensitivity;
+    if time {
+        shot.time_sensitivity = &world * &shot.time_sensitivity;
+    }
     Ok(shot)
+}
+
+/// What a run of [`shoot_motion`] forms beyond its states, miss and sensitivity.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Wants {
+    /// The attitudes' derivatives at the Gauss points ([`Shot::attitude_sensitivities`]).
+    pub attitudes: bool,
+    /// `∂x_K/∂h` ([`Shot::time_sensitivity`]).
+    pub time: bool,
 }
 
 /// How a run's inputs enter its integrator and what of its state the problem sees.
@@ -536,6 +552,66 @@ mod tests {
                 let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
                 assert!(error < 1e-7, "{name}, {per_step} inputs a step: {error:e}");
             }
+        }
+    }
+
+    /// The same law on SE(3): `∂x_K/∂h` of the free body in space, in the world-frame
+    /// coordinates of the miss, against central differences of whole runs (the bound as
+    /// above), with wrenches held over each step and at the Gauss points.
+    #[test]
+    fn the_time_derivative_in_space_matches_central_differences() {
+        let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
+        let body = BuiltInSe3::Free(lgsvi_mechanics::FreeBody::new(inertia, 7.0).unwrap());
+        let start = (
+            SE3::new(
+                SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
+                Vector3::new(1.0, -2.0, 0.5),
+            ),
+            Vector6::new(0.3, -0.2, 0.5, 0.4, 0.1, -0.3),
+        );
+        let target = (SE3::identity(), Vector6::zeros());
+        let h = 0.4;
+        let points = Integrator::new(body, StepSettings::new(h, 8).unwrap(), start.0, start.1)
+            .unwrap()
+            .quadrature_nodes()
+            .len();
+        for per_step in [1, points] {
+            let inputs: Vec<Vector6<f64>> = (0..6 * per_step)
+                .map(|k| {
+                    let t = k as f64 / per_step as f64;
+                    Vector6::new(0.1 * t, -0.2, 0.05 * t.sin(), 0.3, -0.1 * t, 0.2 * t.cos())
+                })
+                .collect();
+            let wants = Wants {
+                attitudes: false,
+                time: true,
+            };
+            let at = |h: f64| {
+                let settings = StepSettings::new(h, 8).unwrap();
+                shoot_motion(body, settings, start, target, &inputs, per_step, wants).unwrap()
+            };
+            let shot = at(h);
+            let delta = 1e-4 * h;
+            let (plus, minus) = (at(h + delta), at(h - delta));
+            let (p, m) = (plus.states[6], minus.states[6]);
+            let (gp, gm) = (p.configuration, m.configuration);
+            let world = |s: &State<SE3, 6>| {
+                s.configuration.rotation().matrix() * s.velocity.fixed_rows::<3>(3)
+            };
+            let parts = [
+                gm.rotation().inverse().compose(gp.rotation()).log(),
+                gp.translation() - gm.translation(),
+                (p.velocity - m.velocity).fixed_rows::<3>(0).into_owned(),
+                world(&p) - world(&m),
+            ];
+            let difference = DVector::from_iterator(
+                12,
+                parts
+                    .iter()
+                    .flat_map(|v| v.iter().map(|x| x / (2.0 * delta))),
+            );
+            let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
+            assert!(error < 1e-7, "{per_step} wrenches a step: {error:e}");
         }
     }
 }

@@ -3,10 +3,11 @@
 
 use crate::energy::minimum_energy;
 use crate::qp::QpSolution;
-use crate::shooting::{shoot, Plant, Shot};
+use crate::shooting::{shoot, Shot};
 use crate::{qp, Cost, OptimalError, Slew, Solution, Statistics};
 use lgsvi_mechanics::StepSettings;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, SVector, Vector3};
+use std::ops::Range;
 use std::time::Instant;
 
 /// The largest relative change of the step length in one iteration (a trust region on
@@ -63,23 +64,136 @@ pub(crate) fn minimum_time(slew: &Slew, tolerance: f64) -> Result<Solution, Opti
     fallback(slew, tolerance).map_err(|error| continuation.unwrap_or(error))
 }
 
-/// [`minimum_time`] from the ladder's own start.
-fn fallback(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
-    let clock = Instant::now();
-    let bound = slew
-        .torque_max
-        .ok_or_else(|| OptimalError::InvalidSetting {
+/// What the least time asks of a problem with inputs of `W` entries: a slew (three
+/// torques, [`Slew`]) or a manoeuvre in space (a wrench, [`crate::Manoeuvre`]).
+pub(crate) trait Timed<const W: usize> {
+    /// The state recorded at each step boundary.
+    type State;
+    /// Each input entry's bound, all finite (the least time needs them: without a bound
+    /// any time is reachable).
+    fn bound(&self) -> Result<SVector<f64, W>, OptimalError>;
+    /// The step count, nodes, iteration limit and warm start asked for.
+    fn settings(&self) -> TimeSettings;
+    /// The run of `inputs` (one held over each step of `settings`) with `∂x_K/∂h`: the
+    /// miss and its sensitivities in the rows the tolerance measures.
+    fn shoot(
+        &self,
+        settings: StepSettings,
+        inputs: &[SVector<f64, W>],
+    ) -> Result<Shot<Self::State>, OptimalError>;
+    /// The rows of the miss that are rates (scaled by `T_ref` to be commensurate with the
+    /// attitude's).
+    fn rate_rows(&self) -> Range<usize>;
+    /// Inputs for `k_steps` steps and a final time that reach the target
+    /// ([`feasible_start`] for a slew).
+    fn feasible_start(&self, k_steps: usize) -> Result<(Vec<SVector<f64, W>>, f64), OptimalError>;
+}
+
+/// What a least-time problem asks for beside its inputs and targets.
+pub(crate) struct TimeSettings {
+    /// The step count `K`.
+    pub steps: usize,
+    /// Nodes a step.
+    pub nodes: usize,
+    /// The most SQP iterations.
+    pub max_iterations: usize,
+    /// Whether the iteration starts from the user's inputs (no ladder, no perturbation).
+    pub warm: bool,
+}
+
+impl Timed<3> for Slew {
+    type State = lgsvi_mechanics::State;
+    fn bound(&self) -> Result<Vector3<f64>, OptimalError> {
+        self.torque_max.ok_or_else(|| OptimalError::InvalidSetting {
             name: "torque_max",
             value: "(none)".into(),
             reason: "a minimum-time slew needs a torque bound (without one, any time is reachable)"
                 .into(),
-        })?;
-    let mut ladder = vec![slew.steps];
-    while slew.initial.is_none() && ladder[ladder.len() - 1] >= 2 * COARSEST {
+        })
+    }
+    fn settings(&self) -> TimeSettings {
+        TimeSettings {
+            steps: self.steps,
+            nodes: self.nodes,
+            max_iterations: self.max_iterations,
+            warm: self.initial.is_some(),
+        }
+    }
+    fn shoot(&self, settings: StepSettings, inputs: &[Vector3<f64>]) -> Result<Shot, OptimalError> {
+        shoot(
+            self.system()?,
+            settings,
+            self.start,
+            self.target,
+            inputs,
+            1,
+            true,
+        )
+    }
+    fn rate_rows(&self) -> Range<usize> {
+        3..6
+    }
+    fn feasible_start(&self, k_steps: usize) -> Result<(Vec<Vector3<f64>>, f64), OptimalError> {
+        feasible_start(&Slew {
+            steps: k_steps,
+            ..self.clone()
+        })
+    }
+}
+
+/// [`minimum_time`] from the ladder's own start.
+fn fallback(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
+    let found = least_time(slew, tolerance)?;
+    let settings = StepSettings::new(found.h, slew.nodes)?;
+    let mut multipliers = [0.0; 6];
+    multipliers.copy_from_slice(&found.multipliers);
+    Ok(Solution {
+        cost: found.t_end,
+        states: found.shot.states,
+        wheel_speeds: found.shot.wheel_speeds,
+        inputs: found.inputs,
+        inputs_at_points: Vec::new(),
+        quadrature_nodes: crate::quadrature(slew, settings)?.0,
+        multipliers,
+        h: found.h,
+        t_end: found.t_end,
+        converged: true,
+        statistics: found.statistics,
+    })
+}
+
+/// A problem solved for the least time.
+pub(crate) struct Fastest<St, const W: usize> {
+    /// The inputs, one a step.
+    pub inputs: Vec<SVector<f64, W>>,
+    /// Their run.
+    pub shot: Shot<St>,
+    /// The step length and the final time.
+    pub h: f64,
+    pub t_end: f64,
+    /// The terminal constraint's multipliers `∂T*/∂e`, in the rows of [`Timed::shoot`]'s
+    /// miss.
+    pub multipliers: Vec<f64>,
+    /// The solver's record.
+    pub statistics: Statistics,
+}
+
+/// The least time of `problem` (the crate documentation's iteration): from the coarsest
+/// of a ladder of step counts (halving `K` while at least `2 ×` [`COARSEST`]) up to `K`,
+/// each level started from the one below (its inputs sampled at the finer steps'
+/// midpoints).
+pub(crate) fn least_time<P: Timed<W>, const W: usize>(
+    problem: &P,
+    tolerance: f64,
+) -> Result<Fastest<P::State, W>, OptimalError> {
+    let clock = Instant::now();
+    let bound = problem.bound()?;
+    let mut ladder = vec![problem.settings().steps];
+    while !problem.settings().warm && ladder[ladder.len() - 1] >= 2 * COARSEST {
         ladder.push(ladder[ladder.len() - 1].div_ceil(2));
     }
     let mut statistics = Statistics::default();
-    let climbed = climb(slew, bound, &ladder, tolerance, &mut statistics);
+    let climbed = climb(problem, bound, &ladder, tolerance, &mut statistics);
     let (inputs, last) = match climbed {
         Ok(found) => found,
         // A lower level that does not converge (too few steps for the body, a start far
@@ -87,7 +201,7 @@ fn fallback(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
         // any, is then about the tolerance asked for.
         Err(_) if ladder.len() > 1 => {
             statistics = Statistics::default();
-            climb(slew, bound, &ladder[..1], tolerance, &mut statistics)?
+            climb(problem, bound, &ladder[..1], tolerance, &mut statistics)?
         }
         Err(error) => return Err(error),
     };
@@ -97,43 +211,39 @@ fn fallback(slew: &Slew, tolerance: f64) -> Result<Solution, OptimalError> {
     let mut gradient = DVector::<f64>::zeros(last.z.len());
     gradient[last.z.len() - 1] = 1.0;
     let lambda = least_squares_multipliers(&last.jacobian, &gradient, &last.z);
-    let mut terminal = [0.0; 6];
-    for (i, m) in terminal.iter_mut().enumerate() {
-        *m = lambda[i] * last.t_ref * if i < 3 { 1.0 } else { last.t_ref };
-    }
+    let rates = problem.rate_rows();
+    let multipliers = lambda
+        .iter()
+        .enumerate()
+        .map(|(i, l)| l * last.t_ref * if rates.contains(&i) { last.t_ref } else { 1.0 })
+        .collect();
     let t_end = last.h * last.k_steps as f64;
-    let settings = StepSettings::new(last.h, slew.nodes)?;
-    Ok(Solution {
-        cost: t_end,
-        states: last.shot.states,
-        wheel_speeds: last.shot.wheel_speeds,
+    Ok(Fastest {
         inputs,
-        inputs_at_points: Vec::new(),
-        quadrature_nodes: crate::quadrature(slew, settings)?.0,
-        multipliers: terminal,
         h: last.h,
         t_end,
-        converged: true,
+        shot: last.shot,
+        multipliers,
         statistics,
     })
 }
 
-/// The ladder's levels from the coarsest (last) to `ladder[0]`: the last level's torques
+/// The ladder's levels from the coarsest (last) to `ladder[0]`: the last level's inputs
 /// and shot.
-fn climb(
-    slew: &Slew,
-    bound: Vector3<f64>,
+#[allow(clippy::type_complexity)]
+fn climb<P: Timed<W>, const W: usize>(
+    timed: &P,
+    bound: SVector<f64, W>,
     ladder: &[usize],
     tolerance: f64,
     statistics: &mut Statistics,
-) -> Result<(Vec<Vector3<f64>>, Scaled), OptimalError> {
-    let mut solved: Option<(Vec<Vector3<f64>>, Scaled)> = None;
+) -> Result<(Vec<SVector<f64, W>>, Scaled<P::State>), OptimalError> {
+    let mut solved: Option<(Vec<SVector<f64, W>>, Scaled<P::State>)> = None;
     for (level, &k_steps) in ladder.iter().enumerate().rev() {
         let problem = Problem {
-            slew,
+            timed,
             bound,
             k_steps,
-            body: slew.system()?,
         };
         let level_tolerance = if level == 0 {
             tolerance
@@ -143,7 +253,7 @@ fn climb(
         let found = match solved.take() {
             None => problem.coarsest(level_tolerance, statistics)?,
             Some((coarse, below)) => {
-                let fine: Vec<Vector3<f64>> = (0..k_steps)
+                let fine: Vec<SVector<f64, W>> = (0..k_steps)
                     .map(|k| {
                         coarse[((2 * k + 1) * coarse.len() / (2 * k_steps)).min(coarse.len() - 1)]
                     })
@@ -153,7 +263,7 @@ fn climb(
                 problem.sqp(z0, t_coarse, level_tolerance, statistics)?
             }
         };
-        solved = Some((problem.torques(&found.z), found));
+        solved = Some((problem.inputs(&found.z), found));
     }
     Ok(solved.expect("the ladder has at least one level"))
 }
@@ -169,28 +279,24 @@ const LADDER_TOLERANCE: f64 = 1e-6;
 const PERTURBATION: f64 = 0.2;
 
 /// One level of the ladder.
-struct Problem<'a> {
-    slew: &'a Slew,
-    bound: Vector3<f64>,
+struct Problem<'a, P, const W: usize> {
+    timed: &'a P,
+    bound: SVector<f64, W>,
     k_steps: usize,
-    body: Plant,
 }
 
-impl Problem<'_> {
+impl<P: Timed<W>, const W: usize> Problem<'_, P, W> {
     /// The coarsest level, from the warm start if one is given, else from the
-    /// minimum-energy slew perturbed by [`PERTURBATION`] (a rest-to-rest turn about a
+    /// minimum-energy motion perturbed by [`PERTURBATION`] (a rest-to-rest turn about a
     /// principal axis is a symmetric stationary point of the time, a saddle, which an
     /// unperturbed start can stall on), and unperturbed if that fails.
     fn coarsest(
         &self,
         tolerance: f64,
         statistics: &mut Statistics,
-    ) -> Result<Scaled, OptimalError> {
-        let (inputs, t_start) = feasible_start(&Slew {
-            steps: self.k_steps,
-            ..self.slew.clone()
-        })?;
-        if self.slew.initial.is_some() {
+    ) -> Result<Scaled<P::State>, OptimalError> {
+        let (inputs, t_start) = self.timed.feasible_start(self.k_steps)?;
+        if self.timed.settings().warm {
             return self.sqp(self.scaled(&inputs, 0.0), t_start, tolerance, statistics);
         }
         match self.sqp(
@@ -206,52 +312,43 @@ impl Problem<'_> {
         }
     }
 
-    /// The scaled variables of `inputs` (torques over their bounds, the step length 1 in
-    /// units of `T_ref/K`), with a perturbation `size · sin((i+1)πt/T)` on axis `i`.
-    fn scaled(&self, inputs: &[Vector3<f64>], size: f64) -> DVector<f64> {
-        let n = 3 * self.k_steps + 1;
+    /// The scaled variables of `inputs` (inputs over their bounds, the step length 1 in
+    /// units of `T_ref/K`), with a perturbation `size · sin((i+1)πt/T)` on entry `i`.
+    fn scaled(&self, inputs: &[SVector<f64, W>], size: f64) -> DVector<f64> {
+        let n = W * self.k_steps + 1;
         let mut z = DVector::<f64>::zeros(n);
         for (k, u) in inputs.iter().enumerate() {
             let t = (k as f64 + 0.5) / self.k_steps as f64;
-            for i in 0..3 {
+            for i in 0..W {
                 let wave = size * ((i + 1) as f64 * std::f64::consts::PI * t).sin();
-                z[3 * k + i] = (u[i] / self.bound[i] + wave).clamp(-1.0, 1.0);
+                z[W * k + i] = (u[i] / self.bound[i] + wave).clamp(-1.0, 1.0);
             }
         }
         z[n - 1] = 1.0;
         z
     }
 
-    /// The torques of scaled variables.
-    fn torques(&self, z: &DVector<f64>) -> Vec<Vector3<f64>> {
+    /// The inputs of scaled variables.
+    fn inputs(&self, z: &DVector<f64>) -> Vec<SVector<f64, W>> {
         (0..self.k_steps)
-            .map(|k| Vector3::from_fn(|i, _| z[3 * k + i] * self.bound[i]))
+            .map(|k| SVector::from_fn(|i, _| z[W * k + i] * self.bound[i]))
             .collect()
     }
 
     /// The shot of scaled variables, `T_ref` the time of `σ = 1`.
-    fn run(&self, z: &DVector<f64>, t_ref: f64) -> Result<Scaled, OptimalError> {
+    fn run(&self, z: &DVector<f64>, t_ref: f64) -> Result<Scaled<P::State>, OptimalError> {
         let h_ref = t_ref / self.k_steps as f64;
-        let settings = StepSettings::new(z[z.len() - 1] * h_ref, self.slew.nodes)?;
-        let shot = shoot(
-            self.body,
-            settings,
-            self.slew.start,
-            self.slew.target,
-            &self.torques(z),
-            1,
-            true,
-        )?;
+        let settings = StepSettings::new(z[z.len() - 1] * h_ref, self.timed.settings().nodes)?;
+        let shot = self.timed.shoot(settings, &self.inputs(z))?;
         Ok(Scaled::of(
             shot,
             z.clone(),
-            &self.bound,
-            h_ref,
-            t_ref,
+            self.bound.as_slice(),
+            self.timed.rate_rows(),
+            (h_ref, t_ref),
             self.k_steps,
         ))
     }
-
     /// The SQP from `z` with `σ = 1` meaning the final time `t_ref`: the solution's shot.
     fn sqp(
         &self,
@@ -259,15 +356,15 @@ impl Problem<'_> {
         t_ref: f64,
         tolerance: f64,
         statistics: &mut Statistics,
-    ) -> Result<Scaled, OptimalError> {
+    ) -> Result<Scaled<P::State>, OptimalError> {
         let n = z.len();
         let run = |z: &DVector<f64>| self.run(z, t_ref);
         let mut current = run(&z)?;
         let mut gradient = DVector::<f64>::zeros(n);
         gradient[n - 1] = 1.0;
         let mut multipliers = least_squares_multipliers(&current.jacobian, &gradient, &z);
-        let mut rho = 1.0_f64;
         let mut iterations = 0;
+        let mut mirrored = false;
         loop {
             let miss = current.miss.amax();
             let stationarity = stationarity(&z, &current.jacobian, &gradient, &multipliers);
@@ -277,7 +374,7 @@ impl Problem<'_> {
             if residual <= tolerance && iterations > 0 {
                 return Ok(current);
             }
-            if statistics.iterations >= self.slew.max_iterations {
+            if statistics.iterations >= self.timed.settings().max_iterations {
                 return Err(OptimalError::NotConverged {
                     iterations: statistics.iterations,
                     residual,
@@ -286,14 +383,16 @@ impl Problem<'_> {
             }
             statistics.iterations += 1;
             iterations += 1;
-            let hessian = lagrangian_hessian(&z, &multipliers, &current, &run)?;
+            let hessians = lagrangian_hessian(&z, &multipliers, &current, &run)?;
             let (mut lower, mut upper): (Vec<f64>, Vec<f64>) =
                 (0..n - 1).map(|j| (-1.0 - z[j], 1.0 - z[j])).unzip();
             lower.push(-TIME_TRUST * z[n - 1]);
             upper.push(TIME_TRUST * z[n - 1]);
-            let solve = |e: &DVector<f64>| -> Result<Option<QpSolution>, OptimalError> {
+            let solve = |hessian: &DMatrix<f64>,
+                         e: &DVector<f64>|
+             -> Result<Option<QpSolution>, OptimalError> {
                 Ok(qp::solve(
-                    qp::upper_triangle(&hessian),
+                    qp::upper_triangle(hessian),
                     gradient.as_slice(),
                     &current.jacobian,
                     e,
@@ -303,7 +402,7 @@ impl Problem<'_> {
                 )?
                 .map(|found| {
                     polish(
-                        &hessian,
+                        hessian,
                         &gradient,
                         &current.jacobian,
                         e,
@@ -315,21 +414,27 @@ impl Problem<'_> {
                     .unwrap_or_else(|| project(&current.jacobian, e, &z, &lower, &upper, found))
                 }))
             };
-            let solution = solve(&current.miss)?.ok_or(OptimalError::Infeasible {
+            let primary = if mirrored {
+                &hessians.mirrored
+            } else {
+                &hessians.floored
+            };
+            let solution = solve(primary, &current.miss)?.ok_or(OptimalError::Infeasible {
                 residual: current.shot.miss.amax(),
                 bounded: true,
             })?;
-            // The merit σ + ρ|e|₁ with ρ above the multipliers (never lowered).
-            rho = rho.max(2.0 * solution.lambda.amax() + 1.0);
+            // The merit σ + ρ|e|₁ with ρ above the subproblem's multipliers, at each
+            // iteration (`MERIT_MARGIN`).
+            let rho = 2.0 * solution.lambda.amax() + MERIT_MARGIN;
             let merit = |z: &DVector<f64>, e: &DVector<f64>| z[n - 1] + rho * e.abs().sum();
             let before = merit(&z, &current.miss);
-            let accepts = |z: &DVector<f64>, r: &Scaled| {
+            let accepts = |z: &DVector<f64>, r: &Scaled<P::State>| {
                 merit(z, &r.miss) <= before + ROUNDING * (1.0 + before.abs())
             };
             let full = snap(&z + &solution.step, &solution.nu);
             let first = run(&full);
-            let (next_z, next) = match first {
-                Ok(r) if accepts(&full, &r) => (full, r),
+            let (next_z, next, lambda) = match first {
+                Ok(r) if accepts(&full, &r) => (full, r, solution.lambda),
                 _ => {
                     // A second-order correction (the full step's miss against its
                     // linearisation, put back into the subproblem) before backtracking:
@@ -338,13 +443,27 @@ impl Problem<'_> {
                     let corrected = match &first {
                         Ok(r) => {
                             let e = &r.miss + &current.jacobian * &solution.step;
-                            solve(&e)?.and_then(|c| {
+                            solve(primary, &e)?.and_then(|c| {
                                 let trial = snap(&z + &c.step, &c.nu);
                                 let r = run(&trial).ok()?;
-                                accepts(&trial, &r).then_some((trial, r))
+                                accepts(&trial, &r).then_some((trial, r, solution.lambda.clone()))
                             })
                         }
                         Err(_) => None,
+                    };
+                    // Then the mirrored model's full step (`Hessians::mirrored`), the model
+                    // of every later iteration once taken.
+                    let corrected = match corrected {
+                        Some(accepted) => Some(accepted),
+                        None if mirrored => None,
+                        None => {
+                            mirrored = true;
+                            solve(&hessians.mirrored, &current.miss)?.and_then(|c| {
+                                let trial = snap(&z + &c.step, &c.nu);
+                                let r = run(&trial).ok()?;
+                                accepts(&trial, &r).then_some((trial, r, c.lambda))
+                            })
+                        }
                     };
                     match corrected {
                         Some(accepted) => accepted,
@@ -355,7 +474,7 @@ impl Problem<'_> {
                                 let trial = snap(&z + alpha * &solution.step, &solution.nu);
                                 match run(&trial) {
                                     Ok(r) if accepts(&trial, &r) || alpha < 1e-3 => {
-                                        break (trial, r)
+                                        break (trial, r, solution.lambda.clone())
                                     }
                                     Err(error) if alpha < 1e-3 => return Err(error),
                                     _ => {}
@@ -367,14 +486,14 @@ impl Problem<'_> {
             };
             z = next_z;
             current = next;
-            multipliers = solution.lambda;
+            multipliers = lambda;
         }
     }
 }
 
 /// A shot in the scaled variables.
-struct Scaled {
-    shot: Shot,
+struct Scaled<St> {
+    shot: Shot<St>,
     /// The scaled variables.
     z: DVector<f64>,
     /// The time of `σ = 1`.
@@ -382,34 +501,36 @@ struct Scaled {
     /// The step length and count.
     h: f64,
     k_steps: usize,
-    /// `∂e/∂z` up to sign (`6 × (3K+1)`), rates rows times `T_ref`.
+    /// `∂e/∂z` up to sign (`m × (WK+1)`), rates rows times `T_ref`.
     jacobian: DMatrix<f64>,
     /// The miss, rates rows times `T_ref`.
     miss: DVector<f64>,
 }
 
-impl Scaled {
+impl<St> Scaled<St> {
+    /// `shot` of the scaled variables `z` (inputs over `bound`, the step length over
+    /// `h_ref`), its `rates` rows scaled by `t_ref`.
     fn of(
-        shot: Shot,
+        shot: Shot<St>,
         z: DVector<f64>,
-        bound: &Vector3<f64>,
-        h_ref: f64,
-        t_ref: f64,
+        bound: &[f64],
+        rates: Range<usize>,
+        (h_ref, t_ref): (f64, f64),
         k_steps: usize,
     ) -> Self {
         let h = z[z.len() - 1] * h_ref;
-        let columns = shot.sensitivity.ncols();
-        let mut jacobian = DMatrix::<f64>::zeros(6, columns + 1);
+        let (rows, columns) = shot.sensitivity.shape();
+        let mut jacobian = DMatrix::<f64>::zeros(rows, columns + 1);
         for j in 0..columns {
             jacobian
                 .column_mut(j)
-                .copy_from(&(shot.sensitivity.column(j) * bound[j % 3]));
+                .copy_from(&(shot.sensitivity.column(j) * bound[j % bound.len()]));
         }
         jacobian
             .column_mut(columns)
             .copy_from(&(&shot.time_sensitivity * h_ref));
         let mut miss = shot.miss.clone();
-        for i in 3..6 {
+        for i in rates {
             jacobian.row_mut(i).scale_mut(t_ref);
             miss[i] *= t_ref;
         }
@@ -471,18 +592,26 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
             cost: Cost::Energy,
             ..slew.clone()
         };
-        minimum_energy(&energy, settings(t_end)?, START_TOLERANCE)
+        Ok(minimum_energy(&energy, settings(t_end)?, START_TOLERANCE)?.inputs)
     };
-    // Half as long again until a bounded motion exists, then shorter by 30% while one
-    // does: the start is then within 30% of the least time for which the minimum-energy
-    // iteration finds a motion.
-    let mut t_end = slew.t_end;
+    bracket(slew.t_end, attempt)
+}
+
+/// The inputs of `attempt` (a bounded minimum-energy motion in the time given) at a time
+/// near the least for which it finds one: half as long again from `t_end` until it finds
+/// one, then shorter by 30% while it does, so that the start is within 30% of that time.
+/// An attempt's error other than "infeasible" or "not converged" ends the search.
+pub(crate) fn bracket<U>(
+    t_end: f64,
+    attempt: impl Fn(f64) -> Result<Vec<U>, OptimalError>,
+) -> Result<(Vec<U>, f64), OptimalError> {
+    let mut t_end = t_end;
     let mut found = None;
     let mut last = None;
     for _ in 0..GUESSES {
         match attempt(t_end) {
-            Ok(solution) => {
-                found = Some((solution.inputs, t_end));
+            Ok(inputs) => {
+                found = Some((inputs, t_end));
                 break;
             }
             Err(error @ (OptimalError::Infeasible { .. } | OptimalError::NotConverged { .. })) => {
@@ -498,7 +627,7 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
     if last.is_none() {
         for _ in 0..GUESSES {
             match attempt(0.7 * found.1) {
-                Ok(solution) => found = (solution.inputs, 0.7 * found.1),
+                Ok(inputs) => found = (inputs, 0.7 * found.1),
                 Err(OptimalError::Infeasible { .. } | OptimalError::NotConverged { .. }) => break,
                 Err(error) => return Err(error),
             }
@@ -511,7 +640,7 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
 const GUESSES: usize = 8;
 
 /// The KKT tolerance of the minimum-energy slew that starts a minimum-time one.
-const START_TOLERANCE: f64 = 1e-8;
+pub(crate) const START_TOLERANCE: f64 = 1e-8;
 
 /// The variables off their bounds (the step length always).
 fn free_set(z: &DVector<f64>) -> Vec<usize> {
@@ -559,7 +688,7 @@ fn least_squares_multipliers(
         .lu()
         .solve(&(-(&m * g)))
         .filter(|l| l.iter().all(|x| x.is_finite()))
-        .unwrap_or_else(|| DVector::zeros(6))
+        .unwrap_or_else(|| DVector::zeros(jacobian.nrows()))
 }
 
 /// The QP's Hessian: the Lagrangian's, `Σ λ_i ∂²e_i/∂z²`, on the free variables by
@@ -567,13 +696,14 @@ fn least_squares_multipliers(
 /// variable), made positive definite on the constraints' null space by adding
 /// `c MᵀM` (which leaves the subproblem's solution unchanged: `M δ` is fixed there) and
 /// positive definite outright by raising eigenvalues below a floor; the variables on
-/// their bounds get a unit diagonal.
-fn lagrangian_hessian(
+/// their bounds get a unit diagonal. Two such matrices: [`Hessians::floored`] and
+/// [`Hessians::mirrored`].
+fn lagrangian_hessian<St>(
     z: &DVector<f64>,
     lambda: &DVector<f64>,
-    current: &Scaled,
-    run: &impl Fn(&DVector<f64>) -> Result<Scaled, OptimalError>,
-) -> Result<DMatrix<f64>, OptimalError> {
+    current: &Scaled<St>,
+    run: &impl Fn(&DVector<f64>) -> Result<Scaled<St>, OptimalError>,
+) -> Result<Hessians, OptimalError> {
     let n = z.len();
     let free = free_set(z);
     let f = free.len();
@@ -599,22 +729,50 @@ fn lagrangian_hessian(
     let convexified = &symmetric + weight * jacobian.transpose() * &jacobian;
     let eigen = convexified.symmetric_eigen();
     let floor = 1e-8 * eigen.eigenvalues.amax().max(1.0);
-    let values = eigen.eigenvalues.map(|v| v.max(floor));
-    let positive =
-        &eigen.eigenvectors * DMatrix::from_diagonal(&values) * eigen.eigenvectors.transpose();
-    let mut hessian = DMatrix::<f64>::identity(n, n);
-    for (r, &i) in free.iter().enumerate() {
-        for (c, &j) in free.iter().enumerate() {
-            hessian[(i, j)] = positive[(r, c)];
+    let with = |value: &dyn Fn(f64) -> f64| {
+        let values = eigen.eigenvalues.map(value);
+        let positive =
+            &eigen.eigenvectors * DMatrix::from_diagonal(&values) * eigen.eigenvectors.transpose();
+        let mut hessian = DMatrix::<f64>::identity(n, n);
+        for (r, &i) in free.iter().enumerate() {
+            for (c, &j) in free.iter().enumerate() {
+                hessian[(i, j)] = positive[(r, c)];
+            }
         }
-    }
-    Ok(hessian)
+        hessian
+    };
+    Ok(Hessians {
+        floored: with(&|v| v.max(floor)),
+        mirrored: with(&|v| v.abs().max(floor)),
+    })
+}
+
+/// The QP's Hessian made positive definite in two ways.
+struct Hessians {
+    /// Eigenvalues below the floor raised to it: the model is flat along the Lagrangian's
+    /// negative curvature, so that the step follows it (what lets a slew leave a saddle of
+    /// the time for the lower minimum).
+    floored: DMatrix<f64>,
+    /// Eigenvalues replaced by their size: a step that the negative curvature would
+    /// otherwise send to the bounds is kept short (the fallback where the floored model's
+    /// step is refused: a manoeuvre whose body-frame force bound turns with the attitude
+    /// crawls along the constraints' curvature without it).
+    mirrored: DMatrix<f64>,
 }
 
 /// The forward difference's step in the scaled variables (`O(1)`): its truncation error
 /// `~ε` and rounding `~10⁻¹⁶/ε` both near 1e-8 relative, which slows Newton's quadratic
 /// convergence only below that (the KKT residual itself is exact).
 const DIFFERENCE: f64 = 1e-8;
+
+/// What the merit's weight on the miss exceeds twice the subproblem's largest multiplier
+/// by. The weight is set afresh at each iteration, not only raised: an early
+/// overestimate of the multipliers, kept, makes the merit refuse the steps along the
+/// constraints' curvature near the solution (measured on minimum-time manoeuvres in space:
+/// one of six did not converge in 500 iterations and the others took 116–212; set afresh,
+/// all six converge in 10–153, and the 84 swept slews of `docs/notes/optimal.md` take
+/// 1378 iterations in all against 1372, the same final times).
+const MERIT_MARGIN: f64 = 1e-3;
 
 /// The merit's rounding: a full step that changes it by less is taken (the last steps
 /// move the variables by ~1e-9, below what the ℓ1 merit resolves).
@@ -669,8 +827,12 @@ fn stationarity(
 /// arc, intermediate over a stretch of steps), where a KKT matrix solve loses them. A
 /// torque within [`NEAR`] of a bound that this pushes past it is held on it,
 /// a bound whose multiplier then comes out of the wrong sign released and the system
-/// solved again (a few rounds at most). `None` when the step leaves a bound or the system
-/// is singular (the interior-point solution is then used as it is). The interior-point
+/// solved again (a few rounds at most). Where the free variables cannot move every row
+/// (a part of the motion that only inputs held on their bounds drive: a bang-bang turn
+/// beside a force left free), the rows must already be consistent to [`CONSISTENT`], as
+/// they are at a vertex of the solution, and are met by least squares. `None` when the
+/// step leaves a bound or the system is singular or inconsistent (the interior-point
+/// solution is then used as it is). The interior-point
 /// method meets the equality rows and the active bounds only to its tolerance, and near
 /// the solution its multipliers cannot tell a weakly active bound from an inactive one;
 /// this is what lets the KKT residual fall to rounding instead of stalling there.
@@ -708,17 +870,22 @@ fn polish(
         // the reduced Hessian (which the weight c MᵀM does not enter) solved on the rest.
         let svd = mf.clone().svd(true, true);
         let largest = svd.singular_values.max();
-        let rank = svd
-            .singular_values
-            .iter()
-            .filter(|&&v| v > 1e-12 * largest)
-            .count();
-        if rank < m || largest == 0.0 {
+        let floor = 1e-12 * largest;
+        let spanning: Vec<usize> = (0..svd.singular_values.len())
+            .filter(|&i| svd.singular_values[i] > floor)
+            .collect();
+        if largest == 0.0 {
             return None;
         }
-        let particular = svd.solve(&(e - &moved), 0.0).ok()?;
+        let particular = svd.solve(&(e - &moved), floor).ok()?;
+        if spanning.len() < m {
+            let unmet = (&mf * &particular - (e - &moved)).amax();
+            if unmet > CONSISTENT * (1.0 + e.amax()) {
+                return None;
+            }
+        }
         let v_t = svd.v_t.as_ref()?;
-        let range = v_t.rows(0, m).transpose();
+        let range = v_t.select_rows(&spanning).transpose();
         let projector =
             DMatrix::<f64>::identity(free.len(), free.len()) - &range * range.transpose();
         let eigen = projector.symmetric_eigen();
@@ -734,12 +901,14 @@ fn polish(
             let right = -(basis.transpose() * (&gf + &hff * &particular));
             &particular + &basis * reduced.lu().solve(&right)?
         };
-        // The multipliers by least squares on the free rows: M_Fᵀ λ = −(q_F + P_F· δ).
-        let lambda = mf
-            .transpose()
-            .svd(true, true)
-            .solve(&(-(&gf + &hff * &solution)), 0.0)
-            .ok()?;
+        // The multipliers by least squares on the free rows, M_Fᵀ λ = −(q_F + P_F· δ), the
+        // nearest to the subproblem's own: where the free rows leave some undetermined (a
+        // part of the motion that only bounded inputs drive, such as a bang-bang turn
+        // beside a force left free), those keep the subproblem's values, whose signs hold
+        // the bounds, rather than the least-norm zero, which would release them.
+        let rows = mf.transpose();
+        let target = -(&gf + &hff * &solution) - &rows * &found.lambda;
+        let lambda = &found.lambda + rows.svd(true, true).solve(&target, floor).ok()?;
         let mut step = fixed;
         let mut held = Vec::new();
         for (r, &j) in free.iter().enumerate() {
@@ -787,6 +956,13 @@ fn polish(
     }
     None
 }
+
+/// How nearly (relative to `1 + |e|`) [`polish`]'s least-squares step must meet rows that
+/// its free variables cannot all move: far below the misses of an iteration still on its
+/// way (which the interior-point step then takes), far above the rounding of one at a
+/// vertex (measured: 1e-13 and below, on the closed-form manoeuvres of
+/// `optimal/tests/manoeuvre_time.rs`).
+const CONSISTENT: f64 = 1e-8;
 
 /// The most rounds of releasing wrongly held bounds in [`polish`].
 const POLISH_ROUNDS: usize = 8;

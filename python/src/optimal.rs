@@ -253,14 +253,14 @@ fn _slew<'py>(
 /// Solves a manoeuvre of a body in space; the Python layer's `lgsvi.optimal.manoeuvre`
 /// wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant", track=None, terminal_cost=None))]
+#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant", track=None, terminal_cost=None, cost="energy"))]
 #[allow(clippy::too_many_arguments)]
 #[allow(clippy::type_complexity)] // the tracking tuple mirrors the Python argument
 fn _manoeuvre<'py>(
     py: Python<'py>,
     inertia: &Bound<'py, PyAny>,
     mass: f64,
-    t_end: f64,
+    t_end: Option<f64>,
     attitude_final: Option<&Bound<'py, PyAny>>,
     position_final: Option<&Bound<'py, PyAny>>,
     attitude0: Option<&Bound<'py, PyAny>>,
@@ -286,11 +286,22 @@ fn _manoeuvre<'py>(
         [f64; 4],
     )>,
     terminal_cost: Option<[f64; 4]>,
+    cost: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     use lgsvi_mechanics::built_in::BuiltInSe3;
     use lgsvi_mechanics::lie::{SE3, SO3};
     use nalgebra::Vector6;
     let shape = input_shape(inputs)?;
+    let cost = match cost {
+        "energy" => Cost::Energy,
+        "time" => Cost::Time,
+        other => {
+            return Err(invalid(format!(
+                "cost = {other:?}: \"energy\" (the integral of |tau|^2 + |f|^2 in the time \
+                 t_end) or \"time\" (the least final time, torque_max and force_max needed)"
+            )))
+        }
+    };
     let moments = vector3(inertia, "inertia")?;
     let inertia = Inertia::from_principal_moments([moments.x, moments.y, moments.z])
         .map_err(|e| invalid(format!("inertia: {e}")))?;
@@ -328,19 +339,65 @@ fn _manoeuvre<'py>(
         vector_or(omega_final, "omega_final", Vector3::zeros())?,
         vector_or(velocity_final, "velocity_final", Vector3::zeros())?,
     );
+    let (start, target) = (
+        (SE3::new(attitude0, position0), start),
+        (SE3::new(attitude_final, position_final), target),
+    );
+    let torque_max = torque_max.map(|b| bound3(b, "torque_max")).transpose()?;
+    let force_max = force_max.map(|b| bound3(b, "force_max")).transpose()?;
+    let t_end = match (t_end, cost) {
+        (Some(t), _) => t,
+        (None, Cost::Time) => match (torque_max, force_max) {
+            (Some(torque), Some(force)) => lgsvi_optimal::separate_bang_bang_time(
+                &inertia,
+                mass,
+                &start,
+                &target,
+                torque.into(),
+                force.into(),
+            )
+            .ok_or_else(|| {
+                invalid(
+                    "attitude_final/position_final: the target is the start; give another \
+                     target, or t_end as the first guess of the time"
+                        .to_string(),
+                )
+            })?,
+            (None, _) => {
+                return Err(invalid(
+                    "torque_max: a minimum-time manoeuvre needs bounds on both the torque and \
+                     the force"
+                        .to_string(),
+                ))
+            }
+            (_, None) => {
+                return Err(invalid(
+                    "force_max: a minimum-time manoeuvre needs bounds on both the torque and \
+                     the force"
+                        .to_string(),
+                ))
+            }
+        },
+        (None, _) => {
+            return Err(invalid(
+                "t_end: a minimum-energy manoeuvre takes a fixed duration in seconds".to_string(),
+            ))
+        }
+    };
     let mut manoeuvre = lgsvi_optimal::Manoeuvre::new(body, t_end)
-        .from(SE3::new(attitude0, position0), start)
-        .to(SE3::new(attitude_final, position_final), target)
+        .from(start.0, start.1)
+        .to(target.0, target.1)
         .steps(steps)
         .nodes(nodes)
         .tolerance(tolerance)
         .max_iterations(max_iterations)
+        .cost(cost)
         .inputs(shape);
     if let Some(bound) = torque_max {
-        manoeuvre = manoeuvre.torque_max(bound3(bound, "torque_max")?.into());
+        manoeuvre = manoeuvre.torque_max(bound.into());
     }
     if let Some(bound) = force_max {
-        manoeuvre = manoeuvre.force_max(bound3(bound, "force_max")?.into());
+        manoeuvre = manoeuvre.force_max(bound.into());
     }
     if let Some(initial) = warm_start {
         let rows = crate::convert::matrix(initial, "warm_start")?;

@@ -282,6 +282,38 @@ def test_manoeuvre_errors_name_the_argument():
             optimal.manoeuvre([1.0, 1.5, 2.0], mass, 10.0, **args)
 
 
+def test_a_least_time_manoeuvre_meets_the_diagonal_closed_form():
+    # A spherical body turned about the diagonal a = (1, 1, 1)/sqrt(3) and moved along it,
+    # rest to rest, each body axis's torque bounded by tau and force by f: no box-bounded
+    # wrench turns or pushes faster than the corner (1, 1, 1), so the least time is
+    # max(2 sqrt(j theta / (sqrt3 tau)), 2 sqrt(m d / (sqrt3 f))), met by the eigen-axis
+    # bang-bang, which an even step count resolves exactly (optimal/tests/manoeuvre_time.rs
+    # derives it).
+    j, m, tau, f, theta, d = 2.0, 5.0, 0.1, 0.2, 1.2, 0.3
+    axis = np.ones(3) / np.sqrt(3.0)
+    exact = max(2 * np.sqrt(j * theta / (np.sqrt(3) * tau)), 2 * np.sqrt(m * d / (np.sqrt(3) * f)))
+    result = optimal.manoeuvre([j] * 3, m, attitude_final=lie.so3_exp(axis * theta),
+                               position_final=axis * d, torque_max=tau, force_max=f,
+                               steps=10, nodes=6, cost="time")
+    assert result.converged
+    assert result.cost == pytest.approx(exact, rel=1e-12) and result.t_end == result.cost
+    assert np.abs(result.inputs[:, :3]).max() <= tau * (1 + 1e-12)
+    assert np.abs(result.position[-1] - axis * d).max() <= 1e-9
+    # The least time needs both bounds, the free body and held wrenches.
+    for kwargs, name in [
+        (dict(force_max=None), "force_max"),
+        (dict(torque_max=None), "torque_max"),
+        (dict(inputs="polynomial"), "inputs"),
+        (dict(mu=1.0, position0=[10.0, 0, 0], position_final=[10.0, 0, 0.3]), "cost"),
+        (dict(terminal_cost=[1.0] * 4), "cost"),
+    ]:
+        args = dict(attitude_final=lie.so3_exp(axis * theta), position_final=axis * d,
+                    torque_max=tau, force_max=f, steps=10, nodes=6, cost="time")
+        args.update(kwargs)
+        with pytest.raises(lgsvi.InvalidInputError, match=name):
+            optimal.manoeuvre([j] * 3, m, **args)
+
+
 def test_a_manoeuvre_tracks_a_reference_and_takes_a_soft_target():
     # Tracking the exact manoeuvre's own states with its target soft: the residuals vanish
     # there, so the optimum spends less energy than the exact one (the energy pulls it off

@@ -300,7 +300,7 @@ def _slew(
 def _manoeuvre(
     inertia: ArrayLike,
     mass: float,
-    t_end: float,
+    t_end: Optional[float],
     attitude_final: Optional[ArrayLike] = None,
     position_final: Optional[ArrayLike] = None,
     attitude0: Optional[ArrayLike] = None,
@@ -320,4 +320,5 @@ def _manoeuvre(
     inputs: str = "constant",
     track: Optional[Tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike, Sequence[float]]] = None,
     terminal_cost: Optional[Sequence[float]] = None,
+    cost: str = "energy",
 ) -> Dict[str, Any]: ...

@@ -208,7 +208,8 @@ class ManoeuvreResult:
     Attributes
     ----------
     cost : float
-        ``sum_k h |u_k|^2``, the integral of ``|tau|^2 + |f|^2`` (no 1/2).
+        ``sum_k h |u_k|^2``, the integral of ``|tau|^2 + |f|^2`` (no 1/2); with
+        ``cost="time"`` the final time (s).
     t : ndarray (K+1,)
         The step boundaries' times.
     attitude : ndarray (K+1, 3, 3)
@@ -228,7 +229,8 @@ class ManoeuvreResult:
     quadrature_nodes : ndarray (m,)
         The Gauss points as fractions of a step.
     multipliers : ndarray (12,)
-        The terminal constraint's multipliers, ``dJ*/de`` for the miss ``e`` = (attitude
+        The terminal constraint's multipliers, ``dJ*/de`` (``dT*/de`` with
+        ``cost="time"``) for the miss ``e`` = (attitude
         ``log(R_K^T R_f)``, position ``x_f - x_K`` in the world frame, body rates
         ``Omega_f - Omega_K``, velocity ``xdot_f - xdot_K`` in the world frame).
     h, t_end : float
@@ -262,7 +264,7 @@ class ManoeuvreResult:
 def manoeuvre(
     inertia: Any,
     mass: float,
-    t_end: float,
+    t_end: Optional[float] = None,
     *,
     attitude_final: Optional[Any] = None,
     position_final: Optional[Any] = None,
@@ -283,6 +285,7 @@ def manoeuvre(
     inputs: str = "constant",
     track: Optional[Any] = None,
     terminal_cost: Optional[Any] = None,
+    cost: str = "energy",
 ) -> ManoeuvreResult:
     """The manoeuvre of a rigid body in space of principal moments ``inertia`` (3,) and
     ``mass``, in the time ``t_end`` (s), at the least ``integral of |tau|^2 + |f|^2 dt``:
@@ -306,10 +309,19 @@ def manoeuvre(
     ``terminal_cost=[q_theta, q_x, q_omega, q_v]`` replaces the exact target by the same
     terms at the last state (a soft target; the multipliers are then zero).
 
-    Solved by the slew's SQP with the body force measured in the world frame, which
-    converges in about as many iterations as a slew however large the translation's share
-    of the cost; with ``force_max`` the force is measured in the body frame and the
-    convergence is linear (raise ``max_iterations`` where the error says so).
+    ``cost="energy"`` (the default) minimises the input energy in the time ``t_end``;
+    ``cost="time"`` minimises the final time, needs ``torque_max`` and ``force_max``, holds
+    the wrench over each step (the optimum is bang-bang), is built for the free body (not
+    with ``mu``) and without ``track`` or ``terminal_cost``, and takes ``t_end`` as the first
+    guess (default: the longest of the eigen-axis turn's, the straight move's and the
+    velocity changes' bang-bang times at the weakest bounds).
+
+    At the least energy it is solved by the slew's SQP with the body force measured in the
+    world frame, which converges in about as many iterations as a slew however large the
+    translation's share of the cost; with ``force_max`` the force is measured in the body
+    frame and the convergence is linear (raise ``max_iterations`` where the error says
+    so). In the least time it is the slew's minimum-time SQP (the exact Lagrangian Hessian
+    by differences of the exact gradient).
 
     Raises
     ------
@@ -343,5 +355,6 @@ def manoeuvre(
         inputs=inputs,
         track=track,
         terminal_cost=terminal_cost,
+        cost=cost,
     )
     return ManoeuvreResult(**fields)
