@@ -10,8 +10,8 @@ use std::path::PathBuf;
 pub enum CliError {
     /// From the integrator, a system or a setting (a setting the command line has a flag
     /// for arrives as [`CliError::Input`], naming the flag: see the `From` impl).
-    #[error(transparent)]
-    Mechanics(MechanicsError),
+    #[error("{}", command_line_words(.0))]
+    Mechanics(#[source] MechanicsError),
     /// From a study of `lgsvi-experiments`.
     #[error(transparent)]
     Experiment(#[from] lgsvi_experiments::ExperimentError),
@@ -325,6 +325,14 @@ fn flag_of(name: &str) -> Option<&'static str> {
         "wheel axis" => "--wheel-axes",
         _ => return None,
     })
+}
+
+/// A library error's message in the command line's words: its advice to take the exp chart
+/// names the flag that takes it.
+fn command_line_words(error: &MechanicsError) -> String {
+    error
+        .to_string()
+        .replace("the exp chart,", "the exp chart (--chart exp),")
 }
 
 impl From<MechanicsError> for CliError {

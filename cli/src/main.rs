@@ -59,8 +59,8 @@ enum Command {
     /// Work-precision against DOP853, LGVI and splitting baselines (table, JSON, plots).
     Bench(bench::BenchOptions),
     /// The exact linearisation A = ∂x₊/∂x, B = ∂x₊/∂u of one step from the initial state
-    /// (simulate's system flags), and P = ∂x₊/∂p in the inertia entries (and the mass or
-    /// the wheels' inertias), as JSON.
+    /// (simulate's system flags), and P = ∂x₊/∂p in the inertia entries (and the mass, an
+    /// orbiting body's gravitational parameter or the wheels' inertias), as JSON.
     Linearize(linearize::LinearizeOptions),
     /// Regenerate the paper's nine figures, their data and a report (the default command).
     Reproduce(reproduce::ReproduceOptions),

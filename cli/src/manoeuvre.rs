@@ -148,7 +148,9 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
              {steps} steps of {nodes} nodes …"
         );
     }
-    let solution = manoeuvre.solve().map_err(|error| named(error, options))?;
+    let solution = manoeuvre
+        .solve()
+        .map_err(|error| named(error, options, t_end))?;
     if !options.quiet {
         let unit = if minimum_time { " s" } else { "" };
         crate::optimize::report(solution.cost, unit, &solution.statistics);
@@ -226,7 +228,7 @@ fn first_guess(
     }
     lgsvi_optimal::separate_bang_bang_time(inertia, mass, start, target, torque, force).ok_or(
         CliError::invalid(
-            "--attitude-final/--position-final",
+            "--attitude-final/--omega-final/--position-final/--velocity-final",
             "the start's pose and velocity",
             "the target is the start: give another target, or --t-end as the first guess of \
              the time",
@@ -280,8 +282,8 @@ pub fn refuse_space_only(options: &OptimizeOptions) -> Result<()> {
     Ok(())
 }
 
-/// A solver's error naming the flag to change.
-fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
+/// A solver's error naming the flag to change (`t_end`: the time given, or the first guess).
+fn named(error: OptimalError, options: &OptimizeOptions, t_end: f64) -> CliError {
     let list = |v: Option<[f64; 3]>| {
         v.map_or("(none)".to_string(), |v| {
             v.iter()
@@ -319,7 +321,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "--t-end/--mass/--steps",
             format!(
                 "{:?}, {:?}, {}",
-                options.t_end.unwrap_or(f64::NAN),
+                t_end,
                 options.mass.unwrap_or(1.0),
                 options.steps.unwrap_or(40)
             ),

@@ -69,7 +69,8 @@ pub struct OptimizeOptions {
     /// Manoeuvre a body in space (SE(3)): the free body of --inertia and --mass (with --mu,
     /// the body orbiting a point mass at the origin), its attitude, centre of mass and
     /// their rates driven by a body wrench (torque and force, body frame) at the least
-    /// ∫(|τ|² + |f|²) dt in --t-end, bounded by --torque-max and --force-max.
+    /// ∫(|τ|² + |f|²) dt in --t-end, or with --cost time in the least time, bounded by
+    /// --torque-max and --force-max.
     #[arg(long)]
     pub space: bool,
     /// With --space: the gravitational parameter μ = GM ≥ 0 of a point mass at the origin

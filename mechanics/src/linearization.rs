@@ -21,8 +21,8 @@
 //! [`crate::Integrator::linearize_with_parameters`] and
 //! [`crate::Integrator::step_linearized_with_parameters`] add `P = ∂x₊/∂p`
 //! ([`StepLinearization::p`]) in the system's physical parameters
-//! ([`crate::System::parameter_names`]: the inertia tensor's entries, the mass or
-//! the wheels' inertias), so that `x₊ ≈ A x + B u + P δp`: for sensitivity studies and
+//! ([`crate::System::parameter_names`]: the inertia tensor's entries, the mass, an
+//! orbiting body's gravitational parameter or the wheels' inertias), so that `x₊ ≈ A x + B u + P δp`: for sensitivity studies and
 //! for estimating the parameters from measured motion (the `inertia_estimation` example).
 //!
 //! # How it is computed
@@ -158,7 +158,8 @@ impl<E, const D: usize> StepLinearization<E, D> {
     /// The names of the columns of [`StepLinearization::p`] (empty when it is `None`, or
     /// for a system without parameters): for the built-in bodies
     /// [`crate::inertia::INERTIA_PARAMETERS`], then the mass where `ℓ` has one (the gyrostat: its
-    /// wheels' inertias `I_1 … I_K`).
+    /// wheels' inertias `I_1 … I_K`; the orbiting body: then its gravitational parameter
+    /// `mu`).
     pub fn parameter_names(&self) -> &[String] {
         self.parameters.as_ref().map_or(&[], |p| &p.names)
     }

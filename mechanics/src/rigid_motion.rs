@@ -703,12 +703,14 @@ struct ParameterPotential<'a> {
 }
 
 impl PosePotential for ParameterPotential<'_> {
-    /// MacCullagh's potential is linear in `(J, m)` with no constant term: its derivative
-    /// in a parameter is the potential at that parameter's unit direction.
+    /// MacCullagh's potential is linear in `(J, m)` with no constant term, and in `μ`: its
+    /// derivative in a parameter is the potential at that parameter's unit direction.
     fn eval<T: RealField + Copy>(&self, _time: f64, r: &Matrix3<T>, x: &Vector3<T>) -> T {
         let mu = self.body.gravitational_parameter;
         if self.index == 6 {
             maccullagh(mu, 1.0, &Matrix3::zeros(), r, x)
+        } else if self.index == 7 {
+            maccullagh(1.0, self.body.mass, &self.body.inertia.matrix(), r, x)
         } else if let Some(direction) = Inertia::parameter_direction(self.index) {
             maccullagh(mu, 0.0, &direction, r, x)
         } else {
@@ -773,9 +775,10 @@ impl System<6> for OrbitingBody {
     }
     /// The inertia tensor's six entries and the mass, in the kinetic energy and in
     /// MacCullagh's potential (linear in both): `−∂V/∂J_k = ½μ(tr E_k − 3bᵀE_k b)/r³`,
-    /// `−∂V/∂m = μ/r`.
+    /// `−∂V/∂m = μ/r`; then the gravitational parameter `mu`, in the potential alone
+    /// (`−∂V/∂μ = −V/μ`).
     fn parameter_names(&self) -> Vec<String> {
-        inertia_parameter_names(&["mass"])
+        inertia_parameter_names(&["mass", "mu"])
     }
     fn parameter_lagrangian<T: RealField + Copy>(
         &self,

@@ -266,8 +266,8 @@ pub trait System<const D: usize> {
     /// by ([`crate::Integrator::linearize_with_parameters`]), in the order of
     /// [`System::parameter_lagrangian`]'s index. The default: none. The built-in
     /// bodies name the six entries of the inertia tensor
-    /// ([`crate::inertia::INERTIA_PARAMETERS`]) and, where `ℓ` has one, the mass (and
-    /// the gyrostat its wheels' inertias). Forces do not depend on these parameters. A
+    /// ([`crate::inertia::INERTIA_PARAMETERS`]) and, where `ℓ` has one, the mass (the
+    /// gyrostat its wheels' inertias, the orbiting body then its gravitational parameter). Forces do not depend on these parameters. A
     /// type that wraps other systems should forward it (and
     /// [`System::parameter_lagrangian`]).
     fn parameter_names(&self) -> Vec<String> {

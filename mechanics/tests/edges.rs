@@ -443,6 +443,9 @@ fn a_failed_solve_suggests_another_chart_only_where_there_is_one() {
             suggests_exp,
             "{chart:?}: {message}"
         );
+        // The library's words: no command line flag (the command line and Python add
+        // their own).
+        assert!(!message.contains("--"), "{message}");
     }
 }
 

@@ -301,8 +301,8 @@ fn parameter_derivatives_match_central_differences() {
     let orbit_velocity = SVector::<f64, 6>::new(0.6, 0.1, -0.4, 0.0, 0.55, 0.05);
     worst = worst.max(compare(
         "orbiting body",
-        |d| OrbitingBody::new(inertia(d), 1.0 + d[6], 1.0).unwrap(),
-        &with_mass,
+        |d| OrbitingBody::new(inertia(d), 1.0 + d[6], 1.0 + d[7]).unwrap(),
+        &[0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 1.0, 1.0],
         (orbit_start, orbit_velocity),
         wrench,
     ));
@@ -324,7 +324,8 @@ fn parameter_derivatives_match_central_differences() {
 }
 
 /// The names: the inertia tensor's entries first, then the mass (the gyrostat: its
-/// wheels); a system without parameters has none and `p` says so only when asked.
+/// wheels; the orbiting body: the mass and the gravitational parameter); a system without
+/// parameters has none and `p` says so only when asked.
 #[test]
 fn parameters_are_named_and_only_computed_when_asked() {
     let body = RigidBody::new(inertia(&[]));
@@ -333,7 +334,7 @@ fn parameters_are_named_and_only_computed_when_asked() {
         INERTIA_PARAMETERS.to_vec()
     );
     let orbit = OrbitingBody::new(inertia(&[]), 1.0, 1.0).unwrap();
-    assert_eq!(orbit.parameter_names()[6], "mass");
+    assert_eq!(orbit.parameter_names()[6..], ["mass", "mu"]);
     let mut integrator = Integrator::new(
         body,
         StepSettings::new(0.25, 6).unwrap(),

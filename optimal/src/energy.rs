@@ -45,9 +45,11 @@ pub(crate) fn minimum_energy(
         metric: None,
     };
     let solved = problem.solve(start.inputs, tolerance)?;
+    // The subproblem's multipliers are those of the linearised rows `M δ = e`; the
+    // optimal cost's sensitivity to the miss is their negative.
     let mut terminal = [0.0; 6];
     if problem.exact_target {
-        terminal.copy_from_slice(solved.multipliers.as_slice());
+        terminal.copy_from_slice((-&solved.multipliers).as_slice());
     }
     let (means, at_points) = by_step(&solved.inputs, per_step, &weights);
     let mut statistics = solved.statistics;

@@ -3,8 +3,8 @@
 //! axis, at the least input energy in a fixed time or in the least time; likewise a heavy
 //! top's ([`Slew::gravity`]) and a spacecraft's by its three reaction wheels, the motor
 //! torques bounded per wheel ([`Slew::wheels`]); and manoeuvres of a body in space (SE(3),
-//! a body wrench bounded per axis) at the least input energy or, for the free body, in the
-//! least time ([`Manoeuvre`]).
+//! a body wrench bounded per axis) at the least input energy or in the least time
+//! ([`Manoeuvre`]).
 //!
 //! # The problem
 //!
@@ -65,7 +65,8 @@
 //!   the time scaling of the kinetic energy (`h ∂x₊/∂h = A_ω Ω + 2 B u − (0, Ω₊)`, plus
 //!   `2m ∂x₊/∂m` for a heavy top's potential; derived in `docs/guide/optimal.md`). The subproblem's solution is made exact on its active set (the
 //!   interior-point method meets it only to its tolerance), a step the merit refuses gets
-//!   a second-order correction before it is halved, and the solve climbs a ladder of step
+//!   a second-order correction, then the subproblem with the Hessian's negative
+//!   eigenvalues mirrored, before it is halved, and the solve climbs a ladder of step
 //!   counts (`K` halved down to about 20 steps, each level started from the one below),
 //!   from the minimum-energy slew rescaled in time until its largest torque meets its
 //!   bound (rest to rest) or at the shortest time that slew is found for (otherwise),
@@ -614,6 +615,13 @@ impl Slew {
                 "cost",
                 "Time".into(),
                 "tracking and terminal costs are built for the energy cost",
+            ));
+        }
+        if self.cost == Cost::Time && self.start == self.target {
+            return Err(invalid(
+                "target",
+                "the start".into(),
+                "the target is the start, reached in no time: give another target",
             ));
         }
         if let Some(initial) = &self.initial {

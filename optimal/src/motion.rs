@@ -23,8 +23,8 @@ type PoseVelocity = (SE3, Vector6<f64>);
 /// A first guess of a minimum-time manoeuvre's final time ([`Cost::Time`]): the longest of
 /// the eigen-axis turn's bang-bang time ([`crate::eigen_axis_time`]), the straight move's
 /// bang-bang time at the weakest axis's force, `2 √(m d / f_min)`, and the times to change
-/// the body rates and the velocity at the weakest bounds, `|ΔΩ| J_max/τ_min` and
-/// `m |Δv|/f_min` (`start` and `target` as [`Manoeuvre::from`] and [`Manoeuvre::to`] take
+/// the body rates and the centre of mass's velocity at the weakest bounds,
+/// `|ΔΩ| J_max/τ_min` and `m |Δẋ|/f_min` (`start` and `target` as [`Manoeuvre::from`] and [`Manoeuvre::to`] take
 /// them). Each is the least time of one part of the motion alone under a bound no larger
 /// than the box allows, so the guess is of the right size, not a bound on the least time.
 /// `None` when the target is the start, or for a bound that is not positive and finite.
@@ -60,14 +60,16 @@ pub fn separate_bang_bang_time(
     let weakest = |b: [f64; 3]| b.iter().copied().fold(f64::INFINITY, f64::min);
     let distance = (target.0.translation() - start.0.translation()).norm();
     let translation = 2.0 * (mass * distance / weakest(force_max)).sqrt();
-    let change = target.1 - start.1;
+    // The rates' change in the body, the centre of mass's in the world frame (`ẋ = R v`).
+    let world = |(g, xi): &(SE3, Vector6<f64>)| g.rotation().matrix() * xi.fixed_rows::<3>(3);
+    let rates = (target.1.fixed_rows::<3>(0) - start.1.fixed_rows::<3>(0)).norm();
     let largest_moment = inertia
         .principal_moments()
         .iter()
         .copied()
         .fold(0.0, f64::max);
-    let spin = change.fixed_rows::<3>(0).norm() * largest_moment / weakest(torque_max);
-    let speed = change.fixed_rows::<3>(3).norm() * mass / weakest(force_max);
+    let spin = rates * largest_moment / weakest(torque_max);
+    let speed = (world(target) - world(start)).norm() * mass / weakest(force_max);
     let guess = rotation.max(translation).max(spin).max(speed);
     (guess > 0.0 && guess.is_finite()).then_some(guess)
 }
@@ -108,8 +110,9 @@ pub fn separate_bang_bang_time(
 ///
 /// With [`Cost::Time`] ([`Manoeuvre::cost`]) the final time is minimised instead, the
 /// wrench held over each step and bounded: the slew's minimum-time SQP ([`crate::Slew`],
-/// [`Cost::Time`]) on SE(3), started (rest to rest) from the unbounded minimum-energy
-/// manoeuvre rescaled in time to its bounds.
+/// [`Cost::Time`]) on SE(3), started (the free body, rest to rest) from the unbounded
+/// minimum-energy manoeuvre rescaled in time to its bounds, else from a bounded
+/// minimum-energy one.
 ///
 /// ```
 /// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
@@ -259,10 +262,8 @@ impl Manoeuvre {
     /// What to minimise: the input energy `∫ |u|² dt` in the fixed time (the default), or
     /// the final time ([`Cost::Time`]), the time given to [`Manoeuvre::new`] then being
     /// the first guess's. The least time needs both bounds ([`Manoeuvre::torque_max`],
-    /// [`Manoeuvre::force_max`]), a wrench held over each step (its optimum is bang-bang)
-    /// and the free body ([`BuiltInSe3::Free`]: an orbiting body's potential does not
-    /// scale with the time, which the step length's derivative rests on); tracking and
-    /// terminal costs are for the energy.
+    /// [`Manoeuvre::force_max`]) and a wrench held over each step (its optimum is
+    /// bang-bang); tracking and terminal costs are for the energy.
     pub fn cost(mut self, cost: Cost) -> Self {
         self.cost = cost;
         self
@@ -384,15 +385,6 @@ impl Manoeuvre {
                      not attained)",
                 );
             }
-            if let BuiltInSe3::Orbit(_) = self.body {
-                return energy_only(
-                    "cost",
-                    "Time",
-                    "the least time is built for the free body in space: an orbiting body's \
-                     potential does not scale with the time, which the step length's \
-                     derivative rests on; minimise the energy in a fixed time instead",
-                );
-            }
             if self.inputs == Inputs::Polynomial {
                 return energy_only(
                     "inputs",
@@ -406,6 +398,13 @@ impl Manoeuvre {
                     "cost",
                     "Time",
                     "tracking and terminal costs are built for the energy cost",
+                );
+            }
+            if self.start == self.target {
+                return energy_only(
+                    "target",
+                    "the start",
+                    "the target is the start, reached in no time: give another target",
                 );
             }
         }
@@ -476,8 +475,9 @@ impl Manoeuvre {
         let solved = solved.1;
         // The multipliers of the scaled rows, in the unscaled miss (none for a soft target).
         let mut multipliers = [0.0; 12];
+        // `∂J*/∂e`: the negative of the rows `M δ = e`'s multipliers, in the unscaled miss.
         for ((m, l), s) in multipliers.iter_mut().zip(&solved.multipliers).zip(scale) {
-            *m = l / s;
+            *m = -l / s;
         }
         let (means, at_points) = by_step(&solved.inputs, per_step, &weights);
         let mut statistics = solved.statistics;
@@ -656,11 +656,11 @@ impl Timed<6> for Manoeuvre {
         // The body rates and the centre of mass's velocity.
         6..12
     }
-    /// The warm start if given; for a manoeuvre from rest to rest, the unbounded
-    /// minimum-energy one rescaled in time until its largest wrench entry meets its bound
-    /// (as the slew's, exact for the free body: `u(t)` over `T` becomes `u(t/c)/c²` over
-    /// `cT`, the same path); else the bounded minimum-energy manoeuvre at a time
-    /// [`bracket`] finds.
+    /// The warm start if given; for the free body from rest to rest, the unbounded
+    /// minimum-energy manoeuvre rescaled in time until its largest wrench entry meets its
+    /// bound (as the slew's: `u(t)` over `T` becomes `u(t/c)/c²` over `cT`, the same path;
+    /// an orbiting body's gravity does not scale so); else the bounded minimum-energy
+    /// manoeuvre at a time [`bracket`] finds.
     fn feasible_start(&self, k_steps: usize) -> Result<(Vec<Vector6<f64>>, f64), OptimalError> {
         if let Some(initial) = &self.initial {
             return Ok((initial.clone(), self.t_end));
@@ -678,7 +678,8 @@ impl Timed<6> for Manoeuvre {
             }
             .solve()
         };
-        if self.start.1 == Vector6::zeros() && self.target.1 == Vector6::zeros() {
+        let free = matches!(self.body, BuiltInSe3::Free(_));
+        if free && self.start.1 == Vector6::zeros() && self.target.1 == Vector6::zeros() {
             let free = energy(self.t_end, false)?;
             let peak = free
                 .inputs

@@ -205,7 +205,7 @@ pub(crate) fn shoot(
             // The mass that multiplies the potential.
             let potential = match body {
                 BuiltInSo3::Top(top) if with_time && top.mass_times_gravity() != 0.0 => {
-                    Some(top.mass())
+                    Some((top.mass(), "mass"))
                 }
                 _ => None,
             };
@@ -251,10 +251,10 @@ pub(crate) fn shoot(
 /// sensitivity's rows in the same coordinates ([`world_coordinates`] from the
 /// linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). [`Wants`] says whether the
 /// attitudes' derivatives at the Gauss points are kept ([`Shot::attitude_sensitivities`])
-/// and whether `∂x_K/∂h` is formed by [`shoot`]'s time scaling, the law of any body whose
-/// kinetic energy is quadratic in its velocity and that has no potential: the free body in
-/// space (the caller refuses the orbiting body, whose potential does not scale with the
-/// time).
+/// and whether `∂x_K/∂h` is formed by [`shoot`]'s time scaling: the free body's kinetic
+/// energy is quadratic in its body velocity, and the orbiting body's MacCullagh potential
+/// is linear in `μ`, so that (as the heavy top's in its mass) its step of length `ch` is the
+/// step of length `h` about a point mass of `c²μ` and the law gains `2μ ∂x₊/∂μ`.
 ///
 /// Why the world frame: a body-frame velocity compares the target's and the run's in two
 /// frames, so its miss turns with the attitude, by `|ẋ|` per radian: an orbiting body's
@@ -272,10 +272,17 @@ pub(crate) fn shoot_motion(
 ) -> Result<Shot<State<SE3, 6>>, OptimalError> {
     let Wants { attitudes, time } = wants;
     let it = Integrator::new(body, settings, start.0, start.1)?;
+    // The gravitational parameter that multiplies the potential.
+    let potential = match body {
+        BuiltInSe3::Orbit(orbit) if time && orbit.gravitational_parameter() != 0.0 => {
+            Some((orbit.gravitational_parameter(), "mu"))
+        }
+        _ => None,
+    };
     let plan = Plan {
         per_step,
         offset: 0,
-        potential: None,
+        potential,
         rows: (0..12).collect(),
         with_time: time,
         // Where the manoeuvre's subproblem measures the force in the world frame
@@ -323,9 +330,9 @@ struct Plan {
     /// Where the inputs enter the system's input (0: a body torque or wrench; 3: a
     /// gyrostat's motor torques).
     offset: usize,
-    /// A mass that multiplies the potential (the heavy top's, for `∂x₊/∂h`; its
-    /// parameter column is the one the linearisation names "mass").
-    potential: Option<f64>,
+    /// The parameter that multiplies the potential and its name among the linearisation's
+    /// parameters, for `∂x₊/∂h`: the heavy top's mass, the orbiting body's `mu`.
+    potential: Option<(f64, &'static str)>,
     /// The observed rows of the linearisation's state ([`Shot`]).
     rows: Vec<usize>,
     /// Whether to form `∂x_K/∂h` (else [`Shot::time_sensitivity`] is zero).
@@ -426,12 +433,10 @@ where
         for i in 0..D {
             dk[D + i] -= end[i];
         }
-        if let (Some(mass), Some(p)) = (potential, step.p(Coordinates::Velocity)) {
-            let column = step
-                .parameter_names()
-                .iter()
-                .position(|name| name == "mass");
-            dk += p.column(column.expect("a heavy top's parameters name its mass")) * (2.0 * mass);
+        if let (Some((value, name)), Some(p)) = (potential, step.p(Coordinates::Velocity)) {
+            let column = step.parameter_names().iter().position(|n| n == name);
+            dk += p.column(column.expect("the system's parameters name its potential's"))
+                * (2.0 * value);
         }
         d.push(dk / h);
         a.push(ak);
@@ -555,17 +560,26 @@ mod tests {
         }
     }
 
-    /// The same law on SE(3): `∂x_K/∂h` of the free body in space, in the world-frame
-    /// coordinates of the miss, against central differences of whole runs (the bound as
-    /// above), with wrenches held over each step and at the Gauss points.
+    /// The same law on SE(3): `∂x_K/∂h` of the free body in space and of the orbiting body
+    /// (the law's `μ` term), in the world-frame coordinates of the miss, against central
+    /// differences of whole runs (the bound as above), with wrenches held over each step
+    /// and at the Gauss points.
     #[test]
     fn the_time_derivative_in_space_matches_central_differences() {
         let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
-        let body = BuiltInSe3::Free(lgsvi_mechanics::FreeBody::new(inertia, 7.0).unwrap());
+        for body in [
+            BuiltInSe3::Free(lgsvi_mechanics::FreeBody::new(inertia, 7.0).unwrap()),
+            BuiltInSe3::Orbit(lgsvi_mechanics::OrbitingBody::new(inertia, 7.0, 3.0).unwrap()),
+        ] {
+            time_derivative_in_space(body);
+        }
+    }
+
+    fn time_derivative_in_space(body: BuiltInSe3) {
         let start = (
             SE3::new(
                 SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
-                Vector3::new(1.0, -2.0, 0.5),
+                Vector3::new(4.0, -2.0, 1.0),
             ),
             Vector6::new(0.3, -0.2, 0.5, 0.4, 0.1, -0.3),
         );
@@ -611,7 +625,10 @@ mod tests {
                     .flat_map(|v| v.iter().map(|x| x / (2.0 * delta))),
             );
             let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
-            assert!(error < 1e-7, "{per_step} wrenches a step: {error:e}");
+            assert!(
+                error < 1e-7,
+                "{body:?}, {per_step} wrenches a step: {error:e}"
+            );
         }
     }
 }

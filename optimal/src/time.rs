@@ -1,5 +1,6 @@
-//! The minimum-time slew: SQP over the torques and the common step length, the
-//! Lagrangian's Hessian by differences of its exact gradient on the free variables.
+//! The least time of a slew or a manoeuvre: SQP over the inputs and the common step
+//! length, the Lagrangian's Hessian by differences of its exact gradient on the free
+//! variables.
 
 use crate::energy::minimum_energy;
 use crate::qp::QpSolution;
@@ -81,8 +82,8 @@ pub(crate) trait Timed<const W: usize> {
         settings: StepSettings,
         inputs: &[SVector<f64, W>],
     ) -> Result<Shot<Self::State>, OptimalError>;
-    /// The rows of the miss that are rates (scaled by `T_ref` to be commensurate with the
-    /// attitude's).
+    /// The rows of the miss that are rates (the body rates, and a body in space's velocity),
+    /// scaled by `T_ref`: the body rates then in radians, commensurate with the attitude's.
     fn rate_rows(&self) -> Range<usize>;
     /// Inputs for `k_steps` steps and a final time that reach the target
     /// ([`feasible_start`] for a slew).
@@ -207,15 +208,28 @@ pub(crate) fn least_time<P: Timed<W>, const W: usize>(
     };
     statistics.time_s = clock.elapsed().as_secs_f64();
     // The multipliers in the unscaled miss, as the energy's are: the scaled objective
-    // is T/T_ref and the scaled rates rows ω·T_ref.
+    // is T/T_ref and the scaled rates rows ω·T_ref. Of the refit on the free variables and
+    // the last subproblem's, those that make the Lagrangian the more stationary: where the
+    // free variables do not determine them all (a turn driven only by torques on their
+    // bounds), the refit is not unique and the subproblem's carry the bounds' share.
     let mut gradient = DVector::<f64>::zeros(last.z.len());
     gradient[last.z.len() - 1] = 1.0;
-    let lambda = least_squares_multipliers(&last.jacobian, &gradient, &last.z);
+    let refit = least_squares_multipliers(&last.jacobian, &gradient, &last.z);
+    let lambda = match &last.multipliers {
+        Some(subproblem)
+            if stationarity_with(&last.z, &last.jacobian, &gradient, subproblem)
+                < stationarity_with(&last.z, &last.jacobian, &gradient, &refit) =>
+        {
+            subproblem.clone()
+        }
+        _ => refit,
+    };
     let rates = problem.rate_rows();
+    // `∂T*/∂e` is the negative of the rows `M δ = e`'s multipliers.
     let multipliers = lambda
         .iter()
         .enumerate()
-        .map(|(i, l)| l * last.t_ref * if rates.contains(&i) { last.t_ref } else { 1.0 })
+        .map(|(i, l)| -l * last.t_ref * if rates.contains(&i) { last.t_ref } else { 1.0 })
         .collect();
     let t_end = last.h * last.k_steps as f64;
     Ok(Fastest {
@@ -372,6 +386,7 @@ impl<P: Timed<W>, const W: usize> Problem<'_, P, W> {
             statistics.kkt_residuals.push(residual);
             statistics.terminal_misses.push(current.shot.miss.amax());
             if residual <= tolerance && iterations > 0 {
+                current.multipliers = Some(multipliers);
                 return Ok(current);
             }
             if statistics.iterations >= self.timed.settings().max_iterations {
@@ -410,6 +425,7 @@ impl<P: Timed<W>, const W: usize> Problem<'_, P, W> {
                         &lower,
                         &upper,
                         &found,
+                        tolerance,
                     )
                     .unwrap_or_else(|| project(&current.jacobian, e, &z, &lower, &upper, found))
                 }))
@@ -451,19 +467,21 @@ impl<P: Timed<W>, const W: usize> Problem<'_, P, W> {
                         }
                         Err(_) => None,
                     };
-                    // Then the mirrored model's full step (`Hessians::mirrored`), the model
-                    // of every later iteration once taken.
+                    // Then the mirrored model's full step (`Hessians::mirrored`, where it
+                    // differs), the model of every later iteration once taken. A
+                    // subproblem that fails here leaves the step to the backtracking.
                     let corrected = match corrected {
                         Some(accepted) => Some(accepted),
-                        None if mirrored => None,
-                        None => {
-                            mirrored = true;
-                            solve(&hessians.mirrored, &current.miss)?.and_then(|c| {
+                        None if mirrored || !hessians.differ => None,
+                        None => solve(&hessians.mirrored, &current.miss)
+                            .ok()
+                            .flatten()
+                            .and_then(|c| {
                                 let trial = snap(&z + &c.step, &c.nu);
                                 let r = run(&trial).ok()?;
                                 accepts(&trial, &r).then_some((trial, r, c.lambda))
                             })
-                        }
+                            .inspect(|_| mirrored = true),
                     };
                     match corrected {
                         Some(accepted) => accepted,
@@ -505,6 +523,8 @@ struct Scaled<St> {
     jacobian: DMatrix<f64>,
     /// The miss, rates rows times `T_ref`.
     miss: DVector<f64>,
+    /// The multipliers of the last subproblem that led here (scaled rows), where one did.
+    multipliers: Option<DVector<f64>>,
 }
 
 impl<St> Scaled<St> {
@@ -542,6 +562,7 @@ impl<St> Scaled<St> {
             k_steps,
             jacobian,
             miss,
+            multipliers: None,
         }
     }
 }
@@ -744,6 +765,7 @@ fn lagrangian_hessian<St>(
     Ok(Hessians {
         floored: with(&|v| v.max(floor)),
         mirrored: with(&|v| v.abs().max(floor)),
+        differ: eigen.eigenvalues.iter().any(|&v| v < -floor),
     })
 }
 
@@ -758,6 +780,8 @@ struct Hessians {
     /// step is refused: a manoeuvre whose body-frame force bound turns with the attitude
     /// crawls along the constraints' curvature without it).
     mirrored: DMatrix<f64>,
+    /// Whether the two differ (an eigenvalue below minus the floor).
+    differ: bool,
 }
 
 /// The forward difference's step in the scaled variables (`O(1)`): its truncation error
@@ -766,12 +790,9 @@ struct Hessians {
 const DIFFERENCE: f64 = 1e-8;
 
 /// What the merit's weight on the miss exceeds twice the subproblem's largest multiplier
-/// by. The weight is set afresh at each iteration, not only raised: an early
-/// overestimate of the multipliers, kept, makes the merit refuse the steps along the
-/// constraints' curvature near the solution (measured on minimum-time manoeuvres in space:
-/// one of six did not converge in 500 iterations and the others took 116–212; set afresh,
-/// all six converge in 10–153, and the 84 swept slews of `docs/notes/optimal.md` take
-/// 1378 iterations in all against 1372, the same final times).
+/// by. The weight is set afresh at each iteration, not only raised: an early overestimate
+/// of the multipliers, kept, makes the merit refuse the steps along the constraints'
+/// curvature near the solution (`docs/notes/optimal.md`, "Minimum time in space").
 const MERIT_MARGIN: f64 = 1e-3;
 
 /// The merit's rounding: a full step that changes it by less is taken (the last steps
@@ -789,28 +810,38 @@ fn stationarity(
     gradient: &DVector<f64>,
     subproblem: &DVector<f64>,
 ) -> f64 {
-    let free = free_set(z);
-    let residual = |lambda: &DVector<f64>| {
-        let lagrangian = gradient + jacobian.transpose() * lambda;
-        (0..z.len())
-            .map(|j| {
-                let g = lagrangian[j];
-                if free.binary_search(&j).is_ok() {
-                    g.abs()
-                } else if z[j] > 0.0 {
-                    // At the upper bound: ∇L = −ν ≤ 0.
-                    g.max(0.0)
-                } else {
-                    (-g).max(0.0)
-                }
-            })
-            .fold(0.0, f64::max)
-    };
+    let residual = |lambda: &DVector<f64>| stationarity_with(z, jacobian, gradient, lambda);
     // The least of the two: where fewer variables are free than there are terminal
     // conditions (a switch that falls on a step's boundary), the refit is not unique and
     // the subproblem's multipliers, which carry the bounds' share, are the ones that fit.
     let refit = least_squares_multipliers(jacobian, gradient, z);
     residual(&refit).min(residual(subproblem)) / (1.0 + gradient.amax())
+}
+
+/// The Lagrangian's gradient `∇f + Mᵀλ` with the multipliers `lambda`: its size on the free
+/// variables, and on a variable at a bound its part of the wrong sign (a bound holds the
+/// variable only against a gradient that pushes it outwards).
+fn stationarity_with(
+    z: &DVector<f64>,
+    jacobian: &DMatrix<f64>,
+    gradient: &DVector<f64>,
+    lambda: &DVector<f64>,
+) -> f64 {
+    let free = free_set(z);
+    let lagrangian = gradient + jacobian.transpose() * lambda;
+    (0..z.len())
+        .map(|j| {
+            let g = lagrangian[j];
+            if free.binary_search(&j).is_ok() {
+                g.abs()
+            } else if z[j] > 0.0 {
+                // At the upper bound: ∇L = −ν ≤ 0.
+                g.max(0.0)
+            } else {
+                (-g).max(0.0)
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 /// The subproblem's solution made exact on its active set: the torques whose bounds hold
@@ -846,6 +877,7 @@ fn polish(
     lower: &[f64],
     upper: &[f64],
     found: &QpSolution,
+    tolerance: f64,
 ) -> Option<QpSolution> {
     let n = z.len();
     let mut active: Vec<Option<f64>> = (0..n)
@@ -880,7 +912,7 @@ fn polish(
         let particular = svd.solve(&(e - &moved), floor).ok()?;
         if spanning.len() < m {
             let unmet = (&mf * &particular - (e - &moved)).amax();
-            if unmet > CONSISTENT * (1.0 + e.amax()) {
+            if unmet > CONSISTENT.min(0.1 * tolerance) * (1.0 + e.amax()) {
                 return None;
             }
         }
@@ -893,7 +925,7 @@ fn polish(
             .filter(|&i| eigen.eigenvalues[i] > 0.5)
             .collect();
         let solution = if columns.is_empty() {
-            // As many free variables as rows: the rows alone fix the step.
+            // The free variables' step lies in the rows' span: the rows alone fix it.
             particular
         } else {
             let basis = eigen.eigenvectors.select_columns(&columns);
@@ -957,11 +989,10 @@ fn polish(
     None
 }
 
-/// How nearly (relative to `1 + |e|`) [`polish`]'s least-squares step must meet rows that
-/// its free variables cannot all move: far below the misses of an iteration still on its
-/// way (which the interior-point step then takes), far above the rounding of one at a
-/// vertex (measured: 1e-13 and below, on the closed-form manoeuvres of
-/// `optimal/tests/manoeuvre_time.rs`).
+/// How nearly (relative to `1 + |e|`, and at most a tenth of the KKT tolerance)
+/// [`polish`]'s least-squares step must meet rows that its free variables cannot all move:
+/// far below the misses of an iteration still on its way (which the interior-point step
+/// then takes), above the rounding of one at a vertex (`docs/notes/optimal.md`).
 const CONSISTENT: f64 = 1e-8;
 
 /// The most rounds of releasing wrongly held bounds in [`polish`].

@@ -249,6 +249,19 @@ fn polynomial_inputs_hold_the_single_axis_optimum() {
         let end = it.state();
         assert!(end.configuration.inverse().compose(&target).log().amax() <= 1e-10);
         assert!(end.velocity.amax() <= 1e-10);
+        // The multipliers are the optimum's sensitivity to the miss
+        // `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`: with a final rate `ω` about the axis the
+        // single-axis optimum is `4 j² (3θ² − 3θωT + ω²T²)/T³`, so along the axis
+        // `∂J*/∂θ = 24 j²θ/T³` and `∂J*/∂ω = −12 j²θ/T²` at `ω = 0`.
+        let axis = Vector3::new(1.0, 2.0, 2.0) / 3.0;
+        let m = &solution.multipliers;
+        let along = |i: usize| Vector3::new(m[i], m[i + 1], m[i + 2]).dot(&axis);
+        let (d_theta, d_omega) = (
+            24.0 * j * j * theta / t_end.powi(3),
+            -12.0 * j * j * theta / t_end.powi(2),
+        );
+        assert!((along(0) - d_theta).abs() <= 1e-9 * d_theta, "{m:?}");
+        assert!((along(3) - d_omega).abs() <= 1e-9 * d_omega.abs(), "{m:?}");
     }
 }
 

@@ -103,11 +103,11 @@ pub fn invalid(message: impl Into<String>) -> PyErr {
 /// library's own.
 pub fn mechanics(error: MechanicsError) -> PyErr {
     use MechanicsError as E;
-    // The library's advice names the command line's flag where one is the way out; here
-    // it is the Integrator's argument.
+    // The library's advice names the exp chart where it is the way out; here with the
+    // Integrator's argument that takes it.
     let message = error
         .to_string()
-        .replace("(--chart exp)", "(chart=\"exp\")");
+        .replace("the exp chart,", "the exp chart (chart=\"exp\"),");
     match error {
         E::InvalidInertia { .. }
         | E::NonFinite { .. }

@@ -1,7 +1,7 @@
 //! `lgsvi.optimal`'s compiled core: the slew of a rigid body, a heavy top or a spacecraft
 //! by its reaction wheels at the least energy or in the least time
-//! ([`lgsvi_optimal::Slew`]), and a body in space's manoeuvre at the least energy
-//! ([`lgsvi_optimal::Manoeuvre`]), solved with the GIL released.
+//! ([`lgsvi_optimal::Slew`]), and a body in space's manoeuvre at the least energy or in
+//! the least time ([`lgsvi_optimal::Manoeuvre`]), solved with the GIL released.
 
 use crate::convert::{array1, array2, array3, rotation, rows3, vector3, vectors3};
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError, LgsviError};
@@ -348,6 +348,15 @@ fn _manoeuvre<'py>(
     let t_end = match (t_end, cost) {
         (Some(t), _) => t,
         (None, Cost::Time) => match (torque_max, force_max) {
+            // A bound the solver refuses (naming it) needs no guess.
+            (Some(torque), Some(force))
+                if !torque
+                    .iter()
+                    .chain(force.iter())
+                    .all(|b| b.is_finite() && *b > 0.0) =>
+            {
+                1.0
+            }
             (Some(torque), Some(force)) => lgsvi_optimal::separate_bang_bang_time(
                 &inertia,
                 mass,
@@ -358,8 +367,8 @@ fn _manoeuvre<'py>(
             )
             .ok_or_else(|| {
                 invalid(
-                    "attitude_final/position_final: the target is the start; give another \
-                     target, or t_end as the first guess of the time"
+                    "attitude_final/omega_final/position_final/velocity_final: the target is \
+                     the start; give another target, or t_end as the first guess of the time"
                         .to_string(),
                 )
             })?,

@@ -251,7 +251,7 @@ pub trait GroupChart<G: ConfigurationGroup<D>, const D: usize>: Copy + Debug + S
 /// What to suggest besides a smaller step: the Cayley charts reach half a turn, exp two.
 pub(crate) fn so3_advice<C: So3Chart>(chart: &C) -> &'static str {
     if chart.max_rotation_angle() < std::f64::consts::TAU {
-        " or the exp chart (--chart exp), which follows up to 2π per step"
+        " or the exp chart, which follows up to 2π per step"
     } else {
         ""
     }

@@ -3,7 +3,7 @@ body's slew at the least input energy in a fixed time, or in the least time, the
 bounded per axis (per wheel for the motor torques of a spacecraft's three reaction wheels);
 a heavy top's, or a spacecraft's by its wheels, likewise (:func:`slew`); and a body in
 space's manoeuvre, its attitude and centre of mass driven by a body wrench at the least
-input energy (:func:`manoeuvre`).
+input energy or in the least time (:func:`manoeuvre`).
 
 The problem: ``K`` steps of a common length ``h`` (each one lgsvi step of ``nodes``
 nodes), the body torque ``u_k`` held over step ``k``; from ``(attitude0, omega0)`` to
@@ -76,8 +76,8 @@ class SlewResult:
     quadrature_nodes : ndarray (m,)
         The Gauss points as fractions of a step.
     multipliers : ndarray (6,)
-        The terminal constraint's multipliers, in the body-frame ``(theta, omega)`` at the
-        target.
+        The terminal constraint's multipliers, ``dJ*/de`` (``dT*/de`` with ``cost="time"``)
+        for the miss ``e`` = (``log(R_K^T R_f)``, ``Omega_f - Omega_K``), body frame.
     h, t_end : float
         The step and the duration (for ``cost="time"`` the least time found).
     converged : bool
@@ -311,9 +311,8 @@ def manoeuvre(
 
     ``cost="energy"`` (the default) minimises the input energy in the time ``t_end``;
     ``cost="time"`` minimises the final time, needs ``torque_max`` and ``force_max``, holds
-    the wrench over each step (the optimum is bang-bang), is built for the free body (not
-    with ``mu``) and without ``track`` or ``terminal_cost``, and takes ``t_end`` as the first
-    guess (default: the longest of the eigen-axis turn's, the straight move's and the
+    the wrench over each step (the optimum is bang-bang), is built without ``track`` or
+    ``terminal_cost``, and takes ``t_end`` as the first guess (default: the longest of the eigen-axis turn's, the straight move's and the
     velocity changes' bang-bang times at the weakest bounds).
 
     At the least energy it is solved by the slew's SQP with the body force measured in the
