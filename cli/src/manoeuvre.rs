@@ -87,7 +87,17 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
     let (steps, nodes) = (options.steps.unwrap_or(40), options.nodes.unwrap_or(10));
     let t_end = match options.t_end {
         Some(t_end) => t_end,
-        None => first_guess(options, mass, &inertia, &start, &target)?,
+        // The least time's first guess; where it has none (a bound refused, the target
+        // being the start) the solver's check names the setting.
+        None => lgsvi_optimal::separate_bang_bang_time(
+            &inertia,
+            mass,
+            &start,
+            &target,
+            options.torque_max.unwrap_or([0.0; 3]),
+            options.force_max.unwrap_or([0.0; 3]),
+        )
+        .unwrap_or(1.0),
     };
     let mut manoeuvre = Manoeuvre::new(body, t_end)
         .from(start.0, start.1)
@@ -205,35 +215,6 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
         None => Vec::new(),
     };
     crate::optimize::write(options, &output, drawn)
-}
-
-/// The first guess of a minimum-time manoeuvre's final time, without `--t-end`
-/// ([`lgsvi_optimal::separate_bang_bang_time`]).
-fn first_guess(
-    options: &OptimizeOptions,
-    mass: f64,
-    inertia: &lgsvi_mechanics::Inertia,
-    start: &(SE3, Vector6<f64>),
-    target: &(SE3, Vector6<f64>),
-) -> Result<f64> {
-    let torque = options.torque_max.unwrap_or([1.0; 3]);
-    let force = options.force_max.unwrap_or([1.0; 3]);
-    // A bound the solver refuses (naming its flag) needs no guess.
-    let valid = torque
-        .iter()
-        .chain(&force)
-        .all(|b| b.is_finite() && *b > 0.0);
-    if !(valid && mass.is_finite() && mass > 0.0) {
-        return Ok(1.0);
-    }
-    lgsvi_optimal::separate_bang_bang_time(inertia, mass, start, target, torque, force).ok_or(
-        CliError::invalid(
-            "--attitude-final/--omega-final/--position-final/--velocity-final",
-            "the start's pose and velocity",
-            "the target is the start: give another target, or --t-end as the first guess of \
-             the time",
-        ),
-    )
 }
 
 /// The slew's flags, which a manoeuvre in space does not take.

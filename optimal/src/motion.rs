@@ -4,7 +4,7 @@
 
 use crate::energy::{by_step, Coupling, Problem, Solved, Start};
 use crate::shooting::{shoot_motion, Shot, Wants};
-use crate::time::{bracket, least_time, TimeSettings, Timed, START_TOLERANCE};
+use crate::time::{bracket, least_time, rescaled_to_bound, TimeSettings, Timed, START_TOLERANCE};
 use crate::tracking::Residuals;
 use crate::{Cost, Inputs, OptimalError, Statistics};
 use lgsvi_mechanics::built_in::BuiltInSe3;
@@ -680,16 +680,9 @@ impl Timed<6> for Manoeuvre {
         };
         let free = matches!(self.body, BuiltInSe3::Free(_));
         if free && self.start.1 == Vector6::zeros() && self.target.1 == Vector6::zeros() {
-            let free = energy(self.t_end, false)?;
-            let peak = free
-                .inputs
-                .iter()
-                .map(|u| u.component_div(&bound).amax())
-                .fold(0.0, f64::max);
-            if peak > 0.0 && peak.is_finite() {
-                let c = peak.sqrt();
-                let inputs = free.inputs.iter().map(|u| u / (c * c)).collect();
-                return Ok((inputs, self.t_end * c));
+            let unbounded = energy(self.t_end, false)?;
+            if let Some(start) = rescaled_to_bound(&unbounded.inputs, &bound, self.t_end) {
+                return Ok(start);
             }
         }
         bracket(self.t_end, |t_end| Ok(energy(t_end, true)?.inputs))

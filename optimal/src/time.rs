@@ -208,21 +208,12 @@ pub(crate) fn least_time<P: Timed<W>, const W: usize>(
     };
     statistics.time_s = clock.elapsed().as_secs_f64();
     // The multipliers in the unscaled miss, as the energy's are: the scaled objective
-    // is T/T_ref and the scaled rates rows ω·T_ref. Of the refit on the free variables and
-    // the last subproblem's, those that make the Lagrangian the more stationary: where the
-    // free variables do not determine them all (a turn driven only by torques on their
-    // bounds), the refit is not unique and the subproblem's carry the bounds' share.
+    // is T/T_ref and the scaled rates rows ω·T_ref; those that fit best ([`best_fit`]).
     let mut gradient = DVector::<f64>::zeros(last.z.len());
     gradient[last.z.len() - 1] = 1.0;
-    let refit = least_squares_multipliers(&last.jacobian, &gradient, &last.z);
     let lambda = match &last.multipliers {
-        Some(subproblem)
-            if stationarity_with(&last.z, &last.jacobian, &gradient, subproblem)
-                < stationarity_with(&last.z, &last.jacobian, &gradient, &refit) =>
-        {
-            subproblem.clone()
-        }
-        _ => refit,
+        Some(subproblem) => best_fit(&last.z, &last.jacobian, &gradient, subproblem).0,
+        None => least_squares_multipliers(&last.jacobian, &gradient, &last.z),
     };
     let rates = problem.rate_rows();
     // `∂T*/∂e` is the negative of the rows `M δ = e`'s multipliers.
@@ -595,16 +586,8 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
             ..slew.clone()
         };
         let solution = minimum_energy(&free, settings(slew.t_end)?, START_TOLERANCE)?;
-        let peak = solution
-            .inputs
-            .iter()
-            .map(|u| u.component_div(&bound).amax())
-            .fold(0.0, f64::max);
-        if peak > 0.0 && peak.is_finite() {
-            // u(t) over T becomes u(t/c)/c² over cT: the peak meets the bound at c = √peak.
-            let c = peak.sqrt();
-            let inputs = solution.inputs.iter().map(|u| u / (c * c)).collect();
-            return Ok((inputs, slew.t_end * c));
+        if let Some(start) = rescaled_to_bound(&solution.inputs, &bound, slew.t_end) {
+            return Ok(start);
         }
     }
     let attempt = |t_end: f64| {
@@ -616,6 +599,25 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
         Ok(minimum_energy(&energy, settings(t_end)?, START_TOLERANCE)?.inputs)
     };
     bracket(slew.t_end, attempt)
+}
+
+/// Unbounded inputs over `t_end`, rest to rest, rescaled in time until their largest entry
+/// meets its bound: `u(t)` over `T` becomes `u(t/c)/c²` over `cT`, the same path (the time
+/// scaling of a body without a potential), and the peak meets the bound at `c = √peak`.
+/// `None` for inputs that are all zero or not finite.
+pub(crate) fn rescaled_to_bound<const W: usize>(
+    inputs: &[SVector<f64, W>],
+    bound: &SVector<f64, W>,
+    t_end: f64,
+) -> Option<(Vec<SVector<f64, W>>, f64)> {
+    let peak = inputs
+        .iter()
+        .map(|u| u.component_div(bound).amax())
+        .fold(0.0, f64::max);
+    (peak > 0.0 && peak.is_finite()).then(|| {
+        let c = peak.sqrt();
+        (inputs.iter().map(|u| u / (c * c)).collect(), t_end * c)
+    })
 }
 
 /// The inputs of `attempt` (a bounded minimum-energy motion in the time given) at a time
@@ -799,23 +801,39 @@ const MERIT_MARGIN: f64 = 1e-3;
 /// move the variables by ~1e-9, below what the ℓ1 merit resolves).
 const ROUNDING: f64 = 1e-14;
 
-/// The KKT residual's stationarity part with the multipliers that fit it best (refitted
-/// by least squares on the free variables, or the last subproblem's): the Lagrangian's
-/// gradient `∇f + Mᵀλ` on the free variables, and on a variable at a bound its part of
-/// the wrong sign (a bound holds the variable only against a gradient that pushes it
-/// outwards); over `1 + |∇f|`.
+/// The KKT residual's stationarity part with the multipliers that fit it best
+/// ([`best_fit`]), over `1 + |∇f|`.
 fn stationarity(
     z: &DVector<f64>,
     jacobian: &DMatrix<f64>,
     gradient: &DVector<f64>,
     subproblem: &DVector<f64>,
 ) -> f64 {
-    let residual = |lambda: &DVector<f64>| stationarity_with(z, jacobian, gradient, lambda);
-    // The least of the two: where fewer variables are free than there are terminal
-    // conditions (a switch that falls on a step's boundary), the refit is not unique and
-    // the subproblem's multipliers, which carry the bounds' share, are the ones that fit.
+    best_fit(z, jacobian, gradient, subproblem).1 / (1.0 + gradient.amax())
+}
+
+/// Of the multipliers refitted by least squares on the free variables and the
+/// subproblem's, those that make the Lagrangian the more stationary
+/// ([`stationarity_with`]), and that residual: where fewer variables are free than there
+/// are terminal conditions (a switch on a step's boundary, a turn driven only by torques
+/// on their bounds), the refit is not unique and the subproblem's multipliers, which carry
+/// the bounds' share, are the ones that fit.
+fn best_fit(
+    z: &DVector<f64>,
+    jacobian: &DMatrix<f64>,
+    gradient: &DVector<f64>,
+    subproblem: &DVector<f64>,
+) -> (DVector<f64>, f64) {
     let refit = least_squares_multipliers(jacobian, gradient, z);
-    residual(&refit).min(residual(subproblem)) / (1.0 + gradient.amax())
+    let (by_refit, by_subproblem) = (
+        stationarity_with(z, jacobian, gradient, &refit),
+        stationarity_with(z, jacobian, gradient, subproblem),
+    );
+    if by_subproblem < by_refit {
+        (subproblem.clone(), by_subproblem)
+    } else {
+        (refit, by_refit)
+    }
 }
 
 /// The Lagrangian's gradient `∇f + Mᵀλ` with the multipliers `lambda`: its size on the free

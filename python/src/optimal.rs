@@ -347,46 +347,17 @@ fn _manoeuvre<'py>(
     let force_max = force_max.map(|b| bound3(b, "force_max")).transpose()?;
     let t_end = match (t_end, cost) {
         (Some(t), _) => t,
-        (None, Cost::Time) => match (torque_max, force_max) {
-            // A bound the solver refuses (naming it) needs no guess.
-            (Some(torque), Some(force))
-                if !torque
-                    .iter()
-                    .chain(force.iter())
-                    .all(|b| b.is_finite() && *b > 0.0) =>
-            {
-                1.0
-            }
-            (Some(torque), Some(force)) => lgsvi_optimal::separate_bang_bang_time(
-                &inertia,
-                mass,
-                &start,
-                &target,
-                torque.into(),
-                force.into(),
-            )
-            .ok_or_else(|| {
-                invalid(
-                    "attitude_final/omega_final/position_final/velocity_final: the target is \
-                     the start; give another target, or t_end as the first guess of the time"
-                        .to_string(),
-                )
-            })?,
-            (None, _) => {
-                return Err(invalid(
-                    "torque_max: a minimum-time manoeuvre needs bounds on both the torque and \
-                     the force"
-                        .to_string(),
-                ))
-            }
-            (_, None) => {
-                return Err(invalid(
-                    "force_max: a minimum-time manoeuvre needs bounds on both the torque and \
-                     the force"
-                        .to_string(),
-                ))
-            }
-        },
+        // The least time's first guess; where it has none (a bound missing or refused, the
+        // target being the start) the solver's check names the setting.
+        (None, Cost::Time) => lgsvi_optimal::separate_bang_bang_time(
+            &inertia,
+            mass,
+            &start,
+            &target,
+            torque_max.map_or([0.0; 3], Into::into),
+            force_max.map_or([0.0; 3], Into::into),
+        )
+        .unwrap_or(1.0),
         (None, _) => {
             return Err(invalid(
                 "t_end: a minimum-energy manoeuvre takes a fixed duration in seconds".to_string(),
