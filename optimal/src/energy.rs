@@ -3,6 +3,7 @@
 use crate::shooting::{shoot, Shot};
 use crate::tracking::{residuals, Residuals};
 use crate::{qp, quadrature, Inputs, OptimalError, Slew, Solution, Statistics};
+use clarabel::algebra::CscMatrix;
 use lgsvi_mechanics::StepSettings;
 use nalgebra::{DMatrix, DVector, SVector, Vector3};
 use std::time::Instant;
@@ -11,8 +12,9 @@ use std::time::Instant;
 /// constant torques `Σ_k h |u_k|²`, with polynomial ones the steps' quadrature
 /// `Σ_k h Σ_j b_j |u_kj|²`; plus, where given, the tracking and terminal costs
 /// (`crate::tracking`), whose residuals `r` and their Jacobian `G` add `|r|²` to the cost,
-/// `2Gᵀr` to its gradient and `2GᵀG` to the Gauss–Newton Hessian `diag(2w)`. Without a
-/// terminal cost the terminal state is exact (the QP's six equality rows).
+/// `2Gᵀr` to its gradient and `2GᵀG` to the Gauss–Newton Hessian `diag(2w)` (in the
+/// banded subproblem, [`Banded`], each state's `2G_kᵀG_k`). Without a terminal cost the
+/// terminal state is exact (the QP's six equality rows).
 pub(crate) fn minimum_energy(
     slew: &Slew,
     settings: StepSettings,
@@ -125,7 +127,7 @@ impl<St, const M: usize> Problem<'_, St, M> {
             .enumerate()
             .map(|(i, u)| self.step_weights[i % per_step] * u.norm_squared())
             .sum::<f64>()
-            + r.map_or(0.0, |(r, _)| r.norm_squared())
+            + r.map_or(0.0, Residuals::squared)
     }
 
     /// The Gauss–Newton SQP from `inputs` (the crate documentation's iteration).
@@ -148,15 +150,17 @@ impl<St, const M: usize> Problem<'_, St, M> {
         let (no_rows, no_miss) = (DMatrix::<f64>::zeros(0, n), DVector::<f64>::zeros(0));
         loop {
             let miss = run.miss.amax();
-            let mut gradient = DVector::from_iterator(
+            // The energy's gradient, then the residuals' `2Gᵀr` (by the adjoint recursion).
+            let energy_gradient = DVector::from_iterator(
                 n,
                 inputs
                     .iter()
                     .enumerate()
                     .flat_map(|(i, u)| (u * (2.0 * weight(i))).data.0[0]),
             );
-            if let Some((r, g)) = &fit {
-                gradient += 2.0 * g.transpose() * r;
+            let mut gradient = energy_gradient.clone();
+            if let Some(f) = &fit {
+                gradient += f.gradient(&run);
             }
             let (rows, e) = if exact_target {
                 (&run.sensitivity, &run.miss)
@@ -203,112 +207,94 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     .iter()
                     .all(|&j| !lower[j].is_finite() && !upper[j].is_finite())
             });
-            // The residuals' Jacobian in the subproblem's variables, `G (I + E)` with a
-            // metric.
-            let coupled_fit = match (&fit, &coupling) {
-                (Some((_, g)), Some(c)) => Some(g + c.right(g)),
-                _ => None,
-            };
-            let fit_jacobian = coupled_fit.as_ref().or(fit.as_ref().map(|(_, g)| g));
-            let hessian = match fit_jacobian {
-                None => qp::diagonal(&diagonal),
-                Some(g) => {
-                    let mut dense = 2.0 * g.transpose() * g;
-                    for (j, d) in diagonal.iter().enumerate() {
-                        dense[(j, j)] += d;
+            // With residuals and no metric, the banded subproblem (the states among its
+            // variables), whose cost is linear in the step count; else the condensed one.
+            let found = if let (Some(f), None) = (&fit, &coupling) {
+                Banded {
+                    run: &run,
+                    fit: f,
+                    diagonal: &diagonal,
+                    energy_gradient: &energy_gradient,
+                    exact_target,
+                    equilibrate: self.equilibrate,
+                }
+                .solve(&lower, &upper)?
+            } else {
+                // The residuals' Jacobian in the subproblem's variables, `G (I + E)` with a
+                // metric (dense).
+                let fit_jacobian = match (&fit, &coupling) {
+                    (Some(f), Some(c)) => {
+                        let g = f.dense(&run);
+                        Some(&g + c.right(&g))
                     }
-                    qp::upper_triangle(&dense)
-                }
-            };
-            let (rows_v, gradient_v) = match &coupling {
-                Some(c) => (
-                    Some(rows + c.right(rows)),
-                    Some(
-                        &gradient
-                            + DVector::from_column_slice(
-                                c.right(&DMatrix::from_row_slice(1, n, gradient.as_slice()))
-                                    .as_slice(),
-                            ),
-                    ),
-                ),
-                None => (None, None),
-            };
-            let rows = rows_v.as_ref().unwrap_or(rows);
-            let q = gradient_v.as_ref().unwrap_or(&gradient);
-            // With `equilibrate`, the equality rows scaled to a largest entry of 1 for the
-            // subproblem (the same constraints, better conditioned); its multipliers
-            // scaled back.
-            let row_scale: Option<Vec<f64>> = self.equilibrate.then(|| {
-                (0..rows.nrows())
-                    .map(|i| match rows.row(i).amax() {
-                        largest if largest > 0.0 => 1.0 / largest,
-                        _ => 1.0,
-                    })
-                    .collect()
-            });
-            let scaled = row_scale.as_ref().map(|s| {
-                (
-                    DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * s[i]),
-                    DVector::from_fn(e.len(), |i, _| e[i] * s[i]),
-                )
-            });
-            let (qp_rows, qp_e) = match &scaled {
-                Some((m, f)) => (m, f),
-                None => (rows, e),
-            };
-            let mut solution =
-                qp::solve(hessian, q.as_slice(), qp_rows, qp_e, &lower, &upper, 1e-13)?.ok_or(
-                    OptimalError::Infeasible {
-                        residual: miss,
-                        bounded: self.bound.is_some(),
-                    },
-                )?;
-            if let Some(s) = &row_scale {
-                for (l, s) in solution.lambda.iter_mut().zip(s) {
-                    *l *= s;
-                }
-            }
-            // Back from `δv`: the step `(I + E) δv`; the bound multipliers are those of the
-            // same bounds (on entries `E` leaves alone).
-            if let Some(c) = &coupling {
-                solution.step = &solution.step + c.times(&solution.step);
-            }
-            let (step, lambda) = (&solution.step, &solution.lambda);
-            // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target
-            // is exact): halve the step until it falls.
-            let rho = 2.0 * lambda.amax() + 1.0;
-            let merit = |c: f64, e: &DVector<f64>| {
-                c + if exact_target {
-                    rho * e.iter().map(|x| x.abs()).sum::<f64>()
-                } else {
-                    0.0
-                }
-            };
-            let before = merit(self.cost(&inputs, fit.as_ref()), &run.miss);
-            let mut alpha = 1.0;
-            let (next_inputs, next_run, next_fit) = loop {
-                let trial: Vec<SVector<f64, M>> = inputs
-                    .iter()
-                    .enumerate()
-                    .map(|(i, u)| u + alpha * step.fixed_rows::<M>(M * i))
-                    .collect();
-                match (self.shoot)(&trial) {
-                    Ok(r) => {
-                        let f = (self.residuals)(&r);
-                        // A rise within the merit's rounding is no rise: near the
-                        // solution the model's decrease falls below it, and halving a
-                        // good step there only stalls the iteration.
-                        let rounding = 16.0 * f64::EPSILON * before.abs();
-                        let trial_merit = merit(self.cost(&trial, f.as_ref()), &r.miss);
-                        if trial_merit <= before + rounding || alpha < 1e-3 {
-                            break (trial, r, f);
+                    _ => None,
+                };
+                let hessian = match &fit_jacobian {
+                    None => qp::diagonal(&diagonal),
+                    Some(g) => {
+                        let mut dense = 2.0 * g.transpose() * g;
+                        for (j, d) in diagonal.iter().enumerate() {
+                            dense[(j, j)] += d;
                         }
-                        alpha *= 0.5;
+                        qp::upper_triangle(&dense)
                     }
-                    Err(error) if alpha < 1e-3 => return Err(error),
-                    Err(_) => alpha *= 0.5,
+                };
+                let (rows_v, gradient_v) = match &coupling {
+                    Some(c) => (
+                        Some(rows + c.right(rows)),
+                        Some(
+                            &gradient
+                                + DVector::from_column_slice(
+                                    c.right(&DMatrix::from_row_slice(1, n, gradient.as_slice()))
+                                        .as_slice(),
+                                ),
+                        ),
+                    ),
+                    None => (None, None),
+                };
+                let rows = rows_v.as_ref().unwrap_or(rows);
+                let q = gradient_v.as_ref().unwrap_or(&gradient);
+                // With `equilibrate`, the equality rows scaled to a largest entry of 1 for the
+                // subproblem (the same constraints, better conditioned); its multipliers
+                // scaled back.
+                let row_scale: Option<Vec<f64>> = self.equilibrate.then(|| {
+                    (0..rows.nrows())
+                        .map(|i| match rows.row(i).amax() {
+                            largest if largest > 0.0 => 1.0 / largest,
+                            _ => 1.0,
+                        })
+                        .collect()
+                });
+                let scaled = row_scale.as_ref().map(|s| {
+                    (
+                        DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * s[i]),
+                        DVector::from_fn(e.len(), |i, _| e[i] * s[i]),
+                    )
+                });
+                let (qp_rows, qp_e) = match &scaled {
+                    Some((m, f)) => (m, f),
+                    None => (rows, e),
+                };
+                let mut found =
+                    qp::solve(hessian, q.as_slice(), qp_rows, qp_e, &lower, &upper, 1e-13)?;
+                if let (Some(solution), Some(s)) = (&mut found, &row_scale) {
+                    for (l, s) in solution.lambda.iter_mut().zip(s) {
+                        *l *= s;
+                    }
                 }
+                // Back from `δv`: the step `(I + E) δv`; the bound multipliers are those of the
+                // same bounds (on entries `E` leaves alone).
+                if let (Some(solution), Some(c)) = (&mut found, &coupling) {
+                    solution.step = &solution.step + c.times(&solution.step);
+                }
+                found
             };
+            let solution = found.ok_or(OptimalError::Infeasible {
+                residual: miss,
+                bounded: self.bound.is_some(),
+            })?;
+            let (next_inputs, next_run, next_fit) =
+                self.line_search(&inputs, &run, fit.as_ref(), &solution)?;
             inputs = next_inputs;
             run = next_run;
             fit = next_fit;
@@ -322,6 +308,204 @@ impl<St, const M: usize> Problem<'_, St, M> {
             multipliers,
             statistics,
         })
+    }
+}
+
+impl<St, const M: usize> Problem<'_, St, M> {
+    /// The ℓ1 merit's backtracking along the subproblem's step: the next inputs, their run
+    /// and residuals.
+    #[allow(clippy::type_complexity)]
+    fn line_search(
+        &self,
+        inputs: &[SVector<f64, M>],
+        run: &Shot<St>,
+        fit: Option<&Residuals>,
+        solution: &qp::QpSolution,
+    ) -> Result<(Vec<SVector<f64, M>>, Shot<St>, Option<Residuals>), OptimalError> {
+        let exact_target = self.exact_target;
+        let (step, lambda) = (&solution.step, &solution.lambda);
+        // The merit J + ρ|e|₁ (ρ above the multipliers; the miss only where the target
+        // is exact): halve the step until it falls.
+        let rho = 2.0 * lambda.amax() + 1.0;
+        let merit = |c: f64, e: &DVector<f64>| {
+            c + if exact_target {
+                rho * e.iter().map(|x| x.abs()).sum::<f64>()
+            } else {
+                0.0
+            }
+        };
+        let before = merit(self.cost(inputs, fit), &run.miss);
+        let mut alpha = 1.0;
+        loop {
+            let trial: Vec<SVector<f64, M>> = inputs
+                .iter()
+                .enumerate()
+                .map(|(i, u)| u + alpha * step.fixed_rows::<M>(M * i))
+                .collect();
+            match (self.shoot)(&trial) {
+                Ok(r) => {
+                    let f = (self.residuals)(&r);
+                    // A rise within the merit's rounding is no rise: near the solution the
+                    // model's decrease falls below it, and halving a good step there only
+                    // stalls the iteration. The rounding is the cost's and the miss's, each
+                    // of whose rows rounds at `ε` of the state's size (order one) however
+                    // small the miss (measured: rises of 2e-15 at a miss of 3e-16 and
+                    // `ρ ≈ 1` held a 50-step tracking slew at a KKT residual of 6e-10).
+                    let miss_rounding = if exact_target {
+                        rho * run.miss.len() as f64
+                    } else {
+                        0.0
+                    };
+                    let rounding = 16.0 * f64::EPSILON * (before.abs() + miss_rounding);
+                    let trial_merit = merit(self.cost(&trial, f.as_ref()), &r.miss);
+                    if trial_merit <= before + rounding || alpha < 1e-3 {
+                        return Ok((trial, r, f));
+                    }
+                    alpha *= 0.5;
+                }
+                Err(error) if alpha < 1e-3 => return Err(error),
+                Err(_) => alpha *= 0.5,
+            }
+        }
+    }
+}
+
+/// The Gauss–Newton subproblem with the states among its variables: the inputs' steps
+/// `δu` (each step's `m` per input) and the states' `δx_k` (`k = 1 … K`, the plant's
+/// linearisation coordinates), the steps' linearisations as equality rows
+/// `δx_{k+1} − A_k δx_k − Σ_j B_kj δu_kj = 0` (`δx_0 = 0`), the terminal rows
+/// `T δx_K = e` where the target is exact, and the cost
+/// `Σ w |u + δu|² + Σ_b |r_b + G_b δx_k|²` up to a constant. Eliminating the states gives
+/// back the condensed subproblem (the same step, the same terminal multipliers); kept,
+/// they make its Hessian block diagonal and its rows banded, so that `clarabel`'s sparse
+/// factorisation costs a fixed amount a step, where the condensed Hessian
+/// `diag(2w) + 2GᵀG` is dense and costs the cube of the step count to form and factor.
+struct Banded<'a, St> {
+    run: &'a Shot<St>,
+    fit: &'a Residuals,
+    /// The energy's Hessian `2w`, one entry per input entry.
+    diagonal: &'a [f64],
+    /// The energy's gradient `2wu`.
+    energy_gradient: &'a DVector<f64>,
+    exact_target: bool,
+    /// Whether the terminal rows are scaled to a largest entry of 1 ([`Problem`]).
+    equilibrate: bool,
+}
+
+impl<St> Banded<'_, St> {
+    /// The subproblem's step in the inputs, its terminal multipliers and the inputs' bound
+    /// multipliers (as the condensed subproblem's); `None` where it is infeasible.
+    fn solve(&self, lower: &[f64], upper: &[f64]) -> Result<Option<qp::QpSolution>, OptimalError> {
+        let run = self.run;
+        let (a, b) = (run.state_jacobians(), run.input_jacobians());
+        let (k_steps, size, n) = (a.len(), run.state_size(), self.diagonal.len());
+        let per_step = b.first().map_or(1, Vec::len);
+        let width = n / (k_steps * per_step);
+        let by_state = self.fit.by_state(k_steps, size);
+        let total = n + size * k_steps;
+        let state_column = |k: usize| n + size * (k - 1);
+        // The Hessian's upper triangle: `2w`, then each state's block.
+        let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+        for (j, d) in self.diagonal.iter().enumerate() {
+            rowval.push(j);
+            nzval.push(*d);
+            colptr.push(rowval.len());
+        }
+        for (k, (_, hessian)) in by_state.iter().enumerate() {
+            for c in 0..size {
+                for i in 0..=c {
+                    if hessian[(i, c)] != 0.0 {
+                        rowval.push(state_column(k + 1) + i);
+                        nzval.push(hessian[(i, c)]);
+                    }
+                }
+                colptr.push(rowval.len());
+            }
+        }
+        let p = CscMatrix::new(total, total, colptr, rowval, nzval);
+        let mut q: Vec<f64> = self.energy_gradient.iter().copied().collect();
+        for (gradient, _) in &by_state {
+            q.extend(gradient.iter());
+        }
+        // The terminal rows, scaled where asked.
+        let (mut terminal, mut e) = (run.terminal.clone(), run.miss.clone());
+        if !self.exact_target {
+            terminal = DMatrix::zeros(0, size);
+            e = DVector::zeros(0);
+        }
+        let scale: Vec<f64> = (0..terminal.nrows())
+            .map(|i| match terminal.row(i).amax() {
+                largest if self.equilibrate && largest > 0.0 => 1.0 / largest,
+                _ => 1.0,
+            })
+            .collect();
+        for (i, s) in scale.iter().enumerate() {
+            terminal.row_mut(i).scale_mut(*s);
+            e[i] *= s;
+        }
+        // The rows by columns: the inputs' `−B_kj` in step k's rows, the states' `I` in
+        // the rows of the step that ends at them, `−A_k` in the next step's, and `T` at
+        // the last.
+        let dynamics = size * k_steps;
+        let mut columns: Vec<Vec<(usize, f64)>> = Vec::with_capacity(total);
+        for i in 0..n {
+            let (input, c) = (i / width, i % width);
+            let (k, j) = (input / per_step, input % per_step);
+            columns.push(
+                (0..size)
+                    .filter(|&r| b[k][j][(r, c)] != 0.0)
+                    .map(|r| (size * k + r, -b[k][j][(r, c)]))
+                    .collect(),
+            );
+        }
+        for k in 1..=k_steps {
+            // The step that starts at state k (none for the last).
+            let next = a.get(k).filter(|_| k < k_steps);
+            for c in 0..size {
+                let mut column = vec![(size * (k - 1) + c, 1.0)];
+                if let Some(next) = next {
+                    column.extend(
+                        (0..size)
+                            .filter(|&r| next[(r, c)] != 0.0)
+                            .map(|r| (size * k + r, -next[(r, c)])),
+                    );
+                } else {
+                    column.extend(
+                        (0..terminal.nrows())
+                            .filter(|&r| terminal[(r, c)] != 0.0)
+                            .map(|r| (dynamics + r, terminal[(r, c)])),
+                    );
+                }
+                columns.push(column);
+            }
+        }
+        let mut rhs = DVector::<f64>::zeros(dynamics + e.len());
+        rhs.rows_mut(dynamics, e.len()).copy_from(&e);
+        let free = vec![f64::INFINITY; size * k_steps];
+        let lower: Vec<f64> = lower
+            .iter()
+            .copied()
+            .chain(free.iter().map(|x| -x))
+            .collect();
+        let upper: Vec<f64> = upper.iter().copied().chain(free.iter().copied()).collect();
+        let found = qp::solve_sparse(
+            p,
+            &q,
+            &columns,
+            &rhs,
+            &lower,
+            &upper,
+            1e-13,
+            qp::Refinement::Full,
+        )?;
+        Ok(found.map(|s| qp::QpSolution {
+            step: s.step.rows(0, n).into_owned(),
+            lambda: DVector::from_iterator(
+                e.len(),
+                (0..e.len()).map(|i| s.lambda[dynamics + i] * scale[i]),
+            ),
+            nu: s.nu.rows(0, n).into_owned(),
+        }))
     }
 }
 
@@ -432,5 +616,169 @@ impl Coupling {
             out[i] = product[k];
         }
         out
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::shooting::{shoot, Shot};
+    use crate::tracking::residuals;
+    use crate::{Slew, Wheels};
+    use lgsvi_mechanics::lie::SO3;
+    use lgsvi_mechanics::Inertia;
+
+    /// The banded subproblem against the condensed one it is the elimination of, at `run`
+    /// with residuals `fit`, inputs `u` (flat), the energy weights `diagonal` (`2w`) and
+    /// each entry bounded by `bound`: the same step, the same terminal and bound
+    /// multipliers, and the adjoint gradient equal to `2Gᵀr` from the dense `G`. Both are
+    /// interior-point solutions to 1e-13; the condensed one forms `2GᵀG` and the
+    /// sensitivity by other products, so they agree to about 1e-9 of the step's size
+    /// where bounds are active (the interior point's complementarity) and to rounding
+    /// without.
+    pub(crate) fn banded_matches_condensed<St>(
+        run: &Shot<St>,
+        fit: &Residuals,
+        u: &DVector<f64>,
+        diagonal: &[f64],
+        bound: f64,
+    ) {
+        let n = u.len();
+        let g = fit.dense(run);
+        let dense_gradient = 2.0 * g.transpose() * &fit.values;
+        let adjoint = fit.gradient(run);
+        assert!(
+            (&adjoint - &dense_gradient).amax() <= 1e-13 * (1.0 + dense_gradient.amax()),
+            "adjoint gradient {:e} off",
+            (&adjoint - &dense_gradient).amax()
+        );
+        let energy_gradient = DVector::from_fn(n, |j, _| diagonal[j] * u[j]);
+        let lower: Vec<f64> = (0..n).map(|j| -bound - u[j]).collect();
+        let upper: Vec<f64> = (0..n).map(|j| bound - u[j]).collect();
+        let mut hessian = 2.0 * g.transpose() * &g;
+        for (j, d) in diagonal.iter().enumerate() {
+            hessian[(j, j)] += d;
+        }
+        let q = &energy_gradient + &dense_gradient;
+        let condensed = qp::solve(
+            qp::upper_triangle(&hessian),
+            q.as_slice(),
+            &run.sensitivity,
+            &run.miss,
+            &lower,
+            &upper,
+            1e-13,
+        )
+        .unwrap()
+        .unwrap();
+        let banded = Banded {
+            run,
+            fit,
+            diagonal,
+            energy_gradient: &energy_gradient,
+            exact_target: true,
+            equilibrate: false,
+        }
+        .solve(&lower, &upper)
+        .unwrap()
+        .unwrap();
+        // An active bound's slack in an interior-point solution is about the gap over its
+        // multiplier: each solution sits up to `1e-13 / ν` inside its bounds.
+        let smallest = condensed
+            .nu
+            .iter()
+            .map(|x| x.abs())
+            .filter(|x| *x > 1e-8)
+            .fold(f64::INFINITY, f64::min);
+        let tolerance = 1e-11 + 10.0 * 1e-13 / smallest;
+        let scale = 1.0 + condensed.step.amax();
+        let off = (&banded.step - &condensed.step).amax() / scale;
+        assert!(
+            off <= tolerance,
+            "steps differ by {off:e} (allowed {tolerance:e})"
+        );
+        // The multipliers follow from the step through `P δ + q + Mᵀλ + ν = 0`: their
+        // difference is the steps' times the Hessian's size.
+        let tolerance = tolerance * (1.0 + hessian.amax());
+        let lambda = (&banded.lambda - &condensed.lambda).amax() / (1.0 + condensed.lambda.amax());
+        assert!(
+            lambda <= tolerance,
+            "multipliers differ by {lambda:e} (allowed {tolerance:e})"
+        );
+        let nu = (&banded.nu - &condensed.nu).amax() / (1.0 + condensed.nu.amax());
+        assert!(
+            nu <= tolerance,
+            "bound multipliers differ by {nu:e} (allowed {tolerance:e})"
+        );
+    }
+
+    /// A tracking slew of a rigid body and of a gyrostat (whose state has rows the
+    /// residuals do not read), torques held and at the Gauss points, some on their bounds
+    /// and none.
+    #[test]
+    fn the_banded_subproblem_is_the_condensed_one() {
+        let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
+        let (t_end, k_steps, nodes) = (20.0, 12usize, 6);
+        let h = t_end / k_steps as f64;
+        let axis = Vector3::new(1.0, 2.0, 2.0) / 3.0;
+        let reference: Vec<_> = (1..=k_steps)
+            .map(|k| (SO3::exp(&(axis * 0.05 * k as f64)), axis * 0.03))
+            .collect();
+        let wheels = Wheels {
+            axes: [Vector3::x(), Vector3::y(), Vector3::new(0.0, 0.3, 1.0)],
+            inertia: [0.05; 3],
+            speeds: Vector3::new(3.0, -2.0, 1.0),
+        };
+        let bound = 0.05;
+        for with_wheels in [false, true] {
+            let mut slew = Slew::new(inertia, t_end)
+                .to(SO3::exp(&(axis * 0.6)), Vector3::zeros())
+                .steps(k_steps)
+                .nodes(nodes)
+                .track(reference.clone(), [2.0, 0.5])
+                .torque_max([bound; 3]);
+            if with_wheels {
+                slew = slew.wheels(wheels);
+            }
+            let plant = slew.system().unwrap();
+            let settings = StepSettings::new(h, nodes).unwrap();
+            let weights = plant.quadrature(settings, slew.start).unwrap().1;
+            for per_step in [1, weights.len()] {
+                let inputs: Vec<Vector3<f64>> = (0..k_steps * per_step)
+                    .map(|i| {
+                        let t = i as f64 / per_step as f64;
+                        Vector3::new(0.06 * (0.5 * t).cos(), -0.01, 0.04 * (0.3 * t).sin())
+                    })
+                    .collect();
+                let run = shoot(
+                    plant,
+                    settings,
+                    slew.start,
+                    slew.target,
+                    &inputs,
+                    per_step,
+                    false,
+                )
+                .unwrap();
+                let fit = residuals(&slew, h, &run).unwrap();
+                let u = DVector::from_iterator(
+                    3 * inputs.len(),
+                    inputs.iter().flat_map(|u| u.iter().copied()),
+                );
+                let diagonal: Vec<f64> = (0..u.len())
+                    .map(|j| {
+                        let w = if per_step == 1 {
+                            h
+                        } else {
+                            h * weights[(j / 3) % per_step]
+                        };
+                        2.0 * w
+                    })
+                    .collect();
+                for bound in [bound, f64::INFINITY] {
+                    banded_matches_condensed(&run, &fit, &u, &diagonal, bound);
+                }
+            }
+        }
     }
 }

@@ -52,9 +52,14 @@
 //!   that the iteration converges as fast as a slew's however large the translation's
 //!   share of the cost; the body frame's `diag(2w)` where the force is bounded.
 //! - **Tracking and terminal costs** ([`Slew::track`], [`Slew::terminal_cost`]): the
-//!   same Gauss–Newton SQP on the least squares, the residuals' Jacobians exact (the
-//!   states' sensitivities chained forwards, the group log's through `J_r(e)⁻¹`), the
-//!   Hessian `diag(2w) + 2 GᵀG`.
+//!   same Gauss–Newton SQP on the least squares, the residuals' Jacobians exact (in the
+//!   states they read, the group log's through `J_r(e)⁻¹`), the Hessian
+//!   `diag(2w) + 2 GᵀG`. The subproblem keeps the states among its variables: the steps'
+//!   linearisations `δx_{k+1} = A_k δx_k + B_k δu_k` as banded equality rows, the Hessian
+//!   block diagonal (`2w` on the torques, each state's `2 G_kᵀG_k` on its own), so that
+//!   `clarabel`'s sparse factorisation costs a fixed amount a step; eliminating the
+//!   states gives the condensed subproblem above, whose `2GᵀG` is dense (its cost the
+//!   cube of the step count). The gradient `2Gᵀr` comes from the adjoint recursion.
 //! - **Minimum time.** The cost is linear, so the constraint's curvature is all there is:
 //!   `W` is the Lagrangian's Hessian `Σ λ_i ∂²e_i/∂z²`, by forward differences of its exact
 //!   gradient `Mᵀλ` in each torque off its bounds and in `h` (one run of the integrator
@@ -478,7 +483,8 @@ impl Slew {
     /// stays a least-squares one, solved by Gauss–Newton with the residuals' exact
     /// Jacobians (the log's through the inverse right Jacobian), the Hessian
     /// `diag(2w) + 2 GᵀG`: converging linearly where the residuals at the optimum are not
-    /// small. For [`Cost::Energy`].
+    /// small. An iteration's cost is linear in the step count (the subproblem's banded
+    /// form, crate documentation), so long horizons are cheap. For [`Cost::Energy`].
     pub fn track(mut self, reference: Vec<Target>, weights: [f64; 2]) -> Self {
         self.tracking = Some((reference, weights));
         self

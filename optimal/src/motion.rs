@@ -11,7 +11,7 @@ use lgsvi_mechanics::built_in::BuiltInSe3;
 use lgsvi_mechanics::lie::{ExpChart, LieGroup, So3Chart, SE3};
 use lgsvi_mechanics::linearization::world_coordinates;
 use lgsvi_mechanics::{Integrator, State, StepSettings};
-use nalgebra::{DMatrix, DVector, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 use std::time::Instant;
 
 /// A state of a body in space.
@@ -554,6 +554,7 @@ impl Manoeuvre {
             for (i, l) in scale.iter().enumerate() {
                 shot.miss[i] /= l;
                 shot.sensitivity.row_mut(i).unscale_mut(*l);
+                shot.terminal.row_mut(i).unscale_mut(*l);
             }
             Ok(shot)
         };
@@ -648,6 +649,7 @@ impl Timed<6> for Manoeuvre {
         for (i, l) in self.scale().iter().enumerate() {
             shot.miss[i] /= l;
             shot.sensitivity.row_mut(i).unscale_mut(*l);
+            shot.terminal.row_mut(i).unscale_mut(*l);
             shot.time_sensitivity[i] /= l;
         }
         Ok(shot)
@@ -690,12 +692,12 @@ impl Timed<6> for Manoeuvre {
 }
 
 impl Manoeuvre {
-    /// The tracking and terminal costs' weighted residuals and their Jacobian in the inputs
-    /// (the slew's, `crate::tracking`, on SE(3)): each state `k` with weights `q` gives
-    /// `√q_θ log(R_refᵀ R_k)`, `√q_x (x_k − x_ref)`, `√q_ω (Ω_k − Ω_ref)`,
-    /// `√q_v (ẋ_k − ẋ_ref)` (times `√h` when tracked). From the states' sensitivities taken
-    /// to the world frame ([`world_coordinates`]), the attitude's through `J_r(e)⁻¹`.
-    /// `None` without either cost.
+    /// The tracking and terminal costs' weighted residuals and their Jacobians in the states
+    /// they read (the slew's, `crate::tracking`, on SE(3)): each state `k` with weights `q`
+    /// gives `√q_θ log(R_refᵀ R_k)`, `√q_x (x_k − x_ref)`, `√q_ω (Ω_k − Ω_ref)`,
+    /// `√q_v (ẋ_k − ẋ_ref)` (times `√h` when tracked), the state's coordinates taken to the
+    /// world frame ([`world_coordinates`]), the attitude's through `J_r(e)⁻¹`. `None`
+    /// without either cost.
     fn residuals(&self, h: f64, shot: &Shot<SE3State>) -> Option<Residuals> {
         if self.tracking.is_none() && self.terminal_cost.is_none() {
             return None;
@@ -709,10 +711,9 @@ impl Manoeuvre {
         if let Some(q) = self.terminal_cost {
             terms.push((shot.states.len() - 1, self.target, q));
         }
-        let sensitivities = shot.state_sensitivities();
-        let columns = shot.sensitivity.ncols();
-        let mut r = DVector::<f64>::zeros(12 * terms.len());
-        let mut g = DMatrix::<f64>::zeros(12 * terms.len(), columns);
+        let observation = shot.observation();
+        let mut values = DVector::<f64>::zeros(12 * terms.len());
+        let mut blocks = Vec::with_capacity(terms.len());
         for (row, (k, (pose, xi), q)) in terms.into_iter().enumerate() {
             let state = &shot.states[k];
             let world = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
@@ -727,22 +728,26 @@ impl Manoeuvre {
                 state.velocity.fixed_rows::<3>(0) - xi.fixed_rows::<3>(0),
                 world(&state.configuration, &state.velocity) - world(&pose, &xi),
             ];
-            let s =
-                world_coordinates(&state.configuration, &state.velocity) * &sensitivities[k - 1];
-            let rows = [
-                ExpChart.rotation_left_differential_inverse(&e) * s.fixed_rows::<3>(0),
-                s.fixed_rows::<3>(3).into_owned(),
-                s.fixed_rows::<3>(6).into_owned(),
-                s.fixed_rows::<3>(9).into_owned(),
-            ];
-            for (part, ((value, jacobian), weight)) in parts.iter().zip(&rows).zip(q).enumerate() {
+            // The world-frame coordinates to the weighted residual's rows.
+            let mut local = DMatrix::<f64>::zeros(12, 12);
+            for (part, weight) in q.iter().enumerate() {
                 let w = weight.sqrt();
-                let at = 12 * row + 3 * part;
-                r.rows_mut(at, 3).copy_from(&(value * w));
-                g.view_mut((at, 0), (3, columns)).copy_from(&(jacobian * w));
+                let jacobian = if part == 0 {
+                    ExpChart.rotation_left_differential_inverse(&e)
+                } else {
+                    Matrix3::identity()
+                };
+                local
+                    .view_mut((3 * part, 3 * part), (3, 3))
+                    .copy_from(&(jacobian * w));
+                values
+                    .rows_mut(12 * row + 3 * part, 3)
+                    .copy_from(&(parts[part] * w));
             }
+            let to_world = world_coordinates(&state.configuration, &state.velocity);
+            blocks.push((k, 12 * row, local * to_world * &observation));
         }
-        Some((r, g))
+        Some(Residuals { values, blocks })
     }
 }
 
@@ -798,4 +803,95 @@ fn world_force_coupling(
             .copy_from(&torques);
     }
     Coupling::new(rows, columns, block)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::energy::tests::banded_matches_condensed;
+    use lgsvi_mechanics::lie::SO3;
+    use lgsvi_mechanics::{FreeBody, Inertia, OrbitingBody};
+
+    /// The banded subproblem of a body in space with a tracking cost (the world-frame
+    /// residual rows, the miss's rows scaled, a bounded force: the path without a
+    /// metric) against the condensed one, for the free body and the orbiting body (near a
+    /// circular orbit of speed 0.1 at r = 4), wrenches held and at the Gauss points.
+    #[test]
+    fn the_banded_subproblem_in_space_is_the_condensed_one() {
+        let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
+        let (t_end, k_steps, nodes) = (8.0, 10usize, 6);
+        let h = t_end / k_steps as f64;
+        let start = (
+            SE3::new(SO3::identity(), Vector3::new(4.0, 0.0, 0.0)),
+            Vector6::new(0.0, 0.0, 0.0, 0.0, 0.1, 0.0),
+        );
+        let reference: Vec<_> = (1..=k_steps)
+            .map(|k| {
+                let t = k as f64 * h;
+                (
+                    SE3::new(
+                        SO3::exp(&Vector3::new(0.0, 0.0, 0.02 * t)),
+                        Vector3::new(4.0, 0.1 * t, 0.0),
+                    ),
+                    Vector6::new(0.0, 0.0, 0.02, 0.0, 0.1, 0.0),
+                )
+            })
+            .collect();
+        for body in [
+            BuiltInSe3::Free(FreeBody::new(inertia, 7.0).unwrap()),
+            BuiltInSe3::Orbit(OrbitingBody::new(inertia, 7.0, 0.04).unwrap()),
+        ] {
+            let manoeuvre = Manoeuvre::new(body, t_end)
+                .from(start.0, start.1)
+                .to(reference[k_steps - 1].0, reference[k_steps - 1].1)
+                .steps(k_steps)
+                .nodes(nodes)
+                .track(reference.clone(), [2.0, 1.0, 0.5, 0.5]);
+            let settings = StepSettings::new(h, nodes).unwrap();
+            let weights = Integrator::new(body, settings, start.0, start.1)
+                .unwrap()
+                .quadrature_weights();
+            for per_step in [1, weights.len()] {
+                let inputs: Vec<Vector6<f64>> = (0..k_steps * per_step)
+                    .map(|i| {
+                        let t = i as f64 / per_step as f64;
+                        Vector6::new(0.02 * t.cos(), -0.01, 0.01, 0.1, 0.05 * t.sin(), -0.2)
+                    })
+                    .collect();
+                let mut run = shoot_motion(
+                    body,
+                    settings,
+                    manoeuvre.start,
+                    manoeuvre.target,
+                    &inputs,
+                    per_step,
+                    Wants::default(),
+                )
+                .unwrap();
+                for (i, l) in manoeuvre.scale().iter().enumerate() {
+                    run.miss[i] /= l;
+                    run.sensitivity.row_mut(i).unscale_mut(*l);
+                    run.terminal.row_mut(i).unscale_mut(*l);
+                }
+                let fit = manoeuvre.residuals(h, &run).unwrap();
+                let u = DVector::from_iterator(
+                    6 * inputs.len(),
+                    inputs.iter().flat_map(|u| u.iter().copied()),
+                );
+                let diagonal: Vec<f64> = (0..u.len())
+                    .map(|j| {
+                        let w = if per_step == 1 {
+                            h
+                        } else {
+                            h * weights[(j / 6) % per_step]
+                        };
+                        2.0 * w
+                    })
+                    .collect();
+                for bound in [0.15, f64::INFINITY] {
+                    banded_matches_condensed(&run, &fit, &u, &diagonal, bound);
+                }
+            }
+        }
+    }
 }

@@ -70,7 +70,7 @@ pub(crate) struct Shot<St = State> {
     /// `M = ∂x_K/∂u` (the observed rows, `m` columns per input of a step) in the
     /// coordinates of the miss: the body-frame `(θ, ω)` on SO(3), `(θ_R, δx, δΩ, δẋ)` with
     /// the position and velocity in the world frame on SE(3) ([`shoot_motion`]).
-    /// [`Shot::state_sensitivities`] and [`Shot::attitude_sensitivities`] are in the
+    /// [`Shot::full_state_sensitivities`] and [`Shot::attitude_sensitivities`] are in the
     /// linearisation's native `(θ, ω)` on both.
     pub sensitivity: DMatrix<f64>,
     /// `∂x_K/∂h` (the observed rows), the step length shared by every step; zero unless
@@ -79,6 +79,11 @@ pub(crate) struct Shot<St = State> {
     /// The terminal miss: on SO(3) `e = (log(R_Kᵀ R_f), Ω_f − Ω_K)`, on SE(3)
     /// `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)`.
     pub miss: DVector<f64>,
+    /// The map from the plant's linearisation state at `x_K` (velocity coordinates, `2D`
+    /// columns) to the miss's coordinates: `sensitivity = terminal ∂x_K/∂u`. The observed
+    /// rows' selection on SO(3); on SE(3) with the position and velocity taken to the
+    /// world frame ([`world_coordinates`]).
+    pub terminal: DMatrix<f64>,
     /// The rows of the plant's linearisation state `(θ, ω) ∈ ℝ^{2D}` that the problem
     /// observes: on a slew the attitude's and the body rates' (`0..3` and `D..D + 3`), on
     /// SE(3) all twelve.
@@ -96,17 +101,13 @@ pub(crate) struct Shot<St = State> {
 }
 
 impl<St> Shot<St> {
-    /// The observed rows of a matrix in the plant's state.
-    fn observed(&self, full: &DMatrix<f64>) -> DMatrix<f64> {
-        full.select_rows(&self.rows)
-    }
-
-    /// `∂x_k/∂u` for `k = 1 … K` (the observed rows, `n` columns each), chained forwards:
-    /// `S_{k+1} = A_k S_k + [B_kj in step k's columns]`.
-    pub fn state_sensitivities(&self) -> Vec<DMatrix<f64>> {
+    /// `∂x_k/∂u` for `k = 1 … K` in the plant's whole linearisation state (`2D` rows, `n`
+    /// columns each), chained forwards: `S_{k+1} = A_k S_k + [B_kj in step k's columns]`.
+    /// Dense: `K` matrices of `2D × n`, so quadratic in the step count.
+    pub fn full_state_sensitivities(&self) -> Vec<DMatrix<f64>> {
         let columns = self.sensitivity.ncols();
         let per_step = columns / self.a.len().max(1);
-        let size = self.a.first().map_or(0, |a| a.nrows());
+        let size = self.state_size();
         let mut out = Vec::with_capacity(self.a.len());
         let mut s = DMatrix::<f64>::zeros(size, columns);
         for (k, (a, b)) in self.a.iter().zip(&self.b).enumerate() {
@@ -115,7 +116,50 @@ impl<St> Shot<St> {
                 s.view_mut((0, per_step * k + self.width * j), (size, self.width))
                     .copy_from(bj);
             }
-            out.push(self.observed(&s));
+            out.push(s.clone());
+        }
+        out
+    }
+
+    /// The size `2D` of the plant's linearisation state.
+    pub fn state_size(&self) -> usize {
+        self.terminal.ncols()
+    }
+
+    /// The selection of the observed rows from the plant's linearisation state
+    /// (`rows × 2D`).
+    pub fn observation(&self) -> DMatrix<f64> {
+        DMatrix::<f64>::identity(self.state_size(), self.state_size()).select_rows(&self.rows)
+    }
+
+    /// Each step's `A_k` (velocity coordinates, `2D × 2D`).
+    pub fn state_jacobians(&self) -> &[DMatrix<f64>] {
+        &self.a
+    }
+
+    /// Each step's input Jacobians `B_kj` (velocity coordinates, `2D × m` each, one per
+    /// input of the step).
+    pub fn input_jacobians(&self) -> &[Vec<DMatrix<f64>>] {
+        &self.b
+    }
+
+    /// The gradient in the inputs of `Σ_k g_kᵀ x_k`, for `g_k` given at states `k ≥ 1`
+    /// (`2D` entries each, `gradients[k − 1]`, in the plant's linearisation state): the
+    /// adjoint recursion `p_K = g_K`, `∂/∂u_kj = B_kjᵀ p_{k+1}`,
+    /// `p_k = A_kᵀ p_{k+1} + g_k`, linear in the step count (no sensitivity is formed).
+    pub fn input_gradient(&self, gradients: &[DVector<f64>]) -> DVector<f64> {
+        let columns = self.sensitivity.ncols();
+        let k_steps = self.a.len();
+        let per_step = columns / k_steps.max(1);
+        let mut out = DVector::<f64>::zeros(columns);
+        let mut p = DVector::<f64>::zeros(self.state_size());
+        for k in (0..k_steps).rev() {
+            p += &gradients[k];
+            for (j, bj) in self.b[k].iter().enumerate() {
+                out.rows_mut(per_step * k + self.width * j, self.width)
+                    .copy_from(&(bj.transpose() * &p));
+            }
+            p = self.a[k].transpose() * &p;
         }
         out
     }
@@ -308,6 +352,7 @@ pub(crate) fn shoot_motion(
     let last = &shot.states[shot.states.len() - 1];
     let world = world_coordinates(&last.configuration, &last.velocity);
     shot.sensitivity = &world * &shot.sensitivity;
+    shot.terminal = &world * &shot.terminal;
     if time {
         shot.time_sensitivity = &world * &shot.time_sensitivity;
     }
@@ -461,6 +506,7 @@ where
     }
     let miss = miss(&states[k_steps]);
     let sensitivity = full.select_rows(&rows);
+    let terminal = DMatrix::<f64>::identity(2 * D, 2 * D).select_rows(&rows);
     let time_sensitivity = time_full.select_rows(&rows).column(0).into_owned();
     Ok(Shot {
         states,
@@ -468,6 +514,7 @@ where
         sensitivity,
         time_sensitivity,
         miss,
+        terminal,
         rows,
         width: M,
         a,

@@ -1,23 +1,83 @@
 //! The residuals of the tracking cost and of a terminal cost in place of the exact
 //! terminal condition: they make the minimum-energy slew a nonlinear least-squares
 //! problem, which `crate::energy` solves by Gauss–Newton SQP with their exact Jacobians.
+//!
+//! Each block of residuals reads one state, so its Jacobian is kept in that state's own
+//! coordinates (`2D` columns), not chained to the inputs: the gradient `2Gᵀr` follows by
+//! the adjoint recursion ([`Shot::input_gradient`]) and the subproblem sees the banded
+//! structure of the steps ([`crate::energy`]), both linear in the step count. The dense
+//! Jacobian in the inputs, `G = [G_b ∂x_k/∂u]`, is formed only where a change of the
+//! subproblem's metric needs it ([`Residuals::dense`]).
 
 use crate::shooting::Shot;
 use crate::{Slew, Target};
 use lgsvi_mechanics::lie::{ExpChart, LieGroup, So3Chart};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix3};
 
-/// The weighted residuals of a shot and their Jacobian in the inputs: each tracked state
-/// contributes `√(h q_θ) log(R_refᵀ R_k)` and `√(h q_ω) (Ω_k − Ω_ref)`, the soft target
-/// `√q_θ log(R_fᵀ R_K)` and `√q_ω (Ω_K − Ω_f)`. A perturbation `R_k exp(δθ)` moves
-/// `log(R_refᵀ R_k)` by `J_r(e)⁻¹ δθ` (the inverse right Jacobian at the error `e`).
-/// `None` where the slew has neither cost (the states' sensitivities are then not formed).
+/// The weighted residuals of a run, in blocks of rows that each read one state.
+pub(crate) struct Residuals {
+    /// The residuals `r`.
+    pub values: DVector<f64>,
+    /// Each block: the state `k ≥ 1` it reads, its first row in `values`, and its
+    /// Jacobian `G_b` in that state's linearisation coordinates (the block's rows, `2D`
+    /// columns).
+    pub blocks: Vec<(usize, usize, DMatrix<f64>)>,
+}
+
+impl Residuals {
+    /// `|r|²`.
+    pub fn squared(&self) -> f64 {
+        self.values.norm_squared()
+    }
+
+    /// The Gauss–Newton model's terms at each state `k = 1 … K` (`states` of them, `size`
+    /// the state's coordinates): the gradient `2 Σ_b G_bᵀ r_b` and the Hessian
+    /// `2 Σ_b G_bᵀ G_b` of the blocks that read it.
+    pub fn by_state(&self, states: usize, size: usize) -> Vec<(DVector<f64>, DMatrix<f64>)> {
+        let mut out = vec![(DVector::zeros(size), DMatrix::zeros(size, size)); states];
+        for (k, at, g) in &self.blocks {
+            let r = self.values.rows(*at, g.nrows());
+            let (gradient, hessian) = &mut out[k - 1];
+            *gradient += 2.0 * g.transpose() * r;
+            *hessian += 2.0 * g.transpose() * g;
+        }
+        out
+    }
+
+    /// `2Gᵀr`, the gradient of `|r|²` in the inputs, by the adjoint recursion.
+    pub fn gradient<St>(&self, shot: &Shot<St>) -> DVector<f64> {
+        let states = shot.states.len() - 1;
+        let per_state: Vec<DVector<f64>> = self
+            .by_state(states, shot.state_size())
+            .into_iter()
+            .map(|(g, _)| g)
+            .collect();
+        shot.input_gradient(&per_state)
+    }
+
+    /// The Jacobian `G` in the inputs, dense (rows of `r`, the run's input columns):
+    /// quadratic in the step count.
+    pub fn dense<St>(&self, shot: &Shot<St>) -> DMatrix<f64> {
+        let sensitivities = shot.full_state_sensitivities();
+        let mut g = DMatrix::<f64>::zeros(self.values.len(), shot.sensitivity.ncols());
+        for (k, at, block) in &self.blocks {
+            g.rows_mut(*at, block.nrows())
+                .copy_from(&(block * &sensitivities[k - 1]));
+        }
+        g
+    }
+}
+
+/// The weighted residuals of a shot and their Jacobians in the states they read: each
+/// tracked state contributes `√(h q_θ) log(R_refᵀ R_k)` and `√(h q_ω) (Ω_k − Ω_ref)`, the
+/// soft target `√q_θ log(R_fᵀ R_K)` and `√q_ω (Ω_K − Ω_f)`. A perturbation `R_k exp(δθ)`
+/// moves `log(R_refᵀ R_k)` by `J_r(e)⁻¹ δθ` (the inverse right Jacobian at the error `e`).
+/// `None` where the slew has neither cost.
 pub(crate) fn residuals(slew: &Slew, h: f64, shot: &Shot) -> Option<Residuals> {
     if slew.tracking.is_none() && slew.terminal_cost.is_none() {
         return None;
     }
-    let sensitivities = shot.state_sensitivities();
-    let columns = shot.sensitivity.ncols();
+    let observation = shot.observation();
     let mut terms: Vec<(usize, Target, [f64; 2])> = Vec::new();
     if let Some((reference, [q_theta, q_omega])) = &slew.tracking {
         for (k, state) in reference.iter().enumerate() {
@@ -27,26 +87,25 @@ pub(crate) fn residuals(slew: &Slew, h: f64, shot: &Shot) -> Option<Residuals> {
     if let Some(weights) = slew.terminal_cost {
         terms.push((shot.states.len() - 1, slew.target, weights));
     }
-    let mut r = DVector::<f64>::zeros(6 * terms.len());
-    let mut g = DMatrix::<f64>::zeros(6 * terms.len(), columns);
+    let mut values = DVector::<f64>::zeros(6 * terms.len());
+    let mut blocks = Vec::with_capacity(terms.len());
     for (row, (k, (attitude, omega), [q_theta, q_omega])) in terms.into_iter().enumerate() {
         let state = &shot.states[k];
         let e = attitude.inverse().compose(&state.configuration).log();
-        let jacobian = ExpChart.rotation_left_differential_inverse(&e);
         let (wt, ww) = (q_theta.sqrt(), q_omega.sqrt());
-        let s = &sensitivities[k - 1];
-        let theta_rows = jacobian * s.rows(0, 3) * wt;
-        let omega_rows = s.rows(3, 3) * ww;
-        g.view_mut((6 * row, 0), (3, columns))
-            .copy_from(&theta_rows);
-        g.view_mut((6 * row + 3, 0), (3, columns))
-            .copy_from(&omega_rows);
-        r.rows_mut(6 * row, 3).copy_from(&(e * wt));
-        r.rows_mut(6 * row + 3, 3)
+        // The observed rows (θ, ω) to the weighted residual's rows.
+        let mut local = DMatrix::<f64>::zeros(6, 6);
+        local
+            .view_mut((0, 0), (3, 3))
+            .copy_from(&(ExpChart.rotation_left_differential_inverse(&e) * wt));
+        local
+            .view_mut((3, 3), (3, 3))
+            .copy_from(&(Matrix3::identity() * ww));
+        blocks.push((k, 6 * row, local * &observation));
+        values.rows_mut(6 * row, 3).copy_from(&(e * wt));
+        values
+            .rows_mut(6 * row + 3, 3)
             .copy_from(&((state.velocity - omega) * ww));
     }
-    Some((r, g))
+    Some(Residuals { values, blocks })
 }
-
-/// The weighted residuals and their Jacobian in the inputs.
-pub(crate) type Residuals = (DVector<f64>, DMatrix<f64>);
