@@ -91,19 +91,20 @@ pub(crate) struct Problem<'a, St, const M: usize> {
     /// Whether the subproblem sees its equality rows scaled to a largest entry of 1 (for
     /// rows of very different sizes, as a body in space's attitude and position).
     pub equilibrate: bool,
-    /// A change of the subproblem's metric, where there is one: a map `E` of the inputs
-    /// (`M·N` square) such that the step `δu` is measured as `|(I − E) δu|²` in the
-    /// quadrature's weights, `H = (I − E)ᵀ diag(2w) (I − E)` in place of `diag(2w)`
-    /// (a body in space's force measured in the world frame, `crate::motion`). The cost
-    /// and the constraints are unchanged, so is every KKT point; only the path to one is.
-    /// The entries `E` couples (its nonzero rows) must have no bound: the metric is
-    /// ignored where they have one.
+    /// A change of the subproblem's metric, where there is one: for each input `i` of
+    /// step `k`, a map `C_i` (`M` rows; the step's start state's `2D` columns, then the
+    /// step's inputs' `M` each) such that the step is measured as
+    /// `δv_i = δu_i − C_i [δx_k; δu_k]`, the model's Hessian `diag(2w)` on `δv` in place of
+    /// `δu` (a body in space's force measured in the world frame, `crate::motion`). The
+    /// cost, the constraints and their linearisations are unchanged, so is every KKT
+    /// point; only the path to one is. The subproblem is then the banded one
+    /// ([`Banded`]), with `δv` among its variables, so the bounds stay bounds on `u`.
     pub metric: Option<&'a Metric<'a, St, M>>,
 }
 
-/// The map `E` of [`Problem::metric`] at a run and its inputs.
+/// The maps `C_i` of [`Problem::metric`] at a run and its inputs.
 pub(crate) type Metric<'a, St, const M: usize> =
-    dyn Fn(&Shot<St>, &[SVector<f64, M>]) -> Coupling + 'a;
+    dyn Fn(&Shot<St>, &[SVector<f64, M>]) -> Vec<DMatrix<f64>> + 'a;
 
 /// A run of the integrator under inputs of `M` entries.
 pub(crate) type Shooter<'a, St, const M: usize> =
@@ -197,22 +198,15 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     .unzip(),
                 None => (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]),
             };
-            // With a metric, the subproblem is taken in `δv = (I − E) δu`
-            // (`δu = (I + E) δv`, `E² = 0`): the Hessian `diag(2w)` (plus the residuals'
-            // `2 G_vᵀ G_v`, `G_v = G (I + E)`), the rows `M (I + E)`, the gradient
-            // `(I + E)ᵀ g`, and the bounds those of `u` (the entries `E` couples have none:
-            // `Problem::metric`).
-            let coupling = self.metric.map(|metric| metric(&run, &inputs)).filter(|c| {
-                c.rows
-                    .iter()
-                    .all(|&j| !lower[j].is_finite() && !upper[j].is_finite())
-            });
-            // With residuals and no metric, the banded subproblem (the states among its
-            // variables), whose cost is linear in the step count; else the condensed one.
-            let found = if let (Some(f), None) = (&fit, &coupling) {
+            // With residuals or a metric, the banded subproblem (the states among its
+            // variables), whose cost is linear in the step count; else the condensed one,
+            // whose Hessian `diag(2w)` and six terminal rows are too.
+            let maps = self.metric.map(|metric| metric(&run, &inputs));
+            let found = if fit.is_some() || maps.is_some() {
                 Banded {
                     run: &run,
-                    fit: f,
+                    fit: fit.as_ref(),
+                    metric: maps.as_deref(),
                     diagonal: &diagonal,
                     energy_gradient: &energy_gradient,
                     exact_target,
@@ -220,72 +214,31 @@ impl<St, const M: usize> Problem<'_, St, M> {
                 }
                 .solve(&lower, &upper)?
             } else {
-                // The residuals' Jacobian in the subproblem's variables, `G (I + E)` with a
-                // metric (dense).
-                let fit_jacobian = match (&fit, &coupling) {
-                    (Some(f), Some(c)) => {
-                        let g = f.dense(&run);
-                        Some(&g + c.right(&g))
-                    }
-                    _ => None,
-                };
-                let hessian = match &fit_jacobian {
-                    None => qp::diagonal(&diagonal),
-                    Some(g) => {
-                        let mut dense = 2.0 * g.transpose() * g;
-                        for (j, d) in diagonal.iter().enumerate() {
-                            dense[(j, j)] += d;
-                        }
-                        qp::upper_triangle(&dense)
-                    }
-                };
-                let (rows_v, gradient_v) = match &coupling {
-                    Some(c) => (
-                        Some(rows + c.right(rows)),
-                        Some(
-                            &gradient
-                                + DVector::from_column_slice(
-                                    c.right(&DMatrix::from_row_slice(1, n, gradient.as_slice()))
-                                        .as_slice(),
-                                ),
-                        ),
-                    ),
-                    None => (None, None),
-                };
-                let rows = rows_v.as_ref().unwrap_or(rows);
-                let q = gradient_v.as_ref().unwrap_or(&gradient);
-                // With `equilibrate`, the equality rows scaled to a largest entry of 1 for the
-                // subproblem (the same constraints, better conditioned); its multipliers
-                // scaled back.
-                let row_scale: Option<Vec<f64>> = self.equilibrate.then(|| {
-                    (0..rows.nrows())
-                        .map(|i| match rows.row(i).amax() {
-                            largest if largest > 0.0 => 1.0 / largest,
-                            _ => 1.0,
-                        })
-                        .collect()
-                });
-                let scaled = row_scale.as_ref().map(|s| {
-                    (
-                        DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * s[i]),
-                        DVector::from_fn(e.len(), |i, _| e[i] * s[i]),
-                    )
-                });
-                let (qp_rows, qp_e) = match &scaled {
-                    Some((m, f)) => (m, f),
-                    None => (rows, e),
-                };
-                let mut found =
-                    qp::solve(hessian, q.as_slice(), qp_rows, qp_e, &lower, &upper, 1e-13)?;
-                if let (Some(solution), Some(s)) = (&mut found, &row_scale) {
-                    for (l, s) in solution.lambda.iter_mut().zip(s) {
+                // With `equilibrate`, the equality rows scaled to a largest entry of 1 for
+                // the subproblem (the same constraints, better conditioned); its
+                // multipliers scaled back.
+                let scale: Vec<f64> = (0..rows.nrows())
+                    .map(|i| match rows.row(i).amax() {
+                        largest if self.equilibrate && largest > 0.0 => 1.0 / largest,
+                        _ => 1.0,
+                    })
+                    .collect();
+                let scaled_rows = DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * scale[i]);
+                let scaled_e = DVector::from_fn(e.len(), |i, _| e[i] * scale[i]);
+                let hessian = qp::diagonal(&diagonal);
+                let mut found = qp::solve(
+                    hessian,
+                    gradient.as_slice(),
+                    &scaled_rows,
+                    &scaled_e,
+                    &lower,
+                    &upper,
+                    1e-13,
+                )?;
+                if let Some(solution) = &mut found {
+                    for (l, s) in solution.lambda.iter_mut().zip(&scale) {
                         *l *= s;
                     }
-                }
-                // Back from `δv`: the step `(I + E) δv`; the bound multipliers are those of the
-                // same bounds (on entries `E` leaves alone).
-                if let (Some(solution), Some(c)) = (&mut found, &coupling) {
-                    solution.step = &solution.step + c.times(&solution.step);
                 }
                 found
             };
@@ -380,9 +333,17 @@ impl<St, const M: usize> Problem<'_, St, M> {
 /// they make its Hessian block diagonal and its rows banded, so that `clarabel`'s sparse
 /// factorisation costs a fixed amount a step, where the condensed Hessian
 /// `diag(2w) + 2GᵀG` is dense and costs the cube of the step count to form and factor.
+///
+/// With a metric ([`Problem::metric`]) the energy's model is `∇Jᵀδu + ½ δvᵀ diag(2w) δv`
+/// with the measured step `δv_i = δu_i − C_i [δx_k; δu_k]`: its gradient term unchanged
+/// (the cost is the same), its curvature measured in `δv`. Each `C_i` reads only its
+/// step's start and inputs, so the Hessian `Σ_i L_iᵀ diag(2w_i) L_i` stays banded (a
+/// block over each step's start and inputs), and a bound stays a bound on `u + δu`.
 struct Banded<'a, St> {
     run: &'a Shot<St>,
-    fit: &'a Residuals,
+    fit: Option<&'a Residuals>,
+    /// Each input's `C_i`, where the step is measured in another metric.
+    metric: Option<&'a [DMatrix<f64>]>,
     /// The energy's Hessian `2w`, one entry per input entry.
     diagonal: &'a [f64],
     /// The energy's gradient `2wu`.
@@ -401,32 +362,76 @@ impl<St> Banded<'_, St> {
         let (k_steps, size, n) = (a.len(), run.state_size(), self.diagonal.len());
         let per_step = b.first().map_or(1, Vec::len);
         let width = n / (k_steps * per_step);
-        let by_state = self.fit.by_state(k_steps, size);
-        let total = n + size * k_steps;
+        let by_state = self.fit.map(|f| f.by_state(k_steps, size));
+        // The variables: δu, then δx_1 … δx_K.
         let state_column = |k: usize| n + size * (k - 1);
-        // The Hessian's upper triangle: `2w`, then each state's block.
-        let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
-        for (j, d) in self.diagonal.iter().enumerate() {
-            rowval.push(j);
-            nzval.push(*d);
-            colptr.push(rowval.len());
-        }
-        for (k, (_, hessian)) in by_state.iter().enumerate() {
-            for c in 0..size {
-                for i in 0..=c {
-                    if hessian[(i, c)] != 0.0 {
-                        rowval.push(state_column(k + 1) + i);
-                        nzval.push(hessian[(i, c)]);
+        let total = n + size * k_steps;
+        // Step k's own columns: its start state's (none at k = 0), then its inputs'.
+        let own = |k: usize, c: usize| match c.checked_sub(size) {
+            Some(input) => Some(width * per_step * k + input),
+            None => (k > 0).then(|| state_column(k) + c),
+        };
+        // The Hessian's upper triangle, by columns, entries summed where they meet: the
+        // energy's `2w` on δu, or with a metric `L_iᵀ diag(2w_i) L_i` on step k's own
+        // columns (`L_i = [0 | I_i] − C_i`, so that `L_i [δx_k; δu_k] = δv_i`); each
+        // state's block of the residuals.
+        let mut hessian: Vec<Vec<(usize, f64)>> = vec![Vec::new(); total];
+        let mut add = |i: usize, j: usize, value: f64| {
+            if value != 0.0 {
+                hessian[i.max(j)].push((i.min(j), value));
+            }
+        };
+        match self.metric {
+            None => {
+                for (j, d) in self.diagonal.iter().enumerate() {
+                    add(j, j, *d);
+                }
+            }
+            Some(maps) => {
+                // Summed over a step's inputs first, then entered once.
+                let columns = size + width * per_step;
+                for (k, step_maps) in maps.chunks(per_step).enumerate() {
+                    let mut block = DMatrix::<f64>::zeros(columns, columns);
+                    for (j, map) in step_maps.iter().enumerate() {
+                        let i = per_step * k + j;
+                        let mut l = -map.clone();
+                        for r in 0..width {
+                            l[(r, size + width * j + r)] += 1.0;
+                            l.row_mut(r).scale_mut(self.diagonal[width * i + r].sqrt());
+                        }
+                        block += l.transpose() * &l;
+                    }
+                    for c in 0..columns {
+                        for r in 0..=c {
+                            if let (Some(row), Some(column)) = (own(k, r), own(k, c)) {
+                                add(row, column, block[(r, c)]);
+                            }
+                        }
                     }
                 }
-                colptr.push(rowval.len());
             }
         }
-        let p = CscMatrix::new(total, total, colptr, rowval, nzval);
         let mut q: Vec<f64> = self.energy_gradient.iter().copied().collect();
-        for (gradient, _) in &by_state {
-            q.extend(gradient.iter());
+        q.resize(total, 0.0);
+        for (k, (gradient, block)) in by_state.iter().flatten().enumerate() {
+            let at = state_column(k + 1);
+            q[at..at + size].copy_from_slice(gradient.as_slice());
+            for c in 0..size {
+                for i in 0..=c {
+                    add(at + i, at + c, block[(i, c)]);
+                }
+            }
         }
+        let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+        for column in &mut hessian {
+            sum_repeated(column);
+            for &(i, value) in column.iter() {
+                rowval.push(i);
+                nzval.push(value);
+            }
+            colptr.push(rowval.len());
+        }
+        let p = CscMatrix::new(total, total, colptr, rowval, nzval);
         // The terminal rows, scaled where asked.
         let (mut terminal, mut e) = (run.terminal.clone(), run.miss.clone());
         if !self.exact_target {
@@ -443,51 +448,53 @@ impl<St> Banded<'_, St> {
             terminal.row_mut(i).scale_mut(*s);
             e[i] *= s;
         }
-        // The rows by columns: the inputs' `−B_kj` in step k's rows, the states' `I` in
-        // the rows of the step that ends at them, `−A_k` in the next step's, and `T` at
-        // the last.
+        // The rows, by columns: step k's rows hold `δx_{k+1} − A_k δx_k − Σ_j B_kj δu_kj`,
+        // the terminal rows `T δx_K`.
         let dynamics = size * k_steps;
-        let mut columns: Vec<Vec<(usize, f64)>> = Vec::with_capacity(total);
-        for i in 0..n {
-            let (input, c) = (i / width, i % width);
-            let (k, j) = (input / per_step, input % per_step);
-            columns.push(
-                (0..size)
-                    .filter(|&r| b[k][j][(r, c)] != 0.0)
-                    .map(|r| (size * k + r, -b[k][j][(r, c)]))
-                    .collect(),
-            );
-        }
-        for k in 1..=k_steps {
-            // The step that starts at state k (none for the last).
-            let next = a.get(k).filter(|_| k < k_steps);
-            for c in 0..size {
-                let mut column = vec![(size * (k - 1) + c, 1.0)];
-                if let Some(next) = next {
-                    column.extend(
-                        (0..size)
-                            .filter(|&r| next[(r, c)] != 0.0)
-                            .map(|r| (size * k + r, -next[(r, c)])),
-                    );
-                } else {
-                    column.extend(
-                        (0..terminal.nrows())
-                            .filter(|&r| terminal[(r, c)] != 0.0)
-                            .map(|r| (dynamics + r, terminal[(r, c)])),
-                    );
-                }
-                columns.push(column);
+        let mut columns: Vec<Vec<(usize, f64)>> = vec![Vec::new(); total];
+        let mut put = |column: usize, row: usize, value: f64| {
+            if value != 0.0 {
+                columns[column].push((row, value));
             }
+        };
+        for k in 0..k_steps {
+            for c in 0..size {
+                put(state_column(k + 1) + c, size * k + c, 1.0);
+                if let Some(at) = own(k, c) {
+                    for r in 0..size {
+                        put(at, size * k + r, -a[k][(r, c)]);
+                    }
+                }
+            }
+            for (j, bj) in b[k].iter().enumerate() {
+                for c in 0..width {
+                    for r in 0..size {
+                        put(width * (per_step * k + j) + c, size * k + r, -bj[(r, c)]);
+                    }
+                }
+            }
+        }
+        for c in 0..size {
+            for r in 0..terminal.nrows() {
+                put(state_column(k_steps) + c, dynamics + r, terminal[(r, c)]);
+            }
+        }
+        for column in &mut columns {
+            sum_repeated(column);
         }
         let mut rhs = DVector::<f64>::zeros(dynamics + e.len());
         rhs.rows_mut(dynamics, e.len()).copy_from(&e);
-        let free = vec![f64::INFINITY; size * k_steps];
+        let free = total - n;
         let lower: Vec<f64> = lower
             .iter()
             .copied()
-            .chain(free.iter().map(|x| -x))
+            .chain(std::iter::repeat_n(f64::NEG_INFINITY, free))
             .collect();
-        let upper: Vec<f64> = upper.iter().copied().chain(free.iter().copied()).collect();
+        let upper: Vec<f64> = upper
+            .iter()
+            .copied()
+            .chain(std::iter::repeat_n(f64::INFINITY, free))
+            .collect();
         let found = qp::solve_sparse(
             p,
             &q,
@@ -507,6 +514,18 @@ impl<St> Banded<'_, St> {
             nu: s.nu.rows(0, n).into_owned(),
         }))
     }
+}
+
+/// A sparse column's entries by increasing row, those of a repeated row summed.
+fn sum_repeated(column: &mut Vec<(usize, f64)>) {
+    column.sort_by_key(|&(row, _)| row);
+    column.dedup_by(|later, earlier| {
+        let same = later.0 == earlier.0;
+        if same {
+            earlier.1 += later.1;
+        }
+        same
+    });
 }
 
 /// The inputs a minimum-energy iteration starts from, with each input's quadrature
@@ -574,51 +593,6 @@ pub(crate) fn by_step<const M: usize>(
     (means, steps)
 }
 
-/// A metric's map `E` ([`Problem::metric`]) by its block: `E` is zero outside the rows
-/// `rows` and the columns `columns`, which are disjoint, so `E² = 0`; `block` is its
-/// `rows × columns` part.
-pub(crate) struct Coupling {
-    pub rows: Vec<usize>,
-    pub columns: Vec<usize>,
-    pub block: DMatrix<f64>,
-}
-
-impl Coupling {
-    /// `E` from its rows, columns and block.
-    pub(crate) fn new(rows: Vec<usize>, columns: Vec<usize>, block: DMatrix<f64>) -> Self {
-        debug_assert!(
-            columns.iter().all(|j| !rows.contains(j))
-                && block.shape() == (rows.len(), columns.len()),
-            "a metric's E couples disjoint rows and columns (E² = 0), its block their size"
-        );
-        Self {
-            rows,
-            columns,
-            block,
-        }
-    }
-
-    /// `X E` for `X` with `E`'s row count of columns.
-    fn right(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
-        let product = x.select_columns(&self.rows) * &self.block;
-        let mut out = DMatrix::zeros(x.nrows(), x.ncols());
-        for (k, &j) in self.columns.iter().enumerate() {
-            out.set_column(j, &product.column(k));
-        }
-        out
-    }
-
-    /// `E v`.
-    fn times(&self, v: &DVector<f64>) -> DVector<f64> {
-        let product = &self.block * v.select_rows(&self.columns);
-        let mut out = DVector::zeros(v.len());
-        for (k, &i) in self.rows.iter().enumerate() {
-            out[i] = product[k];
-        }
-        out
-    }
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -629,37 +603,69 @@ pub(crate) mod tests {
     use lgsvi_mechanics::Inertia;
 
     /// The banded subproblem against the condensed one it is the elimination of, at `run`
-    /// with residuals `fit`, inputs `u` (flat), the energy weights `diagonal` (`2w`) and
-    /// each entry bounded by `bound`: the same step, the same terminal and bound
-    /// multipliers, and the adjoint gradient equal to `2Gᵀr` from the dense `G`. Both are
-    /// interior-point solutions to 1e-13; the condensed one forms `2GᵀG` and the
-    /// sensitivity by other products, so they agree to about 1e-9 of the step's size
-    /// where bounds are active (the interior point's complementarity) and to rounding
-    /// without.
+    /// with residuals `fit` and a metric's maps `metric` where given, inputs `u` (flat),
+    /// the energy weights `diagonal` (`2w`) and each entry bounded by `bound`: the same
+    /// step, the same terminal and bound multipliers, and the adjoint gradient equal to
+    /// `2Gᵀr` from the dense `G`. The condensed Hessian is
+    /// `(I − Ĉ)ᵀ diag(2w) (I − Ĉ) + 2GᵀG`, `Ĉ` the maps chained through the states'
+    /// sensitivities (`Ĉ_i = C_i [∂x_k/∂u; ∂u_k/∂u]`). Both are interior-point solutions
+    /// to 1e-13; the condensed one forms its products in another order, so they agree to
+    /// about 1e-9 of the step's size where bounds are active (the interior point's
+    /// complementarity) and to rounding without.
     pub(crate) fn banded_matches_condensed<St>(
         run: &Shot<St>,
-        fit: &Residuals,
+        fit: Option<&Residuals>,
+        metric: Option<&[DMatrix<f64>]>,
         u: &DVector<f64>,
         diagonal: &[f64],
         bound: f64,
     ) {
         let n = u.len();
-        let g = fit.dense(run);
-        let dense_gradient = 2.0 * g.transpose() * &fit.values;
-        let adjoint = fit.gradient(run);
-        assert!(
-            (&adjoint - &dense_gradient).amax() <= 1e-13 * (1.0 + dense_gradient.amax()),
-            "adjoint gradient {:e} off",
-            (&adjoint - &dense_gradient).amax()
-        );
+        let (g, r) = match fit {
+            Some(fit) => {
+                let g = fit.dense(run);
+                let dense_gradient = 2.0 * g.transpose() * &fit.values;
+                let adjoint = fit.gradient(run);
+                assert!(
+                    (&adjoint - &dense_gradient).amax() <= 1e-13 * (1.0 + dense_gradient.amax()),
+                    "adjoint gradient {:e} off",
+                    (&adjoint - &dense_gradient).amax()
+                );
+                (g, fit.values.clone())
+            }
+            None => (DMatrix::zeros(0, n), DVector::zeros(0)),
+        };
         let energy_gradient = DVector::from_fn(n, |j, _| diagonal[j] * u[j]);
         let lower: Vec<f64> = (0..n).map(|j| -bound - u[j]).collect();
         let upper: Vec<f64> = (0..n).map(|j| bound - u[j]).collect();
-        let mut hessian = 2.0 * g.transpose() * &g;
-        for (j, d) in diagonal.iter().enumerate() {
-            hessian[(j, j)] += d;
+        // `δv = L δu`, `L = I − Ĉ`.
+        let mut l = DMatrix::<f64>::identity(n, n);
+        if let Some(maps) = metric {
+            let sensitivities = run.full_state_sensitivities();
+            let size = run.state_size();
+            let per_step = run.input_jacobians()[0].len();
+            let width = n / maps.len();
+            for (i, map) in maps.iter().enumerate() {
+                let k = i / per_step;
+                let mut own = DMatrix::<f64>::zeros(map.ncols(), n);
+                if k > 0 {
+                    own.rows_mut(0, size).copy_from(&sensitivities[k - 1]);
+                }
+                for c in 0..width * per_step {
+                    own[(size + c, width * per_step * k + c)] = 1.0;
+                }
+                let chained = map * own;
+                for r in 0..width {
+                    for c in 0..n {
+                        l[(width * i + r, c)] -= chained[(r, c)];
+                    }
+                }
+            }
         }
-        let q = &energy_gradient + &dense_gradient;
+        let mut hessian =
+            l.transpose() * DMatrix::from_diagonal(&DVector::from_column_slice(diagonal)) * &l;
+        hessian += 2.0 * g.transpose() * &g;
+        let q = &energy_gradient + 2.0 * g.transpose() * &r;
         let condensed = qp::solve(
             qp::upper_triangle(&hessian),
             q.as_slice(),
@@ -674,6 +680,7 @@ pub(crate) mod tests {
         let banded = Banded {
             run,
             fit,
+            metric,
             diagonal,
             energy_gradient: &energy_gradient,
             exact_target: true,
@@ -776,7 +783,7 @@ pub(crate) mod tests {
                     })
                     .collect();
                 for bound in [bound, f64::INFINITY] {
-                    banded_matches_condensed(&run, &fit, &u, &diagonal, bound);
+                    banded_matches_condensed(&run, Some(&fit), None, &u, &diagonal, bound);
                 }
             }
         }

@@ -50,7 +50,9 @@
 //!   the world frame (the step's `δf` as `δf − f̂ δθ`, `δθ` the attitude's change at the
 //!   force's Gauss point), which takes the translation's curvature out of the model, so
 //!   that the iteration converges as fast as a slew's however large the translation's
-//!   share of the cost; the body frame's `diag(2w)` where the force is bounded.
+//!   share of the cost, the force bounded or not (the subproblem's banded form, below,
+//!   keeps the measured steps' relation to the inputs as a block over each step, so a
+//!   bound stays a bound).
 //! - **Tracking and terminal costs** ([`Slew::track`], [`Slew::terminal_cost`]): the
 //!   same Gauss–Newton SQP on the least squares, the residuals' Jacobians exact (in the
 //!   states they read, the group log's through `J_r(e)⁻¹`), the Hessian

@@ -2,7 +2,7 @@
 //! start to a target by a body wrench `(τ, f)`, at the least input energy in a fixed time
 //! or in the least time.
 
-use crate::energy::{by_step, Coupling, Problem, Solved, Start};
+use crate::energy::{by_step, Problem, Solved, Start};
 use crate::shooting::{shoot_motion, Shot, Wants};
 use crate::time::{bracket, least_time, rescaled_to_bound, TimeSettings, Timed, START_TOLERANCE};
 use crate::tracking::Residuals;
@@ -100,10 +100,9 @@ pub fn separate_bang_bang_time(
 /// (torque, world force) its miss is linear in `F` and does not depend on the torque (the
 /// free body; the orbiting body nearly so): the iteration converges in about as many
 /// iterations as the slew alone, however large the translation's share of the cost (the
-/// guide's "How fast it converges"). With a bound on the force, whose rows in that metric
-/// would be dense, the step is measured in the body frame (Gauss–Newton, `diag(2w)`).
-/// Either way only the path changes: the cost, the constraints and their solution are
-/// the same. The terminal miss that the tolerance bounds has its position measured in
+/// guide's "How fast it converges"), with the force bounded or not (the subproblem keeps
+/// the states and the measured steps among its variables, so a bound stays a bound). Only
+/// the path changes: the cost, the constraints and their solution are the same. The terminal miss that the tolerance bounds has its position measured in
 /// units of `L = max(1, |x₀|, |x_f|)` and its velocity in units of
 /// `V = max(1, |v₀|, |v_f|)`, so that a body far from the origin converges to its own
 /// precision.
@@ -534,10 +533,6 @@ impl Manoeuvre {
         weights: &[f64],
     ) -> Result<(usize, Solved<SE3State, 6>), OptimalError> {
         let per_step = start.step_weights.len();
-        // A bound on the force would be a bound on `(I + E) δv`, rows as dense as `E`,
-        // which the subproblem solves more slowly than the plain iteration's extra
-        // iterations cost (docs/notes/optimal.md): the metric only for a free force.
-        let plain = bound.is_some_and(|b| b.fixed_rows::<3>(3).iter().any(|x| x.is_finite()));
         let shoot = |u: &[Vector6<f64>]| {
             let mut shot = shoot_motion(
                 self.body,
@@ -547,7 +542,7 @@ impl Manoeuvre {
                 u,
                 per_step,
                 Wants {
-                    attitudes: !plain,
+                    attitudes: true,
                     time: false,
                 },
             )?;
@@ -559,7 +554,7 @@ impl Manoeuvre {
             Ok(shot)
         };
         let metric = |run: &Shot<SE3State>, inputs: &[Vector6<f64>]| {
-            world_force_coupling(run, inputs, per_step, weights)
+            world_force_metric(run, inputs, per_step, weights)
         };
         let h = settings.h();
         let fit = |run: &Shot<SE3State>| self.residuals(h, run);
@@ -571,7 +566,7 @@ impl Manoeuvre {
             shoot: &shoot,
             residuals: &fit,
             equilibrate: true,
-            metric: if plain { None } else { Some(&metric) },
+            metric: Some(&metric),
         };
         Ok((per_step, problem.solve(start.inputs, self.tolerance)?))
     }
@@ -760,14 +755,13 @@ fn after(first: Statistics, mut found: Solved<SE3State, 6>) -> Solved<SE3State, 
     found
 }
 
-/// The map `E` of the world-frame force metric ([`Problem::metric`]): the body force `f`
-/// of an input seen through the attitude's motion, `δf − f̂ δθ`, is `Rᵀ δF`, the
+/// The maps `C_i` of the world-frame force metric ([`Problem::metric`]): the body force
+/// `f` of an input seen through the attitude's motion, `δf − f̂ δθ`, is `Rᵀ δF`, the
 /// world-frame force's change brought back to the body (`F = R f`, so
-/// `δF = R (δf − f̂ δθ)` with `R → R exp(θ̂)`). Row block `f` of input `i` holds
-/// `f̂_i ∂θ_i/∂τ`, the torques' part of the attitude's change (exact at the input's Gauss
-/// point; the quadrature mean over the step for a held wrench). Its columns are the
-/// torques' only, so `E` is nilpotent and `I − E` invertible; the attitude's dependence
-/// on the force (an orbiting body's gravity gradient) is left to the iteration.
+/// `δF = R (δf − f̂ δθ)` with `R → R exp(θ̂)`). `δθ_i = P_i [δx_k; δu_k]` is the
+/// attitude's change at input `i`'s Gauss point, exact from the step's start state and
+/// inputs (the quadrature mean over the step for a held wrench), so `C_i` is `f̂_i P_i` in
+/// its force rows and zero in its torque rows.
 ///
 /// Why: the translation is driven by the world-frame force alone, which turns with the
 /// attitude when the force is held fixed in the body, so in `(τ, f)` the position's miss
@@ -775,34 +769,34 @@ fn after(first: Statistics, mut found: Solved<SE3State, 6>) -> Solved<SE3State, 
 /// converges slowly or not at all where the translation dominates the cost. Measured in
 /// `(τ, F)` the free body's position is linear in `F` and independent of `τ`, the cost
 /// `|τ|² + |F|²` unchanged; the metric is that change of variables at the iterate.
-fn world_force_coupling(
+fn world_force_metric(
     run: &Shot<SE3State>,
     inputs: &[Vector6<f64>],
     per_step: usize,
     weights: &[f64],
-) -> Coupling {
-    let attitudes = run.attitude_sensitivities();
-    let n = 6 * inputs.len();
-    let rows: Vec<usize> = (0..n).filter(|j| j % 6 >= 3).collect();
-    let columns: Vec<usize> = (0..n).filter(|j| j % 6 < 3).collect();
-    let mut block = DMatrix::zeros(rows.len(), columns.len());
-    for (i, u) in inputs.iter().enumerate() {
-        let (k, j) = (i / per_step, i % per_step);
-        let theta = if per_step == 1 {
-            attitudes[k]
-                .iter()
-                .zip(weights)
-                .fold(DMatrix::zeros(3, n), |sum, (t, b)| sum + t * *b)
-        } else {
-            attitudes[k][j].clone()
-        };
-        let f = lgsvi_mechanics::lie::so3::hat(&Vector3::new(u[3], u[4], u[5]));
-        let torques = (f * theta).select_columns(&columns);
-        block
-            .view_mut((3 * i, 0), (3, columns.len()))
-            .copy_from(&torques);
-    }
-    Coupling::new(rows, columns, block)
+) -> Vec<DMatrix<f64>> {
+    let points = run.point_attitudes();
+    inputs
+        .iter()
+        .enumerate()
+        .map(|(i, u)| {
+            let (k, j) = (i / per_step, i % per_step);
+            let theta = if per_step == 1 {
+                points[k]
+                    .iter()
+                    .zip(weights)
+                    .fold(DMatrix::zeros(3, points[k][0].ncols()), |sum, (p, b)| {
+                        sum + p * *b
+                    })
+            } else {
+                points[k][j].clone()
+            };
+            let f = lgsvi_mechanics::lie::so3::hat(&Vector3::new(u[3], u[4], u[5]));
+            let mut map = DMatrix::zeros(6, theta.ncols());
+            map.rows_mut(3, 3).copy_from(&(f * theta));
+            map
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -812,10 +806,11 @@ mod tests {
     use lgsvi_mechanics::lie::SO3;
     use lgsvi_mechanics::{FreeBody, Inertia, OrbitingBody};
 
-    /// The banded subproblem of a body in space with a tracking cost (the world-frame
-    /// residual rows, the miss's rows scaled, a bounded force: the path without a
-    /// metric) against the condensed one, for the free body and the orbiting body (near a
-    /// circular orbit of speed 0.1 at r = 4), wrenches held and at the Gauss points.
+    /// The banded subproblem of a body in space against the condensed one, with a tracking
+    /// cost (the world-frame residual rows, the miss's rows scaled) or without, in the
+    /// body frame's metric and the world frame's, for the free body and the orbiting body
+    /// (near a circular orbit of speed 0.1 at r = 4), wrenches held and at the Gauss
+    /// points, bounded and not.
     #[test]
     fn the_banded_subproblem_in_space_is_the_condensed_one() {
         let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
@@ -865,7 +860,10 @@ mod tests {
                     manoeuvre.target,
                     &inputs,
                     per_step,
-                    Wants::default(),
+                    Wants {
+                        attitudes: true,
+                        time: false,
+                    },
                 )
                 .unwrap();
                 for (i, l) in manoeuvre.scale().iter().enumerate() {
@@ -888,8 +886,13 @@ mod tests {
                         2.0 * w
                     })
                     .collect();
+                let maps = world_force_metric(&run, &inputs, per_step, &weights);
                 for bound in [0.15, f64::INFINITY] {
-                    banded_matches_condensed(&run, &fit, &u, &diagonal, bound);
+                    for metric in [None, Some(maps.as_slice())] {
+                        for fit in [None, Some(&fit)] {
+                            banded_matches_condensed(&run, fit, metric, &u, &diagonal, bound);
+                        }
+                    }
                 }
             }
         }

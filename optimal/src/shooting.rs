@@ -70,7 +70,7 @@ pub(crate) struct Shot<St = State> {
     /// `M = ∂x_K/∂u` (the observed rows, `m` columns per input of a step) in the
     /// coordinates of the miss: the body-frame `(θ, ω)` on SO(3), `(θ_R, δx, δΩ, δẋ)` with
     /// the position and velocity in the world frame on SE(3) ([`shoot_motion`]).
-    /// [`Shot::full_state_sensitivities`] and [`Shot::attitude_sensitivities`] are in the
+    /// [`Shot::input_jacobians`] and [`Shot::point_attitudes`] are in the
     /// linearisation's native `(θ, ω)` on both.
     pub sensitivity: DMatrix<f64>,
     /// `∂x_K/∂h` (the observed rows), the step length shared by every step; zero unless
@@ -103,7 +103,9 @@ pub(crate) struct Shot<St = State> {
 impl<St> Shot<St> {
     /// `∂x_k/∂u` for `k = 1 … K` in the plant's whole linearisation state (`2D` rows, `n`
     /// columns each), chained forwards: `S_{k+1} = A_k S_k + [B_kj in step k's columns]`.
-    /// Dense: `K` matrices of `2D × n`, so quadratic in the step count.
+    /// Dense: `K` matrices of `2D × n`, so quadratic in the step count; the tests'
+    /// condensed reference.
+    #[cfg(test)]
     pub fn full_state_sensitivities(&self) -> Vec<DMatrix<f64>> {
         let columns = self.sensitivity.ncols();
         let per_step = columns / self.a.len().max(1);
@@ -164,42 +166,12 @@ impl<St> Shot<St> {
         out
     }
 
-    /// The attitude at each Gauss point of each step, `R_kj = R̄_kj exp(θ̂_kj)`, and its
-    /// derivative in every input of the run, `∂θ_kj/∂u` (three rows, the run's input
-    /// columns): the step's own point Jacobians chained with the state's sensitivity at
-    /// the step's start, `∂θ_kj/∂x_k ∂x_k/∂u + [∂θ_kj/∂u_k in step k's columns]`. Empty
-    /// unless the run was asked for them ([`Plan::attitudes`]).
-    pub fn attitude_sensitivities(&self) -> Vec<Vec<DMatrix<f64>>> {
-        let columns = self.sensitivity.ncols();
-        let k_steps = self.a.len();
-        if self.points.len() != k_steps || k_steps == 0 {
-            return Vec::new();
-        }
-        // The input columns of one step.
-        let own = columns / k_steps;
-        let size = self.a[0].nrows();
-        let mut state = DMatrix::<f64>::zeros(size, columns);
-        let mut out = Vec::with_capacity(k_steps);
-        for (k, ((a, b), points)) in self.a.iter().zip(&self.b).zip(&self.points).enumerate() {
-            out.push(
-                points
-                    .iter()
-                    .map(|p| {
-                        let mut s = p.columns(0, size) * &state;
-                        let mut step_columns = s.columns_mut(own * k, own);
-                        step_columns += p.columns(size, own);
-                        s
-                    })
-                    .collect(),
-            );
-            state = a * &state;
-            for (j, bj) in b.iter().enumerate() {
-                state
-                    .view_mut((0, own * k + self.width * j), (size, self.width))
-                    .copy_from(bj);
-            }
-        }
-        out
+    /// Each step's attitudes at its Gauss points, `R_kj = R̄_kj exp(θ̂_kj)`: their
+    /// derivatives `∂θ_kj/∂(x_k, u_k)` (three rows; the step's start state's `2D` columns
+    /// in velocity coordinates, then the step's inputs' `m` each). Empty unless the run
+    /// was asked for them ([`Plan::attitudes`]).
+    pub fn point_attitudes(&self) -> &[Vec<DMatrix<f64>>] {
+        &self.points
     }
 }
 
@@ -294,7 +266,7 @@ pub(crate) fn shoot(
 /// and the rates as on SO(3), the position and its velocity in the world frame, and the
 /// sensitivity's rows in the same coordinates ([`world_coordinates`] from the
 /// linearisation's native `g = ḡ exp(θ)`, `ξ = ξ̄ + ω`). [`Wants`] says whether the
-/// attitudes' derivatives at the Gauss points are kept ([`Shot::attitude_sensitivities`])
+/// attitudes' derivatives at the Gauss points are kept ([`Shot::point_attitudes`])
 /// and whether `∂x_K/∂h` is formed by [`shoot`]'s time scaling: the free body's kinetic
 /// energy is quadratic in its body velocity, and the orbiting body's MacCullagh potential
 /// is linear in `μ`, so that (as the heavy top's in its mass) its step of length `ch` is the
@@ -362,7 +334,7 @@ pub(crate) fn shoot_motion(
 /// What a run of [`shoot_motion`] forms beyond its states, miss and sensitivity.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Wants {
-    /// The attitudes' derivatives at the Gauss points ([`Shot::attitude_sensitivities`]).
+    /// The attitudes' derivatives at the Gauss points ([`Shot::point_attitudes`]).
     pub attitudes: bool,
     /// `∂x_K/∂h` ([`Shot::time_sensitivity`]).
     pub time: bool,
@@ -383,7 +355,7 @@ struct Plan {
     /// Whether to form `∂x_K/∂h` (else [`Shot::time_sensitivity`] is zero).
     with_time: bool,
     /// Whether to keep the attitudes' derivatives at the Gauss points
-    /// ([`Shot::attitude_sensitivities`]).
+    /// ([`Shot::point_attitudes`]).
     attitudes: bool,
 }
 

@@ -6,8 +6,8 @@
 //! coordinates (`2D` columns), not chained to the inputs: the gradient `2Gᵀr` follows by
 //! the adjoint recursion ([`Shot::input_gradient`]) and the subproblem sees the banded
 //! structure of the steps ([`crate::energy`]), both linear in the step count. The dense
-//! Jacobian in the inputs, `G = [G_b ∂x_k/∂u]`, is formed only where a change of the
-//! subproblem's metric needs it ([`Residuals::dense`]).
+//! Jacobian in the inputs, `G = [G_b ∂x_k/∂u]`, is formed only by the tests, for the
+//! condensed subproblem they check the banded one against.
 
 use crate::shooting::Shot;
 use crate::{Slew, Target};
@@ -56,7 +56,8 @@ impl Residuals {
     }
 
     /// The Jacobian `G` in the inputs, dense (rows of `r`, the run's input columns):
-    /// quadratic in the step count.
+    /// quadratic in the step count; the tests' condensed reference.
+    #[cfg(test)]
     pub fn dense<St>(&self, shot: &Shot<St>) -> DMatrix<f64> {
         let sensitivities = shot.full_state_sensitivities();
         let mut g = DMatrix::<f64>::zeros(self.values.len(), shot.sensitivity.ncols());

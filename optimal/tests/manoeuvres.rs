@@ -140,7 +140,7 @@ fn held_wrenches_converge_at_second_order() {
 ///
 /// With a 40 kg body the translation is 511 times the slew's cost: measured in the world
 /// frame's metric (`Manoeuvre`'s documentation) the iteration still takes about as many
-/// iterations as with the 1 kg body (measured 12 and 10; the body frame's Gauss–Newton
+/// iterations as with the 1 kg body (measured 10 and 10; the body frame's Gauss–Newton
 /// took 617), and at most 20 are allowed here.
 #[test]
 fn an_asymmetric_manoeuvre_meets_pontryagin_plus_the_cubic() {
@@ -223,10 +223,10 @@ fn bounds_hold_and_too_tight_ones_are_infeasible() {
         Vector6::new(0.0, 0.0, 0.02, 0.0, 0.0, 0.0),
     );
     // Unbounded, the world-frame force's metric converges in 13 iterations; with the force
-    // bounded the step is measured in the body frame, and that Gauss–Newton iteration
-    // converges linearly (the force's direction turns with the attitude), reaching 1e-9
-    // in under 100 (measured 94 with both bounds, 93 with the force's alone, each
-    // counting the unbounded solve it starts from).
+    // bounded too (the subproblem's banded form keeps the bounds as bounds), in 26 with
+    // both bounds and 25 with the force's alone, each counting the unbounded solve it
+    // starts from. Measured in the body frame instead, the Gauss–Newton iteration
+    // converges linearly (the force's direction turns with the attitude): 94 and 93.
     let manoeuvre = Manoeuvre::new(body, 30.0)
         .from(start.0, start.1)
         .to(target.0, target.1)
@@ -272,6 +272,14 @@ fn bounds_hold_and_too_tight_ones_are_infeasible() {
         .iter()
         .all(|u| u.fixed_rows::<3>(3).amax() <= force * (1.0 + 1e-9)));
     assert!(forced.cost > free.cost && forced.cost < solution.cost);
+    // The world frame's metric with the bounds: well under the body frame's 94.
+    for (name, run) in [("both bounds", &solution), ("force bounded", &forced)] {
+        assert!(
+            run.statistics.iterations <= 40,
+            "{name}: {} iterations",
+            run.statistics.iterations
+        );
+    }
     println!(
         "iterations: free {}, bounded {}, force bounded {}",
         free.statistics.iterations, solution.statistics.iterations, forced.statistics.iterations
@@ -599,8 +607,12 @@ fn a_tracking_manoeuvre_is_stationary_for_the_true_cost() {
 
 /// A soft target with weights growing tends to the exact one: the terminal miss falls as
 /// the weights rise, and costs less than the exact target's. Heavy weights make the least
-/// squares stiff and the Gauss–Newton iteration slow (measured 10, 11 and 1229 iterations
-/// at q = 1, 100, 1e4), hence the raised iteration limit.
+/// squares stiff: at q = 1e4 the Gauss–Newton Hessian's largest entries reach ~1e6 (the
+/// position's sensitivity to the force, ~10 m/N over 30 s, times √q = 100, squared), so
+/// a wrench rounded to its last bit moves the gradient by ~1e6 · 1e-16 and the scaled
+/// stationarity cannot be certified below ~1e-9 in double precision (measured: it
+/// reaches 1e-9 in 250 iterations and then wanders between 3e-10 and 2e-9). That case is
+/// solved to 1e-8; q = 1 and 100 to the default 1e-10 (10 and 11 iterations).
 #[test]
 fn a_soft_target_tends_to_the_exact_one() {
     let body = FreeBody::new(
@@ -619,10 +631,11 @@ fn a_soft_target_tends_to_the_exact_one() {
     let exact = manoeuvre.clone().solve().unwrap();
     let mut previous = f64::INFINITY;
     for q in [1.0, 100.0, 10_000.0] {
+        let tolerance = if q > 1e3 { 1e-8 } else { 1e-10 };
         let soft = manoeuvre
             .clone()
             .terminal_cost([q; 4])
-            .max_iterations(5000)
+            .tolerance(tolerance)
             .solve()
             .unwrap();
         let end = soft.states.last().unwrap();
