@@ -98,7 +98,8 @@ pub(crate) struct Problem<'a, St, const M: usize> {
     /// `δu` (a body in space's force measured in the world frame, `crate::motion`). The
     /// cost, the constraints and their linearisations are unchanged, so is every KKT
     /// point; only the path to one is. The subproblem is then the banded one
-    /// ([`Banded`]), with `δv` among its variables, so the bounds stay bounds on `u`.
+    /// ([`Banded`]), `δv` eliminated into its Hessian (a block over each step's start and
+    /// inputs), so the bounds stay bounds on `u`.
     pub metric: Option<&'a Metric<'a, St, M>>,
 }
 
@@ -604,7 +605,11 @@ pub(crate) mod tests {
 
     /// The banded subproblem against the condensed one it is the elimination of, at `run`
     /// with residuals `fit` and a metric's maps `metric` where given, inputs `u` (flat),
-    /// the energy weights `diagonal` (`2w`) and each entry bounded by `bound`: the same
+    /// the energy weights `diagonal` (`2w`), each entry bounded by `bound`, the terminal
+    /// state exact or not, the banded side's terminal rows equilibrated or not (the
+    /// condensed side's are not: scaling rows changes neither the step nor, scaled
+    /// back, the multipliers); returns the bounds active and the largest entry of the
+    /// condensed solution's `u + δu`. The same
     /// step, the same terminal and bound multipliers, and the adjoint gradient equal to
     /// `2Gᵀr` from the dense `G`. The condensed Hessian is
     /// `(I − Ĉ)ᵀ diag(2w) (I − Ĉ) + 2GᵀG`, `Ĉ` the maps chained through the states'
@@ -612,6 +617,7 @@ pub(crate) mod tests {
     /// to 1e-13; the condensed one forms its products in another order, so they agree to
     /// about 1e-9 of the step's size where bounds are active (the interior point's
     /// complementarity) and to rounding without.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn banded_matches_condensed<St>(
         run: &Shot<St>,
         fit: Option<&Residuals>,
@@ -619,7 +625,9 @@ pub(crate) mod tests {
         u: &DVector<f64>,
         diagonal: &[f64],
         bound: f64,
-    ) {
+        exact_target: bool,
+        equilibrate: bool,
+    ) -> (usize, f64) {
         let n = u.len();
         let (g, r) = match fit {
             Some(fit) => {
@@ -666,11 +674,16 @@ pub(crate) mod tests {
             l.transpose() * DMatrix::from_diagonal(&DVector::from_column_slice(diagonal)) * &l;
         hessian += 2.0 * g.transpose() * &g;
         let q = &energy_gradient + 2.0 * g.transpose() * &r;
+        let (rows, e) = if exact_target {
+            (run.sensitivity.clone(), run.miss.clone())
+        } else {
+            (DMatrix::zeros(0, n), DVector::zeros(0))
+        };
         let condensed = qp::solve(
             qp::upper_triangle(&hessian),
             q.as_slice(),
-            &run.sensitivity,
-            &run.miss,
+            &rows,
+            &e,
             &lower,
             &upper,
             1e-13,
@@ -683,8 +696,8 @@ pub(crate) mod tests {
             metric,
             diagonal,
             energy_gradient: &energy_gradient,
-            exact_target: true,
-            equilibrate: false,
+            exact_target,
+            equilibrate,
         }
         .solve(&lower, &upper)
         .unwrap()
@@ -717,6 +730,8 @@ pub(crate) mod tests {
             nu <= tolerance,
             "bound multipliers differ by {nu:e} (allowed {tolerance:e})"
         );
+        let active = condensed.nu.iter().filter(|x| x.abs() > 1e-8).count();
+        (active, (u + &condensed.step).amax())
     }
 
     /// A tracking slew of a rigid body and of a gyrostat (whose state has rows the
@@ -736,14 +751,13 @@ pub(crate) mod tests {
             inertia: [0.05; 3],
             speeds: Vector3::new(3.0, -2.0, 1.0),
         };
-        let bound = 0.05;
         for with_wheels in [false, true] {
             let mut slew = Slew::new(inertia, t_end)
                 .to(SO3::exp(&(axis * 0.6)), Vector3::zeros())
                 .steps(k_steps)
                 .nodes(nodes)
                 .track(reference.clone(), [2.0, 0.5])
-                .torque_max([bound; 3]);
+                .torque_max([0.05; 3]);
             if with_wheels {
                 slew = slew.wheels(wheels);
             }
@@ -782,8 +796,24 @@ pub(crate) mod tests {
                         2.0 * w
                     })
                     .collect();
-                for bound in [bound, f64::INFINITY] {
-                    banded_matches_condensed(&run, Some(&fit), None, &u, &diagonal, bound);
+                for exact_target in [true, false] {
+                    let check = |bound: f64| {
+                        banded_matches_condensed(
+                            &run,
+                            Some(&fit),
+                            None,
+                            &u,
+                            &diagonal,
+                            bound,
+                            exact_target,
+                            false,
+                        )
+                    };
+                    // Unbounded, then bounded below the unbounded optimum's largest entry,
+                    // so that a bound is active (the subproblem is convex).
+                    let (_, peak) = check(f64::INFINITY);
+                    let (active, _) = check(0.9 * peak);
+                    assert!(active > 0, "no bound active");
                 }
             }
         }

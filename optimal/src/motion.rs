@@ -92,8 +92,8 @@ pub fn separate_bang_bang_time(
 /// `(log(R_Kᵀ R_f), x_f − x_K, Ω_f − Ω_K, ẋ_f − ẋ_K)` with the centre of mass's position
 /// and velocity in the world frame. It is solved by the slew's SQP with the steps' exact
 /// linearisations, in a metric that measures the force in the world frame: the step's
-/// `δf` counts as `δf − f̂ δθ`, with `δθ` the attitude's change that its torques bring at
-/// the force's Gauss point (from
+/// `δf` counts as `δf − f̂ δθ`, with `δθ` the attitude's change at the force's Gauss point
+/// that the step's start state and inputs bring (the step's own linearisation there,
 /// [`lgsvi_mechanics::linearization::StepLinearization::point_configurations`]; the
 /// step's mean for a held wrench).
 /// The centre of mass moves under the world-frame force `F = R f`, so in the pair
@@ -101,8 +101,9 @@ pub fn separate_bang_bang_time(
 /// free body; the orbiting body nearly so): the iteration converges in about as many
 /// iterations as the slew alone, however large the translation's share of the cost (the
 /// guide's "How fast it converges"), with the force bounded or not (the subproblem keeps
-/// the states and the measured steps among its variables, so a bound stays a bound). Only
-/// the path changes: the cost, the constraints and their solution are the same. The terminal miss that the tolerance bounds has its position measured in
+/// the states among its variables and the measured step in its Hessian, so a bound stays
+/// a bound). Only the path changes: the cost, the constraints and their solution are the
+/// same. The terminal miss that the tolerance bounds has its position measured in
 /// units of `L = max(1, |x₀|, |x_f|)` and its velocity in units of
 /// `V = max(1, |v₀|, |v_f|)`, so that a body far from the origin converges to its own
 /// precision.
@@ -810,7 +811,8 @@ mod tests {
     /// cost (the world-frame residual rows, the miss's rows scaled) or without, in the
     /// body frame's metric and the world frame's, for the free body and the orbiting body
     /// (near a circular orbit of speed 0.1 at r = 4), wrenches held and at the Gauss
-    /// points, bounded and not.
+    /// points, the terminal state exact (its rows equilibrated or not) or soft, unbounded
+    /// and bounded below the unbounded optimum (so that a bound is active).
     #[test]
     fn the_banded_subproblem_in_space_is_the_condensed_one() {
         let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
@@ -887,10 +889,29 @@ mod tests {
                     })
                     .collect();
                 let maps = world_force_metric(&run, &inputs, per_step, &weights);
-                for bound in [0.15, f64::INFINITY] {
-                    for metric in [None, Some(maps.as_slice())] {
-                        for fit in [None, Some(&fit)] {
-                            banded_matches_condensed(&run, fit, metric, &u, &diagonal, bound);
+                for metric in [None, Some(maps.as_slice())] {
+                    for fit in [None, Some(&fit)] {
+                        for (exact, equilibrate) in [(true, true), (true, false), (false, false)] {
+                            let check = |bound: f64| {
+                                banded_matches_condensed(
+                                    &run,
+                                    fit,
+                                    metric,
+                                    &u,
+                                    &diagonal,
+                                    bound,
+                                    exact,
+                                    equilibrate,
+                                )
+                            };
+                            // Unbounded, then bounded below the unbounded optimum's largest
+                            // entry, so that a bound is active (the subproblem is convex);
+                            // without a target or residuals that optimum is no wrench.
+                            let (_, peak) = check(f64::INFINITY);
+                            if exact || fit.is_some() {
+                                let (active, _) = check(0.9 * peak);
+                                assert!(active > 0, "no bound active");
+                            }
                         }
                     }
                 }

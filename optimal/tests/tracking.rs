@@ -17,8 +17,8 @@ use nalgebra::{DMatrix, DVector, Vector3};
 /// to 1e-10 relative (the KKT tolerance; the problem is quadratic, so one Gauss–Newton
 /// step solves it to the QP's accuracy). At 12 steps, and at 600, where the subproblem's
 /// banded form (the states among its variables) is what keeps a solve linear in the step
-/// count: the condensed Hessian `2GᵀG` would be 600 × 600 dense, formed from a
-/// `3606 × 600` Jacobian.
+/// count: the condensed Hessian `2GᵀG` would be 1800 × 1800 dense, formed from a
+/// `3606 × 1800` Jacobian.
 #[test]
 fn single_axis_tracking_is_the_linear_least_squares() {
     for k_steps in [12usize, 600] {

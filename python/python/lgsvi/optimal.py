@@ -317,9 +317,7 @@ def manoeuvre(
 
     At the least energy it is solved by the slew's SQP with the body force measured in the
     world frame, which converges in about as many iterations as a slew however large the
-    translation's share of the cost; with ``force_max`` the force is measured in the body
-    frame and the convergence is linear (raise ``max_iterations`` where the error says
-    so). In the least time it is the slew's minimum-time SQP (the exact Lagrangian Hessian
+    translation's share of the cost, with ``force_max`` or without. In the least time it is the slew's minimum-time SQP (the exact Lagrangian Hessian
     by differences of the exact gradient).
 
     Raises
