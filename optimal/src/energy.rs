@@ -1,7 +1,7 @@
 //! The minimum-energy slew: Gauss–Newton SQP over the torques at a fixed final time.
 
 use crate::shooting::{shoot, Shot};
-use crate::tracking::{residuals, Residuals};
+use crate::tracking::{residuals, ByState, Residuals};
 use crate::{qp, quadrature, Inputs, OptimalError, Slew, Solution, Statistics};
 use clarabel::algebra::CscMatrix;
 use lgsvi_mechanics::StepSettings;
@@ -160,9 +160,10 @@ impl<St, const M: usize> Problem<'_, St, M> {
                     .enumerate()
                     .flat_map(|(i, u)| (u * (2.0 * weight(i))).data.0[0]),
             );
+            let model = fit.as_ref().map(|f| f.by_state(&run));
             let mut gradient = energy_gradient.clone();
-            if let Some(f) = &fit {
-                gradient += f.gradient(&run);
+            if let Some(model) = &model {
+                gradient += run.input_gradient(&model.gradients);
             }
             let (rows, e) = if exact_target {
                 (&run.sensitivity, &run.miss)
@@ -203,10 +204,10 @@ impl<St, const M: usize> Problem<'_, St, M> {
             // variables), whose cost is linear in the step count; else the condensed one,
             // whose Hessian `diag(2w)` and six terminal rows are too.
             let maps = self.metric.map(|metric| metric(&run, &inputs));
-            let found = if fit.is_some() || maps.is_some() {
+            let found = if model.is_some() || maps.is_some() {
                 Banded {
                     run: &run,
-                    fit: fit.as_ref(),
+                    model: model.as_ref(),
                     metric: maps.as_deref(),
                     diagonal: &diagonal,
                     energy_gradient: &energy_gradient,
@@ -215,17 +216,7 @@ impl<St, const M: usize> Problem<'_, St, M> {
                 }
                 .solve(&lower, &upper)?
             } else {
-                // With `equilibrate`, the equality rows scaled to a largest entry of 1 for
-                // the subproblem (the same constraints, better conditioned); its
-                // multipliers scaled back.
-                let scale: Vec<f64> = (0..rows.nrows())
-                    .map(|i| match rows.row(i).amax() {
-                        largest if self.equilibrate && largest > 0.0 => 1.0 / largest,
-                        _ => 1.0,
-                    })
-                    .collect();
-                let scaled_rows = DMatrix::from_fn(rows.nrows(), n, |i, j| rows[(i, j)] * scale[i]);
-                let scaled_e = DVector::from_fn(e.len(), |i, _| e[i] * scale[i]);
+                let (scaled_rows, scaled_e, scale) = equilibrated(rows, e, self.equilibrate);
                 let hessian = qp::diagonal(&diagonal);
                 let mut found = qp::solve(
                     hessian,
@@ -342,7 +333,8 @@ impl<St, const M: usize> Problem<'_, St, M> {
 /// block over each step's start and inputs), and a bound stays a bound on `u + δu`.
 struct Banded<'a, St> {
     run: &'a Shot<St>,
-    fit: Option<&'a Residuals>,
+    /// The residuals' Gauss–Newton terms at each state, where there are residuals.
+    model: Option<&'a ByState>,
     /// Each input's `C_i`, where the step is measured in another metric.
     metric: Option<&'a [DMatrix<f64>]>,
     /// The energy's Hessian `2w`, one entry per input entry.
@@ -363,7 +355,6 @@ impl<St> Banded<'_, St> {
         let (k_steps, size, n) = (a.len(), run.state_size(), self.diagonal.len());
         let per_step = b.first().map_or(1, Vec::len);
         let width = n / (k_steps * per_step);
-        let by_state = self.fit.map(|f| f.by_state(k_steps, size));
         // The variables: δu, then δx_1 … δx_K.
         let state_column = |k: usize| n + size * (k - 1);
         let total = n + size * k_steps;
@@ -414,7 +405,12 @@ impl<St> Banded<'_, St> {
         }
         let mut q: Vec<f64> = self.energy_gradient.iter().copied().collect();
         q.resize(total, 0.0);
-        for (k, (gradient, block)) in by_state.iter().flatten().enumerate() {
+        for (k, (gradient, block)) in self
+            .model
+            .iter()
+            .flat_map(|m| m.gradients.iter().zip(&m.hessians))
+            .enumerate()
+        {
             let at = state_column(k + 1);
             q[at..at + size].copy_from_slice(gradient.as_slice());
             for c in 0..size {
@@ -434,21 +430,13 @@ impl<St> Banded<'_, St> {
         }
         let p = CscMatrix::new(total, total, colptr, rowval, nzval);
         // The terminal rows, scaled where asked.
-        let (mut terminal, mut e) = (run.terminal.clone(), run.miss.clone());
-        if !self.exact_target {
-            terminal = DMatrix::zeros(0, size);
-            e = DVector::zeros(0);
-        }
-        let scale: Vec<f64> = (0..terminal.nrows())
-            .map(|i| match terminal.row(i).amax() {
-                largest if self.equilibrate && largest > 0.0 => 1.0 / largest,
-                _ => 1.0,
-            })
-            .collect();
-        for (i, s) in scale.iter().enumerate() {
-            terminal.row_mut(i).scale_mut(*s);
-            e[i] *= s;
-        }
+        let no_rows = (DMatrix::zeros(0, size), DVector::zeros(0));
+        let (rows, e) = if self.exact_target {
+            (&run.terminal, &run.miss)
+        } else {
+            (&no_rows.0, &no_rows.1)
+        };
+        let (terminal, e, scale) = equilibrated(rows, e, self.equilibrate);
         // The rows, by columns: step k's rows hold `δx_{k+1} − A_k δx_k − Σ_j B_kj δu_kj`,
         // the terminal rows `T δx_K`.
         let dynamics = size * k_steps;
@@ -515,6 +503,25 @@ impl<St> Banded<'_, St> {
             nu: s.nu.rows(0, n).into_owned(),
         }))
     }
+}
+
+/// Equality rows and their right-hand side, each row scaled, where `equilibrate`, to a
+/// largest entry of 1 (the same constraints, better conditioned for the subproblem), and
+/// each row's factor, by which its multiplier is scaled back.
+fn equilibrated(
+    rows: &DMatrix<f64>,
+    e: &DVector<f64>,
+    equilibrate: bool,
+) -> (DMatrix<f64>, DVector<f64>, Vec<f64>) {
+    let scale: Vec<f64> = (0..rows.nrows())
+        .map(|i| match rows.row(i).amax() {
+            largest if equilibrate && largest > 0.0 => 1.0 / largest,
+            _ => 1.0,
+        })
+        .collect();
+    let scaled = DMatrix::from_fn(rows.nrows(), rows.ncols(), |i, j| rows[(i, j)] * scale[i]);
+    let e = DVector::from_fn(e.len(), |i, _| e[i] * scale[i]);
+    (scaled, e, scale)
 }
 
 /// A sparse column's entries by increasing row, those of a repeated row summed.
@@ -690,9 +697,10 @@ pub(crate) mod tests {
         )
         .unwrap()
         .unwrap();
+        let model = fit.map(|f| f.by_state(run));
         let banded = Banded {
             run,
-            fit,
+            model: model.as_ref(),
             metric,
             diagonal,
             energy_gradient: &energy_gradient,

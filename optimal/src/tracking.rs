@@ -30,29 +30,28 @@ impl Residuals {
         self.values.norm_squared()
     }
 
-    /// The Gauss–Newton model's terms at each state `k = 1 … K` (`states` of them, `size`
-    /// the state's coordinates): the gradient `2 Σ_b G_bᵀ r_b` and the Hessian
-    /// `2 Σ_b G_bᵀ G_b` of the blocks that read it.
-    pub fn by_state(&self, states: usize, size: usize) -> Vec<(DVector<f64>, DMatrix<f64>)> {
-        let mut out = vec![(DVector::zeros(size), DMatrix::zeros(size, size)); states];
+    /// The Gauss–Newton model's terms at each state `k = 1 … K` of `shot`: the gradients
+    /// `2 Σ_b G_bᵀ r_b` and the Hessians `2 Σ_b G_bᵀ G_b` of the blocks that read it.
+    pub fn by_state<St>(&self, shot: &Shot<St>) -> ByState {
+        let (states, size) = (shot.states.len() - 1, shot.state_size());
+        let mut gradients = vec![DVector::zeros(size); states];
+        let mut hessians = vec![DMatrix::zeros(size, size); states];
         for (k, at, g) in &self.blocks {
             let r = self.values.rows(*at, g.nrows());
-            let (gradient, hessian) = &mut out[k - 1];
-            *gradient += 2.0 * g.transpose() * r;
-            *hessian += 2.0 * g.transpose() * g;
+            gradients[k - 1] += 2.0 * g.transpose() * r;
+            hessians[k - 1] += 2.0 * g.transpose() * g;
         }
-        out
+        ByState {
+            gradients,
+            hessians,
+        }
     }
 
-    /// `2Gᵀr`, the gradient of `|r|²` in the inputs, by the adjoint recursion.
+    /// `2Gᵀr`, the gradient of `|r|²` in the inputs, by the adjoint recursion; the tests'
+    /// (the solver forms [`Residuals::by_state`] once an iteration and chains it itself).
+    #[cfg(test)]
     pub fn gradient<St>(&self, shot: &Shot<St>) -> DVector<f64> {
-        let states = shot.states.len() - 1;
-        let per_state: Vec<DVector<f64>> = self
-            .by_state(states, shot.state_size())
-            .into_iter()
-            .map(|(g, _)| g)
-            .collect();
-        shot.input_gradient(&per_state)
+        shot.input_gradient(&self.by_state(shot).gradients)
     }
 
     /// The Jacobian `G` in the inputs, dense (rows of `r`, the run's input columns):
@@ -67,6 +66,13 @@ impl Residuals {
         }
         g
     }
+}
+
+/// [`Residuals::by_state`]: the Gauss–Newton model's gradient and Hessian at each state
+/// `k = 1 … K` (`[k − 1]`), in the plant's linearisation coordinates.
+pub(crate) struct ByState {
+    pub gradients: Vec<DVector<f64>>,
+    pub hessians: Vec<DMatrix<f64>>,
 }
 
 /// The weighted residuals of a shot and their Jacobians in the states they read: each
