@@ -1883,6 +1883,21 @@ fn bench_dispersion_runs_both_methods_on_the_same_members() {
         assert!(json[key].as_f64().unwrap() <= 1e-10, "{key}: {json}");
     }
     assert!(json["agreement"].as_f64().unwrap() < 5e-10, "{json}");
+    // lgsvi runs at the fastest of its candidate settings, each within the target.
+    let candidates = json["candidates"].as_array().unwrap();
+    assert!(!candidates.is_empty(), "{json}");
+    let fastest = candidates
+        .iter()
+        .min_by(|a, b| {
+            let time = |c: &serde_json::Value| c["sample_s"].as_f64().unwrap();
+            time(a).total_cmp(&time(b))
+        })
+        .unwrap();
+    assert_eq!(fastest["h"], json["lgsvi_step"], "{json}");
+    assert_eq!(fastest["nodes"], json["lgsvi_nodes"], "{json}");
+    for c in candidates {
+        assert!(c["nominal_error"].as_f64().unwrap() <= 1e-10, "{json}");
+    }
     let (code, _, err) = lgsvi(&["bench", "--dispersion", "0"]);
     assert_ne!(code, 0);
     assert!(err.contains("--dispersion"), "{err}");
