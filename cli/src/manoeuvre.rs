@@ -238,6 +238,14 @@ fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
             ));
         }
     }
+    if options.disturbance.is_some() {
+        return Err(CliError::invalid(
+            "--disturbance",
+            "with --space",
+            "a disturbance torque is built for slews (SO(3)), not yet for a manoeuvre in \
+             space: drop it (or --space for a slew)",
+        ));
+    }
     Ok(())
 }
 

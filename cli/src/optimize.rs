@@ -142,6 +142,12 @@ pub struct OptimizeOptions {
     /// three, or X,Y,Z.
     #[arg(long, value_parser = torque_bound, allow_hyphen_values = true, value_name = "U or X,Y,Z")]
     pub torque_max: Option<[f64; 3]>,
+    /// A constant disturbance torque on the body, body frame, N·m: known (solar pressure,
+    /// outgassing, a mean gravity-gradient torque) and worked against by the torques (with
+    /// --wheels, by the motors, whose wheels take up its momentum). Not part of the cost
+    /// nor of the output's inputs; a replay adds it to them. Slews only.
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub disturbance: Option<[f64; 3]>,
     /// Steps K (the torque is constant over each) [default: 40].
     #[arg(long)]
     pub steps: Option<usize>,
@@ -244,6 +250,9 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
     if let Some(bound) = options.torque_max {
         slew = slew.torque_max(bound);
     }
+    if let Some(torque) = options.disturbance {
+        slew = slew.disturbance(torque);
+    }
     if let Some(gravity) = gravity {
         slew = slew.gravity(gravity);
     }
@@ -313,6 +322,7 @@ pub fn run(options: OptimizeOptions) -> Result<()> {
         "kkt_residuals": solution.statistics.kkt_residuals,
         "time_s": solution.statistics.time_s,
         "torque_max": options.torque_max,
+        "disturbance": options.disturbance,
         "gravity": gravity.map(|g| json!({
             "mass": g.mass,
             "g": g.gravity,
@@ -715,6 +725,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             "wheel inertia" => "--wheel-inertia",
             "inertia and wheel inertia" => "--inertia/--wheel-inertia",
             "wheel speeds" => "--wheel-speeds0",
+            "disturbance" => "--disturbance",
             _ => "--steps",
         },
         OptimalError::Infeasible { bounded: true, .. } => "--torque-max",
@@ -766,6 +777,7 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             list(&options.wheel_inertia.unwrap_or([0.05; 3]))
         ),
         "--wheel-speeds0" => list(&options.wheel_speeds0.unwrap_or([0.0; 3])),
+        "--disturbance" => options.disturbance.map_or(String::new(), |d| list(&d)),
         _ => format!(
             "{}, {}, {}",
             options

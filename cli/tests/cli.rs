@@ -2043,6 +2043,85 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
     }
 }
 
+/// `lgsvi optimize --disturbance`: a spherical body's single-axis turn under a constant
+/// torque along its axis costs the undisturbed optimum plus `|d|² T`, its torques the
+/// undisturbed ones less `d` (the law derived in `optimal/tests/disturbance.rs`: the
+/// problem in `u + d` is the undisturbed one); the output records the disturbance, and a
+/// disturbance with `--space` is refused, naming the flag.
+#[test]
+fn optimize_works_against_a_disturbance() {
+    let slew = |extra: &[&str]| {
+        let mut args = vec![
+            "optimize",
+            "--inertia",
+            "2,2,2",
+            "--attitude-final",
+            "0,0,1.2",
+            "--t-end",
+            "10",
+            "--steps",
+            "20",
+            "--nodes",
+            "6",
+            "--quiet",
+        ];
+        args.extend(extra);
+        let (code, out, err) = lgsvi(&args);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let free = slew(&[]);
+    let disturbed = slew(&["--disturbance", "0,0,0.03"]);
+    assert_eq!(disturbed["converged"], true);
+    assert_eq!(disturbed["disturbance"][2], 0.03);
+    let (c0, cd) = (
+        free["cost"].as_f64().unwrap(),
+        disturbed["cost"].as_f64().unwrap(),
+    );
+    // 1e-12 relative: the two solves' KKT tolerances squared through the cost.
+    let expected = c0 + 0.03 * 0.03 * 10.0;
+    assert!(
+        (cd - expected).abs() <= 1e-12 * expected,
+        "{cd} against {expected}"
+    );
+    let inputs = |json: &serde_json::Value| -> Vec<f64> {
+        json["inputs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|u| u[2].as_f64().unwrap())
+            .collect()
+    };
+    for (f, u) in inputs(&free).iter().zip(inputs(&disturbed)) {
+        assert!((f - (u + 0.03)).abs() <= 1e-11, "{f} against {u} + 0.03");
+    }
+    assert_refused(
+        &[
+            "optimize",
+            "--quiet",
+            "--space",
+            "--t-end",
+            "10",
+            "--disturbance",
+            "0,0,0.03",
+        ],
+        &["--disturbance", "--space"],
+    );
+    assert_refused(
+        &[
+            "optimize",
+            "--quiet",
+            "--attitude-final",
+            "0,0,1",
+            "--t-end",
+            "10",
+            "--disturbance",
+            "0,nan,0",
+        ],
+        &["--disturbance"],
+    );
+}
+
 /// `lgsvi optimize --cost time`: Betts's minimum-time reorientation (Fleming, Sekhavat &
 /// Ross 2008, `t_f* = 28.6304077` s) from the command line, the first guess of the time
 /// its own (the eigen-axis bang-bang turn); the discrete optimum at 100 steps lies

@@ -2,7 +2,8 @@
 //! a rigid body from a start `(R₀, Ω₀)` to a target `(R_f, Ω_f)`, the torques bounded per
 //! axis, at the least input energy in a fixed time or in the least time; likewise a heavy
 //! top's ([`Slew::gravity`]) and a spacecraft's by its three reaction wheels, the motor
-//! torques bounded per wheel ([`Slew::wheels`]); and manoeuvres of a body in space (SE(3),
+//! torques bounded per wheel ([`Slew::wheels`]), each also under a known constant
+//! disturbance torque ([`Slew::disturbance`]); and manoeuvres of a body in space (SE(3),
 //! a body wrench bounded per axis) at the least input energy or in the least time
 //! ([`Manoeuvre`]).
 //!
@@ -243,6 +244,7 @@ pub struct Slew {
     steps: usize,
     nodes: usize,
     torque_max: Option<Vector3<f64>>,
+    disturbance: Option<Vector3<f64>>,
     cost: Cost,
     inputs: Inputs,
     tracking: Option<(Vec<Target>, [f64; 2])>,
@@ -378,6 +380,7 @@ impl Slew {
             steps: 20,
             nodes: 10,
             torque_max: None,
+            disturbance: None,
             cost: Cost::Energy,
             inputs: Inputs::Constant,
             tracking: None,
@@ -414,9 +417,13 @@ impl Slew {
         if let Some(w) = self.wheels {
             // (Gravity with m g = 0 beside wheels, which `check` lets through, is none.)
             let craft = Gyrostat::new(self.inertia.matrix(), w.axes, w.inertia)?;
-            return Ok(Plant::Wheels(craft, w.speeds));
+            return Ok(Plant::Wheels {
+                craft,
+                speeds: w.speeds,
+                disturbance: self.disturbance_torque(),
+            });
         }
-        Ok(Plant::Body(match self.gravity {
+        let body = match self.gravity {
             None => BuiltInSo3::Free(RigidBody::new(self.inertia)),
             Some(g) => BuiltInSo3::Top(HeavyTop::new(
                 self.inertia,
@@ -425,7 +432,11 @@ impl Slew {
                 g.center_of_mass,
                 g.direction,
             )?),
-        }))
+        };
+        Ok(Plant::Body {
+            body,
+            disturbance: self.disturbance_torque(),
+        })
     }
 
     /// The start `(R₀, Ω₀)` (body to world; body rates).
@@ -457,6 +468,24 @@ impl Slew {
     pub fn torque_max(mut self, bound: [f64; 3]) -> Self {
         self.torque_max = Some(Vector3::from(bound));
         self
+    }
+
+    /// A constant torque on the body beside the slew's own (body frame, N·m): a known
+    /// disturbance, such as a solar-pressure or outgassing torque or a mean gravity-gradient
+    /// torque, that the torques (or, with [`Slew::wheels`], the motors, whose wheels then
+    /// take up its momentum) work against. It enters each step as a body torque added to
+    /// the slew's, is not part of the cost, and is not in [`Solution::inputs`]: a replay
+    /// adds it to them (with the wheels, as the gyrostat's first three input entries).
+    /// Beside a bound, it must leave room to move: the solver does not check that the
+    /// bounds can hold it.
+    pub fn disturbance(mut self, torque: [f64; 3]) -> Self {
+        self.disturbance = Some(Vector3::from(torque));
+        self
+    }
+
+    /// The disturbance torque, zero without one.
+    pub(crate) fn disturbance_torque(&self) -> Vector3<f64> {
+        self.disturbance.unwrap_or_else(Vector3::zeros)
     }
 
     /// What to minimise: the input energy (the default) or the final time. For
@@ -528,6 +557,16 @@ impl Slew {
         )?;
         checks::bound("torque_max", self.torque_max)?;
         checks::tolerance(self.tolerance)?;
+        if let Some(d) = self
+            .disturbance
+            .filter(|d| !d.iter().all(|x| x.is_finite()))
+        {
+            return Err(invalid(
+                "disturbance",
+                format!("{:?}", d.as_slice()),
+                "not finite",
+            ));
+        }
         for (name, (r, w)) in [("start", self.start), ("target", self.target)] {
             if !(r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite())) {
                 return Err(invalid(

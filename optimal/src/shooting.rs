@@ -13,11 +13,19 @@ use nalgebra::{DMatrix, DVector, SVector, Vector3, Vector6};
 
 /// What the slew's steps integrate: a rigid body or heavy top on SO(3) driven by a body
 /// torque, or a spacecraft with three reaction wheels (SO(3) × ℝ³) driven by the wheels'
-/// motor torques, its wheels starting at the given rates (relative to the body).
+/// motor torques, its wheels starting at the given `speeds` (relative to the body); each
+/// under a constant body torque `disturbance` beside the inputs (zero for none).
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Plant {
-    Body(BuiltInSo3),
-    Wheels(Gyrostat<3>, Vector3<f64>),
+    Body {
+        body: BuiltInSo3,
+        disturbance: Vector3<f64>,
+    },
+    Wheels {
+        craft: Gyrostat<3>,
+        speeds: Vector3<f64>,
+        disturbance: Vector3<f64>,
+    },
 }
 
 impl Plant {
@@ -29,11 +37,11 @@ impl Plant {
         start: (SO3, Vector3<f64>),
     ) -> Result<(Vec<f64>, Vec<f64>), OptimalError> {
         Ok(match *self {
-            Plant::Body(body) => {
+            Plant::Body { body, .. } => {
                 let it = Integrator::new(body, settings, start.0, start.1)?;
                 (it.quadrature_nodes(), it.quadrature_weights())
             }
-            Plant::Wheels(craft, speeds) => {
+            Plant::Wheels { craft, speeds, .. } => {
                 let (g, xi) = wheel_start(start, speeds);
                 let it = Integrator::new(craft, settings, g, xi)?;
                 (it.quadrature_nodes(), it.quadrature_weights())
@@ -216,7 +224,7 @@ pub(crate) fn shoot(
         DVector::from_iterator(6, rotation.iter().chain(rates.iter()).copied())
     };
     match plant {
-        Plant::Body(body) => {
+        Plant::Body { body, disturbance } => {
             let it = Integrator::new(body, settings, start.0, start.1)?;
             // The mass that multiplies the potential.
             let potential = match body {
@@ -232,10 +240,15 @@ pub(crate) fn shoot(
                 rows: vec![0, 1, 2, 3, 4, 5],
                 with_time,
                 attitudes: false,
+                disturbance,
             };
             shoot_with(it, inputs, plan, |s| (*s, None), miss)
         }
-        Plant::Wheels(craft, speeds) => {
+        Plant::Wheels {
+            craft,
+            speeds,
+            disturbance,
+        } => {
             let (g, xi) = wheel_start(start, speeds);
             let it = Integrator::new(craft, settings, g, xi)?;
             let plan = Plan {
@@ -245,6 +258,7 @@ pub(crate) fn shoot(
                 rows: vec![0, 1, 2, 6, 7, 8],
                 with_time,
                 attitudes: false,
+                disturbance,
             };
             let observe = |s: &State<BodyWheels<f64, 3>, 6>| {
                 let state = State {
@@ -304,6 +318,7 @@ pub(crate) fn shoot_motion(
         // Where the manoeuvre's subproblem measures the force in the world frame
         // (`crate::motion`), which reads them.
         attitudes,
+        disturbance: Vector3::zeros(),
     };
     let world_velocity = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
     let target_velocity = world_velocity(&target.0, &target.1);
@@ -357,6 +372,9 @@ struct Plan {
     /// Whether to keep the attitudes' derivatives at the Gauss points
     /// ([`Shot::point_attitudes`]).
     attitudes: bool,
+    /// A constant body torque added to every input, in the system input's first three
+    /// entries (a slew's disturbance; zero for none).
+    disturbance: Vector3<f64>,
 }
 
 /// [`shoot`] for one integrator, inputs of `M` entries: `observe` reads the recorded
@@ -380,11 +398,18 @@ where
         rows,
         with_time,
         attitudes,
+        disturbance,
     } = plan;
     let h = it.settings().h();
+    let disturbed = disturbance != Vector3::zeros();
     let widen = |u: &SVector<f64, M>| {
         let mut full = SVector::<f64, D>::zeros();
         full.fixed_rows_mut::<M>(offset).copy_from(u);
+        if disturbed {
+            for (entry, d) in full.iter_mut().zip(disturbance.iter()) {
+                *entry += d;
+            }
+        }
         full
     };
     let record =
@@ -446,6 +471,15 @@ where
         let mut dk = ak.view((0, D), (2 * D, D)) * velocity;
         for (bj, u) in bk.iter().zip(step_inputs) {
             dk += 2.0 * (bj * u);
+        }
+        if disturbed {
+            // The disturbance is an input too, the same at every point: its columns of
+            // each point's (or the held input's) Jacobian.
+            let held = std::slice::from_ref(step.b(Coordinates::Velocity));
+            let jacobians = step.b_points(Coordinates::Velocity).unwrap_or(held);
+            for bj in jacobians {
+                dk += 2.0 * (bj.columns(0, 3) * disturbance);
+            }
         }
         for i in 0..D {
             dk[D + i] -= end[i];
@@ -522,24 +556,45 @@ mod tests {
             [0.05; 3],
         )
         .unwrap();
-        let plants = [
-            (
-                "free body",
-                Plant::Body(BuiltInSo3::Free(lgsvi_mechanics::RigidBody::new(inertia))),
-            ),
-            ("heavy top", Plant::Body(BuiltInSo3::Top(top))),
-            (
-                "gyrostat",
-                Plant::Wheels(craft, Vector3::new(3.0, -2.0, 1.0)),
-            ),
-        ];
+        let plants = |disturbance: Vector3<f64>| {
+            [
+                (
+                    "free body",
+                    Plant::Body {
+                        body: BuiltInSo3::Free(lgsvi_mechanics::RigidBody::new(inertia)),
+                        disturbance,
+                    },
+                ),
+                (
+                    "heavy top",
+                    Plant::Body {
+                        body: BuiltInSo3::Top(top),
+                        disturbance,
+                    },
+                ),
+                (
+                    "gyrostat",
+                    Plant::Wheels {
+                        craft,
+                        speeds: Vector3::new(3.0, -2.0, 1.0),
+                        disturbance,
+                    },
+                ),
+            ]
+        };
         let start = (
             SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
             Vector3::new(0.3, -0.2, 0.5),
         );
         let target = (SO3::identity(), Vector3::zeros());
         let h = 0.4;
-        for (name, plant) in plants {
+        // Without a disturbance, and with one (the law's input terms then hold its
+        // columns of the input Jacobians too).
+        let disturbances = [Vector3::zeros(), Vector3::new(0.05, -0.1, 0.08)];
+        for (disturbance, (name, plant)) in disturbances
+            .into_iter()
+            .flat_map(|d| plants(d).map(|p| (d, p)))
+        {
             let points = plant
                 .quadrature(StepSettings::new(h, 8).unwrap(), start)
                 .unwrap()
@@ -574,7 +629,10 @@ mod tests {
                 let difference =
                     DVector::from_iterator(6, theta.iter().chain(omega.iter()).copied());
                 let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
-                assert!(error < 1e-7, "{name}, {per_step} inputs a step: {error:e}");
+                assert!(
+                    error < 1e-7,
+                    "{name}, {per_step} inputs a step, disturbance {disturbance:?}: {error:e}"
+                );
             }
         }
     }

@@ -562,8 +562,9 @@ impl<St> Scaled<St> {
 /// rest-to-rest slew, the unbounded minimum-energy slew at the given time rescaled in
 /// time until its largest torque meets its bound (the time scaling of
 /// [`crate::shooting::shoot`] is exact for the step, and leaves rest at rest: the
-/// rescaled torques reach the target whatever the first guess); else the bounded
-/// minimum-energy slew at the given time, half as long again until one exists.
+/// rescaled torques reach the target whatever the first guess); else (and under gravity or
+/// a disturbance) the bounded minimum-energy slew at the given time, half as long again
+/// until one exists.
 fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError> {
     if let Some(initial) = &slew.initial {
         return Ok((initial.clone(), slew.t_end));
@@ -573,12 +574,13 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
         .torque_max
         .unwrap_or_else(|| Vector3::repeat(f64::INFINITY));
     // Rest to rest (the wheels too: their rates would scale with the time), and without
-    // gravity (which does not scale with it).
+    // gravity or a disturbance (which do not scale with it).
     let wheels_at_rest = slew.wheels.is_none_or(|w| w.speeds == Vector3::zeros());
     if slew.start.1 == Vector3::zeros()
         && slew.target.1 == Vector3::zeros()
         && wheels_at_rest
         && slew.gravity.is_none()
+        && slew.disturbance.is_none()
     {
         let free = Slew {
             cost: Cost::Energy,

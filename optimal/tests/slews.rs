@@ -58,38 +58,54 @@ fn constant_torques_converge_to_the_continuous_optimum_at_second_order() {
     }
 }
 
+/// An asymmetric body's slew between moving states, without and with a disturbance torque
+/// off every axis of the turn (no closed form there): a fresh integrator given the torques
+/// (plus the disturbance) lands on the target.
 #[test]
 fn an_asymmetric_slew_replays_onto_its_target() {
     let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
     let start = SO3::exp(&Vector3::new(0.1, -0.2, 0.3));
     let target = SO3::exp(&Vector3::new(1.5, 0.4, -0.9));
     let (w0, wf) = (Vector3::new(0.02, 0.0, -0.01), Vector3::new(0.0, 0.01, 0.0));
-    let solution = Slew::new(inertia, 30.0)
+    let slew = Slew::new(inertia, 30.0)
         .from(start, w0)
         .to(target, wf)
         .steps(30)
-        .nodes(10)
-        .solve()
+        .nodes(10);
+    let d = Vector3::new(0.01, -0.02, 0.015);
+    let free = slew.clone().solve().unwrap();
+    let disturbed = slew.disturbance(d.into()).solve().unwrap();
+    for (solution, disturbance) in [(&free, Vector3::zeros()), (&disturbed, d)] {
+        assert!(solution.converged);
+        assert!(*solution.statistics.kkt_residuals.last().unwrap() <= 1e-10);
+        let mut it = Integrator::new(
+            RigidBody::new(inertia),
+            StepSettings::new(solution.h, 10).unwrap(),
+            start,
+            w0,
+        )
         .unwrap();
-    assert!(solution.converged);
-    assert!(*solution.statistics.kkt_residuals.last().unwrap() <= 1e-10);
-    // A fresh integrator driven by the torques lands on the target.
-    let mut it = Integrator::new(
-        RigidBody::new(inertia),
-        StepSettings::new(solution.h, 10).unwrap(),
-        start,
-        w0,
-    )
-    .unwrap();
-    for u in &solution.inputs {
-        it.set_input(*u).unwrap();
-        it.step().unwrap();
+        for u in &solution.inputs {
+            it.set_input(u + disturbance).unwrap();
+            it.step().unwrap();
+        }
+        let end = it.state();
+        let miss = end.configuration.inverse().compose(&target).log().amax();
+        assert!(
+            miss <= 1e-10,
+            "attitude miss {miss}, disturbance {disturbance:?}"
+        );
+        assert!((end.velocity - wf).amax() <= 1e-10);
+        assert_eq!(solution.states.len(), 31);
     }
-    let end = it.state();
-    let miss = end.configuration.inverse().compose(&target).log().amax();
-    assert!(miss <= 1e-10, "attitude miss {miss}");
-    assert!((end.velocity - wf).amax() <= 1e-10);
-    assert_eq!(solution.states.len(), 31);
+    // The disturbance is worked against: the torques move by about d.
+    let apart = free
+        .inputs
+        .iter()
+        .zip(&disturbed.inputs)
+        .map(|(f, u)| (f - u).amax())
+        .fold(0.0, f64::max);
+    assert!(apart > 0.5 * d.amax(), "{apart:e}");
 }
 
 #[test]

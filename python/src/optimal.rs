@@ -39,7 +39,7 @@ fn optimal_error(error: OptimalError) -> PyErr {
 
 /// Solves a slew; the Python layer's `lgsvi.optimal.slew` wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None, gravity=None, mass=1.0, com=None, gravity_direction=None, wheels=None, wheel_inertia=None, wheel_speeds0=None))]
+#[pyo3(signature = (inertia, t_end, attitude_final, attitude0=None, omega0=None, omega_final=None, steps=40, nodes=10, torque_max=None, tolerance=1e-10, max_iterations=100, warm_start=None, cost="energy", inputs="constant", track=None, terminal_cost=None, gravity=None, mass=1.0, com=None, gravity_direction=None, wheels=None, wheel_inertia=None, wheel_speeds0=None, disturbance=None))]
 #[allow(clippy::too_many_arguments)]
 fn _slew<'py>(
     py: Python<'py>,
@@ -66,6 +66,7 @@ fn _slew<'py>(
     wheels: Option<&Bound<'py, PyAny>>,
     wheel_inertia: Option<&Bound<'py, PyAny>>,
     wheel_speeds0: Option<&Bound<'py, PyAny>>,
+    disturbance: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = input_shape(inputs)?;
     let cost = match cost {
@@ -123,6 +124,10 @@ fn _slew<'py>(
         .inputs(shape);
     if let Some(bound) = bound {
         slew = slew.torque_max([bound.x, bound.y, bound.z]);
+    }
+    if let Some(torque) = disturbance {
+        let d = vector3(torque, "disturbance")?;
+        slew = slew.disturbance([d.x, d.y, d.z]);
     }
     match gravity {
         Some(g) => {

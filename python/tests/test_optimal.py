@@ -221,6 +221,39 @@ def test_wheel_errors_name_the_argument():
             optimal.slew([3.0, 4.0, 5.0], 10.0, target, **kwargs)
 
 
+def test_a_slew_works_against_a_disturbance():
+    # Along a spherical body's single-axis turn a disturbance d along the axis leaves the
+    # problem in u + d the undisturbed one: the cost grows by |d|^2 T exactly and the
+    # torques fall by d (optimal/tests/disturbance.rs derives it); 1e-12 relative is the
+    # two solves' KKT tolerance squared through the cost.
+    j, theta, t_end = 2.0, 1.2, 10.0
+    axis = np.array([1.0, 2.0, 2.0]) / 3
+    target = lie.so3_exp(axis * theta)
+    d = 0.03 * axis
+    free = optimal.slew([j] * 3, t_end, target, steps=20, nodes=6)
+    disturbed = optimal.slew([j] * 3, t_end, target, steps=20, nodes=6, disturbance=d)
+    assert disturbed.cost == pytest.approx(free.cost + d @ d * t_end, rel=1e-12)
+    assert np.abs(free.inputs - (disturbed.inputs + d)).max() <= 1e-11
+    # By reaction wheels, an asymmetric craft: the run given the motors' torques and d as
+    # the gyrostat's body torque lands on the target.
+    target = lie.so3_exp([0.6, -0.4, 0.9])
+    d = np.array([0.004, -0.003, 0.005])
+    result = optimal.slew([8.0, 10.0, 6.0], 30.0, target, steps=30, nodes=8,
+                          wheels=np.eye(3), wheel_speeds0=[20.0, -10.0, 5.0], disturbance=d)
+    assert result.converged
+    craft = lgsvi.Gyrostat(np.diag([8.0, 10.0, 6.0]), np.eye(3), [0.05] * 3)
+    it = lgsvi.Integrator(craft, result.h, 8, wheel_speeds=[20.0, -10.0, 5.0])
+    for u in result.inputs:
+        it.set_input(np.concatenate([d, u]))
+        it.step()
+    assert np.abs(lie.so3_log(it.state.attitude.T @ target)).max() <= 1e-9
+    assert np.abs(it.state.omega).max() <= 1e-9
+    with pytest.raises(lgsvi.InvalidInputError, match="disturbance"):
+        optimal.slew([3.0, 4.0, 5.0], 10.0, target, disturbance=[0.0, np.nan, 0.0])
+    with pytest.raises(lgsvi.InvalidInputError, match="disturbance"):
+        optimal.slew([3.0, 4.0, 5.0], 10.0, target, disturbance=[0.0, 1.0])
+
+
 def test_a_manoeuvre_in_space_meets_the_split_optimum_and_replays():
     # A spherical body turned and moved rest to rest: the optimum splits into the two
     # single-axis cubics, 12 (j^2 theta^2 + m^2 |d|^2) / T^3, which polynomial wrenches meet

@@ -295,6 +295,7 @@ def _slew(
     wheels: Optional[ArrayLike] = None,
     wheel_inertia: Optional[ArrayLike] = None,
     wheel_speeds0: Optional[ArrayLike] = None,
+    disturbance: Optional[ArrayLike] = None,
 ) -> Dict[str, Any]: ...
 
 def _manoeuvre(

@@ -131,6 +131,7 @@ def slew(
     wheels: Optional[Any] = None,
     wheel_inertia: Optional[Any] = None,
     wheel_speeds0: Optional[Any] = None,
+    disturbance: Optional[Any] = None,
 ) -> SlewResult:
     """The slew of the body of principal moments ``inertia`` (3,) to ``attitude_final``
     (3, 3) and ``omega_final`` (default rest), from ``attitude0`` (default identity) and
@@ -165,6 +166,12 @@ def slew(
     default 0.05) and ``wheel_speeds0`` their rates relative to the body at the start
     (default rest; the final rates are free). Without gravity.
 
+    ``disturbance`` (3,), a constant torque on the body (body frame, N m): a known
+    disturbance (solar pressure, outgassing, a mean gravity-gradient torque) that the
+    torques, or with ``wheels`` the motors, work against (the wheels then take up its
+    momentum). It is not part of the cost nor of the result's ``inputs``: a replay adds it
+    to them (with wheels, as the gyrostat's first three input entries).
+
     Raises
     ------
     InvalidInputError
@@ -198,6 +205,7 @@ def slew(
         wheels=wheels,
         wheel_inertia=wheel_inertia,
         wheel_speeds0=wheel_speeds0,
+        disturbance=disturbance,
     )
     return SlewResult(**fields)
 
