@@ -115,6 +115,12 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
     if let Some(bound) = options.force_max {
         manoeuvre = manoeuvre.force_max(bound);
     }
+    if options.disturbance.is_some() || options.disturbance_force.is_some() {
+        manoeuvre = manoeuvre.disturbance(
+            options.disturbance.unwrap_or([0.0; 3]),
+            options.disturbance_force.unwrap_or([0.0; 3]),
+        );
+    }
     if options.inputs == Some(InputShape::Polynomial) {
         manoeuvre = manoeuvre.inputs(lgsvi_optimal::Inputs::Polynomial);
     }
@@ -197,6 +203,8 @@ pub fn run(options: &OptimizeOptions) -> Result<()> {
         "mu": options.mu,
         "torque_max": options.torque_max,
         "force_max": options.force_max,
+        "disturbance": options.disturbance,
+        "disturbance_force": options.disturbance_force,
         "multipliers": solution.multipliers,
         "t": times,
         "inputs": solution.inputs.iter().map(wrench).collect::<Vec<_>>(),
@@ -238,14 +246,6 @@ fn refuse_slew_only(options: &OptimizeOptions) -> Result<()> {
             ));
         }
     }
-    if options.disturbance.is_some() {
-        return Err(CliError::invalid(
-            "--disturbance",
-            "with --space",
-            "a disturbance torque is built for slews (SO(3)), not yet for a manoeuvre in \
-             space: drop it (or --space for a slew)",
-        ));
-    }
     Ok(())
 }
 
@@ -258,6 +258,7 @@ pub fn refuse_space_only(options: &OptimizeOptions) -> Result<()> {
         ("--velocity0", options.velocity0.is_some()),
         ("--velocity-final", options.velocity_final.is_some()),
         ("--force-max", options.force_max.is_some()),
+        ("--disturbance-force", options.disturbance_force.is_some()),
     ];
     for (flag, given) in given {
         if given {
@@ -287,6 +288,14 @@ fn named(error: OptimalError, options: &OptimizeOptions, t_end: f64) -> CliError
             "steps" => ("--steps", value.clone()),
             "torque_max" => ("--torque-max", list(options.torque_max)),
             "force_max" => ("--force-max", list(options.force_max)),
+            "disturbance" => (
+                "--disturbance/--disturbance-force",
+                format!(
+                    "{}; {}",
+                    list(options.disturbance),
+                    list(options.disturbance_force)
+                ),
+            ),
             "tolerance" => ("--tolerance", value.clone()),
             "start" => (
                 "--attitude0/--omega0/--position0/--velocity0",

@@ -145,9 +145,14 @@ pub struct OptimizeOptions {
     /// A constant disturbance torque on the body, body frame, N·m: known (solar pressure,
     /// outgassing, a mean gravity-gradient torque) and worked against by the torques (with
     /// --wheels, by the motors, whose wheels take up its momentum). Not part of the cost
-    /// nor of the output's inputs; a replay adds it to them. Slews only.
+    /// nor of the output's inputs; a replay adds it to them.
     #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub disturbance: Option<[f64; 3]>,
+    /// With --space: a constant disturbance force on the body, body frame, N (a leak, a
+    /// thruster's misalignment), beside --disturbance's torque; as that one, worked
+    /// against, not part of the cost nor of the output's inputs.
+    #[arg(long, value_parser = crate::config::numbers::<3>, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub disturbance_force: Option<[f64; 3]>,
     /// Steps K (the torque is constant over each) [default: 40].
     #[arg(long)]
     pub steps: Option<usize>,
@@ -787,7 +792,15 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             options.steps.unwrap_or(40)
         ),
     };
-    CliError::invalid(flag, value, error.to_string())
+    let mut reason = error.to_string();
+    if let (OptimalError::Infeasible { bounded: true, .. }, Some(d)) = (&error, options.disturbance)
+    {
+        reason += &format!(
+            " (and the torques work against --disturbance {} within the same bound)",
+            list(&d)
+        );
+    }
+    CliError::invalid(flag, value, reason)
 }
 
 /// Entry `entry` of the optimal inputs over time, labelled `{name}_{color + 1}`: held over

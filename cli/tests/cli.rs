@@ -2043,16 +2043,25 @@ fn optimize_writes_a_converged_slew_and_names_bad_flags() {
     }
 }
 
+/// `lgsvi optimize --quiet` with `base` then `extra`, which must succeed: its JSON.
+fn optimize_json(base: &[&str], extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["optimize", "--quiet"];
+    args.extend(base);
+    args.extend(extra);
+    let (code, out, err) = lgsvi(&args);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap()
+}
+
 /// `lgsvi optimize --disturbance`: a spherical body's single-axis turn under a constant
 /// torque along its axis costs the undisturbed optimum plus `|d|² T`, its torques the
 /// undisturbed ones less `d` (the law derived in `optimal/tests/disturbance.rs`: the
-/// problem in `u + d` is the undisturbed one); the output records the disturbance, and a
-/// disturbance with `--space` is refused, naming the flag.
+/// problem in `u + d` is the undisturbed one), and likewise in space; the output records
+/// the disturbance, and a disturbance force without `--space` is refused, naming the flag.
 #[test]
 fn optimize_works_against_a_disturbance() {
     let slew = |extra: &[&str]| {
-        let mut args = vec![
-            "optimize",
+        let base = [
             "--inertia",
             "2,2,2",
             "--attitude-final",
@@ -2063,12 +2072,8 @@ fn optimize_works_against_a_disturbance() {
             "20",
             "--nodes",
             "6",
-            "--quiet",
         ];
-        args.extend(extra);
-        let (code, out, err) = lgsvi(&args);
-        assert_eq!(code, 0, "{err}");
-        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+        optimize_json(&base, extra)
     };
     let free = slew(&[]);
     let disturbed = slew(&["--disturbance", "0,0,0.03"]);
@@ -2095,17 +2100,76 @@ fn optimize_works_against_a_disturbance() {
     for (f, u) in inputs(&free).iter().zip(inputs(&disturbed)) {
         assert!((f - (u + 0.03)).abs() <= 1e-11, "{f} against {u} + 0.03");
     }
+    // In space, a turn about z and a move along z with the disturbance wrench along z:
+    // the same law, `(τ_d² + f_d²) T` more (optimal/tests/manoeuvres.rs).
+    let manoeuvre = |extra: &[&str]| {
+        let base = [
+            "--space",
+            "--inertia",
+            "2,2,2",
+            "--mass",
+            "5",
+            "--attitude-final",
+            "0,0,1.2",
+            "--position-final",
+            "0,0,0.8",
+            "--t-end",
+            "10",
+            "--steps",
+            "5",
+            "--nodes",
+            "6",
+            "--inputs",
+            "polynomial",
+        ];
+        optimize_json(&base, extra)
+    };
+    let free = manoeuvre(&[]);
+    let disturbed = manoeuvre(&[
+        "--disturbance",
+        "0,0,0.02",
+        "--disturbance-force",
+        "0,0,-0.05",
+    ]);
+    assert_eq!(disturbed["disturbance_force"][2], -0.05);
+    let expected = free["cost"].as_f64().unwrap() + (0.02 * 0.02 + 0.05 * 0.05) * 10.0;
+    let cost = disturbed["cost"].as_f64().unwrap();
+    assert!(
+        (cost - expected).abs() <= 1e-12 * expected,
+        "{cost} against {expected}"
+    );
     assert_refused(
         &[
             "optimize",
             "--quiet",
-            "--space",
+            "--attitude-final",
+            "0,0,1",
             "--t-end",
             "10",
-            "--disturbance",
+            "--disturbance-force",
             "0,0,0.03",
         ],
-        &["--disturbance", "--space"],
+        &["--disturbance-force", "--space"],
+    );
+    // A bound too tight beside a disturbance names the bound and recalls the disturbance.
+    assert_refused(
+        &[
+            "optimize",
+            "--quiet",
+            "--inertia",
+            "3,4,5",
+            "--attitude-final",
+            "0,0,1",
+            "--t-end",
+            "10",
+            "--steps",
+            "20",
+            "--torque-max",
+            "0.3",
+            "--disturbance",
+            "0,0,0.29",
+        ],
+        &["--torque-max", "infeasible", "--disturbance"],
     );
     assert_refused(
         &[

@@ -13,6 +13,20 @@ pub(crate) fn invalid(name: &'static str, value: String, reason: &str) -> Optima
     }
 }
 
+/// A disturbance (torque or wrench), where given: finite.
+pub(crate) fn disturbance<const N: usize>(
+    disturbance: Option<SVector<f64, N>>,
+) -> Result<(), OptimalError> {
+    match disturbance.filter(|d| !d.iter().all(|x| x.is_finite())) {
+        Some(d) => Err(invalid(
+            "disturbance",
+            format!("{:?}", d.as_slice()),
+            "not finite",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The final time (positive and finite) and the step count (2 to 100000); `conditions`
 /// says why two steps at least (the terminal conditions against one step's inputs).
 pub(crate) fn horizon(t_end: f64, steps: usize, conditions: &str) -> Result<(), OptimalError> {

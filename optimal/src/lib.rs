@@ -4,8 +4,8 @@
 //! top's ([`Slew::gravity`]) and a spacecraft's by its three reaction wheels, the motor
 //! torques bounded per wheel ([`Slew::wheels`]), each also under a known constant
 //! disturbance torque ([`Slew::disturbance`]); and manoeuvres of a body in space (SE(3),
-//! a body wrench bounded per axis) at the least input energy or in the least time
-//! ([`Manoeuvre`]).
+//! a body wrench bounded per axis, a known disturbance wrench beside it where given) at
+//! the least input energy or in the least time ([`Manoeuvre`]).
 //!
 //! # The problem
 //!
@@ -77,7 +77,8 @@
 //!   eigenvalues mirrored, before it is halved, and the solve climbs a ladder of step
 //!   counts (`K` halved down to about 20 steps, each level started from the one below),
 //!   from the minimum-energy slew rescaled in time until its largest torque meets its
-//!   bound (rest to rest) or at the shortest time that slew is found for (otherwise),
+//!   bound (rest to rest, without gravity or a disturbance) or at the shortest time that
+//!   slew is found for (otherwise),
 //!   perturbed off symmetric motions.
 //!
 //! A minimum-time slew whose optimum has a singular arc (a torque strictly inside its
@@ -273,8 +274,9 @@ pub struct Gravity {
 /// (`τ_i` between the body and wheel `i`), not a body torque, and the body is a gyrostat
 /// ([`lgsvi_mechanics::gyrostat::Gyrostat`]): `ℓ = ½ΩᵀJΩ + Σ I_i (a_iᵀΩ) φ̇_i + ½ Σ I_i φ̇_i²`
 /// with `J` the inertia given to [`Slew::new`], that of the whole spacecraft with its wheels
-/// locked ([`Slew::wheels`]). The total angular momentum is conserved: the motors move
-/// momentum between the body and the wheels.
+/// locked ([`Slew::wheels`]). The motors move momentum between the body and the wheels:
+/// the total angular momentum is conserved, but for a disturbance's impulse
+/// ([`Slew::disturbance`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wheels {
     /// The wheels' spin axes (body frame; any length: the solver normalises them). They
@@ -340,13 +342,14 @@ pub struct Solution {
     /// `x_0 … x_K`; empty otherwise.
     pub wheel_speeds: Vec<Vector3<f64>>,
     /// The torque of each step, `u_0 … u_{K−1}` (body frame, N·m; with [`Slew::wheels`],
-    /// the three motor torques); with
+    /// the three motor torques), a disturbance ([`Slew::disturbance`]) not included; with
     /// [`Inputs::Polynomial`], each step's mean `Σ_j b_j u_kj` (the constant torque of
     /// the same impulse).
     pub inputs: Vec<Vector3<f64>>,
     /// With [`Inputs::Polynomial`], each step's torques at its Gauss points
     /// ([`Solution::quadrature_nodes`]), which replay the solution through
-    /// [`lgsvi_mechanics::Integrator::set_input_at_points`]; empty otherwise.
+    /// [`lgsvi_mechanics::Integrator::set_input_at_points`] (plus a disturbance, where
+    /// there is one); empty otherwise.
     pub inputs_at_points: Vec<Vec<Vector3<f64>>>,
     /// The Gauss points of a step as fractions of its length, `c_j`.
     pub quadrature_nodes: Vec<f64>,
@@ -490,9 +493,9 @@ impl Slew {
 
     /// What to minimise: the input energy (the default) or the final time. For
     /// [`Cost::Time`] the torques must be bounded ([`Slew::torque_max`]) and the final
-    /// time given to [`Slew::new`] is a first guess: rest to rest the start does not
-    /// depend on it (the minimum-energy slew is rescaled in time until its largest
-    /// torque meets its bound); between moving states the start is the bounded
+    /// time given to [`Slew::new`] is a first guess: rest to rest, without gravity or a
+    /// disturbance, the start does not depend on it (the minimum-energy slew is rescaled
+    /// in time until its largest torque meets its bound); otherwise the start is the bounded
     /// minimum-energy slew at the shortest time within 30% that it is found for, from
     /// the guess. A warm start ([`Slew::warm_start`]) is used at the guess as it is.
     pub fn cost(mut self, cost: Cost) -> Self {
@@ -557,16 +560,7 @@ impl Slew {
         )?;
         checks::bound("torque_max", self.torque_max)?;
         checks::tolerance(self.tolerance)?;
-        if let Some(d) = self
-            .disturbance
-            .filter(|d| !d.iter().all(|x| x.is_finite()))
-        {
-            return Err(invalid(
-                "disturbance",
-                format!("{:?}", d.as_slice()),
-                "not finite",
-            ));
-        }
+        checks::disturbance(self.disturbance)?;
         for (name, (r, w)) in [("start", self.start), ("target", self.target)] {
             if !(r.matrix().iter().all(|x| x.is_finite()) && w.iter().all(|x| x.is_finite())) {
                 return Err(invalid(

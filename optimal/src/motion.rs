@@ -3,7 +3,7 @@
 //! or in the least time.
 
 use crate::energy::{by_step, Problem, Solved, Start};
-use crate::shooting::{shoot_motion, Shot, Wants};
+use crate::shooting::{shoot_motion, Shot, SpacePlant, Wants};
 use crate::time::{bracket, least_time, rescaled_to_bound, TimeSettings, Timed, START_TOLERANCE};
 use crate::tracking::Residuals;
 use crate::{Cost, Inputs, OptimalError, Statistics};
@@ -147,6 +147,7 @@ pub struct Manoeuvre {
     nodes: usize,
     torque_max: Option<Vector3<f64>>,
     force_max: Option<Vector3<f64>>,
+    disturbance: Option<Vector6<f64>>,
     inputs: Inputs,
     cost: Cost,
     tolerance: f64,
@@ -162,7 +163,8 @@ pub struct ManoeuvreSolution {
     /// The states at the step boundaries, `x_0 … x_K`: pose, body velocity `(Ω, v)` and
     /// body momentum.
     pub states: Vec<State<SE3, 6>>,
-    /// The body wrench `(τ, f)` of each step, `u_0 … u_{K−1}` (N·m, N); with
+    /// The body wrench `(τ, f)` of each step, `u_0 … u_{K−1}` (N·m, N), a disturbance
+    /// ([`Manoeuvre::disturbance`]) not included; with
     /// [`Inputs::Polynomial`], each step's mean `Σ_j b_j u_kj`.
     pub inputs: Vec<Vector6<f64>>,
     /// With [`Inputs::Polynomial`], each step's wrenches at its Gauss points
@@ -206,6 +208,7 @@ impl Manoeuvre {
             nodes: 10,
             torque_max: None,
             force_max: None,
+            disturbance: None,
             inputs: Inputs::Constant,
             cost: Cost::Energy,
             tolerance: 1e-10,
@@ -250,6 +253,32 @@ impl Manoeuvre {
     pub fn force_max(mut self, bound: [f64; 3]) -> Self {
         self.force_max = Some(Vector3::from(bound));
         self
+    }
+
+    /// A constant body wrench on the body beside the manoeuvre's own (body frame: torque
+    /// N·m, force N): a known disturbance, such as a solar-pressure torque and force, a
+    /// leak or a thruster's misalignment, that the wrench works against. It enters each
+    /// step as a body wrench added to the inputs, is not part of the cost, and is not in
+    /// [`ManoeuvreSolution::inputs`]: a replay adds it to them. Beside a bound, it must
+    /// leave room to move: the solver does not check that the bounds can hold it.
+    pub fn disturbance(mut self, torque: [f64; 3], force: [f64; 3]) -> Self {
+        let mut wrench = Vector6::zeros();
+        wrench
+            .fixed_rows_mut::<3>(0)
+            .copy_from(&Vector3::from(torque));
+        wrench
+            .fixed_rows_mut::<3>(3)
+            .copy_from(&Vector3::from(force));
+        self.disturbance = Some(wrench);
+        self
+    }
+
+    /// The body and the disturbance its steps integrate.
+    fn plant(&self) -> SpacePlant {
+        SpacePlant {
+            body: self.body,
+            disturbance: self.disturbance.unwrap_or_else(Vector6::zeros),
+        }
     }
 
     /// How the wrench varies within a step: constant (the default) or a polynomial given
@@ -332,6 +361,7 @@ impl Manoeuvre {
         checks::bound("torque_max", self.torque_max)?;
         checks::bound("force_max", self.force_max)?;
         checks::tolerance(self.tolerance)?;
+        checks::disturbance(self.disturbance)?;
         for (name, (g, xi)) in [("start", self.start), ("target", self.target)] {
             let finite = g.rotation().matrix().iter().all(|x| x.is_finite())
                 && g.translation().iter().all(|x| x.is_finite())
@@ -536,7 +566,7 @@ impl Manoeuvre {
         let per_step = start.step_weights.len();
         let shoot = |u: &[Vector6<f64>]| {
             let mut shot = shoot_motion(
-                self.body,
+                self.plant(),
                 settings,
                 self.start,
                 self.target,
@@ -634,7 +664,7 @@ impl Timed<6> for Manoeuvre {
             time: true,
         };
         let mut shot = shoot_motion(
-            self.body,
+            self.plant(),
             settings,
             self.start,
             self.target,
@@ -657,8 +687,8 @@ impl Timed<6> for Manoeuvre {
     /// The warm start if given; for the free body from rest to rest, the unbounded
     /// minimum-energy manoeuvre rescaled in time until its largest wrench entry meets its
     /// bound (as the slew's: `u(t)` over `T` becomes `u(t/c)/c²` over `cT`, the same path;
-    /// an orbiting body's gravity does not scale so); else the bounded minimum-energy
-    /// manoeuvre at a time [`bracket`] finds.
+    /// an orbiting body's gravity and a disturbance do not scale so); else the bounded
+    /// minimum-energy manoeuvre at a time [`bracket`] finds.
     fn feasible_start(&self, k_steps: usize) -> Result<(Vec<Vector6<f64>>, f64), OptimalError> {
         if let Some(initial) = &self.initial {
             return Ok((initial.clone(), self.t_end));
@@ -676,7 +706,9 @@ impl Timed<6> for Manoeuvre {
             }
             .solve()
         };
-        let free = matches!(self.body, BuiltInSe3::Free(_));
+        // (A disturbance does not scale with the time either.)
+        let free = matches!(self.body, BuiltInSe3::Free(_))
+            && self.plant().disturbance == Vector6::zeros();
         if free && self.start.1 == Vector6::zeros() && self.target.1 == Vector6::zeros() {
             let unbounded = energy(self.t_end, false)?;
             if let Some(start) = rescaled_to_bound(&unbounded.inputs, &bound, self.t_end) {
@@ -856,7 +888,10 @@ mod tests {
                     })
                     .collect();
                 let mut run = shoot_motion(
-                    body,
+                    SpacePlant {
+                        body,
+                        disturbance: Vector6::zeros(),
+                    },
                     settings,
                     manoeuvre.start,
                     manoeuvre.target,

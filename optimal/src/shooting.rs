@@ -50,6 +50,13 @@ impl Plant {
     }
 }
 
+/// A body torque as the first three of six input entries (the rest zero).
+fn torque_entries(torque: Vector3<f64>) -> Vector6<f64> {
+    let mut entries = Vector6::zeros();
+    entries.fixed_rows_mut::<3>(0).copy_from(&torque);
+    entries
+}
+
 /// The gyrostat's start: the attitude with its wheel angles at zero, the velocity
 /// `(Ω, φ̇)`.
 fn wheel_start(
@@ -199,7 +206,8 @@ impl<St> Shot<St> {
 /// h ∂x₊/∂h = A_ω Ω + 2 Σ_j B_j u_j − (0, Ω₊)
 /// ```
 ///
-/// with `A_ω` the columns of `A` in the start's rates; `optimal/tests/free_time.rs`
+/// with `A_ω` the columns of `A` in the start's rates and `u_j` the whole input, a
+/// disturbance's included (it scales as the inputs do); `optimal/tests/free_time.rs`
 /// checks both the scaling and this derivative against finite differences. The law is the
 /// free body's, and a gyrostat's, whose kinetic energy is quadratic in `(Ω, φ̇)` too. A
 /// potential does not scale so: the heavy top's action over `ch`,
@@ -240,7 +248,7 @@ pub(crate) fn shoot(
                 rows: vec![0, 1, 2, 3, 4, 5],
                 with_time,
                 attitudes: false,
-                disturbance,
+                disturbance: torque_entries(disturbance),
             };
             shoot_with(it, inputs, plan, |s| (*s, None), miss)
         }
@@ -258,7 +266,7 @@ pub(crate) fn shoot(
                 rows: vec![0, 1, 2, 6, 7, 8],
                 with_time,
                 attitudes: false,
-                disturbance,
+                disturbance: torque_entries(disturbance),
             };
             let observe = |s: &State<BodyWheels<f64, 3>, 6>| {
                 let state = State {
@@ -292,7 +300,7 @@ pub(crate) fn shoot(
 /// Lagrangian's Hessian, and the Gauss–Newton iteration, which leaves it out, diverge. In
 /// the world frame the centre of mass's rows do not turn with the attitude.
 pub(crate) fn shoot_motion(
-    body: BuiltInSe3,
+    plant: SpacePlant,
     settings: StepSettings,
     start: (SE3, Vector6<f64>),
     target: (SE3, Vector6<f64>),
@@ -301,6 +309,7 @@ pub(crate) fn shoot_motion(
     wants: Wants,
 ) -> Result<Shot<State<SE3, 6>>, OptimalError> {
     let Wants { attitudes, time } = wants;
+    let SpacePlant { body, disturbance } = plant;
     let it = Integrator::new(body, settings, start.0, start.1)?;
     // The gravitational parameter that multiplies the potential.
     let potential = match body {
@@ -318,7 +327,7 @@ pub(crate) fn shoot_motion(
         // Where the manoeuvre's subproblem measures the force in the world frame
         // (`crate::motion`), which reads them.
         attitudes,
-        disturbance: Vector3::zeros(),
+        disturbance,
     };
     let world_velocity = |g: &SE3, xi: &Vector6<f64>| g.rotation().matrix() * xi.fixed_rows::<3>(3);
     let target_velocity = world_velocity(&target.0, &target.1);
@@ -344,6 +353,14 @@ pub(crate) fn shoot_motion(
         shot.time_sensitivity = &world * &shot.time_sensitivity;
     }
     Ok(shot)
+}
+
+/// What a manoeuvre's steps integrate: a body in space under a constant body wrench
+/// `disturbance = (τ, f)` beside the inputs (zero for none).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SpacePlant {
+    pub body: BuiltInSe3,
+    pub disturbance: Vector6<f64>,
 }
 
 /// What a run of [`shoot_motion`] forms beyond its states, miss and sensitivity.
@@ -372,9 +389,10 @@ struct Plan {
     /// Whether to keep the attitudes' derivatives at the Gauss points
     /// ([`Shot::point_attitudes`]).
     attitudes: bool,
-    /// A constant body torque added to every input, in the system input's first three
-    /// entries (a slew's disturbance; zero for none).
-    disturbance: Vector3<f64>,
+    /// A constant disturbance added to every input's first entries (a body torque on
+    /// SO(3) and for a gyrostat, whose motor entries it leaves at zero; a body wrench
+    /// `(τ, f)` on SE(3)); zero for none.
+    disturbance: Vector6<f64>,
 }
 
 /// [`shoot`] for one integrator, inputs of `M` entries: `observe` reads the recorded
@@ -401,7 +419,9 @@ where
         disturbance,
     } = plan;
     let h = it.settings().h();
-    let disturbed = disturbance != Vector3::zeros();
+    let disturbed = disturbance != Vector6::zeros();
+    // The entries the disturbance reaches (all six, or the group's three).
+    let reach = D.min(6);
     let widen = |u: &SVector<f64, M>| {
         let mut full = SVector::<f64, D>::zeros();
         full.fixed_rows_mut::<M>(offset).copy_from(u);
@@ -473,13 +493,11 @@ where
             dk += 2.0 * (bj * u);
         }
         if disturbed {
-            // The disturbance is an input too, the same at every point: its columns of
-            // each point's (or the held input's) Jacobian.
-            let held = std::slice::from_ref(step.b(Coordinates::Velocity));
-            let jacobians = step.b_points(Coordinates::Velocity).unwrap_or(held);
-            for bj in jacobians {
-                dk += 2.0 * (bj.columns(0, 3) * disturbance);
-            }
+            // The disturbance is an input too, the same at every point: its columns of the
+            // step's `B`, the derivative in an input added at every point (the points'
+            // `B_j` sum to it).
+            let b = step.b(Coordinates::Velocity);
+            dk += 2.0 * (b.columns(0, reach) * disturbance.rows(0, reach));
         }
         for i in 0..D {
             dk[D + i] -= end[i];
@@ -640,7 +658,7 @@ mod tests {
     /// The same law on SE(3): `∂x_K/∂h` of the free body in space and of the orbiting body
     /// (the law's `μ` term), in the world-frame coordinates of the miss, against central
     /// differences of whole runs (the bound as above), with wrenches held over each step
-    /// and at the Gauss points.
+    /// and at the Gauss points, without and with a disturbance wrench.
     #[test]
     fn the_time_derivative_in_space_matches_central_differences() {
         let inertia = Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap();
@@ -648,11 +666,17 @@ mod tests {
             BuiltInSe3::Free(lgsvi_mechanics::FreeBody::new(inertia, 7.0).unwrap()),
             BuiltInSe3::Orbit(lgsvi_mechanics::OrbitingBody::new(inertia, 7.0, 3.0).unwrap()),
         ] {
-            time_derivative_in_space(body);
+            for disturbance in [
+                Vector6::zeros(),
+                Vector6::new(0.05, -0.1, 0.08, 0.2, 0.1, -0.3),
+            ] {
+                time_derivative_in_space(SpacePlant { body, disturbance });
+            }
         }
     }
 
-    fn time_derivative_in_space(body: BuiltInSe3) {
+    fn time_derivative_in_space(plant: SpacePlant) {
+        let body = plant.body;
         let start = (
             SE3::new(
                 SO3::exp(&Vector3::new(0.2, -0.4, 0.1)),
@@ -679,7 +703,7 @@ mod tests {
             };
             let at = |h: f64| {
                 let settings = StepSettings::new(h, 8).unwrap();
-                shoot_motion(body, settings, start, target, &inputs, per_step, wants).unwrap()
+                shoot_motion(plant, settings, start, target, &inputs, per_step, wants).unwrap()
             };
             let shot = at(h);
             let delta = 1e-4 * h;
@@ -704,7 +728,7 @@ mod tests {
             let error = (&shot.time_sensitivity - &difference).amax() / difference.amax();
             assert!(
                 error < 1e-7,
-                "{body:?}, {per_step} wrenches a step: {error:e}"
+                "{plant:?}, {per_step} wrenches a step: {error:e}"
             );
         }
     }

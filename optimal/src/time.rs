@@ -580,7 +580,7 @@ fn feasible_start(slew: &Slew) -> Result<(Vec<Vector3<f64>>, f64), OptimalError>
         && slew.target.1 == Vector3::zeros()
         && wheels_at_rest
         && slew.gravity.is_none()
-        && slew.disturbance.is_none()
+        && slew.disturbance_torque() == Vector3::zeros()
     {
         let free = Slew {
             cost: Cost::Energy,

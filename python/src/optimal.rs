@@ -258,7 +258,7 @@ fn _slew<'py>(
 /// Solves a manoeuvre of a body in space; the Python layer's `lgsvi.optimal.manoeuvre`
 /// wraps it (its documentation).
 #[pyfunction]
-#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant", track=None, terminal_cost=None, cost="energy"))]
+#[pyo3(signature = (inertia, mass, t_end, attitude_final=None, position_final=None, attitude0=None, position0=None, omega0=None, velocity0=None, omega_final=None, velocity_final=None, mu=None, steps=40, nodes=10, torque_max=None, force_max=None, tolerance=1e-10, max_iterations=500, warm_start=None, inputs="constant", track=None, terminal_cost=None, cost="energy", disturbance=None, disturbance_force=None))]
 #[allow(clippy::too_many_arguments)]
 #[allow(clippy::type_complexity)] // the tracking tuple mirrors the Python argument
 fn _manoeuvre<'py>(
@@ -292,6 +292,8 @@ fn _manoeuvre<'py>(
     )>,
     terminal_cost: Option<[f64; 4]>,
     cost: &str,
+    disturbance: Option<&Bound<'py, PyAny>>,
+    disturbance_force: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use lgsvi_mechanics::built_in::BuiltInSe3;
     use lgsvi_mechanics::lie::{SE3, SO3};
@@ -383,6 +385,14 @@ fn _manoeuvre<'py>(
     }
     if let Some(bound) = force_max {
         manoeuvre = manoeuvre.force_max(bound.into());
+    }
+    if disturbance.is_some() || disturbance_force.is_some() {
+        let part = |v: Option<&Bound<'py, PyAny>>, name| {
+            v.map_or(Ok(Vector3::zeros()), |v| vector3(v, name))
+        };
+        let torque = part(disturbance, "disturbance")?;
+        let force = part(disturbance_force, "disturbance_force")?;
+        manoeuvre = manoeuvre.disturbance(torque.into(), force.into());
     }
     if let Some(initial) = warm_start {
         let rows = crate::convert::matrix(initial, "warm_start")?;

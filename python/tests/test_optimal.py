@@ -254,6 +254,19 @@ def test_a_slew_works_against_a_disturbance():
         optimal.slew([3.0, 4.0, 5.0], 10.0, target, disturbance=[0.0, 1.0])
 
 
+def test_a_manoeuvre_works_against_a_disturbance_wrench():
+    # A spherical body turning about z and moving along z, the disturbance wrench along z:
+    # the same law in space (optimal/tests/manoeuvres.rs), (tau_d^2 + f_d^2) T more.
+    kwargs = dict(attitude_final=lie.so3_exp([0.0, 0.0, 1.2]), position_final=[0.0, 0.0, 0.8],
+                  steps=5, nodes=6, inputs="polynomial")
+    free = optimal.manoeuvre([2.0] * 3, 5.0, 10.0, **kwargs)
+    disturbed = optimal.manoeuvre([2.0] * 3, 5.0, 10.0, disturbance=[0.0, 0.0, 0.02],
+                                  disturbance_force=[0.0, 0.0, -0.05], **kwargs)
+    assert disturbed.cost == pytest.approx(free.cost + (0.02**2 + 0.05**2) * 10.0, rel=1e-12)
+    with pytest.raises(lgsvi.InvalidInputError, match="disturbance_force"):
+        optimal.manoeuvre([2.0] * 3, 5.0, 10.0, disturbance_force=[0.0, 1.0], **kwargs)
+
+
 def test_a_manoeuvre_in_space_meets_the_split_optimum_and_replays():
     # A spherical body turned and moved rest to rest: the optimum splits into the two
     # single-axis cubics, 12 (j^2 theta^2 + m^2 |d|^2) / T^3, which polynomial wrenches meet

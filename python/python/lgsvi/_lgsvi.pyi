@@ -322,4 +322,6 @@ def _manoeuvre(
     track: Optional[Tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike, Sequence[float]]] = None,
     terminal_cost: Optional[Sequence[float]] = None,
     cost: str = "energy",
+    disturbance: Optional[ArrayLike] = None,
+    disturbance_force: Optional[ArrayLike] = None,
 ) -> Dict[str, Any]: ...

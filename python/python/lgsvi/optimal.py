@@ -66,8 +66,8 @@ class SlewResult:
         With ``wheels``, the wheels' rates relative to the body at the step boundaries;
         ``(0, 3)`` otherwise.
     inputs : ndarray (K, 3)
-        The torque of each step (body frame, N m; with ``wheels``, the three motor torques);
-        with ``inputs="polynomial"`` each step's
+        The torque of each step (body frame, N m; with ``wheels``, the three motor torques;
+        a ``disturbance`` not included); with ``inputs="polynomial"`` each step's
         mean over its Gauss points (the constant torque of the same impulse).
     inputs_at_points : ndarray (K, m, 3)
         With ``inputs="polynomial"``, each step's torques at its ``m`` Gauss points, which
@@ -229,8 +229,8 @@ class ManoeuvreResult:
     velocity : ndarray (K+1, 3)
         The centre of mass's velocity, world frame.
     inputs : ndarray (K, 6)
-        Each step's body wrench ``(tau, f)`` (body frame, N m and N); with
-        ``inputs="polynomial"`` its mean over the step's Gauss points.
+        Each step's body wrench ``(tau, f)`` (body frame, N m and N; a disturbance not
+        included); with ``inputs="polynomial"`` its mean over the step's Gauss points.
     inputs_at_points : ndarray (K, m, 6)
         With ``inputs="polynomial"``, each step's wrenches at its ``m`` Gauss points, which
         replay through :meth:`lgsvi.Integrator.set_input_at_points`; ``(0, 0, 6)`` otherwise.
@@ -294,6 +294,8 @@ def manoeuvre(
     track: Optional[Any] = None,
     terminal_cost: Optional[Any] = None,
     cost: str = "energy",
+    disturbance: Optional[Any] = None,
+    disturbance_force: Optional[Any] = None,
 ) -> ManoeuvreResult:
     """The manoeuvre of a rigid body in space of principal moments ``inertia`` (3,) and
     ``mass``, in the time ``t_end`` (s), at the least ``integral of |tau|^2 + |f|^2 dt``:
@@ -328,6 +330,11 @@ def manoeuvre(
     translation's share of the cost, with ``force_max`` or without. In the least time it is the slew's minimum-time SQP (the exact Lagrangian Hessian
     by differences of the exact gradient).
 
+    ``disturbance`` and ``disturbance_force`` (3,) each, a constant torque (N m) and force
+    (N) on the body, body frame: a known disturbance wrench (solar pressure, a leak, a
+    thruster's misalignment) that the wrench works against. It is not part of the cost nor
+    of the result's ``inputs``: a replay adds it to them.
+
     Raises
     ------
     InvalidInputError
@@ -361,5 +368,7 @@ def manoeuvre(
         track=track,
         terminal_cost=terminal_cost,
         cost=cost,
+        disturbance=disturbance,
+        disturbance_force=disturbance_force,
     )
     return ManoeuvreResult(**fields)
