@@ -2138,6 +2138,20 @@ fn optimize_works_against_a_disturbance() {
         (cost - expected).abs() <= 1e-12 * expected,
         "{cost} against {expected}"
     );
+    // The wrenches (each step's mean) are the undisturbed ones less the disturbance: this
+    // also tells a sign or the torque and force swapped, which the cost does not.
+    let d = [0.0, 0.0, 0.02, 0.0, 0.0, -0.05];
+    for (f, u) in free["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(disturbed["inputs"].as_array().unwrap())
+    {
+        for (i, d) in d.iter().enumerate() {
+            let (f, u) = (f[i].as_f64().unwrap(), u[i].as_f64().unwrap());
+            assert!((f - (u + d)).abs() <= 1e-10, "{f} against {u} + {d}");
+        }
+    }
     assert_refused(
         &[
             "optimize",
@@ -2170,6 +2184,24 @@ fn optimize_works_against_a_disturbance() {
             "0,0,0.29",
         ],
         &["--torque-max", "infeasible", "--disturbance"],
+    );
+    assert_refused(
+        &[
+            "optimize",
+            "--quiet",
+            "--space",
+            "--position-final",
+            "1,0,0",
+            "--t-end",
+            "10",
+            "--steps",
+            "10",
+            "--force-max",
+            "0.1",
+            "--disturbance-force",
+            "-0.099,0,0",
+        ],
+        &["--force-max", "infeasible", "--disturbance-force"],
     );
     assert_refused(
         &[

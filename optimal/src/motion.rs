@@ -98,7 +98,8 @@ pub fn separate_bang_bang_time(
 /// step's mean for a held wrench).
 /// The centre of mass moves under the world-frame force `F = R f`, so in the pair
 /// (torque, world force) its miss is linear in `F` and does not depend on the torque (the
-/// free body; the orbiting body nearly so): the iteration converges in about as many
+/// free body without a disturbance force off its turn, which `R` turns; the orbiting body
+/// nearly so): the iteration converges in about as many
 /// iterations as the slew alone, however large the translation's share of the cost (the
 /// guide's "How fast it converges"), with the force bounded or not (the subproblem keeps
 /// the states among its variables and the measured step in its Hessian, so a bound stays
@@ -110,9 +111,9 @@ pub fn separate_bang_bang_time(
 ///
 /// With [`Cost::Time`] ([`Manoeuvre::cost`]) the final time is minimised instead, the
 /// wrench held over each step and bounded: the slew's minimum-time SQP ([`crate::Slew`],
-/// [`Cost::Time`]) on SE(3), started (the free body, rest to rest) from the unbounded
-/// minimum-energy manoeuvre rescaled in time to its bounds, else from a bounded
-/// minimum-energy one.
+/// [`Cost::Time`]) on SE(3), started (the free body, rest to rest, without a disturbance)
+/// from the unbounded minimum-energy manoeuvre rescaled in time to its bounds, else from a
+/// bounded minimum-energy one.
 ///
 /// ```
 /// use lgsvi_mechanics::lie::{LieGroup, SE3, SO3};
@@ -169,7 +170,8 @@ pub struct ManoeuvreSolution {
     pub inputs: Vec<Vector6<f64>>,
     /// With [`Inputs::Polynomial`], each step's wrenches at its Gauss points
     /// ([`ManoeuvreSolution::quadrature_nodes`]), which replay the solution through
-    /// [`Integrator::set_input_at_points`]; empty otherwise.
+    /// [`Integrator::set_input_at_points`] (plus a disturbance, where there is one); empty
+    /// otherwise.
     pub inputs_at_points: Vec<Vec<Vector6<f64>>>,
     /// The Gauss points of a step as fractions of its length, `c_j`.
     pub quadrature_nodes: Vec<f64>,
@@ -801,7 +803,10 @@ fn after(first: Statistics, mut found: Solved<SE3State, 6>) -> Solved<SE3State, 
 /// is curved (`∂²x/∂τ∂f ≠ 0`) and the Gauss–Newton model, which leaves that curvature out,
 /// converges slowly or not at all where the translation dominates the cost. Measured in
 /// `(τ, F)` the free body's position is linear in `F` and independent of `τ`, the cost
-/// `|τ|² + |F|²` unchanged; the metric is that change of variables at the iterate.
+/// `|τ|² + |F|²` unchanged; the metric is that change of variables at the iterate. It
+/// measures the control force alone, whose square the cost is: a disturbance force
+/// ([`Manoeuvre::disturbance`]) off the turn still turns with the body, a curvature the
+/// model leaves out (the KKT points are the same either way).
 fn world_force_metric(
     run: &Shot<SE3State>,
     inputs: &[Vector6<f64>],

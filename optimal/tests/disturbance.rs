@@ -49,7 +49,6 @@ fn a_disturbance_along_the_turn_shifts_the_optimum_by_itself() {
             .nodes(6);
         let free = slew.clone().solve().unwrap();
         let disturbed = slew.disturbance(d.into()).solve().unwrap();
-        assert!(free.converged && disturbed.converged);
         // The integrator is exact for this motion, so the optimum is the discrete
         // problem's to rounding: 1e-12 relative allows the KKT tolerance (1e-10 on the
         // scaled residual) squared through the cost, and the solves' rounding.
@@ -83,7 +82,6 @@ fn wheels_take_up_a_disturbances_momentum() {
         .disturbance(d.into())
         .solve()
         .unwrap();
-    assert!(solution.converged);
     let exact = discrete_optimum(j, theta, t_end, k) + d.norm_squared() * t_end;
     assert!(
         (solution.cost - exact).abs() <= 1e-12 * exact,

@@ -105,8 +105,8 @@ fn polynomial_wrenches_meet_the_split_optimum_and_replay() {
 /// A known disturbance wrench `(τ_d a, f_d a)` (body frame) along the turn's axis `a`, the
 /// move along `a` too: the body turns about `a`, which stays put (`R a = a`), so the
 /// disturbance is the same in the world frame, and each single-axis problem is the
-/// undisturbed one in `u + d` (its linear term `2 d·Σ h_j (u_j + d)` is `2 d·m Δẋ` or
-/// `2 d·j ΔΩ`, zero rest to rest): the optimum costs the split optimum plus `|d|² T`, its
+/// undisturbed one in `u + d` (its linear term `−2 d·Σ h_j (u_j + d)` is `−2 d·m Δẋ` or
+/// `−2 d·j ΔΩ` along `a`, zero rest to rest): the optimum costs the split optimum plus `|d|² T`, its
 /// wrenches are the undisturbed ones less `d`. Polynomial wrenches meet the split optimum
 /// to rounding (above), so both hold to 1e-12 relative (the cost) and 1e-10 (the wrenches,
 /// the SQP's tolerance); the wrenches plus `d` replay onto the target.
@@ -127,7 +127,6 @@ fn a_disturbance_along_the_manoeuvre_adds_its_square() {
         .disturbance(tau.into(), force.into())
         .solve()
         .unwrap();
-    assert!(disturbed.converged);
     let expected = split_optimum(j, theta, m, length, t_end)
         + (tau.norm_squared() + force.norm_squared()) * t_end;
     assert!(
@@ -154,6 +153,60 @@ fn a_disturbance_along_the_manoeuvre_adds_its_square() {
     };
     let end = replay(body, 6, &replayed, SE3::identity());
     assert!(distance(&end, &(target, Vector6::zeros())) <= 1e-10);
+}
+
+/// An asymmetric body's turn and move under a disturbance wrench off every axis (its force
+/// turns with the body, a curvature the world-frame metric leaves out), at the least energy
+/// and in the least time: no closed form, so the check is that a fresh integrator given
+/// the wrenches plus the disturbance lands on the target (the energy's tolerance 1e-10 on
+/// the miss; the least time's, whose final time is a first-order quantity of the residual,
+/// 1e-8), within a bounded number of iterations (measured: 11 and 6; `docs/notes/optimal.md`).
+#[test]
+fn a_manoeuvre_under_a_disturbance_off_its_axes_replays_onto_its_target() {
+    let body = FreeBody::new(
+        Inertia::from_principal_moments([3.0, 4.0, 5.5]).unwrap(),
+        7.0,
+    )
+    .unwrap();
+    let target = SE3::new(
+        SO3::exp(&Vector3::new(0.6, -0.4, 0.9)),
+        Vector3::new(1.0, -0.5, 0.3),
+    );
+    let (tau, force) = (
+        Vector3::new(0.004, -0.003, 0.005),
+        Vector3::new(0.02, 0.01, -0.015),
+    );
+    let d = Vector6::new(tau.x, tau.y, tau.z, force.x, force.y, force.z);
+    let manoeuvre = Manoeuvre::new(body, 20.0)
+        .to(target, Vector6::zeros())
+        .steps(20)
+        .nodes(8)
+        .disturbance(tau.into(), force.into());
+    let energy = manoeuvre.clone().solve().unwrap();
+    let time = manoeuvre
+        .torque_max([0.05; 3])
+        .force_max([0.1; 3])
+        .cost(lgsvi_optimal::Cost::Time)
+        .solve()
+        .unwrap();
+    for (solution, tolerance, iterations) in [(&energy, 1e-10, 30), (&time, 1e-8, 60)] {
+        assert!(
+            solution.statistics.iterations <= iterations,
+            "{} iterations",
+            solution.statistics.iterations
+        );
+        let replayed = ManoeuvreSolution {
+            inputs: solution.inputs.iter().map(|u| u + d).collect(),
+            ..solution.clone()
+        };
+        let end = replay(body, 8, &replayed, SE3::identity());
+        let miss = distance(&end, &(target, Vector6::zeros()));
+        assert!(
+            miss <= tolerance,
+            "miss {miss:e} (t_end {})",
+            solution.t_end
+        );
+    }
 }
 
 /// With the wrench held over each step (zero-order hold) the discrete optimum converges

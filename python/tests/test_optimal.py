@@ -263,6 +263,10 @@ def test_a_manoeuvre_works_against_a_disturbance_wrench():
     disturbed = optimal.manoeuvre([2.0] * 3, 5.0, 10.0, disturbance=[0.0, 0.0, 0.02],
                                   disturbance_force=[0.0, 0.0, -0.05], **kwargs)
     assert disturbed.cost == pytest.approx(free.cost + (0.02**2 + 0.05**2) * 10.0, rel=1e-12)
+    # The wrenches are the undisturbed ones less the disturbance (which also tells a sign or
+    # the torque and force swapped).
+    d = np.array([0.0, 0.0, 0.02, 0.0, 0.0, -0.05])
+    assert np.abs(free.inputs_at_points - (disturbed.inputs_at_points + d)).max() <= 1e-10
     with pytest.raises(lgsvi.InvalidInputError, match="disturbance_force"):
         optimal.manoeuvre([2.0] * 3, 5.0, 10.0, disturbance_force=[0.0, 1.0], **kwargs)
 
