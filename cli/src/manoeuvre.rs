@@ -336,16 +336,13 @@ fn named(error: OptimalError, options: &OptimizeOptions, t_end: f64) -> CliError
         }
         _ => ("--steps", options.steps.unwrap_or(40).to_string()),
     };
-    let mut reason = error.to_string();
-    let disturbed = options.disturbance.is_some() || options.disturbance_force.is_some();
-    if matches!(error, OptimalError::Infeasible { bounded: true, .. }) && disturbed {
-        reason += &format!(
-            " (and the wrench works against --disturbance {} and --disturbance-force {} \
-             within the same bounds)",
-            list(options.disturbance),
-            list(options.disturbance_force)
-        );
-    }
+    let reason = crate::optimize::recalling_disturbances(
+        &error,
+        &[
+            ("--disturbance", options.disturbance),
+            ("--disturbance-force", options.disturbance_force),
+        ],
+    );
     CliError::invalid(flag, value, reason)
 }
 

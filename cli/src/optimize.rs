@@ -792,15 +792,33 @@ fn named(error: OptimalError, options: &OptimizeOptions) -> CliError {
             options.steps.unwrap_or(40)
         ),
     };
-    let mut reason = error.to_string();
-    if let (OptimalError::Infeasible { bounded: true, .. }, Some(d)) = (&error, options.disturbance)
-    {
-        reason += &format!(
-            " (and the torques work against --disturbance {} within the same bound)",
-            list(&d)
-        );
-    }
+    let reason = recalling_disturbances(&error, &[("--disturbance", options.disturbance)]);
     CliError::invalid(flag, value, reason)
+}
+
+/// The solver's message; where the bounds left the target out of reach, it also recalls
+/// the disturbances given (flag and value), which the inputs work against within the same
+/// bounds.
+pub(crate) fn recalling_disturbances(
+    error: &OptimalError,
+    disturbances: &[(&str, Option<[f64; 3]>)],
+) -> String {
+    let mut reason = error.to_string();
+    if matches!(error, OptimalError::Infeasible { bounded: true, .. }) {
+        let given: Vec<String> = disturbances
+            .iter()
+            .filter_map(|(flag, d)| {
+                d.map(|d| format!("{flag} {}", d.map(|x| format!("{x:?}")).join(",")))
+            })
+            .collect();
+        if !given.is_empty() {
+            reason += &format!(
+                " (and the inputs work against {} within the same bounds)",
+                given.join(" and ")
+            );
+        }
+    }
+    reason
 }
 
 /// Entry `entry` of the optimal inputs over time, labelled `{name}_{color + 1}`: held over

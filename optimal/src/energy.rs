@@ -148,7 +148,7 @@ impl<St, const M: usize> Problem<'_, St, M> {
         let mut multipliers = DVector::<f64>::zeros(rows_eq);
         let n = M * inputs.len();
         let mut bound_duals = DVector::<f64>::zeros(n);
-        let diagonal: Vec<f64> = (0..n).map(|j| 2.0 * weight(j / M)).collect();
+        let diagonal = energy_diagonal::<M>(self.step_weights, inputs.len());
         let (no_rows, no_miss) = (DMatrix::<f64>::zeros(0, n), DVector::<f64>::zeros(0));
         loop {
             let miss = run.miss.amax();
@@ -601,6 +601,15 @@ pub(crate) fn by_step<const M: usize>(
     (means, steps)
 }
 
+/// `diag(2w)`, the energy's Hessian over `count` inputs of `M` entries: each entry
+/// weighted by its input's quadrature weight (`step_weights`, one per input of a step).
+fn energy_diagonal<const M: usize>(step_weights: &[f64], count: usize) -> Vec<f64> {
+    let per_step = step_weights.len();
+    (0..M * count)
+        .map(|j| 2.0 * step_weights[(j / M) % per_step])
+        .collect()
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -611,8 +620,9 @@ pub(crate) mod tests {
     use lgsvi_mechanics::Inertia;
 
     /// The banded subproblem against the condensed one it is the elimination of, at `run`
-    /// with residuals `fit` and a metric's maps `metric` where given, inputs `u` (flat),
-    /// the energy weights `diagonal` (`2w`), each entry bounded by `bound`, the terminal
+    /// with residuals `fit` and a metric's maps `metric` where given, `inputs` of
+    /// quadrature weights `step_weights` (the energy's Hessian `diag(2w)` as the solver
+    /// forms it), each entry bounded by `bound`, the terminal
     /// state exact or not, the banded side's terminal rows equilibrated or not (the
     /// condensed side's are not: scaling rows changes neither the step nor, scaled
     /// back, the multipliers); returns the bounds active and the largest entry of the
@@ -625,17 +635,19 @@ pub(crate) mod tests {
     /// about 1e-9 of the step's size where bounds are active (the interior point's
     /// complementarity) and to rounding without.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn banded_matches_condensed<St>(
+    pub(crate) fn banded_matches_condensed<St, const M: usize>(
         run: &Shot<St>,
         fit: Option<&Residuals>,
         metric: Option<&[DMatrix<f64>]>,
-        u: &DVector<f64>,
-        diagonal: &[f64],
+        inputs: &[SVector<f64, M>],
+        step_weights: &[f64],
         bound: f64,
         exact_target: bool,
         equilibrate: bool,
     ) -> (usize, f64) {
-        let n = u.len();
+        let n = M * inputs.len();
+        let u = &DVector::from_iterator(n, inputs.iter().flat_map(|u| u.iter().copied()));
+        let diagonal = &energy_diagonal::<M>(step_weights, inputs.len());
         let (g, r) = match fit {
             Some(fit) => {
                 let g = fit.dense(run);
@@ -790,28 +802,19 @@ pub(crate) mod tests {
                 )
                 .unwrap();
                 let fit = residuals(&slew, h, &run).unwrap();
-                let u = DVector::from_iterator(
-                    3 * inputs.len(),
-                    inputs.iter().flat_map(|u| u.iter().copied()),
-                );
-                let diagonal: Vec<f64> = (0..u.len())
-                    .map(|j| {
-                        let w = if per_step == 1 {
-                            h
-                        } else {
-                            h * weights[(j / 3) % per_step]
-                        };
-                        2.0 * w
-                    })
-                    .collect();
+                let step_weights: Vec<f64> = if per_step == 1 {
+                    vec![h]
+                } else {
+                    weights.iter().map(|b| h * b).collect()
+                };
                 for exact_target in [true, false] {
                     let check = |bound: f64| {
                         banded_matches_condensed(
                             &run,
                             Some(&fit),
                             None,
-                            &u,
-                            &diagonal,
+                            &inputs,
+                            &step_weights,
                             bound,
                             exact_target,
                             false,

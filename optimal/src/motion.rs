@@ -264,14 +264,9 @@ impl Manoeuvre {
     /// [`ManoeuvreSolution::inputs`]: a replay adds it to them. Beside a bound, it must
     /// leave room to move: the solver does not check that the bounds can hold it.
     pub fn disturbance(mut self, torque: [f64; 3], force: [f64; 3]) -> Self {
-        let mut wrench = Vector6::zeros();
-        wrench
-            .fixed_rows_mut::<3>(0)
-            .copy_from(&Vector3::from(torque));
-        wrench
-            .fixed_rows_mut::<3>(3)
-            .copy_from(&Vector3::from(force));
-        self.disturbance = Some(wrench);
+        let [tx, ty, tz] = torque;
+        let [fx, fy, fz] = force;
+        self.disturbance = Some(Vector6::new(tx, ty, tz, fx, fy, fz));
         self
     }
 
@@ -914,20 +909,11 @@ mod tests {
                     run.terminal.row_mut(i).unscale_mut(*l);
                 }
                 let fit = manoeuvre.residuals(h, &run).unwrap();
-                let u = DVector::from_iterator(
-                    6 * inputs.len(),
-                    inputs.iter().flat_map(|u| u.iter().copied()),
-                );
-                let diagonal: Vec<f64> = (0..u.len())
-                    .map(|j| {
-                        let w = if per_step == 1 {
-                            h
-                        } else {
-                            h * weights[(j / 6) % per_step]
-                        };
-                        2.0 * w
-                    })
-                    .collect();
+                let step_weights: Vec<f64> = if per_step == 1 {
+                    vec![h]
+                } else {
+                    weights.iter().map(|b| h * b).collect()
+                };
                 let maps = world_force_metric(&run, &inputs, per_step, &weights);
                 for metric in [None, Some(maps.as_slice())] {
                     for fit in [None, Some(&fit)] {
@@ -937,8 +923,8 @@ mod tests {
                                     &run,
                                     fit,
                                     metric,
-                                    &u,
-                                    &diagonal,
+                                    &inputs,
+                                    &step_weights,
                                     bound,
                                     exact,
                                     equilibrate,

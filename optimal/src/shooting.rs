@@ -52,9 +52,7 @@ impl Plant {
 
 /// A body torque as the first three of six input entries (the rest zero).
 fn torque_entries(torque: Vector3<f64>) -> Vector6<f64> {
-    let mut entries = Vector6::zeros();
-    entries.fixed_rows_mut::<3>(0).copy_from(&torque);
-    entries
+    Vector6::new(torque.x, torque.y, torque.z, 0.0, 0.0, 0.0)
 }
 
 /// The gyrostat's start: the attitude with its wheel angles at zero, the velocity
