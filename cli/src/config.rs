@@ -198,6 +198,18 @@ pub struct SimulateOptions {
     /// Angular damping: a torque −cΩ with c ≥ 0 (every system) [default: 0].
     #[arg(long, allow_hyphen_values = true, value_name = "C")]
     pub damping: Option<f64>,
+    /// PD attitude control: a torque −K·θ toward the target attitude (--target-quaternion),
+    /// θ = log(R_targetᵀR) the body's rotation vector from the target (body frame, rad), K ≥
+    /// 0 in N·m/rad; with --damping C as the derivative gain the law is −Kθ − CΩ, a
+    /// continuous law integrated to the method's order (every system but the gyrostat)
+    /// [default: 0].
+    #[arg(long, allow_hyphen_values = true, value_name = "K")]
+    pub attitude_gain: Option<f64>,
+    /// The target attitude as a unit quaternion (w, x, y, z), Hamilton convention: what
+    /// --attitude-gain turns the body to and what the `error` quantity of --stop-when and
+    /// --settle-when is measured from [default: identity].
+    #[arg(long, value_parser = numbers::<4>, allow_hyphen_values = true, value_name = "W,X,Y,Z")]
+    pub target_quaternion: Option<[f64; 4]>,
     /// Gyrostat: the wheel axes in the body frame, three numbers per wheel, 1 to 4 wheels
     /// [default: the body axes x, y, z].
     #[arg(long, value_parser = list, allow_hyphen_values = true, value_name = "X1,Y1,Z1,...")]
@@ -274,14 +286,15 @@ pub struct SimulateOptions {
     /// Stop after the step in which a quantity falls below (`<`) or rises above (`>`) a
     /// value, e.g. `omega_3<0.1` or `angle>90` (degrees turned from the start); the
     /// crossing's time and state are reported (`stopped` in the JSON). Quantities:
-    /// omega_1..3, omega, angle, x_1..3, r, speed (bodies in space), wheel_1..4
-    /// (gyrostats).
+    /// omega_1..3, omega, angle, error (degrees from the target attitude,
+    /// --target-quaternion), x_1..3, r, speed (bodies in space), wheel_1..4 (gyrostats).
     #[arg(long, value_name = "CONDITION")]
     pub stop_when: Option<String>,
     /// Report the settling time of a condition (the quantities of --stop-when): the time
     /// from which it holds to the run's end, e.g. `omega<0.001` (the rates stay below
-    /// 1e-3 rad/s) — the last crossing into it, located on the step's curve (`settled` in
-    /// the JSON; null where it does not hold at the end).
+    /// 1e-3 rad/s) or `error<0.1` (the pointing error stays below 0.1°) — the last crossing
+    /// into it, located on the step's curve (`settled` in the JSON; null where it does not
+    /// hold at the end).
     #[arg(long, value_name = "CONDITION")]
     pub settle_when: Option<String>,
     /// Output format [default: json].
@@ -326,6 +339,16 @@ impl SimulateOptions {
     /// The system, defaulting to the rigid body.
     pub fn system(&self) -> SystemKind {
         self.system.unwrap_or(SystemKind::RigidBody)
+    }
+
+    /// The target attitude (`--target-quaternion`), the identity where none is given.
+    pub fn target(&self) -> Result<SO3, CliError> {
+        self.target_quaternion.map_or(Ok(SO3::identity()), |q| {
+            SO3::try_from_quaternion_wxyz(q).map_err(|source| CliError::Geometry {
+                flag: "--target-quaternion",
+                source,
+            })
+        })
     }
 
     /// The initial attitude.

@@ -63,6 +63,12 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
             b.settle_when.is_some(),
             "linearize takes one step",
         ),
+        (
+            "--target-quaternion",
+            b.target_quaternion.is_some() && b.attitude_gain.is_none(),
+            "without --attitude-gain the target is what --stop-when and --settle-when's \
+             `error` is measured from, and linearize takes one step",
+        ),
     ])?;
     let out = b.out.clone();
     let momentum = options.momentum;

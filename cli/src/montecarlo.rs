@@ -151,6 +151,9 @@ struct Layout {
     motion: bool,
     stop: bool,
     settle: bool,
+    /// The target attitude of a run with one (`--attitude-gain`, `--target-quaternion`):
+    /// its envelopes add the pointing error.
+    target: Option<SO3>,
 }
 
 /// Bins of the stop times' histogram, over their own range.
@@ -237,6 +240,7 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         motion: scenario.motion.is_some(),
         stop: nominal_problem.watch.stop.is_some(),
         settle: nominal_problem.watch.settle.is_some(),
+        target: nominal_problem.watch.target,
     };
     // Every member takes the nominal's step, so that all share one time grid (a --tol
     // run's first step would otherwise follow each member's own rate).
@@ -354,7 +358,12 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         for (outcome, sampled) in chunk {
             rows.push_str(&csv_row(&outcome, &layout));
             rows.push('\n');
-            stats.add(&outcome, sampled.as_ref(), &nominal_run);
+            stats.add(
+                &outcome,
+                sampled.as_ref(),
+                &nominal_run,
+                layout.target.as_ref(),
+            );
         }
         append(&mut file, &table, rows.as_bytes())?;
         csv_bytes += rows.len() as u64;
@@ -403,6 +412,17 @@ pub fn run(options: MontecarloOptions) -> Result<()> {
         ),
         &out.join("envelope_energy"),
     )?;
+    if layout.target.is_some() {
+        crate::plot::save(
+            &envelope_figure(
+                &stats.envelope,
+                &nominal_run.times,
+                stats.envelope.channels().len() - 1,
+                "pointing error (deg)",
+            ),
+            &out.join("envelope_error"),
+        )?;
+    }
     for wheel in 0..layout.wheels {
         let channel = lgsvi_montecarlo::statistics::ATTITUDE_CHANNELS.len() + wheel;
         crate::plot::save(
@@ -985,6 +1005,11 @@ impl Statistics {
         } else {
             Envelope::of_attitude(samples)
         };
+        let envelope = if layout.target.is_some() {
+            envelope.with_error_channel()
+        } else {
+            envelope
+        };
         Self {
             envelope,
             stop_times: Vec::new(),
@@ -1005,7 +1030,15 @@ impl Statistics {
         self.rates.count
     }
 
-    fn add(&mut self, outcome: &Outcome, sampled: Option<&Sampled>, nominal: &Sampled) {
+    /// Adds a member's outcome, its samples measured from the nominal run's (and its
+    /// pointing error from `target`, for a run with one).
+    fn add(
+        &mut self,
+        outcome: &Outcome,
+        sampled: Option<&Sampled>,
+        nominal: &Sampled,
+        target: Option<&SO3>,
+    ) {
         match &outcome.result {
             Ok(last) => {
                 let relative = self.nominal_final.attitude.transpose() * last.attitude;
@@ -1033,6 +1066,9 @@ impl Statistics {
         }
         if let Some(sampled) = sampled {
             self.envelope.add_attitude_samples(nominal, sampled);
+            if let Some(target) = target {
+                self.envelope.add_error_samples(target, sampled);
+            }
         }
     }
 }

@@ -4,11 +4,11 @@
 use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
 use lgsvi_experiments::record::Check;
-use lgsvi_experiments::scenario::{Model, Orbit, Scenario, Space, Top, Wheels};
+use lgsvi_experiments::scenario::{drive, Model, Orbit, Scenario, Space, Top, Wheels};
 use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_experiments::ExperimentError;
 use lgsvi_mechanics::built_in::BuiltInSo3;
-use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
+use lgsvi_mechanics::forces::AttitudeSpring;
 use lgsvi_mechanics::lie::So3Chart;
 use lgsvi_mechanics::settings::{DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR};
 use lgsvi_mechanics::tolerance::{first_nodes, step_count};
@@ -238,13 +238,14 @@ fn check_applicable(options: &SimulateOptions, kind: SystemKind) -> Result<()> {
     };
     let mass_applies = format!("heavy-top, se3-body and orbiting-body {mass_why}");
     let o = options;
-    let rows: [(&'static str, bool, &[SystemKind], &str); 14] = [
+    let rows: [(&'static str, bool, &[SystemKind], &str); 15] = [
         ("--mass", o.mass.is_some(), massive, &mass_applies),
         ("--gravity", o.gravity.is_some(), top, "the heavy top (--system heavy-top)"),
         ("--com", o.com.is_some(), top, "the heavy top (--system heavy-top)"),
         ("--gravity-direction", o.gravity_direction.is_some(), top, "the heavy top (--system heavy-top)"),
         ("--torque", o.torque.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat's wheels take --wheel-torque)"),
         ("--damping", o.damping.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body"),
+        ("--attitude-gain", o.attitude_gain.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat turns by its wheels, --wheel-torque)"),
         ("--exact", o.exact, bodies, "the free rigid body (--system rigid-body)"),
         ("--position0", o.position0.is_some(), moving, "se3-body and orbiting-body"),
         ("--velocity0", o.velocity0.is_some(), moving, "se3-body and orbiting-body"),
@@ -412,6 +413,13 @@ impl Problem {
             let reason = "the damping c of the torque −cΩ must be finite and non-negative";
             return invalid("--damping", &damping, reason);
         }
+        let target = options.target()?;
+        let gain = options.attitude_gain.unwrap_or(0.0);
+        let spring = AttitudeSpring::new(target, gain).map_err(|_| {
+            let reason = "the gain K of the torque −Kθ toward the target attitude must be \
+                          finite and non-negative (N·m per radian)";
+            CliError::invalid("--attitude-gain", gain, reason)
+        })?;
         if !(t_end.is_finite() && t_end >= 0.0) {
             return invalid("--t-end", &t_end, "must be finite and non-negative");
         }
@@ -458,11 +466,17 @@ impl Problem {
         if options.damping.is_some() {
             description["damping"] = damping.into();
         }
+        if options.attitude_gain.is_some() {
+            description["attitude_gain"] = gain.into();
+        }
+        if let Some(q) = options.target_quaternion {
+            description["target_quaternion"] = q.as_slice().into();
+        }
         if let Some(tol) = options.tol {
             description["tolerance"] = tol.into();
         }
         let model = model(&options, kind, &mut description)?;
-        let drive = (BodyTorque(torque), AngularDamping(damping));
+        let drive = drive(torque, damping, spring);
         let scenario = Scenario::driven(model.clone(), inertia, options.attitude()?, omega0, drive)
             .map_err(scenario_error)?;
         if let BuiltInSo3::Top(top) = &scenario.system.system {
@@ -472,7 +486,11 @@ impl Problem {
         // own, which a --tol run's first step follows as it follows the spin.
         let (j_min, _) = moment_range(&inertia);
         let decay = damping / j_min;
-        let settings = step_settings(&options, t_end, scenario.rate()?.max(decay))?;
+        // The spring's frequency √(K/J_min) likewise (the rate of a small libration about
+        // the target).
+        let libration = (gain / j_min).sqrt();
+        let rate = scenario.rate()?.max(decay).max(libration);
+        let settings = step_settings(&options, t_end, rate)?;
         if options.tol.is_none() {
             check_damping_stiffness(damping, j_min, &settings)?;
         }
@@ -496,6 +514,10 @@ impl Problem {
             watch: Watch {
                 stop: condition(&options.stop_when, "--stop-when")?,
                 settle: condition(&options.settle_when, "--settle-when")?,
+                // A run with a target (or an attitude law toward the identity) measures
+                // its pointing error from it.
+                target: (options.target_quaternion.is_some() || options.attitude_gain.is_some())
+                    .then_some(target),
             },
         };
         Ok((problem, options))

@@ -39,6 +39,12 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             base.settle_when.is_some(),
             "converge measures errors, not settling times",
         ),
+        (
+            "--target-quaternion",
+            base.target_quaternion.is_some() && base.attitude_gain.is_none(),
+            "without --attitude-gain the target is what --stop-when and --settle-when's \
+             `error` is measured from, and converge watches neither",
+        ),
     ])?;
     if let Some(samples) = options.curve_samples {
         if !(1..=MAX_CURVE_SAMPLES).contains(&samples) {

@@ -3087,3 +3087,88 @@ fn optimize_tracks_and_softens_a_manoeuvre_in_space() {
         &["--terminal-cost", "2 weights"],
     );
 }
+
+// `--attitude-gain`: the PD attitude law −Kθ − CΩ toward `--target-quaternion`, and the
+// pointing error `error` its runs are watched by.
+
+#[test]
+fn a_pd_controlled_sphere_settles_when_the_closed_form_says() {
+    // A sphere J = 2I at rest, the target turned 1 rad about x from it: the torque stays on
+    // x, so 2θ'' + Cθ' + Kθ = 0; K = 2, C = 4 damp it critically, θ(t) = (1 + t) e^(−t).
+    // The pointing error falls through 1° once, where (1 + t) e^(−t) = π/180 (bisection
+    // below, to rounding). The run resolves θ to ~1e-14 at h = 0.25, n = 12, and the
+    // crossing is located to 1e-12 relative: the stop and the settling time both land there.
+    let target = format!("{:?},{:?},0,0", 0.5f64.cos(), 0.5f64.sin());
+    let args = [
+        "simulate",
+        "--inertia",
+        "2,2,2",
+        "--omega0",
+        "0,0,0",
+        "--attitude-gain",
+        "2",
+        "--damping",
+        "4",
+        "--target-quaternion",
+        &target,
+        "--h",
+        "0.25",
+        "--nodes",
+        "12",
+        "--t-end",
+        "12",
+        "--quiet",
+    ];
+    let f = |t: f64| (1.0 + t) * (-t).exp() - 1f64.to_radians();
+    let (mut lo, mut hi) = (1.0, 12.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let exact = 0.5 * (lo + hi);
+    let t = settled(&args, "error<1")["t"].as_f64().unwrap();
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+    let mut stopping = args.to_vec();
+    stopping.extend(["--stop-when", "error<1"]);
+    let (code, out, err) = lgsvi(&stopping);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let t = json["description"]["stopped"]["t"].as_f64().unwrap();
+    assert!((t - exact).abs() <= 1e-12 * exact, "{t} against {exact}");
+    assert_eq!(json["description"]["attitude_gain"], 2.0);
+}
+
+#[test]
+fn bad_attitude_laws_name_their_flag() {
+    let base = ["simulate", "--t-end", "1", "--quiet"];
+    for (extra, words) in [
+        (
+            &["--attitude-gain", "-1"][..],
+            &["--attitude-gain", "non-negative"][..],
+        ),
+        (&["--attitude-gain", "nan"], &["--attitude-gain"]),
+        (
+            &["--target-quaternion", "0,0,0,0"],
+            &["--target-quaternion"],
+        ),
+        (
+            &["--system", "gyrostat", "--attitude-gain", "1"],
+            &["--attitude-gain", "gyrostat", "--wheel-torque"],
+        ),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(extra);
+        assert_refused(&args, words);
+    }
+    // A target without a law does nothing where nothing watches `error`.
+    for command in ["linearize", "converge"] {
+        assert_refused(
+            &[command, "--target-quaternion", "0.8,0.6,0,0"],
+            &["--target-quaternion", "--attitude-gain"],
+        );
+    }
+}

@@ -823,3 +823,122 @@ fn dispersions_the_system_lacks_are_refused_naming_the_key() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
 }
+
+/// `--attitude-gain`: every member runs the nominal PD law (the controller is not
+/// dispersed, the plant is), its settling time into the pointing error `error<0.5` is the
+/// one simulate reports for the row's draws and the same flags, bit for bit; the envelopes
+/// gain the pointing error.
+#[test]
+fn a_controlled_run_settles_each_member_as_simulate_does() {
+    let dir = temp_dir("controlled");
+    let out = dir.join("run");
+    // Turned by 74° from the target at rest (q = (0.8, 0.6, 0, 0)), the body is brought in
+    // by K = 1.5, C = 3 within about 12 s for these draws (5° and 0.05 rad/s at the start).
+    let nominal = [
+        "--attitude-gain",
+        "1.5",
+        "--damping",
+        "3",
+        "--target-quaternion",
+        "0.8,0.6,0,0",
+        "--nodes",
+        "10",
+        "--t-end",
+        "25",
+        "--settle-when",
+        "error<0.5",
+    ];
+    let mut args = vec![
+        "montecarlo",
+        "--members",
+        "16",
+        "--seed",
+        "4",
+        "--disperse-omega",
+        "0.05",
+        "--disperse-inertia",
+        "0.02",
+        "--disperse-attitude",
+        "5",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--inertia",
+        "2,3,4",
+        "--omega0",
+        "0,0,0",
+        "--h",
+        "0.5",
+    ];
+    args.extend(nominal);
+    let (code, _, err) = lgsvi(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let (header, rows) = table(&out.join("members.csv"));
+    let times: Vec<f64> = rows
+        .iter()
+        .map(|r| r.last().unwrap().parse().unwrap())
+        .collect();
+    assert!(times.iter().all(|t| (5.0..25.0).contains(t)), "{times:?}");
+    for k in [0, 11] {
+        let json = simulate_row(&nominal, &header, &rows[k], &[], "0.5");
+        assert_eq!(json["description"]["settled"]["t"].as_f64(), Some(times[k]));
+        assert_eq!(
+            last_of(&json, "omega"),
+            numbers(&header, &rows[k], &columns("omega", false))
+        );
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let error = &summary["envelopes"]["channels"]["error_deg"];
+    // At the start the members are 74° ± a few from the target, at the end within 0.5°.
+    let p50 = error["p50"].as_array().unwrap();
+    let (first, last) = (
+        p50[0].as_f64().unwrap(),
+        p50.last().unwrap().as_f64().unwrap(),
+    );
+    assert!(
+        (65.0..85.0).contains(&first) && last < 0.5,
+        "{first} … {last}"
+    );
+    assert!(out.join("envelope_error.png").exists());
+}
+
+/// The example configs run as their headers say (with fewer members): the pointing
+/// config's members all settle into its 0.1° requirement, its disturbance torques drawn.
+#[test]
+fn the_example_configs_run() {
+    let dir = temp_dir("configs");
+    for name in ["montecarlo.toml", "pointing.toml"] {
+        let config = format!("{}/../configs/{name}", env!("CARGO_MANIFEST_DIR"));
+        let out = dir.join(name);
+        let (code, _, err) = lgsvi(
+            &[
+                "montecarlo",
+                "--config",
+                &config,
+                "--members",
+                "6",
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(code, 0, "{name}: {err}");
+        let (header, rows) = table(&out.join("members.csv"));
+        assert_eq!(rows.len(), 6, "{name}");
+        assert!(rows.iter().all(|r| r[1] == "ok"), "{name}");
+        if name == "pointing.toml" {
+            assert_eq!(header.last().map(String::as_str), Some("t_settle"));
+            assert!(header.iter().any(|h| h == "tau_1"), "{header:?}");
+            let settled: Vec<f64> = rows
+                .iter()
+                .map(|r| r.last().unwrap().parse().unwrap())
+                .collect();
+            assert!(
+                settled.iter().all(|t| (5.0..30.0).contains(t)),
+                "{settled:?}"
+            );
+        }
+    }
+}

@@ -343,6 +343,7 @@ where
     let (start, start_motion, start_wheels) =
         ElementOf::<S, D>::columns(runner.integrator().state());
     let r0 = start.configuration;
+    let target = watch.target();
     watch.check(&start, start_motion.as_ref(), start_wheels.as_ref())?;
     // The stop condition's event first (index 0 where there is one), the settling one's
     // after it.
@@ -352,9 +353,9 @@ where
             .conditions()
             .map(|(condition, settle)| {
                 if settle {
-                    condition.crossings(r0, ElementOf::<S, D>::columns)
+                    condition.crossings(r0, target, ElementOf::<S, D>::columns)
                 } else {
-                    condition.event(r0, ElementOf::<S, D>::columns)
+                    condition.event(r0, target, ElementOf::<S, D>::columns)
                 }
             })
             .collect(),
@@ -460,7 +461,7 @@ where
         };
         let holds = settle
             .quantity
-            .value(&last, motion.as_ref(), wheels.as_ref(), &r0)
+            .value(&last, motion.as_ref(), wheels.as_ref(), &r0, &target)
             .is_some_and(|value| settle.holds(value));
         let entered = hits
             .iter()

@@ -27,7 +27,7 @@ use crate::tolerance::{local_errors, tolerance_runs, LocalError, ToleranceStudy}
 use crate::{ExperimentError, Subject};
 use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
 use lgsvi_mechanics::exact::{FreeRigidBodyExact, Regime};
-use lgsvi_mechanics::forces::{AngularDamping, BodyTorque};
+use lgsvi_mechanics::forces::{AngularDamping, AttitudeSpring, BodyTorque};
 use lgsvi_mechanics::group::{GroupChart, StepGroup};
 use lgsvi_mechanics::gyrostat::{AnyGyrostat, BodyAndWheels, BodyWheels, Gyrostat};
 use lgsvi_mechanics::lie::{ChartKind, SE3, SO3};
@@ -37,14 +37,26 @@ use lgsvi_mechanics::{
 };
 use nalgebra::{SVector, Vector3};
 
-/// The torque and damping every built-in system takes: zero for neither, and then the
-/// steps are the unforced system's, bit for bit.
-pub type Drive = (BodyTorque, AngularDamping);
+/// The torque, damping and attitude spring every built-in system but the gyrostat takes:
+/// zero for all three, and then the steps are the unforced system's, bit for bit. The
+/// damping `−cΩ` and the spring `−kθ` toward a target together are the PD attitude law
+/// ([`AttitudeSpring`]); [`drive`] builds one.
+pub type Drive = (BodyTorque, (AngularDamping, AttitudeSpring));
 
-/// A built-in SO(3) system under a torque and damping.
+/// The [`Drive`] of a constant body torque, an angular damping and an attitude spring.
+pub fn drive(torque: Vector3<f64>, damping: f64, spring: AttitudeSpring) -> Drive {
+    (BodyTorque(torque), (AngularDamping(damping), spring))
+}
+
+/// No drive: the unforced system.
+pub fn no_drive() -> Drive {
+    drive(Vector3::zeros(), 0.0, AttitudeSpring::none())
+}
+
+/// A built-in SO(3) system under a torque, damping and attitude spring.
 pub type Driven = Forced<BuiltInSo3, Drive>;
 
-/// A built-in SE(3) system under a torque and damping.
+/// A built-in SE(3) system under a torque, damping and attitude spring.
 pub type DrivenMotion = Forced<BuiltInSe3, Drive>;
 
 /// The heavy top's parameters: mass `m`, gravity `g`, centre of mass `ρ` in the body
@@ -325,13 +337,12 @@ impl Scenario {
         attitude0: SO3,
         omega0: Vector3<f64>,
     ) -> Result<Self, ExperimentError> {
-        let none = (BodyTorque(Vector3::zeros()), AngularDamping(0.0));
-        Self::driven(model, inertia, attitude0, omega0, none)
+        Self::driven(model, inertia, attitude0, omega0, no_drive())
     }
 
-    /// As [`Scenario::new`], under a constant body torque and an angular damping (the
-    /// gyrostat's wheels take their motor torques instead: a gyrostat under a non-zero
-    /// drive is refused).
+    /// As [`Scenario::new`], under a constant body torque, an angular damping and an
+    /// attitude spring (the gyrostat's wheels take their motor torques instead: a gyrostat
+    /// under a non-zero drive is refused).
     ///
     /// # Errors
     /// As [`Scenario::new`].
@@ -376,12 +387,17 @@ impl Scenario {
                     };
                     return Err(parameter("speeds0/torque")(source));
                 }
-                if drive.0 .0 != Vector3::zeros() || drive.1 .0 != 0.0 {
+                let (BodyTorque(torque), (AngularDamping(damping), spring)) = drive;
+                if torque != Vector3::zeros() || damping != 0.0 || spring.stiffness() != 0.0 {
                     let source = MechanicsError::InvalidSetting {
-                        name: "body torque and damping",
-                        value: format!("{:?}, {}", drive.0 .0.as_slice(), drive.1 .0),
+                        name: "body torque, damping and attitude spring",
+                        value: format!(
+                            "{:?}, {damping}, {}",
+                            torque.as_slice(),
+                            spring.stiffness()
+                        ),
                         reason: "a gyrostat takes its wheels' motor torques (Wheels::torque), \
-                                 not a body torque or damping",
+                                 not a body torque, damping or attitude spring",
                     };
                     return Err(parameter("drive")(source));
                 }
@@ -747,7 +763,7 @@ mod tests {
             ),
             "{short:?}"
         );
-        let drive = (BodyTorque(Vector3::x()), AngularDamping(0.0));
+        let drive = drive(Vector3::x(), 0.0, AttitudeSpring::none());
         let model = Model::Gyrostat(Wheels::default());
         let driven = Scenario::driven(model, inertia(), SO3::identity(), Vector3::zeros(), drive);
         assert!(

@@ -14,6 +14,7 @@
 //! | `omega_1`, `omega_2`, `omega_3` | a body rate `Ω_i`, rad/s | all |
 //! | `omega` | `|Ω|`, rad/s | all |
 //! | `angle` | the rotation from the start attitude, `|log(R₀ᵀR)|`, degrees | all |
+//! | `error` | the pointing error: the rotation from the target attitude, `|log(R_targetᵀR)|`, degrees (the identity where the run has no target, [`Watch::target`]) | all |
 //! | `x_1`, `x_2`, `x_3` | a coordinate of the centre of mass, world frame | bodies in space |
 //! | `r` | `|x|` | bodies in space |
 //! | `speed` | `|ẋ|` | bodies in space |
@@ -45,6 +46,8 @@ pub enum Quantity {
     OmegaNorm,
     /// The rotation angle from the start attitude, degrees.
     Angle,
+    /// The rotation angle from the target attitude (the pointing error), degrees.
+    Error,
     /// `x_i`, `i` in 0..3.
     Position(usize),
     /// `|x|`.
@@ -57,24 +60,28 @@ pub enum Quantity {
 
 impl Quantity {
     /// The quantity's value at a state's SO(3) columns (and translation or wheels), the
-    /// run's start attitude `r0` given; `None` where the system has no such quantity.
+    /// run's start attitude `r0` and target attitude given; `None` where the system has no
+    /// such quantity.
     pub fn value(
         &self,
         rotation: &State,
         motion: Option<&MotionRecord>,
         wheels: Option<&WheelRecord>,
         r0: &SO3,
+        target: &SO3,
     ) -> Option<f64> {
+        let degrees_from = |reference: &SO3| {
+            let relative = reference.matrix().transpose() * rotation.configuration.matrix();
+            SO3::from_matrix_unchecked(relative)
+                .log()
+                .norm()
+                .to_degrees()
+        };
         Some(match *self {
             Quantity::Omega(i) => rotation.velocity[i],
             Quantity::OmegaNorm => rotation.velocity.norm(),
-            Quantity::Angle => {
-                let relative = r0.matrix().transpose() * rotation.configuration.matrix();
-                SO3::from_matrix_unchecked(relative)
-                    .log()
-                    .norm()
-                    .to_degrees()
-            }
+            Quantity::Angle => degrees_from(r0),
+            Quantity::Error => degrees_from(target),
             Quantity::Position(i) => motion?.position[i],
             Quantity::Distance => motion?.position.norm(),
             Quantity::Speed => motion?.velocity.norm(),
@@ -100,6 +107,7 @@ impl fmt::Display for Quantity {
             Quantity::Omega(i) => write!(f, "omega_{}", i + 1),
             Quantity::OmegaNorm => write!(f, "omega"),
             Quantity::Angle => write!(f, "angle"),
+            Quantity::Error => write!(f, "error"),
             Quantity::Position(i) => write!(f, "x_{}", i + 1),
             Quantity::Distance => write!(f, "r"),
             Quantity::Speed => write!(f, "speed"),
@@ -121,6 +129,7 @@ impl FromStr for Quantity {
         Ok(match name {
             "omega" => Quantity::OmegaNorm,
             "angle" => Quantity::Angle,
+            "error" => Quantity::Error,
             "r" => Quantity::Distance,
             "speed" => Quantity::Speed,
             _ => {
@@ -133,8 +142,8 @@ impl FromStr for Quantity {
                 } else {
                     return Err(format!(
                         "unknown quantity {name:?}: one of omega_1, omega_2, omega_3, omega, \
-                         angle (degrees from the start attitude), x_1, x_2, x_3, r, speed, \
-                         wheel_1 … wheel_4"
+                         angle (degrees from the start attitude), error (degrees from the \
+                         target attitude), x_1, x_2, x_3, r, speed, wheel_1 … wheel_4"
                     ));
                 }
             }
@@ -166,17 +175,20 @@ impl StopWhen {
     }
 
     /// The recorded (not terminal) event of every crossing of the threshold, either way,
-    /// on a run from the attitude `r0` (a settling condition's, [`Watch::settle`]); as
-    /// [`StopWhen::event`] otherwise.
+    /// on a run from the attitude `r0` toward `target` (a settling condition's,
+    /// [`Watch::settle`]); as [`StopWhen::event`] otherwise.
     pub fn crossings<'a, E: Copy + 'a, const D: usize>(
         self,
         r0: SO3,
+        target: SO3,
         columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
     ) -> Event<'a, E, D> {
-        self.watched(r0, columns).direction(Direction::Either)
+        self.watched(r0, target, columns)
+            .direction(Direction::Either)
     }
 
-    /// The terminal event that watches this condition on a run from the attitude `r0`:
+    /// The terminal event that watches this condition on a run from the attitude `r0`
+    /// (toward `target`, which `error` is measured from):
     /// `quantity − threshold` of the state on the step's curve, its SO(3) columns and the
     /// translation or wheels beside them given by `columns` (the quantities read the
     /// configuration and the velocity only, so the state handed to `columns` carries a
@@ -184,15 +196,17 @@ impl StopWhen {
     pub fn event<'a, E: Copy + 'a, const D: usize>(
         self,
         r0: SO3,
+        target: SO3,
         columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
     ) -> Event<'a, E, D> {
-        self.watched(r0, columns).terminal()
+        self.watched(r0, target, columns).terminal()
     }
 
     /// `quantity − threshold` as an event in the condition's direction, recorded.
     fn watched<'a, E: Copy + 'a, const D: usize>(
         self,
         r0: SO3,
+        target: SO3,
         columns: impl Fn(&State<E, D>) -> (State, Option<MotionRecord>, Option<WheelRecord>) + 'a,
     ) -> Event<'a, E, D> {
         Event::new(self.to_string(), move |t, g: &E, xi: &SVector<f64, D>| {
@@ -203,7 +217,7 @@ impl StopWhen {
                 velocity: *xi,
             });
             self.quantity
-                .value(&rotation, motion.as_ref(), wheels.as_ref(), &r0)
+                .value(&rotation, motion.as_ref(), wheels.as_ref(), &r0, &target)
                 .map_or(f64::NAN, |v| v - self.threshold)
         })
         .direction(self.direction())
@@ -272,6 +286,9 @@ pub struct Watch {
     /// (`--settle-when`): the last crossing into it, or the start where it holds
     /// throughout; none where it does not hold at the end.
     pub settle: Option<StopWhen>,
+    /// The target attitude `error` is measured from (a controller's,
+    /// [`lgsvi_mechanics::forces::AttitudeSpring`]); `None` for the identity.
+    pub target: Option<SO3>,
 }
 
 impl Watch {
@@ -279,11 +296,16 @@ impl Watch {
     pub const NOTHING: Watch = Watch {
         stop: None,
         settle: None,
+        target: None,
     };
 
     /// A watch of the stop condition `stop` alone.
     pub fn stop(stop: Option<StopWhen>) -> Self {
-        Self { stop, settle: None }
+        Self {
+            stop,
+            settle: None,
+            target: None,
+        }
     }
 
     /// Refuses a condition on a quantity the system lacks (a position for a body on
@@ -302,7 +324,7 @@ impl Watch {
         for (condition, _) in self.conditions() {
             if condition
                 .quantity
-                .value(start, motion, wheels, &start.configuration)
+                .value(start, motion, wheels, &start.configuration, &self.target())
                 .is_none()
             {
                 return Err(ExperimentError::Stop {
@@ -323,6 +345,11 @@ impl Watch {
     pub fn names_settle(&self, condition: &str) -> bool {
         let given = |c: Option<StopWhen>| c.is_some_and(|c| c.to_string() == condition);
         given(self.settle) && !given(self.stop)
+    }
+
+    /// The attitude `error` is measured from: the target, or the identity.
+    pub fn target(&self) -> SO3 {
+        self.target.unwrap_or_else(SO3::identity)
     }
 
     /// The conditions watched, each with whether it is the settling one.

@@ -6,7 +6,9 @@
 //! error type, the groups SO(3) and SE(3) with the chart kinds, and nalgebra's vectors and
 //! matrices of the sizes the systems use.
 
-pub use crate::forces::{AngularDamping, BodyTorque, ForceOfTime, Forcing, SpaceForce};
+pub use crate::forces::{
+    AngularDamping, AttitudeSpring, BodyTorque, ForceOfTime, Forcing, SpaceForce,
+};
 pub use crate::gyrostat::Gyrostat;
 pub use crate::lie::{ChartKind, SE3, SO3};
 pub use crate::tolerance::CheckedIntegrator;

@@ -329,6 +329,10 @@ pub const ATTITUDE_CHANNELS: [&str; 5] = [
 /// relative to the body.
 pub const WHEEL_CHANNELS: [&str; 4] = ["wheel_1", "wheel_2", "wheel_3", "wheel_4"];
 
+/// The name of the pointing-error channel ([`Envelope::add_error_samples`]): the angle
+/// from a target attitude, degrees.
+pub const ERROR_CHANNEL: &str = "error_deg";
+
 impl Envelope {
     /// An empty envelope of [`ATTITUDE_CHANNELS`] at `samples` sample times.
     pub fn of_attitude(samples: usize) -> Self {
@@ -371,11 +375,36 @@ impl Envelope {
             }
             self.add(4, k, (member.energies[k] - e0) / e0.abs());
             let wheels = self.channels.len() - ATTITUDE_CHANNELS.len();
+            let wheels = wheels - usize::from(self.channels.iter().any(|c| c == ERROR_CHANNEL));
             if let Some(speeds) = member.wheel_speeds.get(k) {
                 for (wheel, &speed) in speeds.iter().enumerate().take(wheels) {
                     self.add(ATTITUDE_CHANNELS.len() + wheel, k, speed);
                 }
             }
+        }
+    }
+
+    /// An envelope's channels with [`ERROR_CHANNEL`] appended (the last channel).
+    pub fn with_error_channel(self) -> Self {
+        let mut channels: Vec<&str> = self.channels.iter().map(String::as_str).collect();
+        channels.push(ERROR_CHANNEL);
+        Self::new(&channels, self.samples)
+    }
+
+    /// Adds a member's pointing error to [`ERROR_CHANNEL`] (an envelope made
+    /// [`Envelope::with_error_channel`]): at each sample the angle of `R_targetᵀ R`,
+    /// degrees. Does nothing on an envelope without the channel.
+    pub fn add_error_samples(&mut self, target: &SO3, member: &Samples) {
+        let Some(channel) = self.channels.iter().position(|c| c == ERROR_CHANNEL) else {
+            return;
+        };
+        for (k, attitude) in member.attitudes.iter().enumerate().take(self.samples) {
+            let relative = target.matrix().transpose() * attitude;
+            let error = SO3::from_matrix_unchecked(relative)
+                .log()
+                .norm()
+                .to_degrees();
+            self.add(channel, k, error);
         }
     }
 }

@@ -8,7 +8,7 @@ use crate::convert::{array1, array2, array3, rotation, rows3, vector, vector3};
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError};
 use crate::run::{chart_named, each_run, in_pool, matching_named, Options, Run};
 use crate::state::Start;
-use crate::systems::{system_of, InertiaInput, Spec};
+use crate::systems::{system_of, Drive, InertiaInput, Spec};
 use lgsvi_experiments::record::{record_until, Columns};
 use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_experiments::ExperimentError;
@@ -338,6 +338,8 @@ fn _montecarlo_chunk<'py>(
     let watch = Watch {
         stop: condition(stop_when, "stop_when")?,
         settle: condition(settle_when, "settle_when")?,
+        // `error` is measured from the attitude law's target (the identity without one).
+        target: spec.drive().and_then(Drive::target),
     };
     let input = input.map(|u| vector(u, "input")).transpose()?;
     let dispersions: Dispersions =
@@ -416,10 +418,15 @@ fn _montecarlo_chunk<'py>(
         .detach(|| run_sampled(&spec, &start, &setup, &Watch::NOTHING))
         .map_err(|e| invalid(format!("the nominal run failed: {e}")))?
         .0;
-    let mut envelope = if k > 0 {
+    let envelope = if k > 0 {
         Envelope::of_attitude_and_wheels(nominal_run.times.len(), k)
     } else {
         Envelope::of_attitude(nominal_run.times.len())
+    };
+    // A system with an attitude law or a target adds the pointing error's channel.
+    let mut envelope = match setup.watch.target {
+        Some(_) => envelope.with_error_channel(),
+        None => envelope,
     };
     let mut outcomes: Vec<Outcome> = Vec::with_capacity((last - first) as usize);
     py.detach(|| {
@@ -444,6 +451,9 @@ fn _montecarlo_chunk<'py>(
                         let mut outcome = outcome?;
                         if let Ok((sampled, _)) = &mut outcome.result {
                             envelope.add_attitude_samples(&nominal_run, sampled);
+                            if let Some(target) = &setup.watch.target {
+                                envelope.add_error_samples(target, sampled);
+                            }
                             // Only the final state is kept past the batch.
                             sampled.keep_last();
                         }

@@ -2,12 +2,13 @@
 //! `HeavyTop`, `FreeBody`, `OrbitingBody`, `Gyrostat`. Each holds the parameters as given
 //! (so that it pickles back to the same object) and the Rust system they make.
 
-use crate::convert::{matrix3, rows3, vector, vector3, vectors3};
+use crate::convert::{matrix3, rotation, rows3, vector, vector3, vectors3};
 use crate::errors::{guarded, invalid, mechanics};
 use lgsvi_mechanics as library;
 use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
-use lgsvi_mechanics::forces::{AngularDamping, BodyTorque, SpaceForce};
+use lgsvi_mechanics::forces::{AngularDamping, AttitudeSpring, BodyTorque, SpaceForce};
 use lgsvi_mechanics::gyrostat::AnyGyrostat;
+use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{Forced, Inertia};
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArray2};
@@ -16,10 +17,11 @@ use pyo3::types::PyTuple;
 
 /// The SO(3) systems as the integrator steps them: a built-in body under a constant body
 /// torque and an angular damping.
-pub type So3System = Forced<BuiltInSo3, (BodyTorque, AngularDamping)>;
+pub type So3System = Forced<BuiltInSo3, (BodyTorque, (AngularDamping, AttitudeSpring))>;
 /// The SE(3) systems as the integrator steps them: a built-in body under a constant body
 /// torque, an angular damping and a constant space-frame force on its centre of mass.
-pub type Se3System = Forced<BuiltInSe3, ((BodyTorque, AngularDamping), SpaceForce)>;
+pub type Se3System =
+    Forced<BuiltInSe3, ((BodyTorque, (AngularDamping, AttitudeSpring)), SpaceForce)>;
 
 /// An inertia as it was given: principal moments, a tensor, or the paper's `J_d`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,15 +94,29 @@ fn matrix_array<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f
     crate::convert::array2(py, 3, 3, rows3(m).to_vec())
 }
 
-/// Forcing as given: a body torque, an angular damping and (on SE(3)) a space-frame force.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// Forcing as given: a body torque, an angular damping, an attitude spring toward a
+/// target (with the damping, the PD attitude law) and (on SE(3)) a space-frame force.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drive {
     /// The constant body torque `τ` (N·m).
     pub torque: Vector3<f64>,
     /// The damping `c ≥ 0` of `τ = −c Ω` (N·m·s).
     pub damping: f64,
+    /// The torque `−K θ` toward a target attitude.
+    pub spring: AttitudeSpring,
     /// The constant space-frame force `f` on the centre of mass (N), SE(3) only.
     pub force: Vector3<f64>,
+}
+
+impl Default for Drive {
+    fn default() -> Self {
+        Self {
+            torque: Vector3::zeros(),
+            damping: 0.0,
+            spring: AttitudeSpring::none(),
+            force: Vector3::zeros(),
+        }
+    }
 }
 
 impl Drive {
@@ -108,6 +124,8 @@ impl Drive {
         torque: Option<&Bound<'_, PyAny>>,
         damping: f64,
         force: Option<&Bound<'_, PyAny>>,
+        attitude_gain: f64,
+        target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let torque = torque.map_or(Ok(Vector3::zeros()), |t| vector3(t, "torque"))?;
         let force = force.map_or(Ok(Vector3::zeros()), |f| vector3(f, "force"))?;
@@ -116,11 +134,40 @@ impl Drive {
                 "damping must be finite and non-negative (τ = −c Ω), got {damping}"
             )));
         }
+        let target = target.map_or(Ok(SO3::identity()), |t| rotation(t, "target"))?;
+        let spring = AttitudeSpring::new(target, attitude_gain).map_err(|_| {
+            invalid(format!(
+                "attitude_gain must be finite and non-negative (τ = −K θ toward the target, \
+                 N·m per radian), got {attitude_gain}"
+            ))
+        })?;
         Ok(Self {
             torque,
             damping,
+            spring,
             force,
         })
+    }
+
+    /// The target a run's `error` is measured from: the attitude law's, where the system
+    /// has a law or a target (`None` otherwise: the identity, and no pointing-error channel
+    /// in a Monte Carlo envelope).
+    pub fn target(&self) -> Option<SO3> {
+        let target = *self.spring.target();
+        (self.spring.stiffness() != 0.0 || target != SO3::identity()).then_some(target)
+    }
+}
+
+impl Spec {
+    /// The drive of a system that takes one (all but the gyrostat).
+    pub fn drive(&self) -> Option<&Drive> {
+        match self {
+            Spec::RigidBody { drive, .. }
+            | Spec::HeavyTop { drive, .. }
+            | Spec::FreeBody { drive, .. }
+            | Spec::OrbitingBody { drive, .. } => Some(drive),
+            Spec::Gyrostat { .. } => None,
+        }
     }
 }
 
@@ -174,13 +221,16 @@ impl Spec {
     /// The Rust system.
     pub fn build(&self) -> PyResult<Built> {
         let so3 = |body, d: &Drive| -> So3System {
-            Forced::new(body, (BodyTorque(d.torque), AngularDamping(d.damping)))
+            Forced::new(
+                body,
+                (BodyTorque(d.torque), (AngularDamping(d.damping), d.spring)),
+            )
         };
         let se3 = |body, d: &Drive| -> Se3System {
             Forced::new(
                 body,
                 (
-                    (BodyTorque(d.torque), AngularDamping(d.damping)),
+                    (BodyTorque(d.torque), (AngularDamping(d.damping), d.spring)),
                     SpaceForce(d.force),
                 ),
             )
@@ -333,6 +383,12 @@ impl System {
             if d.damping != 0.0 {
                 s += &format!(", damping={}", d.damping);
             }
+            if d.spring.stiffness() != 0.0 {
+                s += &format!(", attitude_gain={}", d.spring.stiffness());
+            }
+            if *d.spring.target() != SO3::identity() {
+                s += &format!(", target={:?}", rows3(d.spring.target().matrix()));
+            }
             if space && d.force != Vector3::zeros() {
                 s += &format!(", force={:?}", d.force.as_slice());
             }
@@ -404,6 +460,14 @@ impl System {
             if space {
                 args.push(v3(&d.force));
             }
+            args.push(
+                d.spring
+                    .stiffness()
+                    .into_pyobject(py)
+                    .expect("a float converts")
+                    .into_any(),
+            );
+            args.push(matrix_array(py, d.spring.target().matrix()).into_any());
             args
         };
         let mut args: Vec<Bound<'py, PyAny>> = Vec::new();
@@ -483,23 +547,32 @@ impl System {
 ///     A constant body-frame torque (N·m).
 /// damping : float, optional
 ///     Damping `c ≥ 0` of the torque `τ = −c Ω` (N·m·s).
+/// attitude_gain : float, optional
+///     `K ≥ 0` of the torque `τ = −K θ` toward `target`, `θ = log(R_targetᵀ R)` (N·m per
+///     radian): with `damping` the PD attitude law `−K θ − c Ω`, a continuous law
+///     integrated to the method's order.
+/// target : array_like, shape (3, 3), optional
+///     The target attitude (world from body; the identity by default); also what a Monte
+///     Carlo run's `error` condition is measured from.
 #[pyclass(module = "lgsvi._lgsvi", extends = System, frozen)]
 pub struct RigidBody;
 
 #[pymethods]
 impl RigidBody {
     #[new]
-    #[pyo3(signature = (inertia=None, inertia_d=None, torque=None, damping=0.0))]
+    #[pyo3(signature = (inertia=None, inertia_d=None, torque=None, damping=0.0, attitude_gain=0.0, target=None))]
     fn new(
         inertia: Option<&Bound<'_, PyAny>>,
         inertia_d: Option<&Bound<'_, PyAny>>,
         torque: Option<&Bound<'_, PyAny>>,
         damping: f64,
+        attitude_gain: f64,
+        target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyClassInitializer<Self>> {
         guarded(|| {
             let spec = Spec::RigidBody {
                 inertia: InertiaInput::from_arguments(inertia, inertia_d)?,
-                drive: Drive::from_arguments(torque, damping, None)?,
+                drive: Drive::from_arguments(torque, damping, None, attitude_gain, target)?,
             };
             Ok(PyClassInitializer::from(System::new(spec)?).add_subclass(RigidBody))
         })
@@ -520,7 +593,7 @@ impl RigidBody {
 ///     The centre of mass `ρ` from the pivot, body frame (m).
 /// gravity_direction : array_like, shape (3,)
 ///     The direction gravity pulls, world frame (normalised here).
-/// inertia_d, torque, damping
+/// inertia_d, torque, damping, attitude_gain, target
 ///     As for `RigidBody`.
 #[pyclass(module = "lgsvi._lgsvi", extends = System, frozen)]
 pub struct HeavyTop;
@@ -528,7 +601,7 @@ pub struct HeavyTop;
 #[pymethods]
 impl HeavyTop {
     #[new]
-    #[pyo3(signature = (inertia=None, mass=1.0, gravity=9.81, com=None, gravity_direction=None, inertia_d=None, torque=None, damping=0.0))]
+    #[pyo3(signature = (inertia=None, mass=1.0, gravity=9.81, com=None, gravity_direction=None, inertia_d=None, torque=None, damping=0.0, attitude_gain=0.0, target=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         inertia: Option<&Bound<'_, PyAny>>,
@@ -539,6 +612,8 @@ impl HeavyTop {
         inertia_d: Option<&Bound<'_, PyAny>>,
         torque: Option<&Bound<'_, PyAny>>,
         damping: f64,
+        attitude_gain: f64,
+        target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyClassInitializer<Self>> {
         guarded(|| {
             let spec = Spec::HeavyTop {
@@ -548,7 +623,7 @@ impl HeavyTop {
                 com: com.map_or(Ok(Vector3::z()), |c| vector3(c, "com"))?,
                 gravity_direction: gravity_direction
                     .map_or(Ok(Vector3::z()), |d| vector3(d, "gravity_direction"))?,
-                drive: Drive::from_arguments(torque, damping, None)?,
+                drive: Drive::from_arguments(torque, damping, None, attitude_gain, target)?,
             };
             Ok(PyClassInitializer::from(System::new(spec)?).add_subclass(HeavyTop))
         })
@@ -565,7 +640,7 @@ impl HeavyTop {
 ///     `J` about the centre of mass, or give `inertia_d`.
 /// mass : float
 ///     `m > 0` (kg).
-/// inertia_d, torque, damping
+/// inertia_d, torque, damping, attitude_gain, target
 ///     As for `RigidBody`.
 /// force : array_like, shape (3,), optional
 ///     A constant space-frame force on the centre of mass (N).
@@ -575,7 +650,8 @@ pub struct FreeBody;
 #[pymethods]
 impl FreeBody {
     #[new]
-    #[pyo3(signature = (inertia=None, mass=1.0, inertia_d=None, torque=None, damping=0.0, force=None))]
+    #[pyo3(signature = (inertia=None, mass=1.0, inertia_d=None, torque=None, damping=0.0, force=None, attitude_gain=0.0, target=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         inertia: Option<&Bound<'_, PyAny>>,
         mass: f64,
@@ -583,12 +659,14 @@ impl FreeBody {
         torque: Option<&Bound<'_, PyAny>>,
         damping: f64,
         force: Option<&Bound<'_, PyAny>>,
+        attitude_gain: f64,
+        target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyClassInitializer<Self>> {
         guarded(|| {
             let spec = Spec::FreeBody {
                 inertia: InertiaInput::from_arguments(inertia, inertia_d)?,
                 mass: finite_scalar(mass, "mass")?,
-                drive: Drive::from_arguments(torque, damping, force)?,
+                drive: Drive::from_arguments(torque, damping, force, attitude_gain, target)?,
             };
             Ok(PyClassInitializer::from(System::new(spec)?).add_subclass(FreeBody))
         })
@@ -607,7 +685,7 @@ impl FreeBody {
 ///     `m > 0`.
 /// mu : float
 ///     `μ = GM ≥ 0`.
-/// inertia_d, torque, damping, force
+/// inertia_d, torque, damping, force, attitude_gain, target
 ///     As for `FreeBody`.
 #[pyclass(module = "lgsvi._lgsvi", extends = System, frozen)]
 pub struct OrbitingBody;
@@ -615,7 +693,7 @@ pub struct OrbitingBody;
 #[pymethods]
 impl OrbitingBody {
     #[new]
-    #[pyo3(signature = (inertia=None, mass=1.0, mu=1.0, inertia_d=None, torque=None, damping=0.0, force=None))]
+    #[pyo3(signature = (inertia=None, mass=1.0, mu=1.0, inertia_d=None, torque=None, damping=0.0, force=None, attitude_gain=0.0, target=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         inertia: Option<&Bound<'_, PyAny>>,
@@ -625,13 +703,15 @@ impl OrbitingBody {
         torque: Option<&Bound<'_, PyAny>>,
         damping: f64,
         force: Option<&Bound<'_, PyAny>>,
+        attitude_gain: f64,
+        target: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyClassInitializer<Self>> {
         guarded(|| {
             let spec = Spec::OrbitingBody {
                 inertia: InertiaInput::from_arguments(inertia, inertia_d)?,
                 mass: finite_scalar(mass, "mass")?,
                 mu: finite_scalar(mu, "mu")?,
-                drive: Drive::from_arguments(torque, damping, force)?,
+                drive: Drive::from_arguments(torque, damping, force, attitude_gain, target)?,
             };
             Ok(PyClassInitializer::from(System::new(spec)?).add_subclass(OrbitingBody))
         })

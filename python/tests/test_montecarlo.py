@@ -376,3 +376,31 @@ def test_settling_times_are_the_command_lines_and_a_damped_sphere_s_closed_form(
         "--disperse-omega", "0.05", "--settle-when", "omega<0.05",
     ])
     assert np.array_equal(_column(rows, "t_settle"), result.t_settle)
+
+
+def test_a_pd_attitude_law_settles_each_member_as_its_closed_form_says():
+    """`attitude_gain` with `damping`: the PD law −Kθ − cΩ toward `target`. A sphere
+    (J = 2I) at rest, turned from the target by its drawn start attitude R0 = T exp(δ),
+    turns back about δ's fixed axis: 2θ'' + 4θ' + 2θ = 0 (critically damped),
+    θ(t) = |δ| (1 + t) e^(−t), so its pointing error falls through 1° where
+    |δ| (1 + t) e^(−t) = π/180; each member's settling time within 1e-12 relative of it
+    (the run resolves θ to ~1e-14 at h = 0.25, n = 12; the crossing is located to 1e-12)."""
+    from scipy.spatial.transform import Rotation
+
+    target = Rotation.from_rotvec([0.3, -0.5, 0.8]).as_matrix()
+    sphere = lgsvi.RigidBody([2.0, 2.0, 2.0], damping=4.0, attitude_gain=2.0, target=target)
+    again = pickle.loads(pickle.dumps(sphere))
+    assert again == sphere and "attitude_gain=2" in repr(sphere)
+    result = mc.run(sphere, target, [0.0, 0.0, 0.0], {"attitude": mc.normal(0.4)}, members=8,
+                    seed=5, t_end=15.0, h=0.25, nodes=12, settle_when="error<1")
+    turned = Rotation.from_matrix(np.einsum("ji,mjk->mik", target, result.attitude0)).magnitude()
+    assert np.all(turned > 2 * np.pi / 180)
+    lo, hi = np.zeros(8), np.full(8, 15.0)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        above = turned * (1 + mid) * np.exp(-mid) > np.pi / 180
+        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
+    exact = 0.5 * (lo + hi)
+    assert np.all(np.abs(result.t_settle - exact) <= 1e-12 * exact), result.t_settle - exact
+    with pytest.raises(lgsvi.InvalidInputError, match="attitude_gain"):
+        lgsvi.RigidBody([2.0, 2.0, 2.0], attitude_gain=-1.0)

@@ -36,6 +36,8 @@ class RigidBody(System):
         inertia_d: Optional[ArrayLike] = None,
         torque: Optional[ArrayLike] = None,
         damping: float = 0.0,
+        attitude_gain: float = 0.0,
+        target: Optional[ArrayLike] = None,
     ) -> None: ...
 
 class HeavyTop(System):
@@ -49,6 +51,8 @@ class HeavyTop(System):
         inertia_d: Optional[ArrayLike] = None,
         torque: Optional[ArrayLike] = None,
         damping: float = 0.0,
+        attitude_gain: float = 0.0,
+        target: Optional[ArrayLike] = None,
     ) -> None: ...
 
 class FreeBody(System):
@@ -60,6 +64,8 @@ class FreeBody(System):
         torque: Optional[ArrayLike] = None,
         damping: float = 0.0,
         force: Optional[ArrayLike] = None,
+        attitude_gain: float = 0.0,
+        target: Optional[ArrayLike] = None,
     ) -> None: ...
 
 class OrbitingBody(System):
@@ -72,6 +78,8 @@ class OrbitingBody(System):
         torque: Optional[ArrayLike] = None,
         damping: float = 0.0,
         force: Optional[ArrayLike] = None,
+        attitude_gain: float = 0.0,
+        target: Optional[ArrayLike] = None,
     ) -> None: ...
 
 class Gyrostat(System):

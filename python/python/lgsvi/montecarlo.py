@@ -174,7 +174,9 @@ class MonteCarloResult:
 
     @property
     def channels(self) -> List[str]:
-        """The envelope's channels: :data:`CHANNELS`, and a gyrostat's ``wheel_K``."""
+        """The envelope's channels: :data:`CHANNELS`, a gyrostat's ``wheel_K``, and
+        ``error_deg`` (the pointing error, degrees from the target) for a system with an
+        ``attitude_gain`` law or a ``target``."""
         return list(self.envelope.channels)
 
     def percentile(self, channel: str, q: float) -> np.ndarray:
@@ -325,7 +327,9 @@ def run(
         A settling condition, as ``lgsvi montecarlo --settle-when``: each member's
         ``t_settle`` is the time from which it holds to the member's end (the last crossing
         into it, or the start), NaN where it does not hold at the end; e.g.
-        ``"omega<0.001"``. :meth:`MonteCarloResult.settle_statistics` summarises them.
+        ``"omega<0.001"``, or ``"error<0.1"`` (the pointing error, degrees from the target
+        of the system's ``attitude_gain`` law, stays below 0.1°).
+        :meth:`MonteCarloResult.settle_statistics` summarises them.
     input : array_like, optional
         A constant control input for every member, as :meth:`lgsvi.Integrator.set_input`
         takes it (a gyrostat's ``(body torque, wheel motor torques)``).
