@@ -151,6 +151,16 @@ pub trait Forcing<G: StepGroup<D>, const D: usize> {
     fn depends_on_configuration(&self) -> bool {
         true
     }
+
+    /// The size of the terms the force is formed from, where they can be far larger than
+    /// the force: a force formed as a small difference of order-one quantities (a spring's
+    /// `θ = log(R_targetᵀ R)` near its target) carries their rounding, about `ε` times this,
+    /// whatever its own size. Newton's stopping test counts it among the equations' terms,
+    /// so that a step at rest on the target is accepted at that rounding floor. The
+    /// default 0 suits a force whose rounding is relative to its value.
+    fn rounding_scale(&self) -> f64 {
+        0.0
+    }
 }
 
 impl<G: StepGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcing<G, D> for (A, B) {
@@ -176,6 +186,9 @@ impl<G: StepGroup<D>, A: Forcing<G, D>, B: Forcing<G, D>, const D: usize> Forcin
     }
     fn depends_on_configuration(&self) -> bool {
         self.0.depends_on_configuration() || self.1.depends_on_configuration()
+    }
+    fn rounding_scale(&self) -> f64 {
+        self.0.rounding_scale().max(self.1.rounding_scale())
     }
 }
 
@@ -382,6 +395,11 @@ impl Forcing<Rotations, 3> for AttitudeSpring {
     fn depends_on_configuration(&self) -> bool {
         self.stiffness != 0.0
     }
+    /// `k` (N·m per radian times one radian): `θ` comes from the entries of `R_targetᵀ R`,
+    /// of order one, with their rounding, so `−k θ` carries `~ε k` at any `|θ|`.
+    fn rounding_scale(&self) -> f64 {
+        self.stiffness
+    }
 }
 
 /// A constant space-frame force `f` (N) on an SE(3) body's centre of mass: body force
@@ -486,6 +504,9 @@ macro_rules! torque_on_se3 {
             }
             fn depends_on_configuration(&self) -> bool {
                 Forcing::<Rotations, 3>::depends_on_configuration(self)
+            }
+            fn rounding_scale(&self) -> f64 {
+                Forcing::<Rotations, 3>::rounding_scale(self)
             }
         }
     )*};

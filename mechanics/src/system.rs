@@ -148,6 +148,14 @@ pub trait System<const D: usize> {
     }
 
     #[doc(hidden)]
+    /// [`Forcing::rounding_scale`] of the system's force: the size of the terms it is
+    /// formed from, which Newton's stopping test counts among the equations' terms. The
+    /// default 0 suits a force whose rounding is relative to its value.
+    fn force_rounding_scale(&self) -> f64 {
+        0.0
+    }
+
+    #[doc(hidden)]
     /// `(∂²L/∂ξ∂η, ∂²L/∂ξ²)` of `L(η, ξ) = ℓ(t, g exp(η), ξ)` at `η = 0` (entry
     /// `(component of ξ, component of η or ξ)`): how the body momentum `μ = ∂ℓ/∂ξ` moves
     /// with the configuration (body frame) and with the velocity, which the linearisation
@@ -824,6 +832,11 @@ impl<S: System<D>, F: Forcing<S::Group, D>, const D: usize> System<D> for Forced
     fn force_depends_on_configuration(&self) -> bool {
         (self.system.is_forced() && self.system.force_depends_on_configuration())
             || self.forcing.depends_on_configuration()
+    }
+    fn force_rounding_scale(&self) -> f64 {
+        self.system
+            .force_rounding_scale()
+            .max(self.forcing.rounding_scale())
     }
     fn local_derivatives(
         &self,

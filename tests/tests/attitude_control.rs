@@ -181,3 +181,35 @@ fn on_se3_the_spring_turns_the_body_as_on_so3() {
         x.norm()
     );
 }
+
+/// A stiff law brings the body onto its target and holds it there: every step of the hold
+/// converges. At rest on the target the equations' own terms fall to rounding, but the
+/// spring's torque still carries the rounding of `R_targetᵀ R`'s entries (`~ε k`), which
+/// Newton's stopping test counts (`Forcing::rounding_scale`); without it the steps of the
+/// hold were refused as not converging at a residual of 1e-16.
+#[test]
+fn a_body_held_on_its_target_keeps_stepping() {
+    let inertia = Inertia::from_principal_moments([2.0, 3.0, 4.0]).unwrap();
+    let law = (
+        AttitudeSpring::new(target(), 100.0).unwrap(),
+        AngularDamping(5.0),
+    );
+    let start = target() * SO3::exp(&Vector3::new(0.3, -0.2, 0.1));
+    let mut it = Integrator::new(
+        Forced::new(RigidBody::new(inertia), law),
+        StepSettings::new(0.5, 10).unwrap(),
+        start,
+        Vector3::new(0.1, 0.0, 0.0),
+    )
+    .unwrap();
+    let mut most = 0;
+    for _ in 0..200 {
+        most = most.max(it.step().unwrap());
+    }
+    // The slowest mode decays as e^(−C t / 2J) ≈ e^(−0.63 t): at rest on the target to
+    // rounding long before t = 100.
+    let theta = law.0.error(it.state().attitude()).norm();
+    assert!(theta < 1e-14, "θ = {theta:e} after 100 s");
+    assert!(it.state().velocity.norm() < 1e-14);
+    assert!(most <= 10, "{most} Newton iterations in a step");
+}

@@ -353,6 +353,12 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> StepSolver<'_, S,
         }
         let (matching, matching_scale) = self.matching_residual(mu, work, with_jacobian);
         scale = scale.max(matching_scale);
+        // A force formed from larger terms than itself (a spring near its target) carries
+        // their rounding into every equation, weighted by the step's quadrature (Σ h b_j = h).
+        let formed_from = self.system.force_rounding_scale();
+        if formed_from > 0.0 {
+            scale = scale.max(formed_from * d.weights.iter().sum::<f64>());
+        }
         for c in 0..D {
             work.residual[rows - D + c] = matching[c];
         }
