@@ -155,8 +155,9 @@ pub trait Forcing<G: StepGroup<D>, const D: usize> {
     /// The size of the terms the force is formed from, where they can be far larger than
     /// the force: a force formed as a small difference of order-one quantities (a spring's
     /// `θ = log(R_targetᵀ R)` near its target) carries their rounding, about `ε` times this,
-    /// whatever its own size. Newton's stopping test counts it among the equations' terms,
-    /// so that a step at rest on the target is accepted at that rounding floor. The
+    /// whatever its own size. The step's tests of its residual (Newton's stopping test,
+    /// the predictor's, the reuse of factored matrices) count it among the equations'
+    /// terms, so that a step at rest on the target is accepted at that rounding floor. The
     /// default 0 suits a force whose rounding is relative to its value.
     fn rounding_scale(&self) -> f64 {
         0.0
