@@ -1000,18 +1000,8 @@ struct Statistics {
 
 impl Statistics {
     fn new(samples: usize, nominal_final: Final, layout: Layout) -> Self {
-        let envelope = if layout.wheels > 0 {
-            Envelope::of_attitude_and_wheels(samples, layout.wheels)
-        } else {
-            Envelope::of_attitude(samples)
-        };
-        let envelope = if layout.target.is_some() {
-            envelope.with_error_channel()
-        } else {
-            envelope
-        };
         Self {
-            envelope,
+            envelope: Envelope::of_run(samples, layout.wheels, layout.target.is_some()),
             stop_times: Vec::new(),
             settle_times: Vec::new(),
             nominal_final,
@@ -1065,10 +1055,7 @@ impl Statistics {
             })),
         }
         if let Some(sampled) = sampled {
-            self.envelope.add_attitude_samples(nominal, sampled);
-            if let Some(target) = target {
-                self.envelope.add_error_samples(target, sampled);
-            }
+            self.envelope.add_member(nominal, sampled, target);
         }
     }
 }

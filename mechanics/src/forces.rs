@@ -336,9 +336,11 @@ impl AttitudeSpring {
         self.stiffness
     }
 
-    /// `θ = log(R_targetᵀ R)`, the rotation vector from the target to `attitude`.
-    pub fn error(&self, attitude: &SO3) -> Vector3<f64> {
-        SO3::from_matrix_unchecked(self.target.matrix().transpose() * attitude.matrix()).log()
+    /// `θ = log(R_targetᵀ R)`, the rotation vector from the target to `attitude` (generic
+    /// over the scalar, as the torque is formed).
+    pub fn error<T: RealField + Copy>(&self, attitude: &SO3<T>) -> Vector3<T> {
+        let target = self.target.matrix().map(nalgebra::convert::<f64, T>);
+        SO3::from_matrix_unchecked(target.transpose() * attitude.matrix()).log()
     }
 
     /// The spring's potential energy `½ k |θ|²` at `attitude`.
@@ -350,9 +352,7 @@ impl AttitudeSpring {
     /// [`Forcing::force`] is all a drive without a spring pays at each evaluation).
     #[inline(never)]
     fn torque<T: RealField + Copy>(&self, g: &SO3<T>) -> Vector3<T> {
-        let target = self.target.matrix().map(nalgebra::convert::<f64, T>);
-        let theta = SO3::from_matrix_unchecked(target.transpose() * g.matrix()).log();
-        theta * nalgebra::convert::<f64, T>(-self.stiffness)
+        self.error(g) * nalgebra::convert::<f64, T>(-self.stiffness)
     }
 
     /// [`Forcing::jet`] of a spring of non-zero stiffness: `θ(R exp(η)) = θ + J_r(θ)⁻¹ η +

@@ -345,12 +345,7 @@ impl Envelope {
     /// # Panics
     /// If `wheels > 4` (a gyrostat has one to four wheels).
     pub fn of_attitude_and_wheels(samples: usize, wheels: usize) -> Self {
-        let channels: Vec<&str> = ATTITUDE_CHANNELS
-            .iter()
-            .chain(&WHEEL_CHANNELS[..wheels])
-            .copied()
-            .collect();
-        Self::new(&channels, samples)
+        Self::of_run(samples, wheels, false)
     }
 
     /// Adds a member's samples to an envelope of [`ATTITUDE_CHANNELS`] (and its wheels'
@@ -363,6 +358,9 @@ impl Envelope {
             .samples
             .min(member.times.len())
             .min(nominal.times.len());
+        let wheels = self.channels.len()
+            - ATTITUDE_CHANNELS.len()
+            - usize::from(self.channels.iter().any(|c| c == ERROR_CHANNEL));
         for k in 0..samples {
             let relative = nominal.attitudes[k].transpose() * member.attitudes[k];
             let departure = SO3::from_matrix_unchecked(relative)
@@ -374,8 +372,6 @@ impl Envelope {
                 self.add(1 + axis, k, member.omegas[k][axis]);
             }
             self.add(4, k, (member.energies[k] - e0) / e0.abs());
-            let wheels = self.channels.len() - ATTITUDE_CHANNELS.len();
-            let wheels = wheels - usize::from(self.channels.iter().any(|c| c == ERROR_CHANNEL));
             if let Some(speeds) = member.wheel_speeds.get(k) {
                 for (wheel, &speed) in speeds.iter().enumerate().take(wheels) {
                     self.add(ATTITUDE_CHANNELS.len() + wheel, k, speed);
@@ -384,15 +380,34 @@ impl Envelope {
         }
     }
 
-    /// An envelope's channels with [`ERROR_CHANNEL`] appended (the last channel).
-    pub fn with_error_channel(self) -> Self {
-        let mut channels: Vec<&str> = self.channels.iter().map(String::as_str).collect();
-        channels.push(ERROR_CHANNEL);
-        Self::new(&channels, self.samples)
+    /// The envelope of a run's members at `samples` sample times: [`ATTITUDE_CHANNELS`],
+    /// the rates of `wheels` wheels ([`WHEEL_CHANNELS`], at most four) and, for a run with
+    /// a target attitude, [`ERROR_CHANNEL`] last; [`Envelope::add_member`] fills it.
+    ///
+    /// # Panics
+    /// If `wheels > 4` (a gyrostat has one to four wheels).
+    pub fn of_run(samples: usize, wheels: usize, with_target: bool) -> Self {
+        let channels: Vec<&str> = ATTITUDE_CHANNELS
+            .iter()
+            .chain(&WHEEL_CHANNELS[..wheels])
+            .chain(with_target.then_some(&ERROR_CHANNEL))
+            .copied()
+            .collect();
+        Self::new(&channels, samples)
     }
 
-    /// Adds a member's pointing error to [`ERROR_CHANNEL`] (an envelope made
-    /// [`Envelope::with_error_channel`]): at each sample the angle of `R_targetᵀ R`,
+    /// Adds a member's samples to an envelope of [`Envelope::of_run`]: its attitude, rates,
+    /// energy and wheels ([`Envelope::add_attitude_samples`]) and, where the run has a
+    /// `target`, its pointing error ([`Envelope::add_error_samples`]).
+    pub fn add_member(&mut self, nominal: &Samples, member: &Samples, target: Option<&SO3>) {
+        self.add_attitude_samples(nominal, member);
+        if let Some(target) = target {
+            self.add_error_samples(target, member);
+        }
+    }
+
+    /// Adds a member's pointing error to [`ERROR_CHANNEL`] (an envelope of
+    /// [`Envelope::of_run`] with a target): at each sample the angle of `R_targetᵀ R`,
     /// degrees. Does nothing on an envelope without the channel.
     pub fn add_error_samples(&mut self, target: &SO3, member: &Samples) {
         let Some(channel) = self.channels.iter().position(|c| c == ERROR_CHANNEL) else {

@@ -418,16 +418,9 @@ fn _montecarlo_chunk<'py>(
         .detach(|| run_sampled(&spec, &start, &setup, &Watch::NOTHING))
         .map_err(|e| invalid(format!("the nominal run failed: {e}")))?
         .0;
-    let envelope = if k > 0 {
-        Envelope::of_attitude_and_wheels(nominal_run.times.len(), k)
-    } else {
-        Envelope::of_attitude(nominal_run.times.len())
-    };
     // A system with an attitude law or a target adds the pointing error's channel.
-    let mut envelope = match setup.watch.target {
-        Some(_) => envelope.with_error_channel(),
-        None => envelope,
-    };
+    let target = setup.watch.target;
+    let mut envelope = Envelope::of_run(nominal_run.times.len(), k, target.is_some());
     let mut outcomes: Vec<Outcome> = Vec::with_capacity((last - first) as usize);
     py.detach(|| {
         guarded(|| {
@@ -450,10 +443,7 @@ fn _montecarlo_chunk<'py>(
                     for outcome in batch {
                         let mut outcome = outcome?;
                         if let Ok((sampled, _)) = &mut outcome.result {
-                            envelope.add_attitude_samples(&nominal_run, sampled);
-                            if let Some(target) = &setup.watch.target {
-                                envelope.add_error_samples(target, sampled);
-                            }
+                            envelope.add_member(&nominal_run, sampled, target.as_ref());
                             // Only the final state is kept past the batch.
                             sampled.keep_last();
                         }

@@ -4,9 +4,10 @@
 
 use crate::convert::{matrix3, rotation, rows3, vector, vector3, vectors3};
 use crate::errors::{guarded, invalid, mechanics};
+use lgsvi_experiments::scenario;
 use lgsvi_mechanics as library;
 use lgsvi_mechanics::built_in::{BuiltInSe3, BuiltInSo3};
-use lgsvi_mechanics::forces::{AngularDamping, AttitudeSpring, BodyTorque, SpaceForce};
+use lgsvi_mechanics::forces::{AttitudeSpring, SpaceForce};
 use lgsvi_mechanics::gyrostat::AnyGyrostat;
 use lgsvi_mechanics::lie::SO3;
 use lgsvi_mechanics::{Forced, Inertia};
@@ -16,12 +17,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 /// The SO(3) systems as the integrator steps them: a built-in body under a constant body
-/// torque and an angular damping.
-pub type So3System = Forced<BuiltInSo3, (BodyTorque, (AngularDamping, AttitudeSpring))>;
-/// The SE(3) systems as the integrator steps them: a built-in body under a constant body
-/// torque, an angular damping and a constant space-frame force on its centre of mass.
-pub type Se3System =
-    Forced<BuiltInSe3, ((BodyTorque, (AngularDamping, AttitudeSpring)), SpaceForce)>;
+/// torque, an angular damping and an attitude spring (the command line's, `scenario::Drive`).
+pub type So3System = scenario::Driven;
+/// The SE(3) systems as the integrator steps them: a built-in body under the same drive
+/// and a constant space-frame force on its centre of mass.
+pub type Se3System = Forced<BuiltInSe3, (scenario::Drive, SpaceForce)>;
 
 /// An inertia as it was given: principal moments, a tensor, or the paper's `J_d`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -220,21 +220,10 @@ pub enum Built {
 impl Spec {
     /// The Rust system.
     pub fn build(&self) -> PyResult<Built> {
-        let so3 = |body, d: &Drive| -> So3System {
-            Forced::new(
-                body,
-                (BodyTorque(d.torque), (AngularDamping(d.damping), d.spring)),
-            )
-        };
-        let se3 = |body, d: &Drive| -> Se3System {
-            Forced::new(
-                body,
-                (
-                    (BodyTorque(d.torque), (AngularDamping(d.damping), d.spring)),
-                    SpaceForce(d.force),
-                ),
-            )
-        };
+        let drive = |d: &Drive| scenario::drive(d.torque, d.damping, d.spring);
+        let so3 = |body, d: &Drive| -> So3System { Forced::new(body, drive(d)) };
+        let se3 =
+            |body, d: &Drive| -> Se3System { Forced::new(body, (drive(d), SpaceForce(d.force))) };
         Ok(match self {
             Spec::RigidBody { inertia, drive } => Built::So3(so3(
                 BuiltInSo3::Free(library::RigidBody::new(inertia.inertia()?)),
