@@ -205,6 +205,17 @@ pub struct SimulateOptions {
     /// [default: 0].
     #[arg(long, allow_hyphen_values = true, value_name = "K")]
     pub attitude_gain: Option<f64>,
+    /// A sampled PD law: --attitude-gain K and --damping C are a controller's gains, its
+    /// torque −Kθ − CΩ evaluated from the state every T from the start and held until the
+    /// next sample (zero-order hold), as a flight computer runs it, instead of a continuous
+    /// law; T is a whole number of steps (--h; by default the longest step up to 0.5 that
+    /// divides T and --t-end) (every system but the gyrostat) [default: continuous].
+    #[arg(long, allow_hyphen_values = true, value_name = "T")]
+    pub sample_period: Option<f64>,
+    /// The actuator's largest torque L, N·m: a sampled law's torque longer than L is scaled
+    /// back to length L along its own direction (needs --sample-period) [default: no limit].
+    #[arg(long, allow_hyphen_values = true, value_name = "L")]
+    pub torque_limit: Option<f64>,
     /// The target attitude as a unit quaternion (w, x, y, z), Hamilton convention: what
     /// --attitude-gain turns the body to and what the `error` quantity of --stop-when and
     /// --settle-when is measured from [default: identity].

@@ -69,6 +69,13 @@ pub fn run(options: LinearizeOptions) -> Result<()> {
             "without --attitude-gain the target is what --stop-when and --settle-when's \
              `error` is measured from, and linearize takes one step",
         ),
+        (
+            "--sample-period",
+            b.sample_period.is_some(),
+            "linearize gives the open step's B, the derivative by a held input: a sampled \
+             law's torque is such an input (drop --sample-period for the continuous law's \
+             closed-loop step)",
+        ),
     ])?;
     let out = b.out.clone();
     let momentum = options.momentum;

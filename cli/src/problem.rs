@@ -3,11 +3,13 @@
 
 use crate::config::{Numbers, SimulateOptions, SystemKind};
 use crate::error::{CliError, Result};
+use lgsvi_experiments::control::SampledLaw;
 use lgsvi_experiments::record::Check;
 use lgsvi_experiments::scenario::{drive, Model, Orbit, Scenario, Space, Top, Wheels};
 use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_experiments::ExperimentError;
 use lgsvi_mechanics::built_in::BuiltInSo3;
+use lgsvi_mechanics::control::PdLaw;
 use lgsvi_mechanics::forces::AttitudeSpring;
 use lgsvi_mechanics::lie::So3Chart;
 use lgsvi_mechanics::settings::{DEFAULT_ADAPTIVE_NODES, ROUNDING_FLOOR};
@@ -222,6 +224,58 @@ pub struct Problem {
     pub description: serde_json::Value,
 }
 
+/// The sampled PD law of `--sample-period` (with `--attitude-gain`, `--damping` as its
+/// gains and `--torque-limit`), `None` for a continuous law; without `--h`, the step
+/// becomes the longest up to 0.5 that divides the period (and the run, where one does).
+fn sampled_law(
+    options: &mut SimulateOptions,
+    spring: AttitudeSpring,
+    damping: f64,
+) -> Result<Option<SampledLaw>> {
+    let Some(period) = options.sample_period else {
+        if let Some(limit) = options.torque_limit {
+            let reason = "the limit applies to a sampled law: give --sample-period (a limit on \
+                          the continuous law is not built)";
+            return Err(CliError::invalid("--torque-limit", limit, reason));
+        }
+        return Ok(None);
+    };
+    if !(period.is_finite() && period > 0.0) {
+        let reason = "the controller's sample period must be positive and finite";
+        return Err(CliError::invalid("--sample-period", period, reason));
+    }
+    if options.tol.is_some() {
+        let reason = "a --tol run chooses its own step, which a sampled law needs to divide \
+                      its period: give --h instead (a period divided by a whole number)";
+        return Err(CliError::invalid("--sample-period", period, reason));
+    }
+    if options.attitude_gain.is_none() && options.damping.is_none() {
+        let reason = "the sampled law's gains are --attitude-gain K and --damping C: give \
+                      at least one";
+        return Err(CliError::invalid("--sample-period", period, reason));
+    }
+    let law = PdLaw::new(*spring.target(), spring.stiffness(), damping)?;
+    let law = match options.torque_limit {
+        Some(limit) => law.with_limit(limit).map_err(|_| {
+            let reason = "the actuator's largest torque must be positive (N·m)";
+            CliError::invalid("--torque-limit", limit, reason)
+        })?,
+        None => law,
+    };
+    if options.h.is_none() {
+        // The longest step up to 0.5 that divides the period and, where one does within a
+        // thousand steps a period, the run too.
+        let t_end = options.t_end.unwrap_or(10.0);
+        let least = (period / 0.5).ceil().max(1.0) as u32;
+        let whole = |x: f64| (x - x.round()).abs() <= 1e-9 * x.max(1.0);
+        let steps = (least..least + 1000)
+            .find(|&m| whole(t_end * f64::from(m) / period))
+            .unwrap_or(least);
+        options.h = Some(period / f64::from(steps));
+    }
+    Ok(Some(SampledLaw::new(law, period).map_err(scenario_error)?))
+}
+
 /// Refuses a system's flag given for another system: the first, in the order below.
 fn check_applicable(options: &SimulateOptions, kind: SystemKind) -> Result<()> {
     use SystemKind::*;
@@ -238,7 +292,7 @@ fn check_applicable(options: &SimulateOptions, kind: SystemKind) -> Result<()> {
     };
     let mass_applies = format!("heavy-top, se3-body and orbiting-body {mass_why}");
     let o = options;
-    let rows: [(&'static str, bool, &[SystemKind], &str); 15] = [
+    let rows: [(&'static str, bool, &[SystemKind], &str); 16] = [
         ("--mass", o.mass.is_some(), massive, &mass_applies),
         ("--gravity", o.gravity.is_some(), top, "the heavy top (--system heavy-top)"),
         ("--com", o.com.is_some(), top, "the heavy top (--system heavy-top)"),
@@ -246,6 +300,7 @@ fn check_applicable(options: &SimulateOptions, kind: SystemKind) -> Result<()> {
         ("--torque", o.torque.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat's wheels take --wheel-torque)"),
         ("--damping", o.damping.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body"),
         ("--attitude-gain", o.attitude_gain.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat turns by its wheels, --wheel-torque)"),
+        ("--sample-period", o.sample_period.is_some(), forced, "rigid-body, heavy-top, se3-body and orbiting-body (a gyrostat turns by its wheels, --wheel-torque)"),
         ("--exact", o.exact, bodies, "the free rigid body (--system rigid-body)"),
         ("--position0", o.position0.is_some(), moving, "se3-body and orbiting-body"),
         ("--velocity0", o.velocity0.is_some(), moving, "se3-body and orbiting-body"),
@@ -420,6 +475,7 @@ impl Problem {
                           finite and non-negative (N·m per radian)";
             CliError::invalid("--attitude-gain", gain, reason)
         })?;
+        let control = sampled_law(&mut options, spring, damping)?;
         if !(t_end.is_finite() && t_end >= 0.0) {
             return invalid("--t-end", &t_end, "must be finite and non-negative");
         }
@@ -469,6 +525,12 @@ impl Problem {
         if options.attitude_gain.is_some() {
             description["attitude_gain"] = gain.into();
         }
+        if let Some(period) = options.sample_period {
+            description["sample_period"] = period.into();
+        }
+        if let Some(limit) = options.torque_limit {
+            description["torque_limit"] = limit.into();
+        }
         if let Some(q) = options.target_quaternion {
             description["target_quaternion"] = q.as_slice().into();
         }
@@ -476,9 +538,17 @@ impl Problem {
             description["tolerance"] = tol.into();
         }
         let model = model(&options, kind, &mut description)?;
-        let drive = drive(torque, damping, spring);
-        let scenario = Scenario::driven(model.clone(), inertia, options.attitude()?, omega0, drive)
-            .map_err(scenario_error)?;
+        // A sampled law takes the gains: the continuous drive keeps the torque alone.
+        let drive = match control {
+            Some(_) => drive(torque, 0.0, AttitudeSpring::none()),
+            None => drive(torque, damping, spring),
+        };
+        let mut scenario =
+            Scenario::driven(model.clone(), inertia, options.attitude()?, omega0, drive)
+                .map_err(scenario_error)?;
+        if let Some(control) = control {
+            scenario = scenario.with_control(control).map_err(scenario_error)?;
+        }
         if let BuiltInSo3::Top(top) = &scenario.system.system {
             description["gravity_direction"] = top.gravity_direction().as_slice().into();
         }
@@ -491,7 +561,18 @@ impl Problem {
         let libration = (gain / j_min).sqrt();
         let rate = scenario.rate()?.max(decay).max(libration);
         let settings = step_settings(&options, t_end, rate)?;
-        if options.tol.is_none() {
+        if let Some(control) = &scenario.control {
+            control.check_step(settings.h()).map_err(|_| {
+                let period = control.period();
+                let reason = format!(
+                    "the sample period must be a whole number of steps of h = {}: take --h \
+                     as the period divided by a whole number (e.g. {})",
+                    settings.h(),
+                    period / (period / settings.h()).ceil()
+                );
+                CliError::invalid("--sample-period", period, reason)
+            })?;
+        } else if options.tol.is_none() {
             check_damping_stiffness(damping, j_min, &settings)?;
         }
         // Where the steps' own estimates are known to miss the error, a fixed run is
@@ -573,6 +654,7 @@ fn scenario_error(error: ExperimentError) -> CliError {
                 "mass/mu" => "--mass/--mu",
                 "axes/inertia" => "--wheel-axes/--wheel-inertia",
                 "speeds0/torque" => "--wheel-speeds0/--wheel-torque",
+                "control" => "--sample-period",
                 _ => "--torque/--damping",
             },
             source,

@@ -45,6 +45,12 @@ pub fn run_converge(options: ConvergeOptions) -> Result<()> {
             "without --attitude-gain the target is what --stop-when and --settle-when's \
              `error` is measured from, and converge watches neither",
         ),
+        (
+            "--sample-period",
+            base.sample_period.is_some(),
+            "converge runs steps of many lengths, and a sampled law needs its period to be \
+             a whole number of each (not built; the continuous law converges)",
+        ),
     ])?;
     if let Some(samples) = options.curve_samples {
         if !(1..=MAX_CURVE_SAMPLES).contains(&samples) {

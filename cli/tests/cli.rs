@@ -3142,6 +3142,130 @@ fn a_pd_controlled_sphere_settles_when_the_closed_form_says() {
     assert_eq!(json["description"]["attitude_gain"], 2.0);
 }
 
+/// `--sample-period` with `--torque-limit`: a sphere J = 2I turned 2 rad about x from the
+/// target (the identity), at rest, under the law sampled every 0.5 and held. Between
+/// samples the held torque u turns it about x as 2θ'' = u, so
+/// `θ ← θ + Tω + T²u/4`, `ω ← ω + Tu/2` with `u = −clamp(Kθ + Cω, ±L)`: the closed form
+/// the run's last state must meet. K = 2, C = 4, L = 0.5: the limit holds the first
+/// samples. The step is exact for this motion up to rounding (10 nodes, h = 0.25).
+#[test]
+fn a_sampled_saturated_law_turns_a_sphere_as_the_held_torques_closed_form() {
+    let (j, k, c, limit, period, theta0) = (2.0, 2.0, 4.0, 0.5, 0.5, 2.0f64);
+    let start = format!("{:?},{:?},0,0", (theta0 / 2.0).cos(), (theta0 / 2.0).sin());
+    let (code, out, err) = lgsvi(&[
+        "simulate",
+        "--inertia",
+        "2,2,2",
+        "--omega0",
+        "0,0,0",
+        "--quaternion0",
+        &start,
+        "--attitude-gain",
+        "2",
+        "--damping",
+        "4",
+        "--sample-period",
+        "0.5",
+        "--torque-limit",
+        "0.5",
+        "--h",
+        "0.25",
+        "--t-end",
+        "15",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (mut theta, mut omega, mut saturated) = (theta0, 0.0f64, 0);
+    for _ in 0..30 {
+        let demand = k * theta + c * omega;
+        saturated += usize::from(demand.abs() > limit);
+        let u = -demand.clamp(-limit, limit);
+        theta += period * omega + period * period * u / (2.0 * j);
+        omega += period * u / j;
+    }
+    assert!(saturated >= 5, "{saturated} saturated samples");
+    let last = |key: &str| -> Vec<f64> {
+        let rows = json[key].as_array().unwrap();
+        let row = rows.last().unwrap().as_array().unwrap();
+        row.iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    let (r, w) = (last("R"), last("omega"));
+    // R = exp(θ x̂): R_32 = sin θ, R_22 = cos θ.
+    let angle = r[7].atan2(r[4]);
+    assert!((angle - theta).abs() < 1e-13, "θ {angle} against {theta}");
+    assert!((w[0] - omega).abs() < 1e-13, "ω {} against {omega}", w[0]);
+    assert!(w[1].abs() < 1e-15 && w[2].abs() < 1e-15, "{w:?}");
+    assert_eq!(json["description"]["sample_period"], 0.5);
+    assert_eq!(json["description"]["torque_limit"], 0.5);
+}
+
+#[test]
+fn bad_sampled_laws_name_their_flag() {
+    let base = ["simulate", "--t-end", "1", "--quiet"];
+    for (extra, words) in [
+        (
+            &[
+                "--attitude-gain",
+                "1",
+                "--sample-period",
+                "0.3",
+                "--h",
+                "0.2",
+            ][..],
+            &["--sample-period", "whole number of steps", "--h"][..],
+        ),
+        (
+            &["--attitude-gain", "1", "--sample-period", "0"],
+            &["--sample-period", "positive"],
+        ),
+        (
+            &[
+                "--attitude-gain",
+                "1",
+                "--sample-period",
+                "0.5",
+                "--tol",
+                "1e-8",
+            ],
+            &["--sample-period", "--tol", "--h"],
+        ),
+        (
+            &["--sample-period", "0.5"],
+            &["--sample-period", "--attitude-gain"],
+        ),
+        (
+            &["--attitude-gain", "1", "--torque-limit", "1"],
+            &["--torque-limit", "--sample-period"],
+        ),
+        (
+            &[
+                "--attitude-gain",
+                "1",
+                "--sample-period",
+                "0.5",
+                "--torque-limit",
+                "-1",
+            ],
+            &["--torque-limit", "positive"],
+        ),
+        (
+            &["--system", "gyrostat", "--sample-period", "0.5"],
+            &["--sample-period", "gyrostat", "--wheel-torque"],
+        ),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(extra);
+        assert_refused(&args, words);
+    }
+    for command in ["linearize", "converge"] {
+        assert_refused(
+            &[command, "--attitude-gain", "1", "--sample-period", "0.5"],
+            &["--sample-period", command],
+        );
+    }
+}
+
 #[test]
 fn bad_attitude_laws_name_their_flag() {
     let base = ["simulate", "--t-end", "1", "--quiet"];

@@ -68,6 +68,7 @@
 #![warn(missing_docs)]
 
 pub mod conserved;
+pub mod control;
 pub mod convergence;
 mod error;
 pub mod fit;

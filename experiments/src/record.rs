@@ -27,6 +27,7 @@
 //! # }
 //! ```
 
+use crate::control::SampledLaw;
 use crate::error::ExperimentError;
 use crate::stop::Watch;
 use lgsvi_mechanics::control::GroupLog;
@@ -294,23 +295,26 @@ where
     C: GroupChart<S::Group, D>,
     ElementOf<S, D>: Columns<D>,
 {
-    record_until(runner, t_end, every, &Watch::NOTHING, progress)
+    record_until(runner, t_end, every, &Watch::NOTHING, None, progress)
 }
 
 /// As [`record`], ending the run after the step in which `watch`'s stop condition is met
 /// (the crossing located on the step's curve and refined by the method's steps,
 /// [`lgsvi_mechanics::events`]): its time and state in [`Recording::stopped`], the step's
 /// end recorded as the last state; with `watch`'s settling condition, its settling time
-/// in [`Recording::settled`].
+/// in [`Recording::settled`]. With `control`, its sampled law sets the body torque input
+/// at every sampling instant from the run's start ([`SampledLaw::observer`]).
 ///
 /// # Errors
 /// As [`record`]; [`ExperimentError::Stop`] for a condition on a quantity the system
-/// lacks.
+/// lacks; [`ExperimentError::Parameter`] for a controller whose period is not a whole
+/// number of steps, or on a gyrostat (whose input is its wheels' motor torques).
 pub fn record_until<S, C, const D: usize>(
     runner: &mut impl Stepper<S, C, D>,
     t_end: f64,
     every: usize,
     watch: &Watch,
+    control: Option<&SampledLaw>,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
@@ -320,6 +324,9 @@ where
 {
     let every = every.max(1);
     let steps = runner.integrator().steps_until(t_end)?;
+    if let Some(control) = control {
+        control.check_step(runner.integrator().settings().h())?;
+    }
     let system = *runner.integrator().system();
     // Forced: by the system's own force, or by an input (a gyrostat's motor torques).
     let forced = system.is_forced() || runner.integrator().input().iter().any(|&u| u != 0.0);
@@ -342,6 +349,10 @@ where
     };
     let (start, start_motion, start_wheels) =
         ElementOf::<S, D>::columns(runner.integrator().state());
+    if control.is_some() && start_wheels.is_some() {
+        return Err(crate::control::on_a_gyrostat());
+    }
+    let mut sampler = control.map(|c| c.observer(start.time));
     let r0 = start.configuration;
     let target = watch.target();
     watch.check(&start, start_motion.as_ref(), start_wheels.as_ref())?;
@@ -420,7 +431,7 @@ where
             Ok::<_, ExperimentError>(ControlFlow::Continue(()))
         },
     );
-    runner.drive(steps, &mut (&mut observer, &mut events))?;
+    runner.drive(steps, &mut ((&mut observer, &mut events), &mut sampler))?;
     if events.stopped() {
         // The step that holds the crossing ends the recording.
         let (k, iterations, recorded) = last;
@@ -508,6 +519,7 @@ pub fn record_to_tolerance<S, C, E, const D: usize>(
     t_end: f64,
     every: usize,
     watch: &Watch,
+    control: Option<&SampledLaw>,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, E>
 where
@@ -519,7 +531,8 @@ where
     let mut runner = CheckedIntegrator::new(make(settings)?)?.with_tolerance(tolerance)?;
     let mut wall_time = 0.0;
     loop {
-        let mut run = record_until(&mut runner, t_end, every, watch, progress).map_err(E::from)?;
+        let mut run =
+            record_until(&mut runner, t_end, every, watch, control, progress).map_err(E::from)?;
         wall_time += run.wall_time_s;
         run.wall_time_s = wall_time;
         if runner.judge()? {
@@ -536,6 +549,7 @@ where
 ///
 /// # Errors
 /// [`record`]'s and [`record_to_tolerance`]'s.
+#[allow(clippy::too_many_arguments)]
 pub fn record_checked<S, C, const D: usize>(
     make: impl Fn(StepSettings) -> Result<Integrator<S, C, D>, lgsvi_mechanics::MechanicsError>,
     settings: StepSettings,
@@ -543,6 +557,7 @@ pub fn record_checked<S, C, const D: usize>(
     t_end: f64,
     every: usize,
     watch: &Watch,
+    control: Option<&SampledLaw>,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Recording, ExperimentError>
 where
@@ -551,14 +566,14 @@ where
     ElementOf<S, D>: Columns<D> + GroupLog<D>,
 {
     match check {
-        Check::None => record_until(&mut make(settings)?, t_end, every, watch, progress),
+        Check::None => record_until(&mut make(settings)?, t_end, every, watch, control, progress),
         Check::Measure => {
             let mut runner = CheckedIntegrator::new(make(settings)?)?;
-            record_until(&mut runner, t_end, every, watch, progress)
+            record_until(&mut runner, t_end, every, watch, control, progress)
         }
         Check::Tolerance(tol) => {
             let make = |s| make(s).map_err(ExperimentError::from);
-            record_to_tolerance(make, settings, tol, t_end, every, watch, progress)
+            record_to_tolerance(make, settings, tol, t_end, every, watch, control, progress)
         }
     }
 }

@@ -21,6 +21,7 @@
 //! # }
 //! ```
 
+use crate::control::SampledLaw;
 use crate::record::{record_checked, record_exact, Check, Recording};
 use crate::stop::Watch;
 use crate::tolerance::{local_errors, tolerance_runs, LocalError, ToleranceStudy};
@@ -319,6 +320,8 @@ pub struct Scenario {
     /// The settings of [`Subject::settings`] (the studies' chart, matching and Newton
     /// Jacobian): ten nodes at `h = 0.5` unless [`Scenario::with_settings`] says otherwise.
     pub settings: StepSettings,
+    /// A sampled controller in the loop ([`Scenario::with_control`]), beside the drive.
+    pub control: Option<SampledLaw>,
 }
 
 impl Scenario {
@@ -362,6 +365,7 @@ impl Scenario {
             attitude0,
             omega0,
             settings: StepSettings::new(0.5, 10)?,
+            control: None,
         };
         let (inner, body) = match model {
             Model::RigidBody => return Ok(scenario),
@@ -446,6 +450,21 @@ impl Scenario {
         self
     }
 
+    /// The scenario with a sampled attitude controller in the loop: its torque, set at
+    /// each sampling instant, is the body's control input beside the drive
+    /// ([`crate::control`]).
+    ///
+    /// # Errors
+    /// [`ExperimentError::Parameter`] for a gyrostat (it turns by its wheels' motor
+    /// torques).
+    pub fn with_control(mut self, control: SampledLaw) -> Result<Self, ExperimentError> {
+        if self.wheels.is_some() {
+            return Err(crate::control::on_a_gyrostat());
+        }
+        self.control = Some(control);
+        Ok(self)
+    }
+
     /// The initial motion's fastest rate, rad per unit time: the system's own
     /// ([`System::motion_rate`]: the spin, and the heavy top's pendulum
     /// frequency, the orbiting body's gravity-gradient libration or the wheels' fastest
@@ -477,7 +496,10 @@ impl Scenario {
         progress: &mut dyn FnMut(usize),
     ) -> Result<Recording, ExperimentError> {
         with_system!(self, (make, K, D) => {
-            record_checked::<_, ChartKind, D>(make, settings, check, t_end, every, watch, progress)
+            let control = self.control.as_ref();
+            record_checked::<_, ChartKind, D>(
+                make, settings, check, t_end, every, watch, control, progress,
+            )
         })
     }
 

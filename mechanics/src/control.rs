@@ -384,3 +384,121 @@ impl<E: GroupLog<D> + Copy, const D: usize> TrajectoryTracker<E, D> {
         ))
     }
 }
+
+/// A PD attitude law with a torque limit, for a controller that samples the state and
+/// holds its torque (zero-order hold): `u = sat_L(−K θ − C Ω)` with `θ = log(R_targetᵀ R)`
+/// (the rotation vector from the target to the attitude, as
+/// [`crate::forces::AttitudeSpring::error`]) and `sat_L` scaling a torque longer than `L`
+/// back to length `L` along its own direction (an actuator's torque limit that keeps the
+/// law's axis).
+///
+/// Call [`PdLaw::torque`] with the state at each sampling instant and hand the torque to
+/// [`crate::Integrator::set_input`]: the step's input is constant over the step, so the
+/// solution is as smooth within a step as without control and the step keeps its
+/// accuracy, saturated or not. The continuous law (acting at every Gauss point, without a
+/// limit) is [`crate::forces::AttitudeSpring`] beside [`crate::forces::AngularDamping`].
+///
+/// ```
+/// use lgsvi_mechanics::control::PdLaw;
+/// use lgsvi_mechanics::lie::SO3;
+/// use lgsvi_mechanics::{Inertia, Integrator, RigidBody, StepSettings};
+/// use nalgebra::Vector3;
+///
+/// // A quarter turn about z, at most 0.2 N·m of torque, sampled every 0.25 s.
+/// let target = SO3::exp(&Vector3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2));
+/// let law = PdLaw::new(target, 1.0, 2.0)?.with_limit(0.2)?;
+/// let body = RigidBody::new(Inertia::from_principal_moments([2.0, 3.0, 4.0])?);
+/// let mut it = Integrator::new(body, StepSettings::new(0.25, 8)?, SO3::identity(), Vector3::zeros())?;
+/// for _ in 0..200 {
+///     let s = it.state();
+///     let u = law.torque(&s.configuration, &s.velocity);
+///     assert!(u.norm() <= 0.2 * (1.0 + 1e-15));
+///     it.set_input(u)?;
+///     it.step()?;
+/// }
+/// assert!(law.error_angle(&it.state().configuration) < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdLaw {
+    spring: crate::forces::AttitudeSpring,
+    damping: f64,
+    limit: f64,
+}
+
+impl PdLaw {
+    /// The law of gain `K` (N·m per radian) and rate gain `C` (N·m·s per radian) toward
+    /// `target`, without a torque limit.
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for a gain that is negative or not finite;
+    /// [`MechanicsError::NonFinite`] for a target with an entry that is not finite.
+    pub fn new(target: SO3, k: f64, c: f64) -> Result<Self, MechanicsError> {
+        let spring = crate::forces::AttitudeSpring::new(target, k)?;
+        if !(c.is_finite() && c >= 0.0) {
+            return Err(MechanicsError::InvalidSetting {
+                name: "C",
+                value: format!("{c:?}"),
+                reason: "the rate gain of −CΩ must be finite and non-negative",
+            });
+        }
+        Ok(Self {
+            spring,
+            damping: c,
+            limit: f64::INFINITY,
+        })
+    }
+
+    /// The law with its torque's length limited to `limit` (N·m; `f64::INFINITY` for no
+    /// limit).
+    ///
+    /// # Errors
+    /// [`MechanicsError::InvalidSetting`] for a limit that is not positive (or NaN).
+    pub fn with_limit(mut self, limit: f64) -> Result<Self, MechanicsError> {
+        if limit.is_nan() || limit <= 0.0 {
+            return Err(MechanicsError::InvalidSetting {
+                name: "torque limit",
+                value: format!("{limit:?}"),
+                reason: "the actuator's largest torque must be positive",
+            });
+        }
+        self.limit = limit;
+        Ok(self)
+    }
+
+    /// The target attitude.
+    pub fn target(&self) -> &SO3 {
+        self.spring.target()
+    }
+
+    /// The gain `K`.
+    pub fn gain(&self) -> f64 {
+        self.spring.stiffness()
+    }
+
+    /// The rate gain `C`.
+    pub fn rate_gain(&self) -> f64 {
+        self.damping
+    }
+
+    /// The torque limit `L` (`f64::INFINITY` without one).
+    pub fn limit(&self) -> f64 {
+        self.limit
+    }
+
+    /// The pointing error `|θ|`, radians, of `attitude` from the target.
+    pub fn error_angle(&self, attitude: &SO3) -> f64 {
+        self.spring.error(attitude).norm()
+    }
+
+    /// The torque `sat_L(−K θ − C Ω)` at the attitude `R` and body rate `Ω`.
+    pub fn torque(&self, attitude: &SO3, rate: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+        let u = -self.spring.stiffness() * self.spring.error(attitude) - self.damping * rate;
+        let norm = u.norm();
+        if norm > self.limit {
+            u * (self.limit / norm)
+        } else {
+            u
+        }
+    }
+}

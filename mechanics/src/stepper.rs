@@ -6,7 +6,9 @@
 //! steps — a run's, a study's, a user's — is this one.
 //!
 //! An observer answers with [`std::ops::ControlFlow`]: `Continue(())` takes the next step,
-//! `Break(())` stops the run there.
+//! `Break(())` stops the run there. Before a step it may also set the control input
+//! ([`Observer::input`]): a controller that samples the state and holds its output
+//! between samples (a [`crate::control::PdLaw`] read every period) is an observer too.
 //!
 //! ```
 //! use lgsvi_mechanics::prelude::*;
@@ -37,6 +39,7 @@ use crate::group::GroupChart;
 use crate::integrator::{Integrator, Trajectory};
 use crate::state::State;
 use crate::system::{ElementOf, System};
+use nalgebra::SVector;
 use std::ops::ControlFlow;
 
 /// A step of a driven run, as its observers see it.
@@ -74,6 +77,13 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     /// The integrator being advanced (for a checked run, the run being checked).
     fn integrator(&self) -> &Integrator<S, C, D>;
 
+    /// Sets the control input of the steps to come ([`Integrator::set_input`]; a checked
+    /// run's companion takes it too).
+    ///
+    /// # Errors
+    /// [`MechanicsError::NonFinite`] for an input with an entry that is not finite.
+    fn set_input(&mut self, input: SVector<f64, D>) -> Result<(), MechanicsError>;
+
     /// The run's error as the stepper knows it: a checked run's measured difference from
     /// its companion ([`CheckReport::difference`]), else the sum of the steps' local
     /// estimates ([`Integrator::estimated_global_error`]), which is a model of the error,
@@ -102,7 +112,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         Self: Sized,
     {
         for index in 1..=steps {
-            observer.before_step(self.integrator());
+            before_step(self, observer)?;
             let iterations = self.step()?;
             let info = StepInfo {
                 index,
@@ -162,7 +172,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         // The step at which the run ends: the shortened one, if there is one.
         let short = t_end - (start + whole as f64 * h) > 1e-9 * h;
         for index in 1..=whole {
-            observer.before_step(self.integrator());
+            before_step(self, observer)?;
             let iterations = self.step()?;
             let info = StepInfo {
                 index,
@@ -175,7 +185,7 @@ pub trait Stepper<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
         }
         let left = t_end - self.integrator().state().time;
         if short && left > 1e-9 * h {
-            observer.before_step(self.integrator());
+            before_step(self, observer)?;
             let iterations = self.step_by(left)?;
             let info = StepInfo {
                 index: whole + 1,
@@ -250,13 +260,32 @@ pub struct CheckReport {
     pub tightened: f64,
 }
 
+/// Before a step of `stepper`: `observer`'s input, where it sets one, then its
+/// [`Observer::before_step`] (which sees the step's start with that input).
+fn before_step<S, C, T, O, const D: usize>(
+    stepper: &mut T,
+    observer: &mut O,
+) -> Result<(), O::Error>
+where
+    S: System<D>,
+    C: GroupChart<S::Group, D>,
+    T: Stepper<S, C, D> + ?Sized,
+    O: Observer<S, C, D>,
+{
+    if let Some(input) = observer.input(stepper.integrator()) {
+        stepper.set_input(input)?;
+    }
+    observer.before_step(stepper.integrator());
+    Ok(())
+}
+
 /// Watches a driven run: told of every step with the integrator after it (state, last
 /// Galerkin curve, statistics, estimates), it records, checks, reports progress, or stops
 /// the run.
 ///
 /// A closure `FnMut(&Integrator, StepInfo) -> Result<ControlFlow<()>, E>` becomes one
-/// through [`each`]; `(A, B)` pairs and `&mut` references of observers are observers too
-/// (module documentation).
+/// through [`each`]; `(A, B)` pairs, `Option`s and `&mut` references of observers are
+/// observers too (module documentation).
 pub trait Observer<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     /// The observer's error; a failed step becomes one through `From`.
     type Error: From<MechanicsError>;
@@ -275,6 +304,15 @@ pub trait Observer<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> {
     /// events observer keeps the start to take shorter steps from it).
     fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
         let _ = integrator;
+    }
+
+    /// Before a step (and before [`Observer::before_step`]), with the integrator at the
+    /// step's start: a control input to set for this step and the ones after it
+    /// ([`Stepper::set_input`]), or `None` to keep the one in force (the default). A
+    /// sampled controller answers at its sampling instants.
+    fn input(&mut self, integrator: &Integrator<S, C, D>) -> Option<SVector<f64, D>> {
+        let _ = integrator;
+        None
     }
 }
 
@@ -319,6 +357,12 @@ where
         self.0.before_step(integrator);
         self.1.before_step(integrator);
     }
+    /// The first's input where it gives one, else the second's (both are asked).
+    fn input(&mut self, integrator: &Integrator<S, C, D>) -> Option<SVector<f64, D>> {
+        let first = self.0.input(integrator);
+        let second = self.1.input(integrator);
+        first.or(second)
+    }
     fn after_step(
         &mut self,
         integrator: &Integrator<S, C, D>,
@@ -331,6 +375,34 @@ where
         } else {
             ControlFlow::Continue(())
         })
+    }
+}
+
+/// An observer that may be absent: `None` watches nothing and sets no input.
+impl<S, C, const D: usize, O> Observer<S, C, D> for Option<O>
+where
+    S: System<D>,
+    C: GroupChart<S::Group, D>,
+    O: Observer<S, C, D>,
+{
+    type Error = O::Error;
+    fn after_step(
+        &mut self,
+        integrator: &Integrator<S, C, D>,
+        step: StepInfo,
+    ) -> Result<ControlFlow<()>, O::Error> {
+        match self {
+            Some(observer) => observer.after_step(integrator, step),
+            None => Ok(ControlFlow::Continue(())),
+        }
+    }
+    fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
+        if let Some(observer) = self {
+            observer.before_step(integrator);
+        }
+    }
+    fn input(&mut self, integrator: &Integrator<S, C, D>) -> Option<SVector<f64, D>> {
+        self.as_mut()?.input(integrator)
     }
 }
 
@@ -350,6 +422,9 @@ where
     }
     fn before_step(&mut self, integrator: &Integrator<S, C, D>) {
         (**self).before_step(integrator);
+    }
+    fn input(&mut self, integrator: &Integrator<S, C, D>) -> Option<SVector<f64, D>> {
+        (**self).input(integrator)
     }
 }
 

@@ -365,6 +365,10 @@ where
         &self.primary
     }
 
+    fn set_input(&mut self, input: SVector<f64, D>) -> Result<(), MechanicsError> {
+        CheckedIntegrator::set_input(self, input)
+    }
+
     /// As [`Stepper::run_until`]; a run with a tolerance is then judged
     /// ([`CheckedIntegrator::judge`]) and, where it missed, taken again from its start:
     /// the trajectory returned is the accepted run's, from its start.

@@ -2,9 +2,10 @@
 //! `DiscreteTimeLinearQuadraticRegulator` order and sign: `u = −K x`), the finite-horizon
 //! recursion along a trajectory, the error state on the group, and the regulator.
 
-use crate::convert::{from_matrix, matrix, vector};
+use crate::convert::{from_matrix, matrix, rotation, vector};
 use crate::errors::{guarded, invalid, mechanics};
 use crate::state::{Sample, State};
+use crate::systems::matrix_array;
 use lgsvi_lie::{SE3, SO3};
 use lgsvi_mechanics::control::{self, Regulator as RustRegulator};
 use lgsvi_mechanics::State as RustState;
@@ -238,6 +239,160 @@ impl Regulator {
     }
 }
 
+/// A PD attitude law with a torque limit, for a controller that samples the state and
+/// holds its torque: `u = sat_L(−K θ − C Ω)`, `θ = log(R_targetᵀ R)` the rotation vector
+/// from the target to the attitude (body frame), `sat_L` scaling a torque longer than `L`
+/// back to length `L` along its own direction (an actuator's limit that keeps the law's
+/// axis). Call `input(state)` at each sampling instant and hand the result to
+/// `Integrator.set_input`, or give the law to `lgsvi.montecarlo.run(controller=...,
+/// sample_period=...)`. (The continuous, unlimited law is a system's `attitude_gain` with
+/// its `damping`.)
+///
+/// Parameters
+/// ----------
+/// gain : float
+///     `K ≥ 0`, N·m per radian.
+/// rate_gain : float
+///     `C ≥ 0`, N·m·s per radian (default 0).
+/// target : array_like (3, 3), optional
+///     The target attitude `R_target` (world from body; default the identity).
+/// torque_limit : float, optional
+///     The actuator's largest torque `L > 0`, N·m (default: no limit).
+#[pyclass(module = "lgsvi._lgsvi", frozen)]
+pub struct PdLaw {
+    pub law: control::PdLaw,
+}
+
+#[pymethods]
+impl PdLaw {
+    #[new]
+    #[pyo3(signature = (gain, rate_gain=0.0, target=None, torque_limit=None))]
+    fn new(
+        gain: f64,
+        rate_gain: f64,
+        target: Option<&Bound<'_, PyAny>>,
+        torque_limit: Option<f64>,
+    ) -> PyResult<Self> {
+        let target = target.map_or(Ok(SO3::identity()), |t| rotation(t, "target"))?;
+        if !(gain.is_finite() && gain >= 0.0) {
+            return Err(invalid(format!(
+                "gain must be finite and non-negative (K of −Kθ, N·m per radian), got {gain}"
+            )));
+        }
+        if !(rate_gain.is_finite() && rate_gain >= 0.0) {
+            return Err(invalid(format!(
+                "rate_gain must be finite and non-negative (C of −CΩ, N·m·s per radian), got \
+                 {rate_gain}"
+            )));
+        }
+        let law = control::PdLaw::new(target, gain, rate_gain).map_err(mechanics)?;
+        let law = match torque_limit {
+            Some(limit) => law.with_limit(limit).map_err(|_| {
+                invalid(format!(
+                    "torque_limit must be positive (the actuator's largest torque, N·m), got \
+                     {limit}"
+                ))
+            })?,
+            None => law,
+        };
+        Ok(Self { law })
+    }
+
+    /// `K`.
+    #[getter]
+    fn gain(&self) -> f64 {
+        self.law.gain()
+    }
+
+    /// `C`.
+    #[getter]
+    fn rate_gain(&self) -> f64 {
+        self.law.rate_gain()
+    }
+
+    /// The target attitude, `(3, 3)`.
+    #[getter]
+    fn target<'py>(&self, py: Python<'py>) -> Matrix<'py> {
+        matrix_array(py, self.law.target().matrix())
+    }
+
+    /// `L`, `None` without a limit.
+    #[getter]
+    fn torque_limit(&self) -> Option<f64> {
+        Some(self.law.limit()).filter(|l| l.is_finite())
+    }
+
+    /// The pointing error `|θ|` of `state` from the target, radians.
+    fn error(&self, state: PyRef<'_, State>) -> f64 {
+        self.law
+            .error_angle(&SO3::from_matrix_unchecked(state.sample.attitude))
+    }
+
+    /// The input for `state`, as `Integrator.set_input` takes it: the torque (3 entries)
+    /// for a body on SO(3), the torque and a zero force (6) for a body in space.
+    fn input<'py>(
+        &self,
+        py: Python<'py>,
+        state: PyRef<'py, State>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let sample = &state.sample;
+        if sample.wheel_speeds.is_some() {
+            return Err(invalid(
+                "state: a gyrostat turns by its wheels' motor torques, not by a body torque",
+            ));
+        }
+        let attitude = SO3::from_matrix_unchecked(sample.attitude);
+        let torque = self.law.torque(&attitude, &sample.omega);
+        let mut u: Vec<f64> = torque.iter().copied().collect();
+        if sample.position.is_some() {
+            u.extend([0.0; 3]);
+        }
+        Ok(PyArray1::from_vec(py, u))
+    }
+
+    fn __repr__(&self) -> String {
+        let mut s = format!(
+            "PdLaw(gain={:?}, rate_gain={:?}",
+            self.law.gain(),
+            self.law.rate_gain()
+        );
+        if *self.law.target() != SO3::identity() {
+            s += &format!(", target={:?}", rows(self.law.target().matrix()));
+        }
+        if self.law.limit().is_finite() {
+            s += &format!(", torque_limit={:?}", self.law.limit());
+        }
+        s + ")"
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<PdLaw>()
+            .is_ok_and(|other| other.get().law == self.law)
+    }
+
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, pyo3::types::PyTuple>)> {
+        let py = slf.py();
+        let law = &slf.get().law;
+        let limit = Some(law.limit()).filter(|l| l.is_finite());
+        let args = (
+            law.gain(),
+            law.rate_gain(),
+            matrix_array(py, law.target().matrix()),
+            limit,
+        )
+            .into_pyobject(py)?;
+        Ok((slf.get_type().into_any(), args))
+    }
+}
+
+/// A matrix's rows, for a repr.
+fn rows(m: &nalgebra::Matrix3<f64>) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+}
+
 /// A feedforward of `D` entries (zero when not given).
 fn fixed<const D: usize>(u: Option<Vec<f64>>) -> PyResult<SVector<f64, D>> {
     match u {
@@ -257,5 +412,6 @@ pub fn register(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(tvlqr, module)?)?;
     module.add_function(wrap_pyfunction!(error_state, module)?)?;
     module.add_class::<Regulator>()?;
+    module.add_class::<PdLaw>()?;
     Ok(())
 }

@@ -4,11 +4,13 @@
 //! pickles and merges exactly, so that chunks run on a cluster's workers combine into the
 //! run a single machine gives.
 
+use crate::control::PdLaw;
 use crate::convert::{array1, array2, array3, rotation, rows3, vector, vector3};
 use crate::errors::{guarded, invalid, mechanics, ConvergenceError};
 use crate::run::{chart_named, each_run, in_pool, matching_named, Options, Run};
 use crate::state::Start;
 use crate::systems::{system_of, Drive, InertiaInput, Spec};
+use lgsvi_experiments::control::SampledLaw;
 use lgsvi_experiments::record::{record_until, Columns};
 use lgsvi_experiments::stop::{StopWhen, Watch};
 use lgsvi_experiments::ExperimentError;
@@ -121,6 +123,7 @@ struct Setup {
     every: usize,
     watch: Watch,
     input: Option<Vec<f64>>,
+    control: Option<SampledLaw>,
 }
 
 /// `spec`'s run from `start`, sampled every `every` steps and at its end, as `lgsvi
@@ -137,7 +140,7 @@ fn run_sampled(
         run.set_input(u)?;
     }
     let recording = each_run!(&mut run, it => {
-        record_until(it, setup.t_end, setup.every, watch, &mut |_| {})
+        record_until(it, setup.t_end, setup.every, watch, setup.control.as_ref(), &mut |_| {})
     })
     .map_err(experiment)?;
     Ok(Samples::of_recording(recording))
@@ -279,7 +282,7 @@ fn condition(text: Option<&str>, name: &str) -> PyResult<Option<StopWhen>> {
 /// draws, final states, stop and settling times, failures and envelope (the Python
 /// layer's `lgsvi.montecarlo.run` wraps it).
 #[pyfunction]
-#[pyo3(signature = (system, attitude, omega, dispersions, seed, first, last, t_end, h, nodes, samples, chart="exp", matching="exact", threads=None, stop_when=None, settle_when=None, position=None, velocity=None, wheel_speeds=None, input=None))]
+#[pyo3(signature = (system, attitude, omega, dispersions, seed, first, last, t_end, h, nodes, samples, chart="exp", matching="exact", threads=None, stop_when=None, settle_when=None, position=None, velocity=None, wheel_speeds=None, input=None, controller=None, sample_period=None))]
 #[allow(clippy::too_many_arguments)]
 fn _montecarlo_chunk<'py>(
     py: Python<'py>,
@@ -303,8 +306,50 @@ fn _montecarlo_chunk<'py>(
     velocity: Option<&Bound<'py, PyAny>>,
     wheel_speeds: Option<&Bound<'py, PyAny>>,
     input: Option<&Bound<'py, PyAny>>,
+    controller: Option<PyRef<'py, PdLaw>>,
+    sample_period: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, _) = system_of(system)?;
+    let control = match (controller, sample_period) {
+        (None, None) => None,
+        (Some(_), None) => {
+            return Err(invalid(
+                "controller needs sample_period: the law is sampled every sample_period \
+                 (a whole number of steps h) and held",
+            ))
+        }
+        (None, Some(_)) => {
+            return Err(invalid(
+                "sample_period is the controller's: give controller=lgsvi.control.PdLaw(...)",
+            ))
+        }
+        (Some(law), Some(period)) => {
+            if spec.wheels() > 0 {
+                return Err(invalid(
+                    "controller: a gyrostat turns by its wheels' motor torques (input), not \
+                     by a body torque",
+                ));
+            }
+            if input.is_some() {
+                return Err(invalid(
+                    "input and controller: the controller sets the input at each sample; give \
+                     one of them",
+                ));
+            }
+            let sampled = SampledLaw::new(law.law, period).map_err(|_| {
+                invalid(format!(
+                    "sample_period must be positive and finite, got {period}"
+                ))
+            })?;
+            sampled.check_step(h).map_err(|_| {
+                invalid(format!(
+                    "sample_period {period} is not a whole number of steps h = {h}: take h as \
+                     the period divided by a whole number"
+                ))
+            })?;
+            Some(sampled)
+        }
+    };
     let k = spec.wheels();
     let space = spec.in_space();
     let in_space = "a body in space (FreeBody, OrbitingBody)";
@@ -338,8 +383,12 @@ fn _montecarlo_chunk<'py>(
     let watch = Watch {
         stop: condition(stop_when, "stop_when")?,
         settle: condition(settle_when, "settle_when")?,
-        // `error` is measured from the attitude law's target (the identity without one).
-        target: spec.drive().and_then(Drive::target),
+        // `error` is measured from the attitude law's target (the sampled controller's,
+        // the identity without either).
+        target: spec
+            .drive()
+            .and_then(Drive::target)
+            .or(control.map(|c| *c.law().target())),
     };
     let input = input.map(|u| vector(u, "input")).transpose()?;
     let dispersions: Dispersions =
@@ -412,6 +461,7 @@ fn _montecarlo_chunk<'py>(
         every: ((whole as usize) / (samples - 1)).max(1),
         watch,
         input,
+        control,
     };
     // The nominal runs to the end (the envelopes' times), whatever stop_when says.
     let nominal_run = py

@@ -90,7 +90,7 @@ impl InertiaInput {
     }
 }
 
-fn matrix_array<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f64>> {
+pub fn matrix_array<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f64>> {
     crate::convert::array2(py, 3, 3, rows3(m).to_vec())
 }
 

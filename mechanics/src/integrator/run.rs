@@ -114,6 +114,10 @@ impl<S: System<D>, C: GroupChart<S::Group, D>, const D: usize> Stepper<S, C, D>
         self
     }
 
+    fn set_input(&mut self, input: SVector<f64, D>) -> Result<(), MechanicsError> {
+        Integrator::set_input(self, input)
+    }
+
     /// As [`Stepper::run_until`]; a run whose step may change
     /// ([`StepSettings::with_step_changes`]) likewise shortens its last step to end on
     /// `t_end`.

@@ -303,6 +303,8 @@ def run(
     velocity: Any = None,
     wheel_speeds: Any = None,
     input: Any = None,
+    controller: Any = None,
+    sample_period: Optional[float] = None,
 ) -> MonteCarloResult:
     """Runs ``members`` members of ``system`` (any built-in system:
     :class:`lgsvi.RigidBody`, :class:`lgsvi.HeavyTop`, :class:`lgsvi.FreeBody`,
@@ -333,6 +335,16 @@ def run(
     input : array_like, optional
         A constant control input for every member, as :meth:`lgsvi.Integrator.set_input`
         takes it (a gyrostat's ``(body torque, wheel motor torques)``).
+    controller : lgsvi.control.PdLaw, optional
+        A sampled controller in the loop of every member (the same gains for all): its
+        torque, formed from the member's state every ``sample_period`` from the start, is
+        held until the next sample (zero-order hold) and limited by its ``torque_limit``,
+        as a flight computer runs it. ``"error"`` in the conditions and the ``error_deg``
+        envelope are measured from its target (where the system has no attitude law).
+        Not with ``input`` or a gyrostat.
+    sample_period : float, optional
+        The controller's period, a whole number of steps ``h``; needed with
+        ``controller``.
     threads : int, optional
         Threads per process (default: one per core locally, one per task on a cluster,
         whose workers run tasks side by side).
@@ -368,6 +380,8 @@ def run(
         velocity=velocity,
         wheel_speeds=wheel_speeds,
         input=input,
+        controller=controller,
+        sample_period=None if sample_period is None else float(sample_period),
     )
     args = (system, attitude, omega, spec, seed)
     settings = (float(t_end), float(h), int(nodes), int(samples))
