@@ -226,7 +226,8 @@ pub struct Problem {
 
 /// The sampled PD law of `--sample-period` (with `--attitude-gain`, `--damping` as its
 /// gains and `--torque-limit`), `None` for a continuous law; without `--h`, the step
-/// becomes the longest up to 0.5 that divides the period (and the run, where one does).
+/// becomes the longest up to 0.5 that divides the period (and the run, where one at
+/// least an eighth as long does).
 fn sampled_law(
     options: &mut SimulateOptions,
     spring: AttitudeSpring,
@@ -263,12 +264,13 @@ fn sampled_law(
         None => law,
     };
     if options.h.is_none() {
-        // The longest step up to 0.5 that divides the period and, where one does within a
-        // thousand steps a period, the run too.
+        // The longest step up to 0.5 that divides the period and, where one at least an
+        // eighth as long does, the run too (else the run's length is refused, naming the
+        // ends that would fit).
         let t_end = options.t_end.unwrap_or(10.0);
-        let least = (period / 0.5).ceil().max(1.0) as u32;
+        let least = (period / 0.5).ceil().clamp(1.0, 1e6) as u32;
         let whole = |x: f64| (x - x.round()).abs() <= 1e-9 * x.max(1.0);
-        let steps = (least..least + 1000)
+        let steps = (least..=least * 8)
             .find(|&m| whole(t_end * f64::from(m) / period))
             .unwrap_or(least);
         options.h = Some(period / f64::from(steps));

@@ -3198,6 +3198,14 @@ fn a_sampled_saturated_law_turns_a_sphere_as_the_held_torques_closed_form() {
     assert!(w[1].abs() < 1e-15 && w[2].abs() < 1e-15, "{w:?}");
     assert_eq!(json["description"]["sample_period"], 0.5);
     assert_eq!(json["description"]["torque_limit"], 0.5);
+    // A controlled run records the controller's work. The sphere starts at rest (E₀ = 0),
+    // so the work done on it so far equals its energy at every recorded state.
+    let (energy, work) = (json["energy"].as_array().unwrap(), json["work"].as_array());
+    let work = work.expect("a controlled run records its work");
+    for (e, w) in energy.iter().zip(work) {
+        let (e, w) = (e.as_f64().unwrap(), w.as_f64().unwrap());
+        assert!((e - w).abs() < 1e-13, "E {e} against work {w}");
+    }
 }
 
 #[test]
@@ -3252,6 +3260,11 @@ fn bad_sampled_laws_name_their_flag() {
         (
             &["--system", "gyrostat", "--sample-period", "0.5"],
             &["--sample-period", "gyrostat", "--wheel-torque"],
+        ),
+        // The controlled body is not free: no closed form.
+        (
+            &["--attitude-gain", "1", "--sample-period", "0.5", "--exact"],
+            &["exact solution", "free rigid body"],
         ),
     ] {
         let mut args = base.to_vec();

@@ -4,9 +4,9 @@
 //! [`crate::scenario::Scenario::record`] take one beside the run's own drive.
 //!
 //! The sampling instants fall on steps' starts (the period a whole number of steps,
-//! [`SampledLaw::check_step`]), so each step's input is constant and the step keeps its
-//! accuracy; an event located inside a step (a stop or settling condition) is refined
-//! with the input of the step that holds it.
+//! [`SampledLaw::check_step`]; the sampler counts steps), so each step's input is constant
+//! and the step keeps its accuracy; an event located inside a step (a stop or settling
+//! condition) is refined with the input of the step that holds it.
 
 use crate::error::ExperimentError;
 use crate::record::Columns;
@@ -18,9 +18,9 @@ use lgsvi_mechanics::{Integrator, MechanicsError};
 use nalgebra::SVector;
 use std::ops::ControlFlow;
 
-/// How far (in periods) a step's start may lie from a sampling instant and still be at
-/// it: the rounding of the step's times summed over a run (`k h` formed by additions).
-const ON_INSTANT: f64 = 1e-9;
+/// How far from a whole number of steps a period may be and still be one (relative): the
+/// rounding of a period and a step given as decimals (`0.7 / 0.1`).
+const WHOLE: f64 = 1e-9;
 
 /// A [`PdLaw`] sampled every `period` (seconds) and held between samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,36 +84,46 @@ impl SampledLaw {
     /// # Errors
     /// [`ExperimentError::Parameter`] naming the step and the period.
     pub fn check_step(&self, h: f64) -> Result<(), ExperimentError> {
+        self.steps(h).map(|_| ())
+    }
+
+    /// The steps of `h` in a period, where they are a whole number.
+    fn steps(&self, h: f64) -> Result<u64, ExperimentError> {
         let steps = self.period / h;
-        if steps.round() < 1.0 || (steps - steps.round()).abs() > ON_INSTANT * steps {
+        if !(steps.is_finite() && steps.round() >= 1.0)
+            || (steps - steps.round()).abs() > WHOLE * steps
+        {
             return Err(refused(
                 format!("{} with steps of {h}", self.period),
                 "the sample period must be a whole number of steps: take the step h as the \
                  period divided by a whole number",
             ));
         }
-        Ok(())
+        Ok(steps.round() as u64)
     }
 
-    /// The observer that sets the law's torque at each sampling instant of a run that
-    /// starts at `start` ([`Observer::input`]).
-    pub fn observer(&self, start: f64) -> Sampler {
-        Sampler {
-            sampled: *self,
-            start,
-            next: 0,
-        }
+    /// The observer that sets the law's torque at the start of a run of steps `h` and
+    /// every period after it ([`Observer::input`]), for a run of fixed steps.
+    ///
+    /// # Errors
+    /// As [`SampledLaw::check_step`].
+    pub fn observer(&self, h: f64) -> Result<Sampler, ExperimentError> {
+        Ok(Sampler {
+            law: self.law,
+            every: self.steps(h)?,
+            taken: 0,
+        })
     }
 }
 
-/// The observer of [`SampledLaw::observer`]: at the first step starting at or past the next
-/// sampling instant, the law's torque from that step's start state, held by the steps
-/// after it until the next instant.
+/// The observer of [`SampledLaw::observer`]: before the first step and every `T/h` steps
+/// after it, the law's torque from that step's start state, held by the steps after it
+/// until the next sample.
 #[derive(Debug, Clone, Copy)]
 pub struct Sampler {
-    sampled: SampledLaw,
-    start: f64,
-    next: u64,
+    law: PdLaw,
+    every: u64,
+    taken: u64,
 }
 
 impl<S, C, const D: usize> Observer<S, C, D> for Sampler
@@ -133,18 +143,13 @@ where
     }
 
     fn input(&mut self, integrator: &Integrator<S, C, D>) -> Option<SVector<f64, D>> {
-        let state = integrator.state();
-        let period = self.sampled.period;
-        let periods = (state.time - self.start) / period;
-        if periods < self.next as f64 - ON_INSTANT {
+        let at_sample = self.taken.is_multiple_of(self.every);
+        self.taken += 1;
+        if !at_sample {
             return None;
         }
-        self.next = (periods + ON_INSTANT).floor() as u64 + 1;
-        let (rotation, _, _) = ElementOf::<S, D>::columns(state);
-        let torque = self
-            .sampled
-            .law
-            .torque(&rotation.configuration, &rotation.velocity);
+        let (rotation, _, _) = ElementOf::<S, D>::columns(integrator.state());
+        let torque = self.law.torque(&rotation.configuration, &rotation.velocity);
         // The torque in the input's rotational entries: a rigid body's three, a body in
         // space's first three of (torque, force).
         Some(SVector::<f64, D>::from_fn(|i, _| {

@@ -324,12 +324,12 @@ where
 {
     let every = every.max(1);
     let steps = runner.integrator().steps_until(t_end)?;
-    if let Some(control) = control {
-        control.check_step(runner.integrator().settings().h())?;
-    }
     let system = *runner.integrator().system();
-    // Forced: by the system's own force, or by an input (a gyrostat's motor torques).
-    let forced = system.is_forced() || runner.integrator().input().iter().any(|&u| u != 0.0);
+    // Forced: by the system's own force, or by an input (a gyrostat's motor torques, a
+    // sampled controller's torques).
+    let forced = system.is_forced()
+        || control.is_some()
+        || runner.integrator().input().iter().any(|&u| u != 0.0);
     let (_, motion, wheels) = ElementOf::<S, D>::columns(runner.integrator().state());
     let mut run = Recording {
         states: Vec::new(),
@@ -352,7 +352,8 @@ where
     if control.is_some() && start_wheels.is_some() {
         return Err(crate::control::on_a_gyrostat());
     }
-    let mut sampler = control.map(|c| c.observer(start.time));
+    let h = runner.integrator().settings().h();
+    let mut sampler = control.map(|c| c.observer(h)).transpose()?;
     let r0 = start.configuration;
     let target = watch.target();
     watch.check(&start, start_motion.as_ref(), start_wheels.as_ref())?;

@@ -320,7 +320,10 @@ pub struct Scenario {
     /// The settings of [`Subject::settings`] (the studies' chart, matching and Newton
     /// Jacobian): ten nodes at `h = 0.5` unless [`Scenario::with_settings`] says otherwise.
     pub settings: StepSettings,
-    /// A sampled controller in the loop ([`Scenario::with_control`]), beside the drive.
+    /// A sampled controller in the loop ([`Scenario::with_control`]), beside the drive:
+    /// [`Scenario::record`] runs it (and [`Subject::exact`] knows no closed form with it);
+    /// the studies ([`Scenario::local_errors`], [`Scenario::tolerance_runs`], the
+    /// [`Subject`] studies) run steps of many lengths and take the drive alone.
     pub control: Option<SampledLaw>,
 }
 
@@ -613,8 +616,9 @@ impl Subject for Scenario {
     /// The exact solution, for a free, unforced body on SO(3) (not for the rotational part
     /// of an SE(3) or gyrostat scenario: that is not their motion).
     fn exact(&self) -> Option<Result<FreeRigidBodyExact, MechanicsError>> {
+        // A sampled controller's torques are not in the system: the body is not free.
         let rotation_only = self.motion.is_none() && self.wheels.is_none();
-        (rotation_only && self.is_free())
+        (rotation_only && self.is_free() && self.control.is_none())
             .then(|| FreeRigidBodyExact::new(self.inertia, self.attitude0, self.omega0))
     }
 }

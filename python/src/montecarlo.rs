@@ -310,46 +310,6 @@ fn _montecarlo_chunk<'py>(
     sample_period: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, _) = system_of(system)?;
-    let control = match (controller, sample_period) {
-        (None, None) => None,
-        (Some(_), None) => {
-            return Err(invalid(
-                "controller needs sample_period: the law is sampled every sample_period \
-                 (a whole number of steps h) and held",
-            ))
-        }
-        (None, Some(_)) => {
-            return Err(invalid(
-                "sample_period is the controller's: give controller=lgsvi.control.PdLaw(...)",
-            ))
-        }
-        (Some(law), Some(period)) => {
-            if spec.wheels() > 0 {
-                return Err(invalid(
-                    "controller: a gyrostat turns by its wheels' motor torques (input), not \
-                     by a body torque",
-                ));
-            }
-            if input.is_some() {
-                return Err(invalid(
-                    "input and controller: the controller sets the input at each sample; give \
-                     one of them",
-                ));
-            }
-            let sampled = SampledLaw::new(law.law, period).map_err(|_| {
-                invalid(format!(
-                    "sample_period must be positive and finite, got {period}"
-                ))
-            })?;
-            sampled.check_step(h).map_err(|_| {
-                invalid(format!(
-                    "sample_period {period} is not a whole number of steps h = {h}: take h as \
-                     the period divided by a whole number"
-                ))
-            })?;
-            Some(sampled)
-        }
-    };
     let k = spec.wheels();
     let space = spec.in_space();
     let in_space = "a body in space (FreeBody, OrbitingBody)";
@@ -380,16 +340,6 @@ fn _montecarlo_chunk<'py>(
             start.wheel_speeds.len()
         )));
     }
-    let watch = Watch {
-        stop: condition(stop_when, "stop_when")?,
-        settle: condition(settle_when, "settle_when")?,
-        // `error` is measured from the attitude law's target (the sampled controller's,
-        // the identity without either).
-        target: spec
-            .drive()
-            .and_then(Drive::target)
-            .or(control.map(|c| *c.law().target())),
-    };
     let input = input.map(|u| vector(u, "input")).transpose()?;
     let dispersions: Dispersions =
         serde_json::from_str(dispersions).map_err(|e| invalid(format!("dispersions: {e}")))?;
@@ -428,6 +378,62 @@ fn _montecarlo_chunk<'py>(
         max_newton_iterations: None,
     };
     let settings = options.settings()?;
+    let control = match (controller, sample_period) {
+        (None, None) => None,
+        (Some(_), None) => {
+            return Err(invalid(
+                "controller needs sample_period: the law is sampled every sample_period \
+                 (a whole number of steps h) and held",
+            ))
+        }
+        (None, Some(_)) => {
+            return Err(invalid(
+                "sample_period is the controller's: give controller=lgsvi.control.PdLaw(...)",
+            ))
+        }
+        (Some(law), Some(period)) => {
+            if spec.wheels() > 0 {
+                return Err(invalid(
+                    "controller: a gyrostat turns by its wheels' motor torques (input), not \
+                     by a body torque",
+                ));
+            }
+            if spec.drive().and_then(Drive::target).is_some() {
+                return Err(invalid(
+                    "controller: the system has an attitude law of its own (attitude_gain, \
+                     target); give the law to one of them",
+                ));
+            }
+            if input.is_some() {
+                return Err(invalid(
+                    "input and controller: the controller sets the input at each sample; give \
+                     one of them",
+                ));
+            }
+            let sampled = SampledLaw::new(law.law, period).map_err(|_| {
+                invalid(format!(
+                    "sample_period must be positive and finite, got {period}"
+                ))
+            })?;
+            sampled.check_step(settings.h()).map_err(|_| {
+                invalid(format!(
+                    "sample_period {period} is not a whole number of steps h = {h}: take h as \
+                     the period divided by a whole number"
+                ))
+            })?;
+            Some(sampled)
+        }
+    };
+    let watch = Watch {
+        stop: condition(stop_when, "stop_when")?,
+        settle: condition(settle_when, "settle_when")?,
+        // `error` is measured from the attitude law's target (the sampled controller's,
+        // the identity without either).
+        target: spec
+            .drive()
+            .and_then(Drive::target)
+            .or(control.map(|c| *c.law().target())),
+    };
     // A condition on a quantity the system lacks is refused here, once, as the command
     // line refuses it, rather than failing every member.
     let probe = Run::new(spec.build()?, &options, &start)?;

@@ -131,8 +131,8 @@ fn the_sampled_law_matches_a_regulator_stepped_by_hand() {
             .max((it.state().velocity - state.velocity).norm());
     }
     // The same steps from inputs formed in two ways (the law's `−kθ − cΩ` and the
-    // regulator's matrix product): they differ by rounding, a few ε per input, carried by
-    // a stable loop.
+    // regulator's matrix product), which may differ by rounding, a few ε per input,
+    // carried by a stable loop (measured: identical to the last bit).
     assert!(worst < 1e-13, "largest difference {worst:e}");
     // And the loop points the body at its target (measured: 1.1e-3 rad left at t = 30).
     let left = law.error_angle(&it.state().configuration);
@@ -224,4 +224,38 @@ fn on_se3_the_sampled_law_turns_the_body_as_on_so3() {
     let last = motion.last().unwrap();
     let expected = Vector3::new(1.0, 2.0, 3.0) + Vector3::new(0.1, 0.0, -0.2) * 8.0;
     assert!((last.position - expected).norm() < 1e-12);
+}
+
+/// A run checked against its companion (`Check::Measure`) takes the controller too: the
+/// primary run is the unchecked run, bit for bit, and the companion's measured difference
+/// is the integrator's error (the companion steps with the same held torques).
+#[test]
+fn a_checked_run_samples_the_law_in_both_runs() {
+    let inertia = Inertia::from_principal_moments([2.0, 3.0, 4.5]).unwrap();
+    let law = PdLaw::new(target(), 1.5, 2.0)
+        .unwrap()
+        .with_limit(0.5)
+        .unwrap();
+    let scenario = Scenario::new(
+        Model::RigidBody,
+        inertia,
+        SO3::identity(),
+        Vector3::new(0.3, -0.5, 0.2),
+    )
+    .unwrap()
+    .with_control(SampledLaw::new(law, 0.5).unwrap())
+    .unwrap();
+    let settings = StepSettings::new(0.25, 10).unwrap();
+    let record = |check| {
+        scenario
+            .record(settings, check, 10.0, 1, &Watch::NOTHING, &mut |_| {})
+            .unwrap()
+    };
+    let (plain, checked) = (record(Check::None), record(Check::Measure));
+    assert_eq!(plain.states, checked.states);
+    let report = checked.estimates.unwrap().check.unwrap();
+    // The companion (more nodes) steps with the same held torques: the two differ by the
+    // integrator's error, far below the torques' effect on the motion (order 0.1 rad).
+    assert!(report.difference < 1e-10, "{}", report.difference);
+    assert!(plain.work.is_some(), "a controlled run records its work");
 }

@@ -340,8 +340,9 @@ def run(
         torque, formed from the member's state every ``sample_period`` from the start, is
         held until the next sample (zero-order hold) and limited by its ``torque_limit``,
         as a flight computer runs it. ``"error"`` in the conditions and the ``error_deg``
-        envelope are measured from its target (where the system has no attitude law).
-        Not with ``input`` or a gyrostat.
+        envelope are measured from its target. Not with ``input``, a gyrostat, or a
+        system with an attitude law of its own (``attitude_gain``, ``target``); a
+        system's ``damping`` acts beside it, as a physical damping.
     sample_period : float, optional
         The controller's period, a whole number of steps ``h``; needed with
         ``controller``.
