@@ -209,8 +209,9 @@ pub struct SimulateOptions {
     /// torque −Kθ − CΩ evaluated from the state every T from the start and held until the
     /// next sample (zero-order hold), as a flight computer runs it, instead of a continuous
     /// law; T is a whole number of steps (--h; by default the longest step up to 0.5 that
-    /// divides T, and --t-end too where one at least an eighth as long does) (every system
-    /// but the gyrostat) [default: continuous].
+    /// divides T, and --t-end too where one at least an eighth as long does, else the run's
+    /// end is refused, naming the ends that fit) (every system but the gyrostat) [default:
+    /// continuous].
     #[arg(long, allow_hyphen_values = true, value_name = "T")]
     pub sample_period: Option<f64>,
     /// The actuator's largest torque L, N·m: a sampled law's torque longer than L is scaled

@@ -273,7 +273,13 @@ fn sampled_law(
         let steps = (least..=least * 8)
             .find(|&m| whole(t_end * f64::from(m) / period))
             .unwrap_or(least);
-        options.h = Some(period / f64::from(steps));
+        let h = period / f64::from(steps);
+        if !(lgsvi_mechanics::settings::STEP_RANGE.0..=0.5).contains(&h) {
+            let reason = "the default step (at most 0.5, up to a million a period) cannot \
+                          divide it: give --h, a period divided by a whole number";
+            return Err(CliError::invalid("--sample-period", period, reason));
+        }
+        options.h = Some(h);
     }
     Ok(Some(SampledLaw::new(law, period).map_err(scenario_error)?))
 }

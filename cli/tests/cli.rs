@@ -3228,6 +3228,10 @@ fn bad_sampled_laws_name_their_flag() {
             &["--sample-period", "positive"],
         ),
         (
+            &["--attitude-gain", "1", "--sample-period", "1e7"],
+            &["--sample-period", "default step", "--h"],
+        ),
+        (
             &[
                 "--attitude-gain",
                 "1",
