@@ -493,7 +493,7 @@ impl PdLaw {
 
     /// The torque `sat_L(−K θ − C Ω)` at the attitude `R` and body rate `Ω`.
     pub fn torque(&self, attitude: &SO3, rate: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
-        let u = -self.spring.stiffness() * self.spring.error(attitude) - self.damping * rate;
+        let u = self.spring.torque(attitude) - self.damping * rate;
         let norm = u.norm();
         if norm > self.limit {
             u * (self.limit / norm)

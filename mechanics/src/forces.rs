@@ -351,7 +351,7 @@ impl AttitudeSpring {
     /// `−k θ` at `g`, generic over the scalar (out of line: the zero spring's test in
     /// [`Forcing::force`] is all a drive without a spring pays at each evaluation).
     #[inline(never)]
-    fn torque<T: RealField + Copy>(&self, g: &SO3<T>) -> Vector3<T> {
+    pub(crate) fn torque<T: RealField + Copy>(&self, g: &SO3<T>) -> Vector3<T> {
         self.error(g) * nalgebra::convert::<f64, T>(-self.stiffness)
     }
 
